@@ -1,0 +1,487 @@
+//! Safe binding to Intel Embree through timbre's C shim (`vendor-headers/shim.{h,c}`).
+//!
+//! This module is the only place in timbre with `unsafe` code. Embree builds the BVH and
+//! traverses it in single precision; timbre's analytic shapes are Embree *user geometry* whose
+//! intersection callbacks are the Rust [`UserGeometry`] trait, evaluated in f64 on the exact ray.
+//!
+//! A committed [`Scene`] is immutable and shared by all render threads; queries are `&self`.
+
+use std::cell::Cell;
+use std::ffi::{CStr, CString, c_char, c_int, c_void};
+use std::ptr::NonNull;
+use std::sync::{Arc, Mutex};
+
+use glam::{DVec3, Vec3};
+use thiserror::Error;
+
+#[allow(non_camel_case_types, non_upper_case_globals, non_snake_case, dead_code)]
+mod ffi {
+    include!(concat!(env!("OUT_DIR"), "/shim.rs"));
+}
+
+/// Geometry id Embree reports for "no hit".
+const INVALID_ID: u32 = ffi::TIMBRE_INVALID_ID;
+
+/// An error reported by Embree (through the device error callback) or by this binding.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum EmbreeError {
+    #[error("Embree error {code}: {message}")]
+    Device { code: i32, message: String },
+    #[error("Embree could not create {0}")]
+    Creation(&'static str),
+    #[error("this Embree build lacks ray masks, which timbre needs for shadow-throwing flags")]
+    NoRayMasks,
+}
+
+/// Axis-aligned bounding box in single precision, as Embree stores it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    pub lower: Vec3,
+    pub upper: Vec3,
+}
+
+impl Bounds {
+    /// The f32 box that contains the f64 box `[lower, upper]` (rounded outwards).
+    pub fn enclosing(lower: DVec3, upper: DVec3) -> Bounds {
+        let down = |x: f64| {
+            let f = x as f32;
+            if f as f64 > x { f.next_down() } else { f }
+        };
+        let up = |x: f64| {
+            let f = x as f32;
+            if (f as f64) < x { f.next_up() } else { f }
+        };
+        Bounds {
+            lower: Vec3::new(down(lower.x), down(lower.y), down(lower.z)),
+            upper: Vec3::new(up(upper.x), up(upper.y), up(upper.z)),
+        }
+    }
+}
+
+/// A ray in f64 as timbre traces it; Embree receives it rounded to f32.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExactRay {
+    pub origin: DVec3,
+    pub direction: DVec3,
+}
+
+/// Analytic primitives whose intersections Embree delegates to Rust.
+pub trait UserGeometry: Send + Sync {
+    /// Number of primitives; Embree asks for each one's bounds and intersections.
+    fn primitive_count(&self) -> u32;
+    /// Bounds of primitive `prim`.
+    fn bounds(&self, prim: u32) -> Bounds;
+    /// Nearest intersection of primitive `prim` with the ray at `t_near < t < t_far`.
+    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64>;
+}
+
+/// The nearest hit of a query. `t` is exact (f64, computed by the user geometry on the exact
+/// ray) when `exact`; otherwise (triangles, instances) it is Embree's f32 distance and the
+/// caller recomputes the hit in f64.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RawHit {
+    pub geom_id: u32,
+    pub prim_id: u32,
+    /// The instance (geometry id in the top-level scene) the hit lies in, if any.
+    pub inst_id: Option<u32>,
+    pub t: f64,
+    pub exact: bool,
+}
+
+struct DeviceInner {
+    raw: NonNull<c_void>,
+    /// First error reported by Embree's error callback since the last check.
+    error: Box<Mutex<Option<EmbreeError>>>,
+}
+
+// SAFETY: an Embree device is thread-safe (Embree's API documentation: all API calls on a
+// device may be made from any thread); the error slot is behind a Mutex.
+unsafe impl Send for DeviceInner {}
+// SAFETY: as above.
+unsafe impl Sync for DeviceInner {}
+
+impl Drop for DeviceInner {
+    fn drop(&mut self) {
+        // SAFETY: `raw` came from timbre_device_new and is released exactly once, after every
+        // Scene holding an Arc to this device has been dropped.
+        unsafe { ffi::timbre_device_release(self.raw.as_ptr()) }
+    }
+}
+
+impl DeviceInner {
+    fn check(&self) -> Result<(), EmbreeError> {
+        match self.error.lock().map(|mut e| e.take()) {
+            Ok(Some(e)) => Err(e),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Receives errors from Embree's device error callback.
+unsafe extern "C" fn on_device_error(user: *mut c_void, code: c_int, message: *const c_char) {
+    // SAFETY: `user` is the address of the device's boxed error slot, which lives as long as the
+    // device; `message` is a NUL-terminated string owned by Embree for the call's duration.
+    let (slot, message) = unsafe {
+        (
+            &*(user as *const Mutex<Option<EmbreeError>>),
+            CStr::from_ptr(message).to_string_lossy().into_owned(),
+        )
+    };
+    if let Ok(mut slot) = slot.lock() {
+        slot.get_or_insert(EmbreeError::Device { code, message });
+    }
+}
+
+/// An Embree device: the factory for scenes.
+#[derive(Clone)]
+pub struct Device {
+    inner: Arc<DeviceInner>,
+}
+
+impl Device {
+    /// Creates a device with an Embree configuration string (e.g. `"threads=2"`, or `""`).
+    pub fn new(config: &str) -> Result<Device, EmbreeError> {
+        let config = CString::new(config).map_err(|_| EmbreeError::Creation("a device"))?;
+        let error = Box::new(Mutex::new(None));
+        let error_ptr = &*error as *const Mutex<Option<EmbreeError>> as *mut c_void;
+        // SAFETY: the config string outlives the call; the error slot is boxed (stable address)
+        // and moved into DeviceInner, which outlives the device.
+        let raw = unsafe {
+            ffi::timbre_device_new(config.as_ptr(), Some(on_device_error), error_ptr)
+        };
+        let Some(raw) = NonNull::new(raw) else {
+            let reported = error.lock().ok().and_then(|mut e| e.take());
+            return Err(reported.unwrap_or(EmbreeError::Creation("a device")));
+        };
+        let inner = Arc::new(DeviceInner { raw, error });
+        inner.check()?;
+        // SAFETY: `raw` is a live device.
+        if unsafe { ffi::timbre_device_ray_masks_supported(raw.as_ptr()) } == 0 {
+            return Err(EmbreeError::NoRayMasks);
+        }
+        Ok(Device { inner })
+    }
+
+    /// Embree's version string, e.g. "3.13.5".
+    pub fn version() -> &'static str {
+        // SAFETY: returns a pointer to a static NUL-terminated string literal.
+        unsafe { CStr::from_ptr(ffi::timbre_embree_version()) }
+            .to_str()
+            .unwrap_or("unknown")
+    }
+
+    /// Packet widths (4, 8, 16) that this CPU and Embree build trace natively.
+    pub fn native_packet_widths(&self) -> Vec<u32> {
+        // SAFETY: the device is live.
+        let bits = unsafe { ffi::timbre_device_native_packets(self.inner.raw.as_ptr()) };
+        [4, 8, 16].into_iter().filter(|w| bits & w != 0).collect()
+    }
+
+    /// Starts building a scene on this device.
+    pub fn scene_builder(&self) -> Result<SceneBuilder, EmbreeError> {
+        // SAFETY: the device is live.
+        let raw = unsafe { ffi::timbre_scene_new(self.inner.raw.as_ptr()) };
+        let raw = NonNull::new(raw).ok_or(EmbreeError::Creation("a scene"))?;
+        self.inner.check()?;
+        Ok(SceneBuilder {
+            scene: Scene {
+                raw,
+                device: self.inner.clone(),
+                user: Vec::new(),
+                children: Vec::new(),
+            },
+        })
+    }
+}
+
+/// A user geometry's Rust object together with the C record the shim hands to Embree.
+struct UserEntry {
+    record: ffi::TimbreUserGeometry,
+    _geometry: Box<Box<dyn UserGeometry>>,
+}
+
+/// A scene under construction. Add geometry, then [`SceneBuilder::commit`].
+pub struct SceneBuilder {
+    scene: Scene,
+}
+
+impl SceneBuilder {
+    fn id(&self, id: u32, what: &'static str) -> Result<u32, EmbreeError> {
+        self.scene.device.check()?;
+        if id == INVALID_ID {
+            Err(EmbreeError::Creation(what))
+        } else {
+            Ok(id)
+        }
+    }
+
+    /// Adds a native triangle mesh; returns its geometry id. Rays hit it when
+    /// `ray_mask & mask != 0`.
+    pub fn add_triangles(
+        &mut self,
+        vertices: &[Vec3],
+        triangles: &[[u32; 3]],
+        mask: u32,
+    ) -> Result<u32, EmbreeError> {
+        let n = vertices.len() as u32;
+        if triangles.iter().flatten().any(|&i| i >= n) {
+            return Err(EmbreeError::Creation("a triangle mesh with out-of-range indices"));
+        }
+        let flat: Vec<f32> = vertices.iter().flat_map(|v| v.to_array()).collect();
+        // SAFETY: `flat` holds 3 floats per vertex and `triangles` 3 in-range indices per
+        // triangle; the shim copies both into Embree-owned (padded) buffers before returning.
+        let id = unsafe {
+            ffi::timbre_scene_add_triangles(
+                self.scene.device.raw.as_ptr(),
+                self.scene.raw.as_ptr(),
+                flat.as_ptr(),
+                vertices.len(),
+                triangles.as_ptr() as *const u32,
+                triangles.len(),
+                mask,
+            )
+        };
+        self.id(id, "a triangle mesh")
+    }
+
+    /// Adds user geometry; returns its geometry id.
+    pub fn add_user(
+        &mut self,
+        geometry: Box<dyn UserGeometry>,
+        mask: u32,
+    ) -> Result<u32, EmbreeError> {
+        let prims = geometry.primitive_count();
+        let geometry = Box::new(geometry);
+        let mut entry = Box::new(UserEntry {
+            record: ffi::TimbreUserGeometry {
+                geometry: &*geometry as *const Box<dyn UserGeometry> as *const c_void,
+                bounds: Some(user_bounds),
+                intersect: Some(user_intersect),
+                occluded: Some(user_intersect),
+            },
+            _geometry: geometry,
+        });
+        // SAFETY: the record and the geometry it points to are boxed and kept in the scene,
+        // so they outlive every callback Embree makes for this geometry.
+        let id = unsafe {
+            ffi::timbre_scene_add_user(
+                self.scene.device.raw.as_ptr(),
+                self.scene.raw.as_ptr(),
+                prims,
+                &mut entry.record,
+                mask,
+            )
+        };
+        self.scene.user.push(entry);
+        self.id(id, "a user geometry")
+    }
+
+    /// Adds an instance of a committed scene under the affine map `transform` (3 rows of
+    /// `[linear | translation]`, from the instanced scene's space to this one's).
+    pub fn add_instance(
+        &mut self,
+        instanced: Arc<Scene>,
+        transform: [[f32; 4]; 3],
+        mask: u32,
+    ) -> Result<u32, EmbreeError> {
+        // SAFETY: `instanced` is a committed scene on the same device, kept alive by this
+        // scene's `children`; the transform is 12 floats in row-major 3x4 order.
+        let id = unsafe {
+            ffi::timbre_scene_add_instance(
+                self.scene.device.raw.as_ptr(),
+                self.scene.raw.as_ptr(),
+                instanced.raw.as_ptr(),
+                transform.as_ptr() as *const f32,
+                mask,
+            )
+        };
+        self.scene.children.push(instanced);
+        self.id(id, "an instance")
+    }
+
+    /// Builds the BVH. Call outside rayon tasks (Embree builds with its own threads).
+    pub fn commit(self) -> Result<Scene, EmbreeError> {
+        // SAFETY: the scene is live and all its geometry's data outlives it.
+        unsafe { ffi::timbre_scene_commit(self.scene.raw.as_ptr()) };
+        self.scene.device.check()?;
+        Ok(self.scene)
+    }
+}
+
+/// A committed Embree scene, read-only and shareable across threads.
+pub struct Scene {
+    raw: NonNull<c_void>,
+    device: Arc<DeviceInner>,
+    user: Vec<Box<UserEntry>>,
+    children: Vec<Arc<Scene>>,
+}
+
+// SAFETY: a committed Embree scene may be queried from many threads at once (Embree API manual,
+// rtcCommitScene); the user geometry it calls back into is Send + Sync.
+unsafe impl Send for Scene {}
+// SAFETY: as above.
+unsafe impl Sync for Scene {}
+
+impl Drop for Scene {
+    fn drop(&mut self) {
+        // SAFETY: `raw` is released once; Embree keeps instanced scenes alive by reference
+        // counting, and our own `children` are dropped after this call.
+        unsafe { ffi::timbre_scene_release(self.raw.as_ptr()) }
+    }
+}
+
+/// Per-query data handed through Embree to the callbacks: the exact rays (indexed by the
+/// Embree ray id) and, per ray, the exact distance of the latest accepted user-geometry hit.
+struct Query<'a> {
+    rays: &'a [ExactRay],
+    best: &'a [Cell<(f64, u32, u32)>],
+}
+
+fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi::TimbreRay {
+    ffi::TimbreRay {
+        org: ray.origin.as_vec3().to_array(),
+        dir: ray.direction.as_vec3().to_array(),
+        tnear: t_near as f32,
+        tfar: if t_far.is_finite() { t_far as f32 } else { f32::INFINITY },
+        mask,
+        id,
+    }
+}
+
+impl Scene {
+    /// Bounds of everything in the scene.
+    pub fn bounds(&self) -> Bounds {
+        let mut b = ffi::TimbreBounds { lower: [0.0; 3], upper: [0.0; 3] };
+        // SAFETY: the scene is committed; `b` is a valid out-pointer.
+        unsafe { ffi::timbre_scene_bounds(self.raw.as_ptr(), &mut b) };
+        Bounds { lower: Vec3::from(b.lower), upper: Vec3::from(b.upper) }
+    }
+
+    fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32)) -> Option<RawHit> {
+        if raw.geom_id == INVALID_ID {
+            return None;
+        }
+        let inst_id = (raw.inst_id != INVALID_ID).then_some(raw.inst_id);
+        let exact = inst_id.is_none() && best.1 == raw.geom_id && best.2 == raw.prim_id;
+        Some(RawHit {
+            geom_id: raw.geom_id,
+            prim_id: raw.prim_id,
+            inst_id,
+            t: if exact { best.0 } else { raw.t as f64 },
+            exact,
+        })
+    }
+
+    /// Nearest hit along `ray` with `t_near < t < t_far` among geometry whose mask shares a
+    /// bit with `mask`.
+    pub fn intersect(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> Option<RawHit> {
+        let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
+        let query = Query { rays: std::slice::from_ref(ray), best: &best };
+        let r = to_embree(ray, t_near, t_far, mask, 0);
+        let mut hit = ffi::TimbreHit { t: 0.0, geom_id: INVALID_ID, prim_id: 0, inst_id: 0 };
+        // SAFETY: the scene is committed; `query` outlives the call and is only read through
+        // shared references by callbacks on this thread.
+        unsafe {
+            ffi::timbre_intersect1(
+                self.raw.as_ptr(),
+                &query as *const Query as *const c_void,
+                &r,
+                &mut hit,
+            )
+        };
+        Self::finish(&hit, best[0].get())
+    }
+
+    /// Whether anything with a matching mask lies on `ray` at `t_near < t < t_far`.
+    pub fn occluded(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> bool {
+        let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
+        let query = Query { rays: std::slice::from_ref(ray), best: &best };
+        let r = to_embree(ray, t_near, t_far, mask, 0);
+        // SAFETY: as in `intersect`.
+        unsafe {
+            ffi::timbre_occluded1(self.raw.as_ptr(), &query as *const Query as *const c_void, &r)
+                != 0
+        }
+    }
+
+    /// Nearest hits of up to 8 rays traced as one coherent packet (native on AVX2); lanes
+    /// beyond `rays.len()` are inactive. All rays share `t_near`, `t_far` and `mask`.
+    pub fn intersect8(
+        &self,
+        rays: &[ExactRay],
+        t_near: f64,
+        t_far: f64,
+        mask: u32,
+    ) -> [Option<RawHit>; 8] {
+        assert!(rays.len() <= 8, "a packet holds at most 8 rays");
+        let best: [Cell<(f64, u32, u32)>; 8] =
+            std::array::from_fn(|_| Cell::new((f64::NAN, INVALID_ID, INVALID_ID)));
+        let query = Query { rays, best: &best };
+        let fallback = ExactRay { origin: DVec3::ZERO, direction: DVec3::Z };
+        let packet: [ffi::TimbreRay; 8] = std::array::from_fn(|i| {
+            to_embree(rays.get(i).unwrap_or(&fallback), t_near, t_far, mask, i as u32)
+        });
+        let valid: [c_int; 8] = std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 });
+        let mut hits = [ffi::TimbreHit { t: 0.0, geom_id: INVALID_ID, prim_id: 0, inst_id: 0 }; 8];
+        // SAFETY: all four arrays have 8 elements as the shim expects; `query` outlives the
+        // call. Embree requires 32-byte alignment only for its own packet struct, which the shim
+        // builds on its stack.
+        unsafe {
+            ffi::timbre_intersect8(
+                self.raw.as_ptr(),
+                &query as *const Query as *const c_void,
+                valid.as_ptr(),
+                packet.as_ptr(),
+                hits.as_mut_ptr(),
+            )
+        };
+        std::array::from_fn(|i| Self::finish(&hits[i], best[i].get()))
+    }
+}
+
+/// Embree asks for a primitive's bounds while building the BVH.
+unsafe extern "C" fn user_bounds(geometry: *const c_void, prim: u32, out: *mut ffi::TimbreBounds) {
+    // SAFETY: `geometry` is the boxed trait object registered in `add_user`, alive as long as
+    // the scene; `out` is a valid out-pointer supplied by the shim.
+    let (geometry, out) = unsafe { (&*(geometry as *const Box<dyn UserGeometry>), &mut *out) };
+    let b = geometry.bounds(prim);
+    out.lower = b.lower.to_array();
+    out.upper = b.upper.to_array();
+}
+
+/// Embree asks whether a ray hits a primitive (for both nearest-hit and occlusion queries).
+unsafe extern "C" fn user_intersect(
+    geometry: *const c_void,
+    geom_id: u32,
+    prim: u32,
+    query: *const c_void,
+    ray: *const ffi::TimbreRay,
+    instanced: c_int,
+    t_out: *mut f32,
+) -> c_int {
+    // SAFETY: `geometry` as in `user_bounds`; `query` is the `Query` passed by
+    // `Scene::intersect*`/`occluded` on this same thread, alive for the whole query; `ray` and
+    // `t_out` are valid pointers supplied by the shim.
+    let (geometry, query, ray) = unsafe {
+        (&*(geometry as *const Box<dyn UserGeometry>), &*(query as *const Query), &*ray)
+    };
+    let id = ray.id as usize;
+    // Inside an instance Embree hands us the ray in the instance's space, so use it as given.
+    let exact = (instanced == 0).then(|| query.rays.get(id)).flatten();
+    let embree_ray = ExactRay {
+        origin: Vec3::from(ray.org).as_dvec3(),
+        direction: Vec3::from(ray.dir).as_dvec3(),
+    };
+    let r = exact.unwrap_or(&embree_ray);
+    let Some(t) = geometry.intersect(prim, r, ray.tnear as f64, ray.tfar as f64) else {
+        return 0;
+    };
+    if exact.is_some() {
+        if let Some(best) = query.best.get(id) {
+            best.set((t, geom_id, prim));
+        }
+    }
+    // SAFETY: valid out-pointer from the shim.
+    unsafe { *t_out = (t as f32).min(ray.tfar).max(ray.tnear) };
+    1
+}

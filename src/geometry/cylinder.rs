@@ -1,0 +1,94 @@
+//! Cylinder from `start` to `end` with end caps (discs) of the same radius.
+//!
+//! The textbook quadratic for a line and an infinite cylinder loses precision on long, thin
+//! cylinders (large |o − start| along the axis, tiny radius): it subtracts nearly equal
+//! squares. Here the axial components of the origin offset and the direction are removed first,
+//! so the quadratic only sees the perpendicular geometry.
+
+use glam::{DVec2, DVec3};
+
+use super::GeometryError;
+use crate::math::{Frame, half_b_quadratic, nearest_in};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cylinder {
+    pub start: DVec3,
+    pub end: DVec3,
+    pub radius: f64,
+    /// Unit vector from start to end.
+    axis: DVec3,
+    length: f64,
+}
+
+impl Cylinder {
+    pub fn new(start: DVec3, end: DVec3, radius: f64) -> Result<Cylinder, GeometryError> {
+        super::check_point("cylinder start", start)?;
+        super::check_point("cylinder end", end)?;
+        super::check_positive("cylinder radius", radius)?;
+        let length = (end - start).length();
+        if !(length > 0.0) {
+            return Err(GeometryError::Degenerate("cylinder start and end coincide".into()));
+        }
+        Ok(Cylinder { start, end, radius, axis: (end - start) / length, length })
+    }
+
+    pub fn axis(&self) -> DVec3 {
+        self.axis
+    }
+
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let a = self.axis;
+        let oc = origin - self.start;
+        let (oc_axial, d_axial) = (oc.dot(a), direction.dot(a));
+        let oc_perp = oc - oc_axial * a;
+        let d_perp = direction - d_axial * a;
+        let within = |t: f64| {
+            let s = oc_axial + t * d_axial;
+            (0.0..=self.length).contains(&s)
+        };
+        let mantle = half_b_quadratic(
+            d_perp.length_squared(),
+            oc_perp.dot(d_perp),
+            oc_perp.length_squared() - self.radius * self.radius,
+        )
+        .map(|(t0, t1)| [t0, t1])
+        .unwrap_or([f64::NAN; 2])
+        .into_iter()
+        .filter(|&t| within(t));
+        let caps = [0.0, self.length].into_iter().filter_map(|s| {
+            let t = (s - oc_axial) / d_axial;
+            let r = oc_perp + t * d_perp;
+            (t.is_finite() && r.length_squared() <= self.radius * self.radius).then_some(t)
+        });
+        nearest_in(mantle.chain(caps), t_min, t_max)
+    }
+
+    /// Frame at a surface point: on the mantle w is radial, u = axis × w, v = axis; on a cap w
+    /// is ∓axis. A point belongs to whichever part it is nearer to.
+    pub fn frame(&self, p: DVec3) -> Frame {
+        let s = (p - self.start).dot(self.axis);
+        let radial = (p - self.start) - s * self.axis;
+        let to_mantle = (radial.length() - self.radius).abs();
+        if to_mantle <= s.abs().min((s - self.length).abs()) {
+            Frame { u: self.axis.cross(radial.normalize()), v: self.axis, w: radial.normalize() }
+        } else if s < 0.5 * self.length {
+            Frame::from_normal(-self.axis)
+        } else {
+            Frame::from_normal(self.axis)
+        }
+    }
+
+    /// (r φ, s): arc length around the axis and distance along it from `start`.
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        let f = Frame::from_normal(self.axis);
+        let d = p - self.start;
+        DVec2::new(self.radius * d.dot(f.v).atan2(d.dot(f.u)), d.dot(self.axis))
+    }
+
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        // Each end disc extends r·sqrt(1 − a_i²) along axis i.
+        let a = self.axis;
+        let e = self.radius * (DVec3::ONE - a * a).max(DVec3::ZERO).sqrt();
+        (self.start.min(self.end) - e, self.start.max(self.end) + e)
+    }
+}

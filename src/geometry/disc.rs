@@ -1,0 +1,43 @@
+//! Disc: the points of a plane within `radius` of `centre`.
+
+use glam::{DVec2, DVec3};
+
+use super::GeometryError;
+use super::plane::plane_distance;
+use crate::math::Frame;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Disc {
+    pub centre: DVec3,
+    pub radius: f64,
+    /// w is the unit outward normal; u, v span the disc.
+    pub frame: Frame,
+}
+
+impl Disc {
+    pub fn new(centre: DVec3, normal: DVec3, radius: f64) -> Result<Disc, GeometryError> {
+        super::check_point("disc centre", centre)?;
+        let normal = super::check_direction("disc normal", normal)?;
+        super::check_positive("disc radius", radius)?;
+        Ok(Disc { centre, radius, frame: Frame::from_normal(normal) })
+    }
+
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let t = plane_distance(self.centre, self.frame.w, origin, direction)?;
+        let inside = (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
+        (t > t_min && t < t_max && inside).then_some(t)
+    }
+
+    /// Cartesian coordinates along u and v from the centre.
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        let d = p - self.centre;
+        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
+    }
+
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        // Extent along each axis: r·sqrt(1 − n_i²).
+        let n = self.frame.w;
+        let e = self.radius * (DVec3::ONE - n * n).max(DVec3::ZERO).sqrt();
+        (self.centre - e, self.centre + e)
+    }
+}

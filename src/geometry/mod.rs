@@ -1,0 +1,310 @@
+//! Shapes, exact in f64, and the scene's ray–geometry queries.
+//!
+//! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
+//! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
+//! [`SceneGeometry`] puts the bounded shapes into one Embree BVH (analytic shapes as user
+//! geometry, meshes as native triangles), tests unbounded planes directly, and recomputes
+//! Embree's f32 hits in f64.
+
+mod cylinder;
+mod disc;
+mod parallelogram;
+mod plane;
+mod sphere;
+mod triangle_mesh;
+
+use std::sync::Arc;
+
+use glam::{DVec2, DVec3};
+use thiserror::Error;
+
+pub use cylinder::Cylinder;
+pub use disc::Disc;
+pub use parallelogram::Parallelogram;
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use triangle_mesh::TriangleMesh;
+
+use crate::embree::{self, Bounds, Device, EmbreeError, ExactRay, UserGeometry};
+use crate::math::Frame;
+
+/// Invalid shape parameters.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum GeometryError {
+    #[error("{what} must be a positive finite number, got {value}")]
+    NotPositive { what: &'static str, value: f64 },
+    #[error("{what} must be finite, got {value}")]
+    NotFinite { what: &'static str, value: DVec3 },
+    #[error("{what} must be a non-zero vector")]
+    ZeroVector { what: &'static str },
+    #[error("degenerate geometry: {0}")]
+    Degenerate(String),
+}
+
+fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
+    if value > 0.0 && value.is_finite() {
+        Ok(())
+    } else {
+        Err(GeometryError::NotPositive { what, value })
+    }
+}
+
+fn check_point(what: &'static str, value: DVec3) -> Result<(), GeometryError> {
+    if value.is_finite() { Ok(()) } else { Err(GeometryError::NotFinite { what, value }) }
+}
+
+/// A finite, non-zero vector, normalised.
+fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryError> {
+    check_point(what, value)?;
+    value.try_normalize().ok_or(GeometryError::ZeroVector { what })
+}
+
+/// A geometric shape.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    Sphere(Sphere),
+    Plane(Plane),
+    Disc(Disc),
+    Cylinder(Cylinder),
+    Parallelogram(Parallelogram),
+    TriangleMesh(TriangleMesh),
+}
+
+impl Shape {
+    /// Nearest hit (t, primitive) with t_min < t < t_max; primitives are a mesh's triangles,
+    /// every other shape has the single primitive 0.
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+        match self {
+            Shape::TriangleMesh(m) => m.intersect(origin, direction, t_min, t_max),
+            _ => self.intersect_primitive(0, origin, direction, t_min, t_max).map(|t| (t, 0)),
+        }
+    }
+
+    /// Nearest hit of primitive `prim`.
+    pub fn intersect_primitive(
+        &self,
+        prim: u32,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
+        match self {
+            Shape::Sphere(s) => s.intersect(origin, direction, t_min, t_max),
+            Shape::Plane(s) => s.intersect(origin, direction, t_min, t_max),
+            Shape::Disc(s) => s.intersect(origin, direction, t_min, t_max),
+            Shape::Cylinder(s) => s.intersect(origin, direction, t_min, t_max),
+            Shape::Parallelogram(s) => s.intersect(origin, direction, t_min, t_max),
+            Shape::TriangleMesh(m) => m.intersect_triangle(prim, origin, direction, t_min, t_max),
+        }
+    }
+
+    /// Surface frame at surface point `p` of primitive `prim`.
+    pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
+        match self {
+            Shape::Sphere(s) => s.frame(p),
+            Shape::Plane(s) => s.frame,
+            Shape::Disc(s) => s.frame,
+            Shape::Cylinder(s) => s.frame(p),
+            Shape::Parallelogram(s) => s.frame,
+            Shape::TriangleMesh(m) => m.frame(prim),
+        }
+    }
+
+    /// Surface coordinates of surface point `p` (units of length; see each shape).
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        match self {
+            Shape::Sphere(s) => s.coordinates(p),
+            Shape::Plane(s) => s.coordinates(p),
+            Shape::Disc(s) => s.coordinates(p),
+            Shape::Cylinder(s) => s.coordinates(p),
+            Shape::Parallelogram(s) => s.coordinates(p),
+            Shape::TriangleMesh(m) => m.coordinates(p),
+        }
+    }
+
+    /// Axis-aligned bounds, or `None` for unbounded shapes.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        match self {
+            Shape::Sphere(s) => Some(s.bounds()),
+            Shape::Plane(_) => None,
+            Shape::Disc(s) => Some(s.bounds()),
+            Shape::Cylinder(s) => Some(s.bounds()),
+            Shape::Parallelogram(s) => Some(s.bounds()),
+            Shape::TriangleMesh(m) => Some(m.bounds()),
+        }
+    }
+}
+
+/// Ray masks: every object is visible; shadow rays only see shadow-throwing objects.
+const VISIBLE: u32 = 1;
+const SHADOW_THROWING: u32 = 2;
+
+/// The nearest intersection of a ray with the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// Index of the object (in the order given to [`SceneGeometry::build`]).
+    pub object: usize,
+    /// Primitive within the object (triangle index for meshes, else 0).
+    pub prim: u32,
+    /// Distance along the ray direction.
+    pub t: f64,
+}
+
+/// Analytic shapes registered with Embree as one user geometry (one primitive per shape).
+struct AnalyticGroup {
+    shapes: Arc<[Shape]>,
+    members: Vec<usize>,
+}
+
+impl UserGeometry for AnalyticGroup {
+    fn primitive_count(&self) -> u32 {
+        self.members.len() as u32
+    }
+
+    fn bounds(&self, prim: u32) -> Bounds {
+        let (lo, hi) = self.shapes[self.members[prim as usize]]
+            .bounds()
+            .expect("only bounded shapes are put in Embree");
+        Bounds::enclosing(lo, hi)
+    }
+
+    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64> {
+        self.shapes[self.members[prim as usize]].intersect_primitive(
+            0,
+            ray.origin,
+            ray.direction,
+            t_near,
+            t_far,
+        )
+    }
+}
+
+/// What an Embree geometry id stands for.
+enum Geometry {
+    /// User geometry: primitive i is object `members[i]`.
+    Analytic(Vec<usize>),
+    /// Native triangles of one mesh object.
+    Mesh(usize),
+}
+
+/// All objects of a scene, ready for ray queries from many threads.
+pub struct SceneGeometry {
+    shapes: Arc<[Shape]>,
+    shadow_throwing: Vec<bool>,
+    /// Objects not in the BVH (unbounded planes), tested on every query.
+    unbounded: Vec<usize>,
+    bvh: embree::Scene,
+    geometries: Vec<Geometry>,
+}
+
+impl SceneGeometry {
+    /// Builds the BVH over `objects` (shape, shadow-throwing).
+    pub fn build(device: &Device, objects: Vec<(Shape, bool)>) -> Result<SceneGeometry, EmbreeError> {
+        let shadow_throwing: Vec<bool> = objects.iter().map(|o| o.1).collect();
+        let shapes: Arc<[Shape]> = objects.into_iter().map(|o| o.0).collect();
+        let mask = |i: usize| VISIBLE | if shadow_throwing[i] { SHADOW_THROWING } else { 0 };
+        let mut builder = device.scene_builder()?;
+        let mut geometries = Vec::new();
+        let mut unbounded = Vec::new();
+        let mut analytic: [Vec<usize>; 2] = Default::default();
+        for (i, shape) in shapes.iter().enumerate() {
+            match shape {
+                _ if shape.bounds().is_none() => unbounded.push(i),
+                Shape::TriangleMesh(m) => {
+                    let vertices: Vec<_> = m.vertices.iter().map(|v| v.as_vec3()).collect();
+                    let id = builder.add_triangles(&vertices, &m.triangles, mask(i))?;
+                    set_geometry(&mut geometries, id, Geometry::Mesh(i));
+                }
+                _ => analytic[shadow_throwing[i] as usize].push(i),
+            }
+        }
+        for members in analytic.into_iter().filter(|m| !m.is_empty()) {
+            let group = AnalyticGroup { shapes: shapes.clone(), members: members.clone() };
+            let id = builder.add_user(Box::new(group), mask(members[0]))?;
+            set_geometry(&mut geometries, id, Geometry::Analytic(members));
+        }
+        Ok(SceneGeometry { shapes, shadow_throwing, unbounded, bvh: builder.commit()?, geometries })
+    }
+
+    pub fn shapes(&self) -> &[Shape] {
+        &self.shapes
+    }
+
+    /// Turns Embree's hit into an exact f64 hit.
+    fn resolve(&self, raw: embree::RawHit, origin: DVec3, direction: DVec3, t_min: f64) -> Hit {
+        let (object, prim) = match &self.geometries[raw.geom_id as usize] {
+            Geometry::Analytic(members) => (members[raw.prim_id as usize], 0),
+            Geometry::Mesh(object) => (*object, raw.prim_id),
+        };
+        let t = if raw.exact {
+            raw.t
+        } else {
+            // Recompute near Embree's f32 distance; a grazing hit that f64 just misses keeps
+            // the f32 distance (triangles: the distance to the triangle's plane).
+            let shape = &self.shapes[object];
+            let window = 1e-4 * (1.0 + raw.t.abs());
+            let exact = shape.intersect_primitive(prim, origin, direction, (raw.t - window).max(t_min), f64::INFINITY);
+            let on_plane = match shape {
+                Shape::TriangleMesh(m) => m.plane_distance(prim, origin, direction),
+                _ => None,
+            };
+            exact.or(on_plane).unwrap_or(raw.t)
+        };
+        Hit { object, prim, t }
+    }
+
+    /// Nearest hit on any object with t_min < t < t_max.
+    pub fn nearest(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+        let ray = ExactRay { origin, direction };
+        let raw = self.bvh.intersect(&ray, t_min, t_max, VISIBLE);
+        self.complete(raw, &ray, t_min, t_max)
+    }
+
+    /// Resolves Embree's hit in f64 and lets the unbounded objects compete with it.
+    fn complete(&self, raw: Option<embree::RawHit>, ray: &ExactRay, t_min: f64, t_max: f64) -> Option<Hit> {
+        let mut best = raw.map(|raw| self.resolve(raw, ray.origin, ray.direction, t_min));
+        for &i in &self.unbounded {
+            let t_max = best.map_or(t_max, |h| h.t);
+            if let Some((t, prim)) = self.shapes[i].intersect(ray.origin, ray.direction, t_min, t_max) {
+                best = Some(Hit { object: i, prim, t });
+            }
+        }
+        best
+    }
+
+    /// Nearest hits of up to 8 rays from a common origin (a packet of primary rays).
+    pub fn nearest8(&self, origin: DVec3, directions: &[DVec3], t_min: f64, t_max: f64) -> Vec<Option<Hit>> {
+        let rays: Vec<ExactRay> = directions.iter().map(|&direction| ExactRay { origin, direction }).collect();
+        let raw = self.bvh.intersect8(&rays, t_min, t_max, VISIBLE);
+        rays.iter().zip(raw).map(|(ray, raw)| self.complete(raw, ray, t_min, t_max)).collect()
+    }
+
+    /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.
+    pub fn shadowed(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> bool {
+        let ray = ExactRay { origin, direction };
+        self.unbounded.iter().any(|&i| {
+            self.shadow_throwing[i] && self.shapes[i].intersect(origin, direction, t_min, t_max).is_some()
+        }) || self.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
+    }
+
+    /// Reference intersector: a plain f64 loop over all objects, for tests.
+    pub fn nearest_brute_force(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        for (object, shape) in self.shapes.iter().enumerate() {
+            let t_max = best.map_or(t_max, |h| h.t);
+            if let Some((t, prim)) = shape.intersect(origin, direction, t_min, t_max) {
+                best = Some(Hit { object, prim, t });
+            }
+        }
+        best
+    }
+}
+
+fn set_geometry(geometries: &mut Vec<Geometry>, id: u32, g: Geometry) {
+    let id = id as usize;
+    while geometries.len() <= id {
+        geometries.push(Geometry::Analytic(Vec::new()));
+    }
+    geometries[id] = g;
+}

@@ -1,0 +1,67 @@
+//! Parallelogram: corner + α span_u + β span_v with α, β ∈ [0, 1].
+
+use glam::{DVec2, DVec3};
+
+use super::GeometryError;
+use super::plane::plane_distance;
+use crate::math::Frame;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parallelogram {
+    pub corner: DVec3,
+    pub span_u: DVec3,
+    pub span_v: DVec3,
+    /// w = span_u × span_v normalised (the outward side), u along span_u.
+    pub frame: Frame,
+}
+
+impl Parallelogram {
+    pub fn new(corner: DVec3, span_u: DVec3, span_v: DVec3) -> Result<Parallelogram, GeometryError> {
+        super::check_point("parallelogram corner", corner)?;
+        super::check_point("parallelogram span vector", span_u)?;
+        super::check_point("parallelogram span vector", span_v)?;
+        let normal = span_u.cross(span_v);
+        if !(normal.length() > 1e-12 * span_u.length() * span_v.length()) {
+            return Err(GeometryError::Degenerate(
+                "parallelogram span vectors are zero or parallel".into(),
+            ));
+        }
+        Ok(Parallelogram { corner, span_u, span_v, frame: Frame::from_normal_and_u(normal, span_u) })
+    }
+
+    /// (α, β) with p = corner + α span_u + β span_v, for p in the plane.
+    fn span_coordinates(&self, p: DVec3) -> DVec2 {
+        let d = p - self.corner;
+        let (uu, uv, vv) =
+            (self.span_u.length_squared(), self.span_u.dot(self.span_v), self.span_v.length_squared());
+        let (du, dv) = (d.dot(self.span_u), d.dot(self.span_v));
+        let det = uu * vv - uv * uv;
+        DVec2::new((du * vv - dv * uv) / det, (dv * uu - du * uv) / det)
+    }
+
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let t = plane_distance(self.corner, self.frame.w, origin, direction)?;
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        let ab = self.span_coordinates(origin + t * direction);
+        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y)).then_some(t)
+    }
+
+    /// Coordinates along the span vectors in units of length: (α |span_u|, β |span_v|).
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
+    }
+
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        let corners = [
+            self.corner,
+            self.corner + self.span_u,
+            self.corner + self.span_v,
+            self.corner + self.span_u + self.span_v,
+        ];
+        let lo = corners.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
+        let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
+        (lo, hi)
+    }
+}

@@ -1,0 +1,47 @@
+//! Infinite plane through `point` with outward normal `normal`. Unbounded, so it is not put in
+//! Embree's BVH: the scene intersects planes directly (see `geometry::SceneGeometry`).
+
+use glam::{DVec2, DVec3};
+
+use super::GeometryError;
+use crate::math::Frame;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plane {
+    pub point: DVec3,
+    /// Surface frame: w is the unit outward normal, u and v the in-plane coordinate axes.
+    pub frame: Frame,
+}
+
+impl Plane {
+    /// A plane whose surface coordinate u runs along the in-plane part of `u_direction`.
+    pub fn new(point: DVec3, normal: DVec3, u_direction: DVec3) -> Result<Plane, GeometryError> {
+        super::check_point("plane point", point)?;
+        let normal = super::check_direction("plane normal", normal)?;
+        super::check_point("plane u direction", u_direction)?;
+        Ok(Plane { point, frame: Frame::from_normal_and_u(normal, u_direction) })
+    }
+
+    /// The t where the line meets the plane, if in (t_min, t_max).
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let t = plane_distance(self.point, self.frame.w, origin, direction)?;
+        (t > t_min && t < t_max).then_some(t)
+    }
+
+    /// In-plane Cartesian coordinates along u and v, measured from `point`.
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        let d = p - self.point;
+        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
+    }
+}
+
+/// Distance along the line o + t d to the plane through `point` with normal `n`; `None` when the
+/// line is parallel to the plane.
+pub fn plane_distance(point: DVec3, n: DVec3, origin: DVec3, direction: DVec3) -> Option<f64> {
+    let dn = direction.dot(n);
+    if dn == 0.0 {
+        return None;
+    }
+    let t = (point - origin).dot(n) / dn;
+    t.is_finite().then_some(t)
+}

@@ -1,0 +1,55 @@
+//! Sphere: |p − centre| = radius.
+
+use glam::{DVec2, DVec3};
+
+use super::GeometryError;
+use crate::math::{Frame, nearest_in};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sphere {
+    pub centre: DVec3,
+    pub radius: f64,
+}
+
+impl Sphere {
+    pub fn new(centre: DVec3, radius: f64) -> Result<Sphere, GeometryError> {
+        super::check_point("sphere centre", centre)?;
+        super::check_positive("sphere radius", radius)?;
+        Ok(Sphere { centre, radius })
+    }
+
+    /// Nearest t in (t_min, t_max) with |o + t d − c| = r. The quadratic is solved about the
+    /// point of the line closest to the centre, which keeps precision for distant spheres.
+    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let oc = origin - self.centre;
+        let a = direction.length_squared();
+        let half_b = oc.dot(direction);
+        // c = |oc|² − r², written as |oc − proj|² + |proj|² − r² to limit cancellation.
+        let closest = oc - (half_b / a) * direction;
+        let c_perp = closest.length_squared() - self.radius * self.radius;
+        // Roots in terms of s = t + half_b/a: a s² + c_perp = 0.
+        if c_perp > 0.0 {
+            return None;
+        }
+        let s = (-c_perp / a).sqrt();
+        let mid = -half_b / a;
+        nearest_in([mid - s, mid + s], t_min, t_max)
+    }
+
+    pub fn frame(&self, p: DVec3) -> Frame {
+        let w = p - self.centre;
+        Frame::from_normal_and_u(w, DVec3::Y.cross(w))
+    }
+
+    /// (r φ, r θ): arc lengths along longitude φ (about y) and polar angle θ (from +y).
+    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+        let d = (p - self.centre) / self.radius;
+        let phi = d.x.atan2(d.z);
+        let theta = d.y.clamp(-1.0, 1.0).acos();
+        self.radius * DVec2::new(phi, theta)
+    }
+
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (self.centre - DVec3::splat(self.radius), self.centre + DVec3::splat(self.radius))
+    }
+}

@@ -1,0 +1,14 @@
+//! timbre: a fast, scientifically exact ray tracer for ray-optics research.
+//!
+//! Embree builds and traverses the BVH; everything optical is Rust in f64. The physics follows
+//! "Dr TIM: Ray-tracer TIM, with additional specialist scientific capabilities" (Oxburgh, Tyc,
+//! Courtial); equation numbers in doc comments refer to it.
+
+pub mod embree;
+pub mod geometry;
+pub mod math;
+pub mod cameras;
+pub mod io;
+pub mod render;
+pub mod scene;
+pub mod surfaces;

@@ -1,0 +1,167 @@
+//! Rendering: primary rays from the camera, traced in parallel over image tiles.
+
+mod sampling;
+mod tracer;
+
+pub use sampling::{pixel_offset, uniform};
+pub use tracer::{Interaction, Tracer};
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::cameras::PinholeCamera;
+use crate::scene::Scene;
+use crate::surfaces::Colour;
+
+/// Side length of the square tiles that are rendered in parallel.
+const TILE: u32 = 32;
+
+/// How to render: image size, sampling and tracing limits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples (primary rays) per pixel.
+    pub spp: u32,
+    pub seed: u64,
+    /// Maximum number of surfaces a ray path may meet; a ray that runs out of levels is black.
+    pub max_trace_level: u32,
+    /// Scene-wide switch for hard shadows.
+    pub shadows: bool,
+    /// Also record depth, normal and object id of the surface seen through each pixel centre.
+    pub aovs: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 640,
+            height: 480,
+            spp: 1,
+            seed: 0,
+            max_trace_level: 100,
+            shadows: true,
+            aovs: false,
+        }
+    }
+}
+
+/// Arbitrary output variables of the surface seen through each pixel centre.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Aovs {
+    /// Distance from the camera; infinite where nothing is hit.
+    pub depth: Vec<f32>,
+    /// Outward surface normal; zero where nothing is hit.
+    pub normal: Vec<Vec3>,
+    /// Object index in the scene; −1 where nothing is hit.
+    pub object: Vec<f32>,
+}
+
+/// A rendered image: linear RGB, row-major from the top-left pixel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Colour>,
+    pub aovs: Option<Aovs>,
+    /// Rays traced (primary, secondary and shadow).
+    pub rays: u64,
+}
+
+impl Image {
+    pub fn pixel(&self, x: u32, y: u32) -> Colour {
+        self.pixels[(y * self.width + x) as usize]
+    }
+}
+
+/// One tile's results, in the tile's own row-major order.
+struct Tile {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    pixels: Vec<Colour>,
+    aovs: Aovs,
+    rays: u64,
+}
+
+fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u32, y0: u32) -> Tile {
+    let tracer = Tracer::new(scene, s.shadows);
+    let (w, h) = (TILE.min(s.width - x0), TILE.min(s.height - y0));
+    let mut tile = Tile { x0, y0, w, pixels: Vec::with_capacity((w * h) as usize), aovs: Aovs::default(), rays: 0 };
+    for y in y0..y0 + h {
+        for x in x0..x0 + w {
+            let mut sum = Colour::ZERO;
+            let mut centre_hit = None;
+            for sample in 0..s.spp {
+                let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
+                let ray = camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy);
+                let (colour, hit) = tracer.trace(&ray, 0.0, s.max_trace_level);
+                sum += colour;
+                if s.spp == 1 {
+                    centre_hit = hit.map(|h| (ray, h));
+                }
+            }
+            tile.pixels.push(sum / s.spp as f64);
+            if s.aovs {
+                let ray = camera.ray(s.width, s.height, x as f64, y as f64);
+                let hit = if s.spp == 1 { centre_hit.map(|c| c.1) } else { tracer.nearest(&ray, 0.0) };
+                let shapes = scene.geometry.shapes();
+                tile.aovs.depth.push(hit.map_or(f32::INFINITY, |h| h.t as f32));
+                tile.aovs.normal.push(hit.map_or(Vec3::ZERO, |h| {
+                    shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3()
+                }));
+                tile.aovs.object.push(hit.map_or(-1.0, |h| h.object as f32));
+            }
+        }
+    }
+    tile.rays = tracer.rays_traced();
+    tile
+}
+
+/// Renders `scene` through `camera` on the current rayon thread pool. `progress` is called with
+/// the number of pixels of each finished tile. The result does not depend on the number of
+/// threads.
+pub fn render(
+    scene: &Scene,
+    camera: &PinholeCamera,
+    settings: &RenderSettings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image {
+    let s = settings;
+    let origins: Vec<(u32, u32)> = (0..s.height)
+        .step_by(TILE as usize)
+        .flat_map(|y| (0..s.width).step_by(TILE as usize).map(move |x| (x, y)))
+        .collect();
+    let tiles: Vec<Tile> = origins
+        .par_iter()
+        .map(|&(x0, y0)| {
+            let tile = render_tile(scene, camera, s, x0, y0);
+            progress(tile.pixels.len() as u64);
+            tile
+        })
+        .collect();
+
+    let n = (s.width * s.height) as usize;
+    let mut image = Image {
+        width: s.width,
+        height: s.height,
+        pixels: vec![Colour::ZERO; n],
+        aovs: s.aovs.then(|| Aovs { depth: vec![0.0; n], normal: vec![Vec3::ZERO; n], object: vec![0.0; n] }),
+        rays: 0,
+    };
+    for tile in tiles {
+        image.rays += tile.rays;
+        for (k, colour) in tile.pixels.into_iter().enumerate() {
+            let (x, y) = (tile.x0 + k as u32 % tile.w, tile.y0 + k as u32 / tile.w);
+            let i = (y * s.width + x) as usize;
+            image.pixels[i] = colour;
+            if let Some(a) = &mut image.aovs {
+                a.depth[i] = tile.aovs.depth[k];
+                a.normal[i] = tile.aovs.normal[k];
+                a.object[i] = tile.aovs.object[k];
+            }
+        }
+    }
+    image
+}
+

@@ -1,0 +1,124 @@
+//! TIM's standard studio: sky, chequerboard floor, lights, the default camera and (for
+//! "lattice") the cylinder lattice. Lengths are in floor tiles; x right, y up, camera along +z.
+
+use glam::DVec3;
+
+use super::lights::{Lights, PointLight};
+use super::{SceneDescription, SceneObject};
+use crate::cameras::PinholeCamera;
+use crate::geometry::{Cylinder, Plane, Shape, Sphere};
+use crate::render::RenderSettings;
+use crate::surfaces::{Chequerboard, Colour, Coloured, Surface};
+
+/// The backdrop a scene starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Studio {
+    /// Sky, floor, lights and camera.
+    Empty,
+    /// The empty studio plus TIM's lattice of 48 red, green and blue cylinders.
+    Lattice,
+}
+
+/// Sky: a sphere of radius 100 000 about the origin, constant colour (0.5, 0.5, 1), no shadow.
+pub fn sky() -> SceneObject {
+    SceneObject {
+        name: "sky".into(),
+        shape: Shape::Sphere(Sphere::new(DVec3::ZERO, 1e5).expect("valid sky")),
+        surface: Surface::ConstantColour(Colour::new(0.5, 0.5, 1.0)),
+        shadow_throwing: false,
+    }
+}
+
+/// Floor: the plane y = −1.0001 with unit chequerboard tiles aligned with x and z; tiles with
+/// floor(x) + floor(z) even are 0.8 grey, odd ones white, both shiny.
+pub fn floor() -> SceneObject {
+    // Surface coordinates (u, v) = (z, x): u along z makes v = w × u = y × z = x.
+    let plane = Plane::new(DVec3::new(0.0, -1.0001, 0.0), DVec3::Y, DVec3::Z).expect("valid floor");
+    SceneObject {
+        name: "floor".into(),
+        shape: Shape::Plane(plane),
+        surface: Surface::Chequerboard(Chequerboard {
+            tile_width: 1.0,
+            surfaces: Box::new([
+                Surface::Coloured(Coloured::shiny(Colour::splat(0.8))),
+                Surface::Coloured(Coloured::shiny(Colour::ONE)),
+            ]),
+        }),
+        shadow_throwing: true,
+    }
+}
+
+/// Ambient (0.2, 0.2, 0.2) and a white point light at (100, 300, −500), Phong exponent 40.
+pub fn lights() -> Lights {
+    Lights {
+        ambient: Colour::splat(0.2),
+        points: vec![PointLight {
+            position: DVec3::new(100.0, 300.0, -500.0),
+            colour: Colour::ONE,
+            phong_exponent: 40.0,
+        }],
+    }
+}
+
+/// Pinhole at the origin looking along +z, up +y, horizontal view angle 20°.
+pub fn camera() -> PinholeCamera {
+    PinholeCamera::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 20f64.to_radians()).expect("valid camera")
+}
+
+/// The 48 cylinders (radius 0.02, shiny, shadow-throwing) of TIM's lattice on the grid
+/// x ∈ {−1, −1/3, 1/3, 1}, y ∈ {−0.98, −0.31, 0.353, 1.02}, z ∈ {10, 20, 30, 40}: red along z,
+/// blue along x, green along y.
+pub fn lattice() -> Vec<SceneObject> {
+    let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
+    let ys: Vec<f64> = (0..4).map(|i| -0.98 + i as f64 * (1.02 + 0.98) / 3.0).collect();
+    let zs = [10.0, 20.0, 30.0, 40.0];
+    let cylinder = |name: String, start: DVec3, end: DVec3, colour: Colour| SceneObject {
+        name,
+        shape: Shape::Cylinder(Cylinder::new(start, end, 0.02).expect("valid lattice cylinder")),
+        surface: Surface::Coloured(Coloured::shiny(colour)),
+        shadow_throwing: true,
+    };
+    let mut objects = Vec::with_capacity(48);
+    for (i, &x) in xs.iter().enumerate() {
+        for (j, &y) in ys.iter().enumerate() {
+            objects.push(cylinder(
+                format!("red cylinder {i},{j}"),
+                DVec3::new(x, y, zs[0]),
+                DVec3::new(x, y, zs[3]),
+                Colour::X,
+            ));
+        }
+    }
+    for (j, &y) in ys.iter().enumerate() {
+        for (k, &z) in zs.iter().enumerate() {
+            objects.push(cylinder(
+                format!("blue cylinder {j},{k}"),
+                DVec3::new(xs[0], y, z),
+                DVec3::new(xs[3], y, z),
+                Colour::Z,
+            ));
+        }
+    }
+    for (i, &x) in xs.iter().enumerate() {
+        for (k, &z) in zs.iter().enumerate() {
+            objects.push(cylinder(
+                format!("green cylinder {i},{k}"),
+                DVec3::new(x, ys[0], z),
+                DVec3::new(x, ys[3], z),
+                Colour::Y,
+            ));
+        }
+    }
+    objects
+}
+
+impl Studio {
+    /// The studio as a complete scene with TIM's default render settings (640×480, 1 spp).
+    pub fn description(self) -> SceneDescription {
+        let mut objects = vec![sky(), floor()];
+        if self == Studio::Lattice {
+            objects.extend(lattice());
+        }
+        SceneDescription { objects, lights: lights(), camera: camera(), render: RenderSettings::default() }
+    }
+}

@@ -1,0 +1,45 @@
+//! Chequerboard: two surfaces alternating on square tiles of the shape's surface coordinates.
+
+use super::{Colour, Surface};
+use crate::render::{Interaction, Tracer};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Chequerboard {
+    /// Side length of a tile, in the units of the surface coordinates.
+    pub tile_width: f64,
+    /// `surfaces[0]` on tiles with floor(u/width) + floor(v/width) even, `surfaces[1]` on odd.
+    pub surfaces: Box<[Surface; 2]>,
+}
+
+impl Chequerboard {
+    /// The surface of the tile at surface coordinates (u, v).
+    pub fn tile(&self, u: f64, v: f64) -> &Surface {
+        let parity = ((u / self.tile_width).floor() + (v / self.tile_width).floor()).rem_euclid(2.0);
+        &self.surfaces[(parity != 0.0) as usize]
+    }
+
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let uv = at.coordinates();
+        self.tile(uv.x, uv.y).colour(tracer, at)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_alternate_across_every_boundary() {
+        let c = Chequerboard {
+            tile_width: 1.0,
+            surfaces: Box::new([Surface::ConstantColour(Colour::ZERO), Surface::ConstantColour(Colour::ONE)]),
+        };
+        let even = &c.surfaces[0];
+        let odd = &c.surfaces[1];
+        assert_eq!(c.tile(0.5, 0.5), even);
+        assert_eq!(c.tile(1.5, 0.5), odd);
+        assert_eq!(c.tile(-0.5, 0.5), odd);
+        assert_eq!(c.tile(-0.5, -0.5), even);
+        assert_eq!(c.tile(2.5, 7.5), odd);
+    }
+}

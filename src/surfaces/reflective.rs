@@ -1,0 +1,46 @@
+//! Mirror: specular reflection, r = d − 2 (d·n) n, scaled by a reflection coefficient.
+
+use glam::DVec3;
+
+use super::Colour;
+use crate::render::{Interaction, Tracer};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mirror {
+    /// Fraction of the light that is reflected, in [0, 1].
+    pub reflection_coefficient: f64,
+}
+
+/// Mirror image of direction `d` in a surface with unit normal `n` (either orientation).
+pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+impl Mirror {
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let r = reflect(at.ray.direction, at.frame.w);
+        self.reflection_coefficient * tracer.trace_from(at, r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn angle_of_incidence_equals_angle_of_reflection() {
+        let n = DVec3::Y;
+        let d = DVec3::new(1.0, -1.0, 0.0).normalize();
+        let r = reflect(d, n);
+        assert!((r - DVec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-15);
+        // The same for the opposite normal orientation, and reflecting twice restores d.
+        assert!((reflect(d, -n) - r).length() < 1e-15);
+        assert!((reflect(r, n) - d).length() < 1e-15);
+    }
+
+    #[test]
+    fn normal_incidence_reverses_the_ray() {
+        let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        assert!((reflect(-n, n) - n).length() < 1e-15);
+    }
+}

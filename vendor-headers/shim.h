@@ -1,0 +1,85 @@
+/* timbre's neutral interface to Embree. bindgen reads only this header; no Embree type or
+ * struct layout appears here, so the Rust side is independent of the Embree major version. */
+#ifndef TIMBRE_SHIM_H
+#define TIMBRE_SHIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Axis-aligned box in single precision, as Embree's BVH stores it. */
+typedef struct {
+    float lower[3];
+    float upper[3];
+} TimbreBounds;
+
+/* One ray as Embree sees it (f32). `id` indexes the caller's per-ray data. */
+typedef struct {
+    float org[3];
+    float dir[3];
+    float tnear;
+    float tfar;
+    uint32_t mask;
+    uint32_t id;
+} TimbreRay;
+
+/* The nearest hit Embree found; geom_id is TIMBRE_INVALID_ID for a miss. */
+typedef struct {
+    float t;
+    uint32_t geom_id;
+    uint32_t prim_id;
+    uint32_t inst_id;
+} TimbreHit;
+
+#define TIMBRE_INVALID_ID 0xFFFFFFFFu
+
+/* Callbacks into Rust. `geometry` is the user pointer given to timbre_scene_add_user,
+ * `query` the pointer given to the ray query; `ray` is the ray in the user geometry's own
+ * space (differs from the query's ray inside an instance, then `instanced` is non-zero). */
+typedef void (*TimbreBoundsFn)(const void *geometry, uint32_t prim, TimbreBounds *out);
+/* Returns 1 and writes *t when the primitive is hit at tnear < t < tfar. */
+typedef int (*TimbreIntersectFn)(const void *geometry, uint32_t geom_id, uint32_t prim,
+                                 const void *query, const TimbreRay *ray, int instanced,
+                                 float *t);
+
+/* A user geometry: its callbacks and the Rust object they receive as `geometry`. */
+typedef struct {
+    const void *geometry;
+    TimbreBoundsFn bounds;
+    TimbreIntersectFn intersect;
+    TimbreIntersectFn occluded;
+} TimbreUserGeometry;
+
+typedef void (*TimbreErrorFn)(void *user, int code, const char *message);
+
+/* Device */
+void *timbre_device_new(const char *config, TimbreErrorFn on_error, void *error_user);
+void timbre_device_release(void *device);
+/* 1 when Embree was built with ray masks, which timbre needs for shadow rays. */
+int timbre_device_ray_masks_supported(void *device);
+/* Bit set of natively supported packet widths: 4, 8, 16 (bit value = width). */
+uint32_t timbre_device_native_packets(void *device);
+const char *timbre_embree_version(void);
+
+/* Scenes. Geometry functions return the geometry id, or TIMBRE_INVALID_ID on error. */
+void *timbre_scene_new(void *device);
+void timbre_scene_release(void *scene);
+void timbre_scene_commit(void *scene);
+void timbre_scene_bounds(void *scene, TimbreBounds *out);
+uint32_t timbre_scene_add_triangles(void *device, void *scene, const float *vertices,
+                                    size_t vertex_count, const uint32_t *indices,
+                                    size_t triangle_count, uint32_t mask);
+/* `user` must outlive the scene; Embree hands it back to the callbacks. */
+uint32_t timbre_scene_add_user(void *device, void *scene, uint32_t prim_count,
+                               const TimbreUserGeometry *user, uint32_t mask);
+/* `transform` is a 3x4 row-major affine map from the instanced scene to this scene. */
+uint32_t timbre_scene_add_instance(void *device, void *scene, void *instanced_scene,
+                                   const float *transform, uint32_t mask);
+
+/* Queries. `query` is passed unchanged to the user-geometry callbacks. */
+void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, TimbreHit *hit);
+int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray);
+/* Packet of 8 rays; lanes with valid[i] == 0 are ignored and get a miss. */
+void timbre_intersect8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
+                       TimbreHit *hits);
+
+#endif
