@@ -1,5 +1,5 @@
 //! OpenEXR output: one part with f32 channels R, G, B and, when rendered, the AOV layers
-//! `depth.Z`, `normal.X/Y/Z` and `object.id`. The header records the samples per pixel
+//! `depth.Z`, `normal.X/Y/Z` and `object.id` that are selected. The header records the samples per pixel
 //! (`timbre.spp`), the seed (`timbre.seed`) and the timbre version (`timbre.version`).
 
 use std::path::Path;
@@ -15,11 +15,18 @@ pub fn write_exr(path: &Path, image: &Rendered, provenance: &Provenance) -> std:
     let rgb = |k: usize| image.pixels.iter().map(|c| c[k] as f32).collect::<Vec<f32>>();
     let mut channels = vec![channel("R", rgb(0)), channel("G", rgb(1)), channel("B", rgb(2))];
     if let Some(a) = &image.aovs {
-        channels.push(channel("depth.Z", a.depth.clone()));
-        for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
-            channels.push(channel(&format!("normal.{axis}"), a.normal.iter().map(|n| n[k]).collect()));
+        let selected = provenance.aovs;
+        if selected.depth {
+            channels.push(channel("depth.Z", a.depth.clone()));
         }
-        channels.push(channel("object.id", a.object.clone()));
+        if selected.normal {
+            for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
+                channels.push(channel(&format!("normal.{axis}"), a.normal.iter().map(|n| n[k]).collect()));
+            }
+        }
+        if selected.object {
+            channels.push(channel("object.id", a.object.clone()));
+        }
     }
     let mut attributes = LayerAttributes::default();
     let mut note = |key: &str, value: AttributeValue| attributes.other.insert(Text::from(key), value);

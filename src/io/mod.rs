@@ -13,16 +13,44 @@ use crate::render::Image;
 pub use exr_output::write_exr;
 pub use png_output::{to_rgb8, write_png};
 
-/// How an image was made, recorded in EXR headers.
+/// Which AOV layers an EXR file gets (when the image has them).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AovSelection {
+    pub depth: bool,
+    pub normal: bool,
+    pub object: bool,
+}
+
+/// How an image was made (recorded in EXR headers) and which AOVs to write.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Provenance {
     pub spp: u32,
     pub seed: u64,
+    pub aovs: AovSelection,
+}
+
+/// Output file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputFormat {
+    Png,
+    Exr,
+}
+
+impl OutputFormat {
+    /// The format named by the file extension.
+    pub fn from_path(path: &Path) -> Result<OutputFormat, OutputError> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(OutputFormat::Png),
+            Some("exr") => Ok(OutputFormat::Exr),
+            _ => Err(OutputError::UnsupportedFormat(path.display().to_string())),
+        }
+    }
 }
 
 #[derive(Debug, Error)]
 pub enum OutputError {
-    #[error("unsupported output format '{0}': use a .png or .exr file name")]
+    #[error("{0}: unsupported output format; use a .png or .exr file name")]
     UnsupportedFormat(String),
     #[error("could not write PNG '{path}': {source}")]
     Png { path: String, source: image::ImageError },
@@ -32,10 +60,8 @@ pub enum OutputError {
 
 /// Writes `image` to `path` as PNG or OpenEXR according to the extension.
 pub fn write_image(path: &Path, image: &Image, provenance: &Provenance) -> Result<(), OutputError> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("png") => write_png(path, image),
-        Some("exr") => write_exr(path, image, provenance),
-        _ => Err(OutputError::UnsupportedFormat(path.display().to_string())),
+    match OutputFormat::from_path(path)? {
+        OutputFormat::Png => write_png(path, image),
+        OutputFormat::Exr => write_exr(path, image, provenance),
     }
 }
