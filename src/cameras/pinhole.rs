@@ -17,6 +17,8 @@ pub struct PinholeCamera {
     /// Unit "up" on the detector, perpendicular to the view direction.
     up: DVec3,
     pub horizontal_view_angle: f64,
+    /// Width of the detector between the centres of the outermost pixel columns: 2 tan(angle/2).
+    detector_span: f64,
 }
 
 impl PinholeCamera {
@@ -27,13 +29,14 @@ impl PinholeCamera {
         // With x right, y up and the view along +z (TIM's convention), right = up × view.
         let right = up.cross(view).try_normalize()?;
         let up = view.cross(right);
-        Some(PinholeCamera { position, view_direction: view, right, up, horizontal_view_angle })
+        let detector_span = 2.0 * (0.5 * horizontal_view_angle).tan();
+        Some(PinholeCamera { position, view_direction: view, right, up, horizontal_view_angle, detector_span })
     }
 
     /// The ray through continuous detector position (x, y) in pixel units, (0, 0) being the
     /// centre of the top-left pixel, x to the right and y downwards.
     pub fn ray(&self, width: u32, height: u32, x: f64, y: f64) -> Ray {
-        let pitch = 2.0 * (0.5 * self.horizontal_view_angle).tan() / (width.max(2) - 1) as f64;
+        let pitch = self.detector_span / (width.max(2) - 1) as f64;
         let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
         let dy = (0.5 * (height as f64 - 1.0) - y) * pitch;
         Ray::new(self.position, self.view_direction + dx * self.right + dy * self.up, 0.0)

@@ -14,8 +14,9 @@ pub struct Interaction<'a> {
     pub ray: Ray,
     /// Distance along the ray.
     pub t: f64,
-    pub frame: Frame,
     pub shape: &'a Shape,
+    /// Primitive of the shape that was hit (triangle index for meshes).
+    pub prim: u32,
     /// Remaining trace levels of the incoming ray.
     pub level: u32,
 }
@@ -23,6 +24,12 @@ pub struct Interaction<'a> {
 impl Interaction<'_> {
     pub fn point(&self) -> DVec3 {
         self.ray.at(self.t)
+    }
+
+    /// The surface frame at the hit (w the outward normal); computed on demand, since some
+    /// surfaces (constant colour) never need it.
+    pub fn frame(&self) -> Frame {
+        self.shape.frame(self.point(), self.prim)
     }
 
     /// The shape's surface coordinates at the hit.
@@ -83,13 +90,7 @@ impl<'a> Tracer<'a> {
     /// The colour of the surface at `hit`, seen along `ray`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, level: u32) -> Colour {
         let shape = &self.scene.geometry.shapes()[hit.object];
-        let at = Interaction {
-            ray: *ray,
-            t: hit.t,
-            frame: shape.frame(ray.at(hit.t), hit.prim),
-            shape,
-            level,
-        };
+        let at = Interaction { ray: *ray, t: hit.t, shape, prim: hit.prim, level };
         self.scene.objects[hit.object].surface.colour(self, &at)
     }
 

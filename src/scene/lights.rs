@@ -53,7 +53,7 @@ pub struct Lights {
 impl Lights {
     /// Colour of a coloured surface seen at `at`.
     pub fn illuminate(&self, surface: &Coloured, tracer: &Tracer, at: &Interaction) -> Colour {
-        let n = at.frame.w;
+        let n = at.frame().w;
         let v = -at.ray.direction;
         let p = at.point();
         self.points.iter().fold(surface.diffuse * self.ambient, |sum, light| {

@@ -18,7 +18,7 @@ pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 
 impl Mirror {
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let r = reflect(at.ray.direction, at.frame.w);
+        let r = reflect(at.ray.direction, at.frame().w);
         self.reflection_coefficient * tracer.trace_from(at, r)
     }
 }

@@ -38,7 +38,7 @@ pub fn refract(d: DVec3, n: DVec3, index_ratio: f64) -> Option<DVec3> {
 impl Refractive {
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
         let d = at.ray.direction;
-        let n = at.frame.w;
+        let n = at.frame().w;
         let out = refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n));
         self.transmission_coefficient * tracer.trace_from(at, out)
     }
