@@ -287,9 +287,12 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
 #if !defined(TIMBRE_EMBREE4)
     ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 #endif
-    struct RTCRayHit8 rh;
+    /* Embree requires the packet and its valid mask to be 32-byte aligned. */
+    _Alignas(32) struct RTCRayHit8 rh;
+    _Alignas(32) int valid8[8];
     for (unsigned i = 0; i < 8; i++) {
         const TimbreRay *r = &rays[i];
+        valid8[i] = valid[i] ? -1 : 0;
         rh.ray.org_x[i] = r->org[0];
         rh.ray.org_y[i] = r->org[1];
         rh.ray.org_z[i] = r->org[2];
@@ -311,9 +314,9 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
     args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
-    rtcIntersect8(valid, (RTCScene)scene, &rh, &args);
+    rtcIntersect8(valid8, (RTCScene)scene, &rh, &args);
 #else
-    rtcIntersect8(valid, (RTCScene)scene, &ctx.base, &rh);
+    rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, &rh);
 #endif
     for (unsigned i = 0; i < 8; i++) {
         hits[i].t = rh.ray.tfar[i];

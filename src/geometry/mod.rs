@@ -273,11 +273,16 @@ impl SceneGeometry {
         best
     }
 
-    /// Nearest hits of up to 8 rays from a common origin (a packet of primary rays).
-    pub fn nearest8(&self, origin: DVec3, directions: &[DVec3], t_min: f64, t_max: f64) -> Vec<Option<Hit>> {
-        let rays: Vec<ExactRay> = directions.iter().map(|&direction| ExactRay { origin, direction }).collect();
-        let raw = self.bvh.intersect8(&rays, t_min, t_max, VISIBLE);
-        rays.iter().zip(raw).map(|(ray, raw)| self.complete(raw, ray, t_min, t_max)).collect()
+    /// Nearest hits of up to 8 rays from a common origin, traced as one Embree packet (primary
+    /// rays of neighbouring pixels); entries beyond `directions.len()` are `None`.
+    pub fn nearest8(&self, origin: DVec3, directions: &[DVec3], t_min: f64, t_max: f64) -> [Option<Hit>; 8] {
+        let mut rays = [ExactRay { origin, direction: DVec3::Z }; 8];
+        let n = directions.len().min(8);
+        for (ray, &direction) in rays.iter_mut().zip(directions) {
+            ray.direction = direction;
+        }
+        let raw = self.bvh.intersect8(&rays[..n], t_min, t_max, VISIBLE);
+        std::array::from_fn(|i| if i < n { self.complete(raw[i], &rays[i], t_min, t_max) } else { None })
     }
 
     /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.

@@ -84,33 +84,54 @@ struct Tile {
     rays: u64,
 }
 
+/// Primary rays are traced in packets of BLOCK_W × BLOCK_H neighbouring pixels (8 = Embree's
+/// native AVX2 packet width).
+const BLOCK_W: u32 = 4;
+const BLOCK_H: u32 = 2;
+
 fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u32, y0: u32) -> Tile {
     let tracer = Tracer::new(scene, s.shadows);
     let (w, h) = (TILE.min(s.width - x0), TILE.min(s.height - y0));
-    let mut tile = Tile { x0, y0, w, pixels: Vec::with_capacity((w * h) as usize), aovs: Aovs::default(), rays: 0 };
-    for y in y0..y0 + h {
-        for x in x0..x0 + w {
-            let mut sum = Colour::ZERO;
-            let mut centre_hit = None;
+    let n = (w * h) as usize;
+    let mut tile = Tile { x0, y0, w, pixels: vec![Colour::ZERO; n], aovs: Aovs::default(), rays: 0 };
+    if s.aovs {
+        tile.aovs = Aovs { depth: vec![0.0; n], normal: vec![Vec3::ZERO; n], object: vec![0.0; n] };
+    }
+    let shapes = scene.geometry.shapes();
+    for by in (y0..y0 + h).step_by(BLOCK_H as usize) {
+        for bx in (x0..x0 + w).step_by(BLOCK_W as usize) {
+            let block: Vec<(u32, u32)> = (by..(by + BLOCK_H).min(y0 + h))
+                .flat_map(|y| (bx..(bx + BLOCK_W).min(x0 + w)).map(move |x| (x, y)))
+                .collect();
+            let mut sums = [Colour::ZERO; 8];
+            let mut hits = [None; 8];
             for sample in 0..s.spp {
-                let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
-                let ray = camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy);
-                let (colour, hit) = tracer.trace(&ray, 0.0, s.max_trace_level);
-                sum += colour;
-                if s.spp == 1 {
-                    centre_hit = hit.map(|h| (ray, h));
+                let rays: Vec<_> = block
+                    .iter()
+                    .map(|&(x, y)| {
+                        let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
+                        camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy)
+                    })
+                    .collect();
+                for (i, (colour, hit)) in tracer.trace_packet(&rays, s.max_trace_level).into_iter().enumerate() {
+                    sums[i] += colour;
+                    if s.spp == 1 {
+                        hits[i] = hit;
+                    }
                 }
             }
-            tile.pixels.push(sum / s.spp as f64);
-            if s.aovs {
-                let ray = camera.ray(s.width, s.height, x as f64, y as f64);
-                let hit = if s.spp == 1 { centre_hit.map(|c| c.1) } else { tracer.nearest(&ray, 0.0) };
-                let shapes = scene.geometry.shapes();
-                tile.aovs.depth.push(hit.map_or(f32::INFINITY, |h| h.t as f32));
-                tile.aovs.normal.push(hit.map_or(Vec3::ZERO, |h| {
-                    shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3()
-                }));
-                tile.aovs.object.push(hit.map_or(-1.0, |h| h.object as f32));
+            for (i, &(x, y)) in block.iter().enumerate() {
+                let k = ((y - y0) * w + (x - x0)) as usize;
+                tile.pixels[k] = sums[i] / s.spp as f64;
+                if s.aovs {
+                    // The surface seen through the pixel centre (the sample itself when spp = 1).
+                    let ray = camera.ray(s.width, s.height, x as f64, y as f64);
+                    let hit = if s.spp == 1 { hits[i] } else { tracer.nearest(&ray, 0.0) };
+                    tile.aovs.depth[k] = hit.map_or(f32::INFINITY, |h| h.t as f32);
+                    tile.aovs.normal[k] =
+                        hit.map_or(Vec3::ZERO, |h| shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3());
+                    tile.aovs.object[k] = hit.map_or(-1.0, |h| h.object as f32);
+                }
             }
         }
     }

@@ -81,6 +81,25 @@ impl<'a> Tracer<'a> {
         (colour, hit)
     }
 
+    /// [`Tracer::trace`] for up to 8 rays from one origin (primary rays of neighbouring
+    /// pixels), intersected as one packet.
+    pub fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Hit>); 8] {
+        let mut directions = [DVec3::ZERO; 8];
+        for (d, r) in directions.iter_mut().zip(rays) {
+            *d = r.direction;
+        }
+        let same_origin = rays.iter().all(|r| r.origin == rays[0].origin);
+        if level == 0 || rays.is_empty() || !same_origin {
+            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), |r| self.trace(r, 0.0, level)));
+        }
+        self.rays.set(self.rays.get() + rays.len() as u64);
+        let hits = self.scene.geometry.nearest8(rays[0].origin, &directions[..rays.len()], 0.0, f64::INFINITY);
+        std::array::from_fn(|i| match hits[i] {
+            Some(hit) => (self.shade(&rays[i], &hit, level), Some(hit)),
+            None => (Colour::ZERO, None),
+        })
+    }
+
     /// The nearest hit along `ray`.
     pub fn nearest(&self, ray: &Ray, t_min: f64) -> Option<Hit> {
         self.rays.set(self.rays.get() + 1);

@@ -14,8 +14,9 @@ pub struct Chequerboard {
 impl Chequerboard {
     /// The surface of the tile at surface coordinates (u, v).
     pub fn tile(&self, u: f64, v: f64) -> &Surface {
-        let parity = ((u / self.tile_width).floor() + (v / self.tile_width).floor()).rem_euclid(2.0);
-        &self.surfaces[(parity != 0.0) as usize]
+        // Casts saturate, so astronomically distant points still get a tile.
+        let tile = |x: f64| (x / self.tile_width).floor() as i64;
+        &self.surfaces[(tile(u).wrapping_add(tile(v)) & 1) as usize]
     }
 
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
