@@ -1,0 +1,16 @@
+//! Using timbre as a library: render TIM's standard studio and write it as a PNG.
+//! Run with `cargo run --release --example render_studio`.
+
+use timbre::embree::Device;
+use timbre::render::render;
+use timbre::scene::{Scene, studio::Studio};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let description = Studio::Lattice.description();
+    let device = Device::new("")?;
+    let scene = Scene::build(&device, &description.objects, &description.lights)?;
+    let image = render(&scene, &description.camera, &description.render, &|_| {});
+    timbre::io::write_png("studio.png".as_ref(), &image)?;
+    println!("{} rays -> studio.png", image.rays);
+    Ok(())
+}
