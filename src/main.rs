@@ -104,6 +104,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     s.seed = args.seed.unwrap_or(s.seed);
     s.max_trace_level = args.max_trace_level.unwrap_or(s.max_trace_level);
     s.aovs = !args.aov.is_empty();
+    s.validate().map_err(bad_input)?;
     let settings = s.clone();
 
     let format = OutputFormat::from_path(&args.output).map_err(bad_input)?;

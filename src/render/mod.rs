@@ -32,6 +32,39 @@ pub struct RenderSettings {
     pub aovs: bool,
 }
 
+/// Largest accepted maximum trace level. Tracing recurses once per level, so worker threads get
+/// stacks sized for the level (see [`render`]).
+pub const MAX_TRACE_LEVEL_LIMIT: u32 = 100_000;
+
+/// Largest accepted image, in pixels (16384 × 16384): the f64 image alone then needs 6 GiB.
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// Stack bytes a worker needs per trace level (measured about 700; generous for safety).
+const STACK_PER_LEVEL: usize = 4 << 10;
+
+impl RenderSettings {
+    /// Checks the limits a render must respect; the message says what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        let pixels = self.width as u64 * self.height as u64;
+        if self.width == 0 || self.height == 0 || self.spp == 0 || self.max_trace_level == 0 {
+            return Err("width, height, spp and max_trace_level must be at least 1".into());
+        }
+        if pixels > MAX_PIXELS {
+            return Err(format!(
+                "an image of {}x{} pixels is larger than the limit of {MAX_PIXELS} pixels",
+                self.width, self.height
+            ));
+        }
+        if self.max_trace_level > MAX_TRACE_LEVEL_LIMIT {
+            return Err(format!(
+                "max_trace_level {} is above the limit of {MAX_TRACE_LEVEL_LIMIT}",
+                self.max_trace_level
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for RenderSettings {
     fn default() -> Self {
         RenderSettings {
@@ -70,7 +103,7 @@ pub struct Image {
 
 impl Image {
     pub fn pixel(&self, x: u32, y: u32) -> Colour {
-        self.pixels[(y * self.width + x) as usize]
+        self.pixels[y as usize * self.width as usize + x as usize]
     }
 }
 
@@ -139,16 +172,38 @@ fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u3
     tile
 }
 
-/// Renders `scene` through `camera` on the current rayon thread pool. `progress` is called with
-/// the number of pixels of each finished tile. The result does not depend on the number of
-/// threads.
+/// Renders `scene` through `camera` with as many threads as the current rayon pool has.
+/// `progress` is called with the number of pixels of each finished tile. The result does not
+/// depend on the number of threads.
+///
+/// Tracing recurses once per trace level, so the work runs on a pool whose stacks fit
+/// `settings.max_trace_level` (levels above [`MAX_TRACE_LEVEL_LIMIT`] count as the limit; call
+/// [`RenderSettings::validate`] first to reject them).
 pub fn render(
     scene: &Scene,
     camera: &PinholeCamera,
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
-    let s = settings;
+    let s = &RenderSettings { max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT), ..settings.clone() };
+    let stack = (1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(rayon::current_num_threads())
+        .stack_size(stack)
+        .build();
+    match pool {
+        Ok(pool) => pool.install(|| render_on_current_pool(scene, camera, s, progress)),
+        // Without a pool of our own (thread creation refused), fall back to the caller's.
+        Err(_) => render_on_current_pool(scene, camera, s, progress),
+    }
+}
+
+fn render_on_current_pool(
+    scene: &Scene,
+    camera: &PinholeCamera,
+    s: &RenderSettings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image {
     let origins: Vec<(u32, u32)> = (0..s.height)
         .step_by(TILE as usize)
         .flat_map(|y| (0..s.width).step_by(TILE as usize).map(move |x| (x, y)))
@@ -162,7 +217,7 @@ pub fn render(
         })
         .collect();
 
-    let n = (s.width * s.height) as usize;
+    let n = s.width as usize * s.height as usize;
     let mut image = Image {
         width: s.width,
         height: s.height,
@@ -174,7 +229,7 @@ pub fn render(
         image.rays += tile.rays;
         for (k, colour) in tile.pixels.into_iter().enumerate() {
             let (x, y) = (tile.x0 + k as u32 % tile.w, tile.y0 + k as u32 / tile.w);
-            let i = (y * s.width + x) as usize;
+            let i = y as usize * s.width as usize + x as usize;
             image.pixels[i] = colour;
             if let Some(a) = &mut image.aovs {
                 a.depth[i] = tile.aovs.depth[k];

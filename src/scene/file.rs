@@ -106,7 +106,7 @@ impl<'de> Deserialize<'de> for Rgb {
 #[serde(deny_unknown_fields)]
 struct File {
     studio: Option<StudioName>,
-    render: Option<RenderSection>,
+    render: Option<Spanned<RenderSection>>,
     camera: Option<Spanned<CameraSection>>,
     #[serde(default)]
     light: Vec<LightSection>,
@@ -281,6 +281,8 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
     };
 
     if let Some(r) = file.render {
+        let span = r.span();
+        let r = r.into_inner();
         let s = &mut scene.render;
         s.width = r.width.map_or(s.width, NonZeroU32::get);
         s.height = r.height.map_or(s.height, NonZeroU32::get);
@@ -288,6 +290,7 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
         s.seed = r.seed.unwrap_or(s.seed);
         s.max_trace_level = r.max_trace_level.map_or(s.max_trace_level, NonZeroU32::get);
         s.shadows = r.shadows.unwrap_or(s.shadows);
+        s.validate().map_err(|m| invalid(Some(span), m))?;
     }
 
     if let Some(camera) = file.camera {
