@@ -16,7 +16,10 @@ fn main() {
     let mut include_dirs: Vec<PathBuf> = Vec::new();
     if let Some(dir) = &embree_dir {
         include_dirs.push(dir.join("include"));
-        println!("cargo:rustc-link-search=native={}", dir.join("lib").display());
+        println!(
+            "cargo:rustc-link-search=native={}",
+            dir.join("lib").display()
+        );
     }
     include_dirs.push(PathBuf::from("/usr/include"));
     include_dirs.push(PathBuf::from("/usr/local/include"));
@@ -39,7 +42,10 @@ fn main() {
     };
 
     let mut build = cc::Build::new();
-    build.file("vendor-headers/shim.c").include("vendor-headers").opt_level(3);
+    build
+        .file("vendor-headers/shim.c")
+        .include("vendor-headers")
+        .opt_level(3);
     for d in &include_dirs {
         if d.exists() {
             build.include(d);

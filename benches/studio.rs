@@ -13,13 +13,20 @@ fn studio_1080p(c: &mut Criterion) {
     let d = Studio::Lattice.description();
     let device = Device::new("").expect("Embree device");
     let scene = Scene::build(&device, &d.objects, &d.lights).expect("studio scene");
-    let settings = RenderSettings { width: 1920, height: 1080, ..RenderSettings::default() };
+    let settings = RenderSettings {
+        width: 1920,
+        height: 1080,
+        ..RenderSettings::default()
+    };
     let rays = render(&scene, &d.camera, &settings, &|_| {}).rays;
 
     let mut group = c.benchmark_group("studio_1920x1080_1spp");
     group.sample_size(10).throughput(Throughput::Elements(rays));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool");
         group.bench_function(format!("{threads}_threads"), |b| {
             b.iter(|| pool.install(|| render(&scene, &d.camera, &settings, &|_| {})))
         });

@@ -4,11 +4,11 @@
 //! "Dr TIM: Ray-tracer TIM, with additional specialist scientific capabilities" (Oxburgh, Tyc,
 //! Courtial); equation numbers in doc comments refer to it.
 
+pub mod cameras;
 pub mod embree;
 pub mod geometry;
-pub mod math;
-pub mod cameras;
 pub mod io;
+pub mod math;
 pub mod render;
 pub mod scene;
 pub mod surfaces;

@@ -15,7 +15,11 @@ use timbre::scene::studio::Studio;
 use timbre::scene::{Scene, SceneDescription, file};
 
 #[derive(Parser)]
-#[command(name = "timbre", version, about = "A fast, scientifically exact ray tracer for ray-optics research")]
+#[command(
+    name = "timbre",
+    version,
+    about = "A fast, scientifically exact ray tracer for ray-optics research"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -81,11 +85,17 @@ struct Failure {
 }
 
 fn bad_input(message: impl ToString) -> Failure {
-    Failure { code: 2, message: message.to_string() }
+    Failure {
+        code: 2,
+        message: message.to_string(),
+    }
 }
 
 fn internal(message: impl ToString) -> Failure {
-    Failure { code: 1, message: message.to_string() }
+    Failure {
+        code: 1,
+        message: message.to_string(),
+    }
 }
 
 fn load(scene: Option<&Path>) -> Result<SceneDescription, Failure> {
@@ -112,10 +122,16 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         return Err(bad_input("--aov needs an OpenEXR output (-o NAME.exr)"));
     }
 
-    let threads = args.threads.map_or_else(rayon::current_num_threads, |t| t as usize);
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(internal)?;
+    let threads = args
+        .threads
+        .map_or_else(rayon::current_num_threads, |t| t as usize);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(internal)?;
     let device = Device::new(&format!("threads={threads}")).map_err(internal)?;
-    let scene = Scene::build(&device, &description.objects, &description.lights).map_err(internal)?;
+    let scene =
+        Scene::build(&device, &description.objects, &description.lights).map_err(internal)?;
 
     let pixels = settings.width as u64 * settings.height as u64;
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -123,7 +139,8 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     } else {
         let bar = ProgressBar::with_draw_target(Some(pixels), ProgressDrawTarget::stderr());
         bar.set_style(
-            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})").map_err(internal)?,
+            ProgressStyle::with_template("{bar:40} {percent:>3}% {elapsed} (eta {eta})")
+                .map_err(internal)?,
         );
         bar
     };
@@ -137,7 +154,11 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         normal: args.aov.contains(&Aov::Normal),
         object: args.aov.contains(&Aov::Object),
     };
-    let provenance = Provenance { spp: settings.spp, seed: settings.seed, aovs };
+    let provenance = Provenance {
+        spp: settings.spp,
+        seed: settings.seed,
+        aovs,
+    };
     write_image(&args.output, &image, &provenance).map_err(bad_input)?;
     if !args.quiet {
         println!(
@@ -182,7 +203,11 @@ fn run_info() -> Result<(), Failure> {
     .collect();
     println!("timbre {}", env!("CARGO_PKG_VERSION"));
     println!("Embree {}", Device::version());
-    println!("ISA: {} (native Embree packets: {:?})", isa.join(" "), widths);
+    println!(
+        "ISA: {} (native Embree packets: {:?})",
+        isa.join(" "),
+        widths
+    );
     println!("threads: {}", rayon::current_num_threads());
     Ok(())
 }

@@ -18,7 +18,11 @@ fn render_studio() -> Image {
     let d = Studio::Lattice.description();
     let device = Device::new("").unwrap();
     let scene = Scene::build(&device, &d.objects, &d.lights).unwrap();
-    let settings = RenderSettings { width: W, height: H, ..RenderSettings::default() };
+    let settings = RenderSettings {
+        width: W,
+        height: H,
+        ..RenderSettings::default()
+    };
     render(&scene, &d.camera, &settings, &|_| {})
 }
 
@@ -26,8 +30,12 @@ fn render_studio() -> Image {
 /// at distance 1, the 20° horizontal view angle spans the centres of the outermost columns.
 fn pixel_direction(x: u32, y: u32) -> DVec3 {
     let pitch = 2.0 * 10f64.to_radians().tan() / (W - 1) as f64;
-    DVec3::new((x as f64 - (W - 1) as f64 / 2.0) * pitch, ((H - 1) as f64 / 2.0 - y as f64) * pitch, 1.0)
-        .normalize()
+    DVec3::new(
+        (x as f64 - (W - 1) as f64 / 2.0) * pitch,
+        ((H - 1) as f64 / 2.0 - y as f64) * pitch,
+        1.0,
+    )
+    .normalize()
 }
 
 /// Pixel whose centre sees the world point p (camera at the origin looking along +z).
@@ -44,7 +52,11 @@ fn sky_fills_the_top_rows_with_its_constant_colour() {
     // The lattice's top ends 1.02 above the camera at z = 10, i.e. below the top 10 rows.
     for y in 0..10 {
         for x in 0..W {
-            assert_eq!(image.pixel(x, y), DVec3::new(0.5, 0.5, 1.0), "pixel ({x}, {y})");
+            assert_eq!(
+                image.pixel(x, y),
+                DVec3::new(0.5, 0.5, 1.0),
+                "pixel ({x}, {y})"
+            );
         }
     }
 }
@@ -71,10 +83,16 @@ fn lit_floor_tiles_alternate_between_the_two_expected_values() {
         let specular = r.dot(-d).max(0.0).powf(40.0);
         let expected = grey * (0.2 + l.y) + specular;
         let got = image.pixel(x, y);
-        assert!((got - DVec3::splat(expected)).abs().max_element() < 1e-9, "pixel ({x}, {y}): {got} vs {expected}");
+        assert!(
+            (got - DVec3::splat(expected)).abs().max_element() < 1e-9,
+            "pixel ({x}, {y}): {got} vs {expected}"
+        );
         seen[even as usize] += 1;
     }
-    assert!(seen[0] > 10 && seen[1] > 10, "both tile colours must appear: {seen:?}");
+    assert!(
+        seen[0] > 10 && seen[1] > 10,
+        "both tile colours must appear: {seen:?}"
+    );
 }
 
 /// Whether some pixel within one pixel of `p`'s projection is dominated by colour channel `k`.
@@ -92,15 +110,27 @@ fn dominated_near(image: &Image, p: DVec3, k: usize) -> bool {
 fn cylinders_of_each_colour_appear_where_the_lattice_puts_them() {
     let image = render_studio();
     // red along z at (x, y) = (1/3, −0.98), seen from above
-    assert!(dominated_near(&image, DVec3::new(1.0 / 3.0, -0.98, 20.0), 0), "red");
+    assert!(
+        dominated_near(&image, DVec3::new(1.0 / 3.0, -0.98, 20.0), 0),
+        "red"
+    );
     // green along y at (x, z) = (1, 10), between two rows of blue cylinders
-    assert!(dominated_near(&image, DVec3::new(1.0, 0.02, 10.0), 1), "green");
+    assert!(
+        dominated_near(&image, DVec3::new(1.0, 0.02, 10.0), 1),
+        "green"
+    );
     // blue along x at (y, z) = (−0.98, 10)
-    assert!(dominated_near(&image, DVec3::new(0.0, -0.98, 10.0), 2), "blue");
+    assert!(
+        dominated_near(&image, DVec3::new(0.0, -0.98, 10.0), 2),
+        "blue"
+    );
     // and the gap between cylinders shows the sky, not a cylinder
     let (x, y) = project(DVec3::new(0.0, 0.6, 10.0));
     let gap = image.pixel(x, y);
-    assert!(gap == DVec3::new(0.5, 0.5, 1.0) || gap.z > gap.x, "gap at ({x}, {y}) is {gap}");
+    assert!(
+        gap == DVec3::new(0.5, 0.5, 1.0) || gap.z > gap.x,
+        "gap at ({x}, {y}) is {gap}"
+    );
 }
 
 #[test]
@@ -124,7 +154,10 @@ fn lattice_casts_shadows_on_the_floor() {
 
 #[test]
 fn matches_the_committed_reference_image() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/studio-160x120.png");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/reference/studio-160x120.png"
+    );
     let got = to_rgb8(&render_studio());
     if std::env::var_os("TIMBRE_UPDATE_REFERENCE").is_some() {
         got.save(path).unwrap();
@@ -138,5 +171,8 @@ fn matches_the_committed_reference_image() {
         .zip(got.pixels())
         .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(p, q)| p.abs_diff(*q) > 2))
         .count();
-    assert!(differing * 200 <= (W * H) as usize, "{differing} pixels differ from the reference");
+    assert!(
+        differing * 200 <= (W * H) as usize,
+        "{differing} pixels differ from the reference"
+    );
 }

@@ -71,7 +71,11 @@ fn a_refractive_ball_with_index_ratio_one_only_attenuates() {
     let image = render_text(&ball(1.0, 0.5));
     // Through the ball (two interfaces) the screen is seen undeviated at 0.5² of its brightness.
     for (x, y) in [(20, 20), (20, 15), (20, 25), (16, 20)] {
-        assert!(close(image.pixel(x, y), 0.25 * plain.pixel(x, y)), "({x}, {y}): {}", image.pixel(x, y));
+        assert!(
+            close(image.pixel(x, y), 0.25 * plain.pixel(x, y)),
+            "({x}, {y}): {}",
+            image.pixel(x, y)
+        );
     }
 }
 
@@ -84,8 +88,16 @@ fn a_glass_ball_lens_inverts_the_screen_behind_it() {
     for (above, below) in [((20, 17), (20, 23)), ((20, 18), (20, 22))] {
         assert_eq!(plain.pixel(above.0, above.1), DVec3::X);
         assert_eq!(plain.pixel(below.0, below.1), DVec3::Z);
-        assert_eq!(image.pixel(above.0, above.1), DVec3::Z, "inverted above the centre");
-        assert_eq!(image.pixel(below.0, below.1), DVec3::X, "inverted below the centre");
+        assert_eq!(
+            image.pixel(above.0, above.1),
+            DVec3::Z,
+            "inverted above the centre"
+        );
+        assert_eq!(
+            image.pixel(below.0, below.1),
+            DVec3::X,
+            "inverted below the centre"
+        );
     }
 }
 
@@ -149,5 +161,9 @@ surface = { type = "mirror" }
 "#,
     );
     assert!(image.pixels.iter().all(|&c| c == DVec3::ZERO));
-    assert_eq!(image.rays, 16 * 20000, "each pixel traces one ray per level");
+    assert_eq!(
+        image.rays,
+        16 * 20000,
+        "each pixel traces one ray per level"
+    );
 }

@@ -24,13 +24,25 @@ pub struct PinholeCamera {
 impl PinholeCamera {
     /// `up` need not be perpendicular to `view_direction`, only not parallel to it; both are
     /// normalised here. Returns `None` for parallel or zero vectors.
-    pub fn new(position: DVec3, view_direction: DVec3, up: DVec3, horizontal_view_angle: f64) -> Option<PinholeCamera> {
+    pub fn new(
+        position: DVec3,
+        view_direction: DVec3,
+        up: DVec3,
+        horizontal_view_angle: f64,
+    ) -> Option<PinholeCamera> {
         let view = view_direction.try_normalize()?;
         // With x right, y up and the view along +z (TIM's convention), right = up × view.
         let right = up.cross(view).try_normalize()?;
         let up = view.cross(right);
         let detector_span = 2.0 * (0.5 * horizontal_view_angle).tan();
-        Some(PinholeCamera { position, view_direction: view, right, up, horizontal_view_angle, detector_span })
+        Some(PinholeCamera {
+            position,
+            view_direction: view,
+            right,
+            up,
+            horizontal_view_angle,
+            detector_span,
+        })
     }
 
     /// The ray through continuous detector position (x, y) in pixel units, (0, 0) being the
@@ -39,6 +51,10 @@ impl PinholeCamera {
         let pitch = self.detector_span / (width.max(2) - 1) as f64;
         let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
         let dy = (0.5 * (height as f64 - 1.0) - y) * pitch;
-        Ray::new(self.position, self.view_direction + dx * self.right + dy * self.up, 0.0)
+        Ray::new(
+            self.position,
+            self.view_direction + dx * self.right + dy * self.up,
+            0.0,
+        )
     }
 }

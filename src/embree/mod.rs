@@ -14,7 +14,12 @@ use std::sync::{Arc, Mutex};
 use glam::{DVec3, Vec3};
 use thiserror::Error;
 
-#[allow(non_camel_case_types, non_upper_case_globals, non_snake_case, dead_code)]
+#[allow(
+    non_camel_case_types,
+    non_upper_case_globals,
+    non_snake_case,
+    dead_code
+)]
 mod ffi {
     include!(concat!(env!("OUT_DIR"), "/shim.rs"));
 }
@@ -146,9 +151,8 @@ impl Device {
         let error_ptr = &*error as *const Mutex<Option<EmbreeError>> as *mut c_void;
         // SAFETY: the config string outlives the call; the error slot is boxed (stable address)
         // and moved into DeviceInner, which outlives the device.
-        let raw = unsafe {
-            ffi::timbre_device_new(config.as_ptr(), Some(on_device_error), error_ptr)
-        };
+        let raw =
+            unsafe { ffi::timbre_device_new(config.as_ptr(), Some(on_device_error), error_ptr) };
         let Some(raw) = NonNull::new(raw) else {
             let reported = error.lock().ok().and_then(|mut e| e.take());
             return Err(reported.unwrap_or(EmbreeError::Creation("a device")));
@@ -196,7 +200,7 @@ impl Device {
 
 /// A user geometry's Rust object together with the C record the shim hands to Embree.
 struct UserEntry {
-    record: ffi::TimbreUserGeometry,
+    record: Box<ffi::TimbreUserGeometry>,
     _geometry: Box<Box<dyn UserGeometry>>,
 }
 
@@ -225,7 +229,9 @@ impl SceneBuilder {
     ) -> Result<u32, EmbreeError> {
         let n = vertices.len() as u32;
         if triangles.iter().flatten().any(|&i| i >= n) {
-            return Err(EmbreeError::Creation("a triangle mesh with out-of-range indices"));
+            return Err(EmbreeError::Creation(
+                "a triangle mesh with out-of-range indices",
+            ));
         }
         let flat: Vec<f32> = vertices.iter().flat_map(|v| v.to_array()).collect();
         // SAFETY: `flat` holds 3 floats per vertex and `triangles` 3 in-range indices per
@@ -252,15 +258,15 @@ impl SceneBuilder {
     ) -> Result<u32, EmbreeError> {
         let prims = geometry.primitive_count();
         let geometry = Box::new(geometry);
-        let mut entry = Box::new(UserEntry {
-            record: ffi::TimbreUserGeometry {
+        let entry = UserEntry {
+            record: Box::new(ffi::TimbreUserGeometry {
                 geometry: &*geometry as *const Box<dyn UserGeometry> as *const c_void,
                 bounds: Some(user_bounds),
                 intersect: Some(user_intersect),
                 occluded: Some(user_intersect),
-            },
+            }),
             _geometry: geometry,
-        });
+        };
         // SAFETY: the record and the geometry it points to are boxed and kept in the scene,
         // so they outlive every callback Embree makes for this geometry.
         let id = unsafe {
@@ -268,7 +274,7 @@ impl SceneBuilder {
                 self.scene.device.raw.as_ptr(),
                 self.scene.raw.as_ptr(),
                 prims,
-                &mut entry.record,
+                &*entry.record,
                 mask,
             )
         };
@@ -312,7 +318,7 @@ impl SceneBuilder {
 pub struct Scene {
     raw: NonNull<c_void>,
     device: Arc<DeviceInner>,
-    user: Vec<Box<UserEntry>>,
+    user: Vec<UserEntry>,
     children: Vec<Arc<Scene>>,
 }
 
@@ -342,7 +348,11 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
         org: ray.origin.as_vec3().to_array(),
         dir: ray.direction.as_vec3().to_array(),
         tnear: t_near as f32,
-        tfar: if t_far.is_finite() { t_far as f32 } else { f32::INFINITY },
+        tfar: if t_far.is_finite() {
+            t_far as f32
+        } else {
+            f32::INFINITY
+        },
         mask,
         id,
     }
@@ -351,10 +361,16 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
 impl Scene {
     /// Bounds of everything in the scene.
     pub fn bounds(&self) -> Bounds {
-        let mut b = ffi::TimbreBounds { lower: [0.0; 3], upper: [0.0; 3] };
+        let mut b = ffi::TimbreBounds {
+            lower: [0.0; 3],
+            upper: [0.0; 3],
+        };
         // SAFETY: the scene is committed; `b` is a valid out-pointer.
         unsafe { ffi::timbre_scene_bounds(self.raw.as_ptr(), &mut b) };
-        Bounds { lower: Vec3::from(b.lower), upper: Vec3::from(b.upper) }
+        Bounds {
+            lower: Vec3::from(b.lower),
+            upper: Vec3::from(b.upper),
+        }
     }
 
     fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32)) -> Option<RawHit> {
@@ -376,9 +392,17 @@ impl Scene {
     /// bit with `mask`.
     pub fn intersect(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> Option<RawHit> {
         let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
-        let query = Query { rays: std::slice::from_ref(ray), best: &best };
+        let query = Query {
+            rays: std::slice::from_ref(ray),
+            best: &best,
+        };
         let r = to_embree(ray, t_near, t_far, mask, 0);
-        let mut hit = ffi::TimbreHit { t: 0.0, geom_id: INVALID_ID, prim_id: 0, inst_id: 0 };
+        let mut hit = ffi::TimbreHit {
+            t: 0.0,
+            geom_id: INVALID_ID,
+            prim_id: 0,
+            inst_id: 0,
+        };
         // SAFETY: the scene is committed; `query` outlives the call and is only read through
         // shared references by callbacks on this thread.
         unsafe {
@@ -395,12 +419,18 @@ impl Scene {
     /// Whether anything with a matching mask lies on `ray` at `t_near < t < t_far`.
     pub fn occluded(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> bool {
         let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
-        let query = Query { rays: std::slice::from_ref(ray), best: &best };
+        let query = Query {
+            rays: std::slice::from_ref(ray),
+            best: &best,
+        };
         let r = to_embree(ray, t_near, t_far, mask, 0);
         // SAFETY: as in `intersect`.
         unsafe {
-            ffi::timbre_occluded1(self.raw.as_ptr(), &query as *const Query as *const c_void, &r)
-                != 0
+            ffi::timbre_occluded1(
+                self.raw.as_ptr(),
+                &query as *const Query as *const c_void,
+                &r,
+            ) != 0
         }
     }
 
@@ -417,12 +447,26 @@ impl Scene {
         let best: [Cell<(f64, u32, u32)>; 8] =
             std::array::from_fn(|_| Cell::new((f64::NAN, INVALID_ID, INVALID_ID)));
         let query = Query { rays, best: &best };
-        let fallback = ExactRay { origin: DVec3::ZERO, direction: DVec3::Z };
+        let fallback = ExactRay {
+            origin: DVec3::ZERO,
+            direction: DVec3::Z,
+        };
         let packet: [ffi::TimbreRay; 8] = std::array::from_fn(|i| {
-            to_embree(rays.get(i).unwrap_or(&fallback), t_near, t_far, mask, i as u32)
+            to_embree(
+                rays.get(i).unwrap_or(&fallback),
+                t_near,
+                t_far,
+                mask,
+                i as u32,
+            )
         });
         let valid: [c_int; 8] = std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 });
-        let mut hits = [ffi::TimbreHit { t: 0.0, geom_id: INVALID_ID, prim_id: 0, inst_id: 0 }; 8];
+        let mut hits = [ffi::TimbreHit {
+            t: 0.0,
+            geom_id: INVALID_ID,
+            prim_id: 0,
+            inst_id: 0,
+        }; 8];
         // SAFETY: all four arrays have 8 elements as the shim expects; `query` outlives the
         // call. Embree requires 32-byte alignment only for its own packet struct, which the shim
         // builds on its stack.
@@ -463,7 +507,11 @@ unsafe extern "C" fn user_intersect(
     // `Scene::intersect*`/`occluded` on this same thread, alive for the whole query; `ray` and
     // `t_out` are valid pointers supplied by the shim.
     let (geometry, query, ray) = unsafe {
-        (&*(geometry as *const Box<dyn UserGeometry>), &*(query as *const Query), &*ray)
+        (
+            &*(geometry as *const Box<dyn UserGeometry>),
+            &*(query as *const Query),
+            &*ray,
+        )
     };
     let id = ray.id as usize;
     // Inside an instance Embree hands us the ray in the instance's space, so use it as given.
@@ -476,10 +524,8 @@ unsafe extern "C" fn user_intersect(
     let Some(t) = geometry.intersect(prim, r, ray.tnear as f64, ray.tfar as f64) else {
         return 0;
     };
-    if exact.is_some() {
-        if let Some(best) = query.best.get(id) {
-            best.set((t, geom_id, prim));
-        }
+    if let (Some(_), Some(best)) = (exact, query.best.get(id)) {
+        best.set((t, geom_id, prim));
     }
     // SAFETY: valid out-pointer from the shim.
     unsafe { *t_out = (t as f32).min(ray.tfar).max(ray.tnear) };

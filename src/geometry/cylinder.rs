@@ -26,17 +26,31 @@ impl Cylinder {
         super::check_point("cylinder end", end)?;
         super::check_positive("cylinder radius", radius)?;
         let length = (end - start).length();
-        if !(length > 0.0) {
-            return Err(GeometryError::Degenerate("cylinder start and end coincide".into()));
+        if length == 0.0 || !length.is_finite() {
+            return Err(GeometryError::Degenerate(
+                "cylinder start and end coincide (or are too far apart)".into(),
+            ));
         }
-        Ok(Cylinder { start, end, radius, axis: (end - start) / length, length })
+        Ok(Cylinder {
+            start,
+            end,
+            radius,
+            axis: (end - start) / length,
+            length,
+        })
     }
 
     pub fn axis(&self) -> DVec3 {
         self.axis
     }
 
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
         let a = self.axis;
         let oc = origin - self.start;
         let (oc_axial, d_axial) = (oc.dot(a), direction.dot(a));
@@ -70,7 +84,11 @@ impl Cylinder {
         let radial = (p - self.start) - s * self.axis;
         let to_mantle = (radial.length() - self.radius).abs();
         if to_mantle <= s.abs().min((s - self.length).abs()) {
-            Frame { u: self.axis.cross(radial.normalize()), v: self.axis, w: radial.normalize() }
+            Frame {
+                u: self.axis.cross(radial.normalize()),
+                v: self.axis,
+                w: radial.normalize(),
+            }
         } else if s < 0.5 * self.length {
             Frame::from_normal(-self.axis)
         } else {

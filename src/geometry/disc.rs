@@ -19,12 +19,23 @@ impl Disc {
         super::check_point("disc centre", centre)?;
         let normal = super::check_direction("disc normal", normal)?;
         super::check_positive("disc radius", radius)?;
-        Ok(Disc { centre, radius, frame: Frame::from_normal(normal) })
+        Ok(Disc {
+            centre,
+            radius,
+            frame: Frame::from_normal(normal),
+        })
     }
 
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
         let t = plane_distance(self.centre, self.frame.w, origin, direction)?;
-        let inside = (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
+        let inside =
+            (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
         (t > t_min && t < t_max && inside).then_some(t)
     }
 

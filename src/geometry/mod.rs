@@ -50,13 +50,19 @@ fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
 }
 
 fn check_point(what: &'static str, value: DVec3) -> Result<(), GeometryError> {
-    if value.is_finite() { Ok(()) } else { Err(GeometryError::NotFinite { what, value }) }
+    if value.is_finite() {
+        Ok(())
+    } else {
+        Err(GeometryError::NotFinite { what, value })
+    }
 }
 
 /// A finite, non-zero vector, normalised.
 fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryError> {
     check_point(what, value)?;
-    value.try_normalize().ok_or(GeometryError::ZeroVector { what })
+    value
+        .try_normalize()
+        .ok_or(GeometryError::ZeroVector { what })
 }
 
 /// A geometric shape.
@@ -73,10 +79,18 @@ pub enum Shape {
 impl Shape {
     /// Nearest hit (t, primitive) with t_min < t < t_max; primitives are a mesh's triangles,
     /// every other shape has the single primitive 0.
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         match self {
             Shape::TriangleMesh(m) => m.intersect(origin, direction, t_min, t_max),
-            _ => self.intersect_primitive(0, origin, direction, t_min, t_max).map(|t| (t, 0)),
+            _ => self
+                .intersect_primitive(0, origin, direction, t_min, t_max)
+                .map(|t| (t, 0)),
         }
     }
 
@@ -200,10 +214,20 @@ pub struct SceneGeometry {
 
 impl SceneGeometry {
     /// Builds the BVH over `objects` (shape, shadow-throwing).
-    pub fn build(device: &Device, objects: Vec<(Shape, bool)>) -> Result<SceneGeometry, EmbreeError> {
+    pub fn build(
+        device: &Device,
+        objects: Vec<(Shape, bool)>,
+    ) -> Result<SceneGeometry, EmbreeError> {
         let shadow_throwing: Vec<bool> = objects.iter().map(|o| o.1).collect();
         let shapes: Arc<[Shape]> = objects.into_iter().map(|o| o.0).collect();
-        let mask = |i: usize| VISIBLE | if shadow_throwing[i] { SHADOW_THROWING } else { 0 };
+        let mask = |i: usize| {
+            VISIBLE
+                | if shadow_throwing[i] {
+                    SHADOW_THROWING
+                } else {
+                    0
+                }
+        };
         let mut builder = device.scene_builder()?;
         let mut geometries = Vec::new();
         let mut unbounded = Vec::new();
@@ -220,11 +244,20 @@ impl SceneGeometry {
             }
         }
         for members in analytic.into_iter().filter(|m| !m.is_empty()) {
-            let group = AnalyticGroup { shapes: shapes.clone(), members: members.clone() };
+            let group = AnalyticGroup {
+                shapes: shapes.clone(),
+                members: members.clone(),
+            };
             let id = builder.add_user(Box::new(group), mask(members[0]))?;
             set_geometry(&mut geometries, id, Geometry::Analytic(members));
         }
-        Ok(SceneGeometry { shapes, shadow_throwing, unbounded, bvh: builder.commit()?, geometries })
+        Ok(SceneGeometry {
+            shapes,
+            shadow_throwing,
+            unbounded,
+            bvh: builder.commit()?,
+            geometries,
+        })
     }
 
     pub fn shapes(&self) -> &[Shape] {
@@ -244,7 +277,13 @@ impl SceneGeometry {
             // the f32 distance (triangles: the distance to the triangle's plane).
             let shape = &self.shapes[object];
             let window = 1e-4 * (1.0 + raw.t.abs());
-            let exact = shape.intersect_primitive(prim, origin, direction, (raw.t - window).max(t_min), f64::INFINITY);
+            let exact = shape.intersect_primitive(
+                prim,
+                origin,
+                direction,
+                (raw.t - window).max(t_min),
+                f64::INFINITY,
+            );
             let on_plane = match shape {
                 Shape::TriangleMesh(m) => m.plane_distance(prim, origin, direction),
                 _ => None,
@@ -262,11 +301,19 @@ impl SceneGeometry {
     }
 
     /// Resolves Embree's hit in f64 and lets the unbounded objects compete with it.
-    fn complete(&self, raw: Option<embree::RawHit>, ray: &ExactRay, t_min: f64, t_max: f64) -> Option<Hit> {
+    fn complete(
+        &self,
+        raw: Option<embree::RawHit>,
+        ray: &ExactRay,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
         let mut best = raw.map(|raw| self.resolve(raw, ray.origin, ray.direction, t_min));
         for &i in &self.unbounded {
             let t_max = best.map_or(t_max, |h| h.t);
-            if let Some((t, prim)) = self.shapes[i].intersect(ray.origin, ray.direction, t_min, t_max) {
+            if let Some((t, prim)) =
+                self.shapes[i].intersect(ray.origin, ray.direction, t_min, t_max)
+            {
                 best = Some(Hit { object: i, prim, t });
             }
         }
@@ -275,26 +322,50 @@ impl SceneGeometry {
 
     /// Nearest hits of up to 8 rays from a common origin, traced as one Embree packet (primary
     /// rays of neighbouring pixels); entries beyond `directions.len()` are `None`.
-    pub fn nearest8(&self, origin: DVec3, directions: &[DVec3], t_min: f64, t_max: f64) -> [Option<Hit>; 8] {
-        let mut rays = [ExactRay { origin, direction: DVec3::Z }; 8];
+    pub fn nearest8(
+        &self,
+        origin: DVec3,
+        directions: &[DVec3],
+        t_min: f64,
+        t_max: f64,
+    ) -> [Option<Hit>; 8] {
+        let mut rays = [ExactRay {
+            origin,
+            direction: DVec3::Z,
+        }; 8];
         let n = directions.len().min(8);
         for (ray, &direction) in rays.iter_mut().zip(directions) {
             ray.direction = direction;
         }
         let raw = self.bvh.intersect8(&rays[..n], t_min, t_max, VISIBLE);
-        std::array::from_fn(|i| if i < n { self.complete(raw[i], &rays[i], t_min, t_max) } else { None })
+        std::array::from_fn(|i| {
+            if i < n {
+                self.complete(raw[i], &rays[i], t_min, t_max)
+            } else {
+                None
+            }
+        })
     }
 
     /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.
     pub fn shadowed(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> bool {
         let ray = ExactRay { origin, direction };
         self.unbounded.iter().any(|&i| {
-            self.shadow_throwing[i] && self.shapes[i].intersect(origin, direction, t_min, t_max).is_some()
+            self.shadow_throwing[i]
+                && self.shapes[i]
+                    .intersect(origin, direction, t_min, t_max)
+                    .is_some()
         }) || self.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
     }
 
     /// Reference intersector: a plain f64 loop over all objects, for tests.
-    pub fn nearest_brute_force(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+    pub fn nearest_brute_force(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         for (object, shape) in self.shapes.iter().enumerate() {
             let t_max = best.map_or(t_max, |h| h.t);

@@ -16,30 +16,48 @@ pub struct Parallelogram {
 }
 
 impl Parallelogram {
-    pub fn new(corner: DVec3, span_u: DVec3, span_v: DVec3) -> Result<Parallelogram, GeometryError> {
+    pub fn new(
+        corner: DVec3,
+        span_u: DVec3,
+        span_v: DVec3,
+    ) -> Result<Parallelogram, GeometryError> {
         super::check_point("parallelogram corner", corner)?;
         super::check_point("parallelogram span vector", span_u)?;
         super::check_point("parallelogram span vector", span_v)?;
         let normal = span_u.cross(span_v);
-        if !(normal.length() > 1e-12 * span_u.length() * span_v.length()) {
+        if normal.length() <= 1e-12 * span_u.length() * span_v.length() || !normal.is_finite() {
             return Err(GeometryError::Degenerate(
                 "parallelogram span vectors are zero or parallel".into(),
             ));
         }
-        Ok(Parallelogram { corner, span_u, span_v, frame: Frame::from_normal_and_u(normal, span_u) })
+        Ok(Parallelogram {
+            corner,
+            span_u,
+            span_v,
+            frame: Frame::from_normal_and_u(normal, span_u),
+        })
     }
 
     /// (α, β) with p = corner + α span_u + β span_v, for p in the plane.
     fn span_coordinates(&self, p: DVec3) -> DVec2 {
         let d = p - self.corner;
-        let (uu, uv, vv) =
-            (self.span_u.length_squared(), self.span_u.dot(self.span_v), self.span_v.length_squared());
+        let (uu, uv, vv) = (
+            self.span_u.length_squared(),
+            self.span_u.dot(self.span_v),
+            self.span_v.length_squared(),
+        );
         let (du, dv) = (d.dot(self.span_u), d.dot(self.span_v));
         let det = uu * vv - uv * uv;
         DVec2::new((du * vv - dv * uv) / det, (dv * uu - du * uv) / det)
     }
 
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
         let t = plane_distance(self.corner, self.frame.w, origin, direction)?;
         if !(t > t_min && t < t_max) {
             return None;

@@ -19,11 +19,20 @@ impl Plane {
         super::check_point("plane point", point)?;
         let normal = super::check_direction("plane normal", normal)?;
         super::check_point("plane u direction", u_direction)?;
-        Ok(Plane { point, frame: Frame::from_normal_and_u(normal, u_direction) })
+        Ok(Plane {
+            point,
+            frame: Frame::from_normal_and_u(normal, u_direction),
+        })
     }
 
     /// The t where the line meets the plane, if in (t_min, t_max).
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
         let t = plane_distance(self.point, self.frame.w, origin, direction)?;
         (t > t_min && t < t_max).then_some(t)
     }

@@ -20,7 +20,13 @@ impl Sphere {
 
     /// Nearest t in (t_min, t_max) with |o + t d − c| = r. The quadratic is solved about the
     /// point of the line closest to the centre, which keeps precision for distant spheres.
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<f64> {
         let oc = origin - self.centre;
         let a = direction.length_squared();
         let half_b = oc.dot(direction);
@@ -50,6 +56,9 @@ impl Sphere {
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        (self.centre - DVec3::splat(self.radius), self.centre + DVec3::splat(self.radius))
+        (
+            self.centre - DVec3::splat(self.radius),
+            self.centre + DVec3::splat(self.radius),
+        )
     }
 }

@@ -17,20 +17,31 @@ pub struct TriangleMesh {
 }
 
 impl TriangleMesh {
-    pub fn new(vertices: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> Result<TriangleMesh, GeometryError> {
+    pub fn new(
+        vertices: Vec<DVec3>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<TriangleMesh, GeometryError> {
         if triangles.is_empty() {
-            return Err(GeometryError::Degenerate("triangle mesh has no triangles".into()));
+            return Err(GeometryError::Degenerate(
+                "triangle mesh has no triangles".into(),
+            ));
         }
         for v in &vertices {
             super::check_point("mesh vertex", *v)?;
         }
         let n = vertices.len();
-        if let Some(t) = triangles.iter().find(|t| t.iter().any(|&i| i as usize >= n)) {
+        if let Some(t) = triangles
+            .iter()
+            .find(|t| t.iter().any(|&i| i as usize >= n))
+        {
             return Err(GeometryError::Degenerate(format!(
                 "triangle {t:?} refers to a vertex beyond the {n} given"
             )));
         }
-        Ok(TriangleMesh { vertices, triangles })
+        Ok(TriangleMesh {
+            vertices,
+            triangles,
+        })
     }
 
     fn corners(&self, prim: u32) -> [DVec3; 3] {
@@ -69,9 +80,18 @@ impl TriangleMesh {
     }
 
     /// Nearest hit over all triangles (brute force): (t, triangle index).
-    pub fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+    pub fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         (0..self.triangles.len() as u32)
-            .filter_map(|i| self.intersect_triangle(i, origin, direction, t_min, t_max).map(|t| (t, i)))
+            .filter_map(|i| {
+                self.intersect_triangle(i, origin, direction, t_min, t_max)
+                    .map(|t| (t, i))
+            })
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
@@ -89,8 +109,13 @@ impl TriangleMesh {
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {
-        let used = self.triangles.iter().flatten().map(|&i| self.vertices[i as usize]);
-        used.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+        let used = self
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&i| self.vertices[i as usize]);
+        used.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        })
     }
-
 }

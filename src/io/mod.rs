@@ -39,7 +39,10 @@ pub enum OutputFormat {
 impl OutputFormat {
     /// The format named by the file extension.
     pub fn from_path(path: &Path) -> Result<OutputFormat, OutputError> {
-        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
         match ext.as_deref() {
             Some("png") => Ok(OutputFormat::Png),
             Some("exr") => Ok(OutputFormat::Exr),
@@ -53,9 +56,15 @@ pub enum OutputError {
     #[error("{0}: unsupported output format; use a .png or .exr file name")]
     UnsupportedFormat(String),
     #[error("could not write PNG '{path}': {source}")]
-    Png { path: String, source: image::ImageError },
+    Png {
+        path: String,
+        source: image::ImageError,
+    },
     #[error("could not write OpenEXR '{path}': {source}")]
-    Exr { path: String, source: exr::error::Error },
+    Exr {
+        path: String,
+        source: exr::error::Error,
+    },
 }
 
 /// Writes `image` to `path` as PNG or OpenEXR according to the extension.

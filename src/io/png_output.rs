@@ -20,5 +20,8 @@ pub fn to_rgb8(image: &Image) -> image::RgbImage {
 pub fn write_png(path: &Path, image: &Image) -> Result<(), OutputError> {
     to_rgb8(image)
         .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|source| OutputError::Png { path: path.display().to_string(), source })
+        .map_err(|source| OutputError::Png {
+            path: path.display().to_string(),
+            source,
+        })
 }

@@ -15,7 +15,11 @@ pub struct Ray {
 impl Ray {
     /// A ray with normalised direction.
     pub fn new(origin: DVec3, direction: DVec3, time: f64) -> Ray {
-        Ray { origin, direction: direction.normalize(), time }
+        Ray {
+            origin,
+            direction: direction.normalize(),
+            time,
+        }
     }
 
     /// The point at distance `t` along the ray.
@@ -51,7 +55,11 @@ impl Frame {
         let w = w.normalize();
         let u = u_hint.reject_from_normalized(w).try_normalize();
         match u {
-            Some(u) => Frame { u, v: w.cross(u), w },
+            Some(u) => Frame {
+                u,
+                v: w.cross(u),
+                w,
+            },
             None => Frame::from_normal(w),
         }
     }
@@ -74,7 +82,11 @@ pub fn half_b_quadratic(a: f64, half_b: f64, c: f64) -> Option<(f64, f64)> {
 }
 
 /// The smallest of the candidate distances inside the open interval (t_min, t_max).
-pub fn nearest_in(candidates: impl IntoIterator<Item = f64>, t_min: f64, t_max: f64) -> Option<f64> {
+pub fn nearest_in(
+    candidates: impl IntoIterator<Item = f64>,
+    t_min: f64,
+    t_max: f64,
+) -> Option<f64> {
     candidates
         .into_iter()
         .filter(|&t| t > t_min && t < t_max)

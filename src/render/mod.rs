@@ -122,13 +122,30 @@ struct Tile {
 const BLOCK_W: u32 = 4;
 const BLOCK_H: u32 = 2;
 
-fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u32, y0: u32) -> Tile {
+fn render_tile(
+    scene: &Scene,
+    camera: &PinholeCamera,
+    s: &RenderSettings,
+    x0: u32,
+    y0: u32,
+) -> Tile {
     let tracer = Tracer::new(scene, s.shadows);
     let (w, h) = (TILE.min(s.width - x0), TILE.min(s.height - y0));
     let n = (w * h) as usize;
-    let mut tile = Tile { x0, y0, w, pixels: vec![Colour::ZERO; n], aovs: Aovs::default(), rays: 0 };
+    let mut tile = Tile {
+        x0,
+        y0,
+        w,
+        pixels: vec![Colour::ZERO; n],
+        aovs: Aovs::default(),
+        rays: 0,
+    };
     if s.aovs {
-        tile.aovs = Aovs { depth: vec![0.0; n], normal: vec![Vec3::ZERO; n], object: vec![0.0; n] };
+        tile.aovs = Aovs {
+            depth: vec![0.0; n],
+            normal: vec![Vec3::ZERO; n],
+            object: vec![0.0; n],
+        };
     }
     let shapes = scene.geometry.shapes();
     for by in (y0..y0 + h).step_by(BLOCK_H as usize) {
@@ -146,7 +163,11 @@ fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u3
                         camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy)
                     })
                     .collect();
-                for (i, (colour, hit)) in tracer.trace_packet(&rays, s.max_trace_level).into_iter().enumerate() {
+                for (i, (colour, hit)) in tracer
+                    .trace_packet(&rays, s.max_trace_level)
+                    .into_iter()
+                    .enumerate()
+                {
                     sums[i] += colour;
                     if s.spp == 1 {
                         hits[i] = hit;
@@ -159,10 +180,15 @@ fn render_tile(scene: &Scene, camera: &PinholeCamera, s: &RenderSettings, x0: u3
                 if s.aovs {
                     // The surface seen through the pixel centre (the sample itself when spp = 1).
                     let ray = camera.ray(s.width, s.height, x as f64, y as f64);
-                    let hit = if s.spp == 1 { hits[i] } else { tracer.nearest(&ray, 0.0) };
+                    let hit = if s.spp == 1 {
+                        hits[i]
+                    } else {
+                        tracer.nearest(&ray, 0.0)
+                    };
                     tile.aovs.depth[k] = hit.map_or(f32::INFINITY, |h| h.t as f32);
-                    tile.aovs.normal[k] =
-                        hit.map_or(Vec3::ZERO, |h| shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3());
+                    tile.aovs.normal[k] = hit.map_or(Vec3::ZERO, |h| {
+                        shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3()
+                    });
                     tile.aovs.object[k] = hit.map_or(-1.0, |h| h.object as f32);
                 }
             }
@@ -185,7 +211,10 @@ pub fn render(
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
-    let s = &RenderSettings { max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT), ..settings.clone() };
+    let s = &RenderSettings {
+        max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT),
+        ..settings.clone()
+    };
     let stack = (1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(rayon::current_num_threads())
@@ -222,7 +251,11 @@ fn render_on_current_pool(
         width: s.width,
         height: s.height,
         pixels: vec![Colour::ZERO; n],
-        aovs: s.aovs.then(|| Aovs { depth: vec![0.0; n], normal: vec![Vec3::ZERO; n], object: vec![0.0; n] }),
+        aovs: s.aovs.then(|| Aovs {
+            depth: vec![0.0; n],
+            normal: vec![Vec3::ZERO; n],
+            object: vec![0.0; n],
+        }),
         rays: 0,
     };
     for tile in tiles {
@@ -240,4 +273,3 @@ fn render_on_current_pool(
     }
     image
 }
-

@@ -10,8 +10,13 @@ fn mix(mut z: u64) -> u64 {
 
 /// Uniform number in [0, 1) for dimension `dim` of sample `sample` of pixel (x, y).
 pub fn uniform(seed: u64, x: u32, y: u32, sample: u32, dim: u32) -> f64 {
-    let key = [((x as u64) << 32) | y as u64, ((sample as u64) << 32) | dim as u64];
-    let h = key.iter().fold(mix(seed ^ 0x9e37_79b9_7f4a_7c15), |h, &k| mix(h ^ mix(k)));
+    let key = [
+        ((x as u64) << 32) | y as u64,
+        ((sample as u64) << 32) | dim as u64,
+    ];
+    let h = key
+        .iter()
+        .fold(mix(seed ^ 0x9e37_79b9_7f4a_7c15), |h, &k| mix(h ^ mix(k)));
     (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 
@@ -21,7 +26,10 @@ pub fn pixel_offset(seed: u64, x: u32, y: u32, sample: u32, spp: u32) -> (f64, f
     if spp <= 1 {
         return (0.0, 0.0);
     }
-    (uniform(seed, x, y, sample, 0) - 0.5, uniform(seed, x, y, sample, 1) - 0.5)
+    (
+        uniform(seed, x, y, sample, 0) - 0.5,
+        uniform(seed, x, y, sample, 1) - 0.5,
+    )
 }
 
 #[cfg(test)]

@@ -58,7 +58,11 @@ pub struct Tracer<'a> {
 
 impl<'a> Tracer<'a> {
     pub fn new(scene: &'a Scene, shadows: bool) -> Tracer<'a> {
-        Tracer { scene, shadows, rays: Cell::new(0) }
+        Tracer {
+            scene,
+            shadows,
+            rays: Cell::new(0),
+        }
     }
 
     /// Rays (nearest-hit and shadow) traced so far.
@@ -90,10 +94,18 @@ impl<'a> Tracer<'a> {
         }
         let same_origin = rays.iter().all(|r| r.origin == rays[0].origin);
         if level == 0 || rays.is_empty() || !same_origin {
-            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), |r| self.trace(r, 0.0, level)));
+            return std::array::from_fn(|i| {
+                rays.get(i)
+                    .map_or((Colour::ZERO, None), |r| self.trace(r, 0.0, level))
+            });
         }
         self.rays.set(self.rays.get() + rays.len() as u64);
-        let hits = self.scene.geometry.nearest8(rays[0].origin, &directions[..rays.len()], 0.0, f64::INFINITY);
+        let hits = self.scene.geometry.nearest8(
+            rays[0].origin,
+            &directions[..rays.len()],
+            0.0,
+            f64::INFINITY,
+        );
         std::array::from_fn(|i| match hits[i] {
             Some(hit) => (self.shade(&rays[i], &hit, level), Some(hit)),
             None => (Colour::ZERO, None),
@@ -103,13 +115,21 @@ impl<'a> Tracer<'a> {
     /// The nearest hit along `ray`.
     pub fn nearest(&self, ray: &Ray, t_min: f64) -> Option<Hit> {
         self.rays.set(self.rays.get() + 1);
-        self.scene.geometry.nearest(ray.origin, ray.direction, t_min, f64::INFINITY)
+        self.scene
+            .geometry
+            .nearest(ray.origin, ray.direction, t_min, f64::INFINITY)
     }
 
     /// The colour of the surface at `hit`, seen along `ray`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, level: u32) -> Colour {
         let shape = &self.scene.geometry.shapes()[hit.object];
-        let at = Interaction { ray: *ray, t: hit.t, shape, prim: hit.prim, level };
+        let at = Interaction {
+            ray: *ray,
+            t: hit.t,
+            shape,
+            prim: hit.prim,
+            level,
+        };
         self.scene.objects[hit.object].surface.colour(self, &at)
     }
 
@@ -127,6 +147,8 @@ impl<'a> Tracer<'a> {
             return false;
         }
         self.rays.set(self.rays.get() + 1);
-        self.scene.geometry.shadowed(at.point(), l, at.self_hit_margin(), distance)
+        self.scene
+            .geometry
+            .shadowed(at.point(), l, at.self_hit_margin(), distance)
     }
 }

@@ -16,23 +16,36 @@ use super::lights::{Lights, PointLight};
 use super::studio::{self, Studio};
 use super::{SceneDescription, SceneObject};
 use crate::cameras::PinholeCamera;
-use crate::geometry::{Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, TriangleMesh};
+use crate::geometry::{
+    Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, TriangleMesh,
+};
 use crate::surfaces::{Chequerboard, Colour, Coloured, Mirror, Refractive, Surface, Transparent};
 
 /// A scene file that could not be read or understood.
 #[derive(Debug, Error)]
 pub enum SceneFileError {
     #[error("{path}: {source}")]
-    Io { path: String, source: std::io::Error },
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
     #[error("{path}:{line}:{column}: {message}")]
-    Invalid { path: String, line: usize, column: usize, message: String },
+    Invalid {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
 }
 
 /// 1-based line and column of byte `offset` in `text`.
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let column = before.rfind('\n').map_or(before.len(), |i| before.len() - i - 1) + 1;
+    let column = before
+        .rfind('\n')
+        .map_or(before.len(), |i| before.len() - i - 1)
+        + 1;
     (line, column)
 }
 
@@ -43,7 +56,13 @@ struct Finite(f64);
 impl<'de> Deserialize<'de> for Finite {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
-        if x.is_finite() { Ok(Finite(x)) } else { Err(de::Error::custom(format!("expected a finite number, got {x}"))) }
+        if x.is_finite() {
+            Ok(Finite(x))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a finite number, got {x}"
+            )))
+        }
     }
 }
 
@@ -57,7 +76,9 @@ impl<'de> Deserialize<'de> for Positive {
         if x > 0.0 && x.is_finite() {
             Ok(Positive(x))
         } else {
-            Err(de::Error::custom(format!("expected a positive number, got {x}")))
+            Err(de::Error::custom(format!(
+                "expected a positive number, got {x}"
+            )))
         }
     }
 }
@@ -72,7 +93,9 @@ impl<'de> Deserialize<'de> for Coefficient {
         if (0.0..=1.0).contains(&x) {
             Ok(Coefficient(x))
         } else {
-            Err(de::Error::custom(format!("expected a coefficient between 0 and 1, got {x}")))
+            Err(de::Error::custom(format!(
+                "expected a coefficient between 0 and 1, got {x}"
+            )))
         }
     }
 }
@@ -96,7 +119,9 @@ impl<'de> Deserialize<'de> for Rgb {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let c = Vector::deserialize(d)?.0;
         if c.min_element() < 0.0 {
-            return Err(de::Error::custom(format!("expected a colour with non-negative components, got {c}")));
+            return Err(de::Error::custom(format!(
+                "expected a colour with non-negative components, got {c}"
+            )));
         }
         Ok(Rgb(c))
     }
@@ -139,14 +164,25 @@ struct RenderSection {
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum CameraSection {
-    Pinhole { position: Vector, view_direction: Vector, up: Vector, horizontal_view_angle_deg: Positive },
+    Pinhole {
+        position: Vector,
+        view_direction: Vector,
+        up: Vector,
+        horizontal_view_angle_deg: Positive,
+    },
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum LightSection {
-    Ambient { colour: Rgb },
-    Point { position: Vector, colour: Rgb, phong_exponent: Option<Positive> },
+    Ambient {
+        colour: Rgb,
+    },
+    Point {
+        position: Vector,
+        colour: Rgb,
+        phong_exponent: Option<Positive>,
+    },
 }
 
 #[derive(Debug, Deserialize)]
@@ -166,22 +202,56 @@ fn yes() -> bool {
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum ShapeSection {
-    Sphere { centre: Vector, radius: Positive },
-    Plane { point: Vector, normal: Vector, u_direction: Option<Vector> },
-    Disc { centre: Vector, normal: Vector, radius: Positive },
-    Cylinder { start: Vector, end: Vector, radius: Positive },
-    Parallelogram { corner: Vector, span_u: Vector, span_v: Vector },
-    TriangleMesh { vertices: Vec<Vector>, triangles: Vec<[u32; 3]> },
+    Sphere {
+        centre: Vector,
+        radius: Positive,
+    },
+    Plane {
+        point: Vector,
+        normal: Vector,
+        u_direction: Option<Vector>,
+    },
+    Disc {
+        centre: Vector,
+        normal: Vector,
+        radius: Positive,
+    },
+    Cylinder {
+        start: Vector,
+        end: Vector,
+        radius: Positive,
+    },
+    Parallelogram {
+        corner: Vector,
+        span_u: Vector,
+        span_v: Vector,
+    },
+    TriangleMesh {
+        vertices: Vec<Vector>,
+        triangles: Vec<[u32; 3]>,
+    },
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum SurfaceSection {
-    Coloured { diffuse: Rgb, specular: Option<Rgb> },
-    Shiny { colour: Rgb },
-    Matt { colour: Rgb },
-    ConstantColour { colour: Rgb },
-    Chequerboard { tile_width: Option<Positive>, surfaces: Box<[SurfaceSection; 2]> },
+    Coloured {
+        diffuse: Rgb,
+        specular: Option<Rgb>,
+    },
+    Shiny {
+        colour: Rgb,
+    },
+    Matt {
+        colour: Rgb,
+    },
+    ConstantColour {
+        colour: Rgb,
+    },
+    Chequerboard {
+        tile_width: Option<Positive>,
+        surfaces: Box<[SurfaceSection; 2]>,
+    },
     Mirror {
         #[serde(alias = "reflection")]
         reflection_coefficient: Option<Coefficient>,
@@ -200,21 +270,37 @@ enum SurfaceSection {
 impl ShapeSection {
     fn build(self) -> Result<Shape, GeometryError> {
         Ok(match self {
-            ShapeSection::Sphere { centre, radius } => Shape::Sphere(Sphere::new(centre.0, radius.0)?),
-            ShapeSection::Plane { point, normal, u_direction } => {
+            ShapeSection::Sphere { centre, radius } => {
+                Shape::Sphere(Sphere::new(centre.0, radius.0)?)
+            }
+            ShapeSection::Plane {
+                point,
+                normal,
+                u_direction,
+            } => {
                 let u = u_direction.map_or_else(|| normal.0.any_orthogonal_vector(), |u| u.0);
                 Shape::Plane(Plane::new(point.0, normal.0, u)?)
             }
-            ShapeSection::Disc { centre, normal, radius } => Shape::Disc(Disc::new(centre.0, normal.0, radius.0)?),
+            ShapeSection::Disc {
+                centre,
+                normal,
+                radius,
+            } => Shape::Disc(Disc::new(centre.0, normal.0, radius.0)?),
             ShapeSection::Cylinder { start, end, radius } => {
                 Shape::Cylinder(Cylinder::new(start.0, end.0, radius.0)?)
             }
-            ShapeSection::Parallelogram { corner, span_u, span_v } => {
-                Shape::Parallelogram(Parallelogram::new(corner.0, span_u.0, span_v.0)?)
-            }
-            ShapeSection::TriangleMesh { vertices, triangles } => {
-                Shape::TriangleMesh(TriangleMesh::new(vertices.into_iter().map(|v| v.0).collect(), triangles)?)
-            }
+            ShapeSection::Parallelogram {
+                corner,
+                span_u,
+                span_v,
+            } => Shape::Parallelogram(Parallelogram::new(corner.0, span_u.0, span_v.0)?),
+            ShapeSection::TriangleMesh {
+                vertices,
+                triangles,
+            } => Shape::TriangleMesh(TriangleMesh::new(
+                vertices.into_iter().map(|v| v.0).collect(),
+                triangles,
+            )?),
         })
     }
 }
@@ -229,21 +315,31 @@ impl SurfaceSection {
             SurfaceSection::Shiny { colour } => Surface::Coloured(Coloured::shiny(colour.0)),
             SurfaceSection::Matt { colour } => Surface::Coloured(Coloured::matt(colour.0)),
             SurfaceSection::ConstantColour { colour } => Surface::ConstantColour(colour.0),
-            SurfaceSection::Chequerboard { tile_width, surfaces } => {
+            SurfaceSection::Chequerboard {
+                tile_width,
+                surfaces,
+            } => {
                 let [a, b] = *surfaces;
                 Surface::Chequerboard(Chequerboard {
                     tile_width: tile_width.map_or(1.0, |w| w.0),
                     surfaces: Box::new([a.build(), b.build()]),
                 })
             }
-            SurfaceSection::Mirror { reflection_coefficient } => Surface::Mirror(Mirror {
+            SurfaceSection::Mirror {
+                reflection_coefficient,
+            } => Surface::Mirror(Mirror {
                 reflection_coefficient: reflection_coefficient.map_or(1.0, |c| c.0),
             }),
-            SurfaceSection::Refractive { index_ratio, transmission_coefficient } => Surface::Refractive(Refractive {
+            SurfaceSection::Refractive {
+                index_ratio,
+                transmission_coefficient,
+            } => Surface::Refractive(Refractive {
                 index_ratio: index_ratio.0,
                 transmission_coefficient: transmission_coefficient.map_or(1.0, |c| c.0),
             }),
-            SurfaceSection::Transparent { transmission_coefficient } => Surface::Transparent(Transparent {
+            SurfaceSection::Transparent {
+                transmission_coefficient,
+            } => Surface::Transparent(Transparent {
                 transmission_coefficient: transmission_coefficient.map_or(1.0, |c| c.0),
             }),
         }
@@ -252,8 +348,10 @@ impl SurfaceSection {
 
 /// Reads a scene file.
 pub fn load(path: &Path) -> Result<SceneDescription, SceneFileError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|source| SceneFileError::Io { path: path.display().to_string(), source })?;
+    let text = std::fs::read_to_string(path).map_err(|source| SceneFileError::Io {
+        path: path.display().to_string(),
+        source,
+    })?;
     parse(&text, &path.display().to_string())
 }
 
@@ -261,9 +359,15 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneFileError> {
 pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError> {
     let invalid = |span: Option<Range<usize>>, message: String| {
         let (line, column) = line_column(text, span.map_or(0, |s| s.start));
-        SceneFileError::Invalid { path: path.to_string(), line, column, message }
+        SceneFileError::Invalid {
+            path: path.to_string(),
+            line,
+            column,
+            message,
+        }
     };
-    let file: File = toml::from_str(text).map_err(|e| invalid(e.span(), e.message().trim().to_string()))?;
+    let file: File =
+        toml::from_str(text).map_err(|e| invalid(e.span(), e.message().trim().to_string()))?;
 
     let studio = match file.studio.unwrap_or(StudioName::Empty) {
         StudioName::Empty => Some(Studio::Empty),
@@ -274,7 +378,10 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
         Some(s) => s.description(),
         None => SceneDescription {
             objects: Vec::new(),
-            lights: Lights { ambient: Colour::ZERO, points: Vec::new() },
+            lights: Lights {
+                ambient: Colour::ZERO,
+                points: Vec::new(),
+            },
             camera: studio::camera(),
             render: Default::default(),
         },
@@ -295,24 +402,46 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
 
     if let Some(camera) = file.camera {
         let span = camera.span();
-        let CameraSection::Pinhole { position, view_direction, up, horizontal_view_angle_deg } = camera.into_inner();
+        let CameraSection::Pinhole {
+            position,
+            view_direction,
+            up,
+            horizontal_view_angle_deg,
+        } = camera.into_inner();
         if horizontal_view_angle_deg.0 >= 180.0 {
-            return Err(invalid(Some(span), "horizontal_view_angle_deg must be below 180".into()));
+            return Err(invalid(
+                Some(span),
+                "horizontal_view_angle_deg must be below 180".into(),
+            ));
         }
-        scene.camera =
-            PinholeCamera::new(position.0, view_direction.0, up.0, horizontal_view_angle_deg.0.to_radians())
-                .ok_or_else(|| {
-                    invalid(Some(span), "camera view_direction and up must be non-zero and not parallel".into())
-                })?;
+        scene.camera = PinholeCamera::new(
+            position.0,
+            view_direction.0,
+            up.0,
+            horizontal_view_angle_deg.0.to_radians(),
+        )
+        .ok_or_else(|| {
+            invalid(
+                Some(span),
+                "camera view_direction and up must be non-zero and not parallel".into(),
+            )
+        })?;
     }
 
     // Lights given in the file replace the studio's lights.
     if !file.light.is_empty() {
-        let mut lights = Lights { ambient: Colour::ZERO, points: Vec::new() };
+        let mut lights = Lights {
+            ambient: Colour::ZERO,
+            points: Vec::new(),
+        };
         for light in file.light {
             match light {
                 LightSection::Ambient { colour } => lights.ambient += colour.0,
-                LightSection::Point { position, colour, phong_exponent } => lights.points.push(PointLight {
+                LightSection::Point {
+                    position,
+                    colour,
+                    phong_exponent,
+                } => lights.points.push(PointLight {
                     position: position.0,
                     colour: colour.0,
                     phong_exponent: phong_exponent.map_or(40.0, |k| k.0),
@@ -378,32 +507,53 @@ surface = { type = "refractive", index_ratio = 1.5, transmission = 0.96 }
         assert_eq!(s.objects.len(), 2 + 48 + 1);
         assert_eq!((s.render.width, s.render.height), (64, 48));
         assert_eq!(s.lights.points.len(), 1);
-        assert_eq!(s.lights.ambient, Colour::ZERO, "file lights replace the studio's");
+        assert_eq!(
+            s.lights.ambient,
+            Colour::ZERO,
+            "file lights replace the studio's"
+        );
         assert_eq!(
             s.objects.last().unwrap().surface,
-            Surface::Refractive(Refractive { index_ratio: 1.5, transmission_coefficient: 0.96 })
+            Surface::Refractive(Refractive {
+                index_ratio: 1.5,
+                transmission_coefficient: 0.96
+            })
         );
     }
 
     #[test]
     fn errors_name_line_column_and_reason() {
-        let e = error("studio = \"empty\"\n[[object]]\nshape = { type = \"sphere\", centre = [0,0,5], radius = -0.5 }\nsurface = { type = \"matt\", colour = [1,1,1] }\n");
+        let e = error(
+            "studio = \"empty\"\n[[object]]\nshape = { type = \"sphere\", centre = [0,0,5], radius = -0.5 }\nsurface = { type = \"matt\", colour = [1,1,1] }\n",
+        );
         assert!(e.starts_with("s.toml:3:"), "{e}");
         assert!(e.contains("expected a positive number, got -0.5"), "{e}");
 
         let e = error("[render]\nwidht = 3\n");
-        assert!(e.starts_with("s.toml:2:1:") && e.contains("unknown field `widht`"), "{e}");
+        assert!(
+            e.starts_with("s.toml:2:1:") && e.contains("unknown field `widht`"),
+            "{e}"
+        );
 
         let e = error("[render]\nwidth = \n");
         assert!(e.starts_with("s.toml:2:"), "{e}");
 
-        let e = error("[[object]]\nshape = { type = \"cylinder\", start = [0,0,1], end = [0,0,1], radius = 1 }\nsurface = { type = \"mirror\" }\n");
-        assert!(e.starts_with("s.toml:2:9:") && e.contains("start and end coincide"), "{e}");
+        let e = error(
+            "[[object]]\nshape = { type = \"cylinder\", start = [0,0,1], end = [0,0,1], radius = 1 }\nsurface = { type = \"mirror\" }\n",
+        );
+        assert!(
+            e.starts_with("s.toml:2:9:") && e.contains("start and end coincide"),
+            "{e}"
+        );
 
-        let e = error("[camera]\ntype = \"pinhole\"\nposition = [0,0,0]\nview_direction = [0,1,0]\nup = [0,2,0]\nhorizontal_view_angle_deg = 20\n");
+        let e = error(
+            "[camera]\ntype = \"pinhole\"\nposition = [0,0,0]\nview_direction = [0,1,0]\nup = [0,2,0]\nhorizontal_view_angle_deg = 20\n",
+        );
         assert!(e.contains("not parallel"), "{e}");
 
-        let e = error("[[object]]\nshape = { type = \"sphere\", centre = [0,nan,5], radius = 1 }\nsurface = { type = \"mirror\" }\n");
+        let e = error(
+            "[[object]]\nshape = { type = \"sphere\", centre = [0,nan,5], radius = 1 }\nsurface = { type = \"mirror\" }\n",
+        );
         assert!(e.contains("finite"), "{e}");
     }
 

@@ -56,17 +56,19 @@ impl Lights {
         let n = at.frame().w;
         let v = -at.ray.direction;
         let p = at.point();
-        self.points.iter().fold(surface.diffuse * self.ambient, |sum, light| {
-            let to_light = light.position - p;
-            let distance = to_light.length();
-            let l = to_light / distance;
-            let lit = light.phong(surface, n, v, l);
-            if lit == Colour::ZERO || tracer.shadowed(at, l, distance) {
-                sum
-            } else {
-                sum + lit
-            }
-        })
+        self.points
+            .iter()
+            .fold(surface.diffuse * self.ambient, |sum, light| {
+                let to_light = light.position - p;
+                let distance = to_light.length();
+                let l = to_light / distance;
+                let lit = light.phong(surface, n, v, l);
+                if lit == Colour::ZERO || tracer.shadowed(at, l, distance) {
+                    sum
+                } else {
+                    sum + lit
+                }
+            })
     }
 }
 
@@ -75,7 +77,11 @@ mod tests {
     use super::*;
 
     fn light() -> PointLight {
-        PointLight { position: DVec3::ZERO, colour: Colour::ONE, phong_exponent: 40.0 }
+        PointLight {
+            position: DVec3::ZERO,
+            colour: Colour::ONE,
+            phong_exponent: 40.0,
+        }
     }
 
     #[test]
@@ -100,7 +106,11 @@ mod tests {
         assert!((light().phong(&s, DVec3::Y, mirror, l) - Colour::ONE).length() < 1e-12);
         // 10° off the mirror direction: cos(10°)^40.
         let a = 10f64.to_radians();
-        let off = DVec3::new(-(45f64.to_radians() + a).sin(), (45f64.to_radians() + a).cos(), 0.0);
+        let off = DVec3::new(
+            -(45f64.to_radians() + a).sin(),
+            (45f64.to_radians() + a).cos(),
+            0.0,
+        );
         let expected = a.cos().powf(40.0);
         assert!((light().phong(&s, DVec3::Y, off, l).x - expected).abs() < 1e-12);
     }

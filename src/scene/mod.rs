@@ -47,13 +47,25 @@ pub struct Scene {
 
 impl Scene {
     /// Builds the BVH for the objects of a description.
-    pub fn build(device: &Device, objects: &[SceneObject], lights: &Lights) -> Result<Scene, EmbreeError> {
-        let geometry =
-            SceneGeometry::build(device, objects.iter().map(|o| (o.shape.clone(), o.shadow_throwing)).collect())?;
+    pub fn build(
+        device: &Device,
+        objects: &[SceneObject],
+        lights: &Lights,
+    ) -> Result<Scene, EmbreeError> {
+        let geometry = SceneGeometry::build(
+            device,
+            objects
+                .iter()
+                .map(|o| (o.shape.clone(), o.shadow_throwing))
+                .collect(),
+        )?;
         Ok(Scene {
             objects: objects
                 .iter()
-                .map(|o| ObjectInfo { name: o.name.clone(), surface: o.surface.clone() })
+                .map(|o| ObjectInfo {
+                    name: o.name.clone(),
+                    surface: o.surface.clone(),
+                })
                 .collect(),
             geometry,
             lights: lights.clone(),

@@ -70,7 +70,9 @@ pub fn camera() -> PinholeCamera {
 /// blue along x, green along y.
 pub fn lattice() -> Vec<SceneObject> {
     let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
-    let ys: Vec<f64> = (0..4).map(|i| -0.98 + i as f64 * (1.02 + 0.98) / 3.0).collect();
+    let ys: Vec<f64> = (0..4)
+        .map(|i| -0.98 + i as f64 * (1.02 + 0.98) / 3.0)
+        .collect();
     let zs = [10.0, 20.0, 30.0, 40.0];
     let cylinder = |name: String, start: DVec3, end: DVec3, colour: Colour| SceneObject {
         name,
@@ -119,6 +121,11 @@ impl Studio {
         if self == Studio::Lattice {
             objects.extend(lattice());
         }
-        SceneDescription { objects, lights: lights(), camera: camera(), render: RenderSettings::default() }
+        SceneDescription {
+            objects,
+            lights: lights(),
+            camera: camera(),
+            render: RenderSettings::default(),
+        }
     }
 }

@@ -33,7 +33,10 @@ mod tests {
     fn tiles_alternate_across_every_boundary() {
         let c = Chequerboard {
             tile_width: 1.0,
-            surfaces: Box::new([Surface::ConstantColour(Colour::ZERO), Surface::ConstantColour(Colour::ONE)]),
+            surfaces: Box::new([
+                Surface::ConstantColour(Colour::ZERO),
+                Surface::ConstantColour(Colour::ONE),
+            ]),
         };
         let even = &c.surfaces[0];
         let odd = &c.surfaces[1];

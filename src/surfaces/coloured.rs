@@ -13,12 +13,18 @@ pub struct Coloured {
 impl Coloured {
     /// "Shiny": white specular reflection.
     pub fn shiny(diffuse: Colour) -> Coloured {
-        Coloured { diffuse, specular: Colour::ONE }
+        Coloured {
+            diffuse,
+            specular: Colour::ONE,
+        }
     }
 
     /// "Matt": no specular reflection.
     pub fn matt(diffuse: Colour) -> Coloured {
-        Coloured { diffuse, specular: Colour::ZERO }
+        Coloured {
+            diffuse,
+            specular: Colour::ZERO,
+        }
     }
 
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {

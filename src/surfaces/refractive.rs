@@ -25,7 +25,11 @@ pub struct Refractive {
 pub fn refract(d: DVec3, n: DVec3, index_ratio: f64) -> Option<DVec3> {
     // Orient the normal against the incoming ray; η = n₁/n₂ for the side the ray comes from.
     let entering = d.dot(n) < 0.0;
-    let (n, eta) = if entering { (n, 1.0 / index_ratio) } else { (-n, index_ratio) };
+    let (n, eta) = if entering {
+        (n, 1.0 / index_ratio)
+    } else {
+        (-n, index_ratio)
+    };
     let cos_i = -d.dot(n);
     let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
     if sin2_t > 1.0 {
@@ -75,7 +79,10 @@ mod tests {
         let critical = (1.0f64 / 1.5).asin(); // 41.81°
         let up = |theta: f64| -downwards(theta);
         let grazing = refract(up(critical - 1e-9), DVec3::Y, 1.5).unwrap();
-        assert!(grazing.y.abs() < 1e-3, "just below the critical angle the ray leaves grazing");
+        assert!(
+            grazing.y.abs() < 1e-3,
+            "just below the critical angle the ray leaves grazing"
+        );
         assert_eq!(refract(up(critical + 1e-9), DVec3::Y, 1.5), None);
     }
 
