@@ -63,14 +63,48 @@ pub fn write_exr(
         "timbre.version",
         AttributeValue::Text(Text::from(env!("CARGO_PKG_VERSION"))),
     );
+    // Tiles are compressed in parallel; with increasing line order the writer stores them in
+    // order, so the file does not depend on which tile finished first.
+    let encoding = Encoding {
+        line_order: LineOrder::Increasing,
+        ..Encoding::FAST_LOSSLESS
+    };
     let layer = Layer::new(
         (image.width as usize, image.height as usize),
         attributes,
-        Encoding::FAST_LOSSLESS,
+        encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
+    let mut file = std::io::Cursor::new(Vec::new());
     exr::image::Image::from_layer(layer)
         .write()
-        .to_file(path)
-        .map_err(err)
+        .to_buffered(&mut file)
+        .map_err(err)?;
+    let mut bytes = file.into_inner();
+    sort_header_attributes(&mut bytes);
+    std::fs::write(path, bytes).map_err(|e| err(e.into()))
+}
+
+/// Puts the header attributes of a single-part OpenEXR file in name order, as OpenEXR's own
+/// library writes them. The exr crate writes custom attributes in `HashMap` order, which changes
+/// from run to run; reordering keeps the header's length, so the chunk offsets stay valid.
+fn sort_header_attributes(bytes: &mut [u8]) -> Option<()> {
+    const START: usize = 8; // after the magic number and the version field
+    let mut records: Vec<(&[u8], &[u8])> = Vec::new();
+    let mut pos = START;
+    while *bytes.get(pos)? != 0 {
+        let name_end = pos + bytes[pos..].iter().position(|&b| b == 0)?;
+        let type_end = name_end + 1 + bytes[name_end + 1..].iter().position(|&b| b == 0)?;
+        let size = bytes.get(type_end + 1..type_end + 5)?;
+        let end = type_end + 5 + u32::from_le_bytes(size.try_into().ok()?) as usize;
+        records.push((&bytes[pos..name_end], bytes.get(pos..end)?));
+        pos = end;
+    }
+    records.sort_by_key(|record| record.0);
+    let sorted: Vec<u8> = records
+        .iter()
+        .flat_map(|record| record.1.iter().copied())
+        .collect();
+    bytes[START..pos].copy_from_slice(&sorted);
+    Some(())
 }

@@ -1,0 +1,848 @@
+//! Integration tests of the `timbre` command: each runs the built binary in a temporary
+//! directory and checks its exit code, its messages and the files it writes. Images are small
+//! (80×60 or less), so every run takes a few milliseconds.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use exr::prelude::{AttributeValue, FlatSamples};
+use tempfile::TempDir;
+
+const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
+
+/// What a run of `timbre` did.
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+impl Run {
+    #[track_caller]
+    fn assert_success(&self) -> &Self {
+        let Run {
+            code,
+            stdout,
+            stderr,
+        } = self;
+        assert_eq!(
+            *code,
+            Some(0),
+            "timbre failed:\nstdout: {stdout}\nstderr: {stderr}"
+        );
+        self
+    }
+
+    /// Asserts exit code 2 (bad input) and a "timbre: error:" message containing every needle.
+    #[track_caller]
+    fn assert_bad_input(&self, needles: &[&str]) -> &Self {
+        let Run {
+            code,
+            stdout,
+            stderr,
+        } = self;
+        assert_eq!(
+            *code,
+            Some(2),
+            "expected exit 2:\nstdout: {stdout}\nstderr: {stderr}"
+        );
+        assert!(
+            stderr.starts_with("timbre: error: "),
+            "no error message: {stderr}"
+        );
+        for needle in needles {
+            assert!(
+                stderr.contains(needle),
+                "error message lacks {needle:?}: {stderr}"
+            );
+        }
+        self
+    }
+}
+
+/// Runs `timbre` with `args` in `dir`.
+fn timbre(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(TIMBRE)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run timbre");
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8(out.stdout).expect("UTF-8 stdout"),
+        stderr: String::from_utf8(out.stderr).expect("UTF-8 stderr"),
+    }
+}
+
+/// Runs `timbre` with the whitespace-separated arguments of `line` in `dir`.
+fn timbre_line(dir: &Path, line: &str) -> Run {
+    timbre(dir, &line.split_whitespace().collect::<Vec<_>>())
+}
+
+fn write(dir: &TempDir, name: &str, text: &str) -> PathBuf {
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).expect("write scene file");
+    path
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().expect("UTF-8 path")
+}
+
+/// The (line, column) of an error message `PATH:LINE:COLUMN: ...` about `path`.
+#[track_caller]
+fn location(stderr: &str, path: &Path) -> (usize, usize) {
+    let prefix = format!("{}:", path.display());
+    let start = stderr
+        .find(&prefix)
+        .unwrap_or_else(|| panic!("message does not name {prefix}: {stderr}"));
+    let mut parts = stderr[start + prefix.len()..].splitn(3, ':');
+    let mut number = || -> usize {
+        let part = parts.next().unwrap_or_default();
+        part.parse()
+            .unwrap_or_else(|_| panic!("no file:line:column in {stderr:?}"))
+    };
+    let (line, column) = (number(), number());
+    assert!(column >= 1, "columns are 1-based: {stderr}");
+    (line, column)
+}
+
+/// The parts of the summary line `WxH, S spp: N rays in T s (M Mrays/s) -> PATH`.
+struct Summary {
+    size: String,
+    spp: u32,
+    rays: u64,
+    seconds: f64,
+    mrays_per_second: f64,
+    output: String,
+}
+
+#[track_caller]
+fn summary(stdout: &str) -> Summary {
+    let line = stdout
+        .lines()
+        .find(|l| l.contains(" rays in "))
+        .unwrap_or_else(|| panic!("no summary: {stdout}"));
+    let fail = || -> ! { panic!("malformed summary line: {line}") };
+    let (size, rest) = line.split_once(", ").unwrap_or_else(|| fail());
+    let (spp, rest) = rest.split_once(" spp: ").unwrap_or_else(|| fail());
+    let (rays, rest) = rest.split_once(" rays in ").unwrap_or_else(|| fail());
+    let (seconds, rest) = rest.split_once(" s (").unwrap_or_else(|| fail());
+    let (rate, output) = rest.split_once(" Mrays/s) -> ").unwrap_or_else(|| fail());
+    Summary {
+        size: size.to_string(),
+        spp: spp.parse().unwrap_or_else(|_| fail()),
+        rays: rays.parse().unwrap_or_else(|_| fail()),
+        seconds: seconds.parse().unwrap_or_else(|_| fail()),
+        mrays_per_second: rate.parse().unwrap_or_else(|_| fail()),
+        output: output.to_string(),
+    }
+}
+
+fn decode_png(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+fn files_in(dir: &TempDir) -> usize {
+    std::fs::read_dir(dir.path()).unwrap().count()
+}
+
+/// A scene with nothing but a constant-colour sphere around the camera: every pixel of the
+/// picture is (0.2, 0.4, 0.6), i.e. (51, 102, 153) in the PNG, whatever the sampling.
+const UNIFORM_SCENE: &str = r#"
+studio = "none"
+
+[render]
+width = 40
+height = 30
+spp = 2
+
+[[object]]
+name = "inside of a ball"
+shape = { type = "sphere", centre = [0, 0, 0], radius = 10 }
+surface = { type = "constant_colour", colour = [0.2, 0.4, 0.6] }
+"#;
+
+#[test]
+fn render_without_a_scene_writes_the_studio_and_a_summary() {
+    let dir = TempDir::new().unwrap();
+    let run = timbre_line(dir.path(), "render -o studio.png --width 80 --height 60");
+    run.assert_success();
+
+    let png = decode_png(&dir.path().join("studio.png"));
+    assert_eq!(png.dimensions(), (80, 60));
+    // The top row looks into the sky, (0.5, 0.5, 1) → (128, 128, 255); the bottom row sees the
+    // floor's grey and white tiles.
+    assert_eq!(png.get_pixel(40, 0).0, [128, 128, 255]);
+    let floor = png.get_pixel(40, 59).0;
+    assert!(
+        floor[0] == floor[1] && floor[1] == floor[2] && floor[0] > 100,
+        "floor pixel {floor:?}"
+    );
+
+    let s = summary(&run.stdout);
+    assert_eq!(
+        (s.size.as_str(), s.spp, s.output.as_str()),
+        ("80x60", 1, "studio.png")
+    );
+    assert!(
+        s.rays >= 80 * 60,
+        "at least one primary ray per pixel: {}",
+        run.stdout
+    );
+    assert!(
+        s.seconds >= 0.0 && s.mrays_per_second > 0.0,
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stderr.is_empty(),
+        "no progress bar without a terminal: {}",
+        run.stderr
+    );
+
+    // --quiet prints nothing at all.
+    let quiet = timbre_line(dir.path(), "render -q -o q.png --width 8 --height 6");
+    quiet.assert_success();
+    assert!(quiet.stdout.is_empty() && quiet.stderr.is_empty());
+    assert_eq!(decode_png(&dir.path().join("q.png")).dimensions(), (8, 6));
+}
+
+#[test]
+fn scene_file_renders_and_the_command_line_overrides_it() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(&dir, "ball.toml", UNIFORM_SCENE);
+
+    // The file's own settings: 40×30 at 2 spp, every pixel the sphere's colour.
+    let run = timbre(dir.path(), &["render", text(&scene), "-o", "file.png"]);
+    run.assert_success();
+    let png = decode_png(&dir.path().join("file.png"));
+    assert_eq!(png.dimensions(), (40, 30));
+    assert!(
+        png.pixels().all(|p| p.0 == [51, 102, 153]),
+        "the scene file's sphere fills the picture"
+    );
+    let s = summary(&run.stdout);
+    assert_eq!((s.size.as_str(), s.spp), ("40x30", 2));
+    assert!(s.rays >= 40 * 30 * 2);
+
+    // --width and --height override the file; its spp stays.
+    let run = timbre(
+        dir.path(),
+        &[
+            "render",
+            text(&scene),
+            "-o",
+            "wh.png",
+            "--width",
+            "80",
+            "--height",
+            "60",
+        ],
+    );
+    run.assert_success();
+    assert_eq!(
+        decode_png(&dir.path().join("wh.png")).dimensions(),
+        (80, 60)
+    );
+    let s = summary(&run.stdout);
+    assert_eq!((s.size.as_str(), s.spp), ("80x60", 2));
+
+    // --spp overrides the file too.
+    let run = timbre(
+        dir.path(),
+        &[
+            "render",
+            text(&scene),
+            "-o",
+            "spp.png",
+            "--spp",
+            "3",
+            "--height",
+            "10",
+        ],
+    );
+    run.assert_success();
+    assert_eq!(
+        decode_png(&dir.path().join("spp.png")).dimensions(),
+        (40, 10)
+    );
+    let s = summary(&run.stdout);
+    assert_eq!((s.size.as_str(), s.spp), ("40x10", 3));
+    assert!(s.rays >= 40 * 10 * 3);
+}
+
+#[test]
+fn a_missing_scene_file_is_named() {
+    let dir = TempDir::new().unwrap();
+    let missing = dir.path().join("no-such-scene.toml");
+    timbre(dir.path(), &["render", text(&missing), "-o", "x.png"])
+        .assert_bad_input(&[text(&missing)]);
+    timbre(dir.path(), &["check", text(&missing)]).assert_bad_input(&[text(&missing)]);
+    assert_eq!(files_in(&dir), 0, "nothing is written");
+}
+
+#[test]
+fn malformed_toml_is_located() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "broken.toml",
+        r#"studio = "empty"
+
+[render]
+width = = 3
+height = 10
+"#,
+    );
+    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    run.assert_bad_input(&[]);
+    assert_eq!(location(&run.stderr, &scene).0, 4, "{}", run.stderr);
+    assert_eq!(files_in(&dir), 1, "no image is written");
+}
+
+#[test]
+fn an_unknown_key_is_named_and_located() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "typo.toml",
+        r#"studio = "empty"
+
+[render]
+width = 10
+hieght = 10
+"#,
+    );
+    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    run.assert_bad_input(&["unknown field `hieght`", "expected one of", "`height`"]);
+    assert_eq!(location(&run.stderr, &scene), (5, 1), "{}", run.stderr);
+
+    let scene = write(
+        &dir,
+        "top.toml",
+        "studio = \"empty\"\nstudoi = \"lattice\"\n",
+    );
+    let run = timbre(dir.path(), &["check", text(&scene)]);
+    run.assert_bad_input(&["unknown field `studoi`"]);
+    assert_eq!(location(&run.stderr, &scene), (2, 1), "{}", run.stderr);
+}
+
+#[test]
+fn a_negative_radius_is_rejected_with_its_line() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "negative.toml",
+        r#"studio = "empty"
+
+[[object]]
+name = "ball"
+shape = { type = "sphere", centre = [0, 0, 5], radius = -0.5 }
+surface = { type = "matt", colour = [1, 1, 1] }
+"#,
+    );
+    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    run.assert_bad_input(&["expected a positive number, got -0.5"]);
+    assert_eq!(location(&run.stderr, &scene).0, 5, "{}", run.stderr);
+    assert_eq!(files_in(&dir), 1, "no image is written");
+}
+
+#[test]
+fn nan_parameters_are_rejected() {
+    let dir = TempDir::new().unwrap();
+    let radius = write(
+        &dir,
+        "nan-radius.toml",
+        r#"[[object]]
+shape = { type = "sphere", centre = [0, 0, 5], radius = nan }
+surface = { type = "mirror" }
+"#,
+    );
+    let run = timbre(dir.path(), &["render", text(&radius), "-o", "x.png"]);
+    run.assert_bad_input(&["expected a positive number, got NaN"]);
+    assert_eq!(location(&run.stderr, &radius).0, 2, "{}", run.stderr);
+
+    let centre = write(
+        &dir,
+        "nan-centre.toml",
+        r#"
+[[object]]
+shape = { type = "sphere", centre = [0, nan, 5], radius = 1 }
+surface = { type = "mirror" }
+"#,
+    );
+    let run = timbre(dir.path(), &["render", text(&centre), "-o", "x.png"]);
+    run.assert_bad_input(&["expected a finite number, got NaN"]);
+    assert_eq!(location(&run.stderr, &centre).0, 3, "{}", run.stderr);
+
+    let colour = write(
+        &dir,
+        "nan-light.toml",
+        "[[light]]\ntype = \"ambient\"\ncolour = [0.2, -nan, 0.2]\n",
+    );
+    timbre(dir.path(), &["check", text(&colour)]).assert_bad_input(&["finite", "NaN"]);
+    assert_eq!(files_in(&dir), 3, "no image is written");
+}
+
+#[test]
+fn unsupported_outputs_are_rejected() {
+    let dir = TempDir::new().unwrap();
+    timbre_line(dir.path(), "render -o picture.jpg --width 8 --height 6").assert_bad_input(&[
+        "picture.jpg",
+        "unsupported output format",
+        ".png or .exr",
+    ]);
+    timbre_line(dir.path(), "render -o no-extension --width 8 --height 6")
+        .assert_bad_input(&["no-extension", "unsupported output format"]);
+    timbre_line(
+        dir.path(),
+        "render -o aov.png --aov depth --width 8 --height 6",
+    )
+    .assert_bad_input(&["--aov", "OpenEXR", ".exr"]);
+    assert_eq!(files_in(&dir), 0, "nothing is written");
+}
+
+#[test]
+fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
+    let dir = TempDir::new().unwrap();
+    let good = write(&dir, "good.toml", UNIFORM_SCENE);
+    let run = timbre(dir.path(), &["check", text(&good)]);
+    run.assert_success();
+    let expected = format!(
+        "{}: 1 objects, 0 point lights, 40x30 at 2 spp: OK",
+        good.display()
+    );
+    assert_eq!(run.stdout.trim_end(), expected);
+    assert_eq!(files_in(&dir), 1, "check writes nothing");
+
+    let lattice = write(&dir, "lattice.toml", "studio = \"lattice\"\n");
+    let run = timbre(dir.path(), &["check", text(&lattice)]);
+    run.assert_success();
+    assert!(
+        run.stdout
+            .contains(": 50 objects, 1 point lights, 640x480 at 1 spp: OK"),
+        "{}",
+        run.stdout
+    );
+
+    let bad = write(
+        &dir,
+        "bad.toml",
+        r#"studio = "empty"
+[[object]]
+shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
+surface = { type = "mirror", reflection = 1.5 }
+"#,
+    );
+    let run = timbre(dir.path(), &["check", text(&bad)]);
+    run.assert_bad_input(&["expected a coefficient between 0 and 1, got 1.5"]);
+    assert_eq!(location(&run.stderr, &bad).0, 4, "{}", run.stderr);
+    assert!(run.stdout.is_empty());
+}
+
+#[test]
+fn info_prints_the_versions() {
+    let dir = TempDir::new().unwrap();
+    let run = timbre_line(dir.path(), "info");
+    run.assert_success();
+    let lines: Vec<&str> = run.stdout.lines().collect();
+    assert!(
+        lines.contains(&concat!("timbre ", env!("CARGO_PKG_VERSION"))),
+        "{}",
+        run.stdout
+    );
+    let embree = lines
+        .iter()
+        .find_map(|l| l.strip_prefix("Embree "))
+        .unwrap_or_else(|| panic!("no Embree: {}", run.stdout));
+    let parts: Vec<&str> = embree.split('.').collect();
+    assert!(
+        parts.len() == 3
+            && parts.iter().all(|p| p.parse::<u32>().is_ok())
+            && ["3", "4"].contains(&parts[0]),
+        "Embree version should be 3.x.y or 4.x.y: {embree}"
+    );
+    assert!(
+        lines.iter().any(|l| l.starts_with("threads: ")),
+        "{}",
+        run.stdout
+    );
+}
+
+/// Renders the default studio at 80×60 with `--spp 4` (jittered samples) and `threads` threads
+/// to `name`, and returns the file's bytes.
+fn render_jittered(dir: &Path, name: &str, threads: u32, extra: &str) -> Vec<u8> {
+    let line =
+        format!("render -q -o {name} --width 80 --height 60 --spp 4 --threads {threads} {extra}");
+    timbre_line(dir, &line).assert_success();
+    std::fs::read(dir.join(name)).unwrap()
+}
+
+#[test]
+fn the_thread_count_does_not_change_the_png() {
+    let dir = TempDir::new().unwrap();
+    let one = render_jittered(dir.path(), "one.png", 1, "");
+    let two = render_jittered(dir.path(), "two.png", 2, "");
+    assert!(one == two, "PNGs rendered with 1 and 2 threads differ");
+    // The samples really are jittered: another seed gives another picture.
+    let reseeded = render_jittered(dir.path(), "seed.png", 2, "--seed 7");
+    assert!(one != reseeded, "--seed should move the jittered samples");
+}
+
+#[test]
+fn the_thread_count_does_not_change_the_exr() {
+    let dir = TempDir::new().unwrap();
+    let aov = "--aov depth,normal,object";
+    let one = render_jittered(dir.path(), "one.exr", 1, aov);
+    // Several runs, so that a file layout that varies by chance is caught reliably.
+    for (k, threads) in [2, 2, 1].into_iter().enumerate() {
+        let other = render_jittered(dir.path(), &format!("other{k}.exr"), threads, aov);
+        assert!(
+            one == other,
+            "EXR files rendered with 1 and {threads} threads differ (run {k}); the pixels do not, so \
+             the chunk order or the order of the header attributes varies between runs"
+        );
+    }
+}
+
+/// The one layer of an EXR file: its size, channels and header attributes.
+struct Exr {
+    size: (usize, usize),
+    channels: HashMap<String, Vec<f32>>,
+    attributes: HashMap<String, AttributeValue>,
+}
+
+impl Exr {
+    fn read(path: &Path) -> Exr {
+        let image = exr::prelude::read_all_flat_layers_from_file(path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(image.layer_data.len(), 1, "one layer");
+        let layer = &image.layer_data[0];
+        let channels = layer
+            .channel_data
+            .list
+            .iter()
+            .map(|channel| match &channel.sample_data {
+                FlatSamples::F32(values) => (channel.name.to_string(), values.clone()),
+                _ => panic!("channel {} is not f32", channel.name),
+            })
+            .collect();
+        let attributes = layer
+            .attributes
+            .other
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect();
+        Exr {
+            size: (layer.size.width(), layer.size.height()),
+            channels,
+            attributes,
+        }
+    }
+
+    /// The channel names, sorted.
+    fn names(&self) -> Vec<&str> {
+        let mut names: Vec<&str> = self.channels.keys().map(String::as_str).collect();
+        names.sort();
+        names
+    }
+
+    fn at(&self, channel: &str, x: usize, y: usize) -> f32 {
+        self.channels[channel][y * self.size.0 + x]
+    }
+
+    fn text(&self, key: &str) -> Option<String> {
+        match self.attributes.get(key) {
+            Some(AttributeValue::Text(t)) => Some(t.to_string()),
+            _ => None,
+        }
+    }
+
+    fn int(&self, key: &str) -> Option<i32> {
+        match self.attributes.get(key) {
+            Some(AttributeValue::I32(i)) => Some(*i),
+            _ => None,
+        }
+    }
+}
+
+/// Distance from the studio camera (at the origin, looking along +z, 20° across the centres of
+/// the outermost columns, square pixels) to the floor y = −1.0001 through pixel (x, y).
+fn floor_depth(width: usize, height: usize, x: usize, y: usize) -> f64 {
+    let pitch = 2.0 * 10f64.to_radians().tan() / (width - 1) as f64;
+    let dx = (x as f64 - 0.5 * (width - 1) as f64) * pitch;
+    let dy = (0.5 * (height - 1) as f64 - y as f64) * pitch;
+    assert!(dy < 0.0, "pixel row {y} looks downwards");
+    let length = (dx * dx + dy * dy + 1.0).sqrt();
+    1.0001 / -dy * length
+}
+
+const ALL_CHANNELS: [&str; 8] = [
+    "B",
+    "G",
+    "R",
+    "depth.Z",
+    "normal.X",
+    "normal.Y",
+    "normal.Z",
+    "object.id",
+];
+const AOV_CHANNELS: [&str; 5] = ["depth.Z", "normal.X", "normal.Y", "normal.Z", "object.id"];
+
+#[test]
+fn exr_has_colour_and_aov_channels_and_provenance() {
+    let dir = TempDir::new().unwrap();
+    timbre_line(
+        dir.path(),
+        "render -o aov.exr --aov depth,normal,object --seed 42 --width 80 --height 60",
+    )
+    .assert_success();
+    let path = dir.path().join("aov.exr");
+    let exr = Exr::read(&path);
+    assert_eq!(exr.size, (80, 60));
+    assert_eq!(exr.names(), ALL_CHANNELS);
+    assert!(exr.channels.values().all(|c| c.len() == 80 * 60));
+    for c in ["R", "G", "B"] {
+        assert!(
+            exr.channels[c].iter().all(|v| v.is_finite() && *v >= 0.0),
+            "{c} is finite and non-negative"
+        );
+    }
+
+    // The top row sees the sky: exactly its constant colour, 10⁵ away (the camera is at the
+    // sky sphere's centre), object 0, normal pointing outwards (away from the camera).
+    for x in [0, 40, 79] {
+        assert_eq!(
+            [exr.at("R", x, 0), exr.at("G", x, 0), exr.at("B", x, 0)],
+            [0.5, 0.5, 1.0],
+            "sky at ({x}, 0)"
+        );
+        let depth = exr.at("depth.Z", x, 0);
+        assert!((depth / 1e5 - 1.0).abs() < 1e-6, "sky depth {depth}");
+        assert_eq!(exr.at("object.id", x, 0), 0.0, "the sky is object 0");
+        assert!(
+            exr.at("normal.Z", x, 0) > 0.9,
+            "the sky's normal points away from the camera"
+        );
+    }
+
+    // The bottom rows see the floor (object 1, normal +y) at the distance the camera geometry
+    // predicts, lit to a grey above the ambient level 0.2 × 0.8.
+    for (x, y) in [(0, 59), (40, 59), (79, 59), (20, 55)] {
+        let expected = floor_depth(80, 60, x, y);
+        let depth = exr.at("depth.Z", x, y) as f64;
+        assert!(
+            (depth / expected - 1.0).abs() < 1e-6,
+            "floor depth at ({x}, {y}): {depth}, expected {expected}"
+        );
+        assert_eq!(exr.at("object.id", x, y), 1.0, "the floor is object 1");
+        let normal = [
+            exr.at("normal.X", x, y),
+            exr.at("normal.Y", x, y),
+            exr.at("normal.Z", x, y),
+        ];
+        assert_eq!(normal, [0.0, 1.0, 0.0], "floor normal at ({x}, {y})");
+        let r = exr.at("R", x, y);
+        assert!(
+            r == exr.at("G", x, y) && r == exr.at("B", x, y) && r > 0.16,
+            "floor colour {r}"
+        );
+    }
+
+    // Some pixel sees a lattice cylinder (object ids 2 to 49).
+    assert!(
+        exr.channels["object.id"]
+            .iter()
+            .any(|id| (2.0..=49.0).contains(id))
+    );
+
+    assert_eq!(exr.int("timbre.spp"), Some(1), "{:?}", exr.attributes);
+    assert_eq!(
+        exr.text("timbre.seed").as_deref(),
+        Some("42"),
+        "{:?}",
+        exr.attributes
+    );
+    assert_eq!(
+        exr.text("timbre.version").as_deref(),
+        Some(env!("CARGO_PKG_VERSION")),
+        "{:?}",
+        exr.attributes
+    );
+
+    // The AOVs describe the pixel centres, so jittered sampling does not change them.
+    timbre_line(
+        dir.path(),
+        "render -q -o aov4.exr --aov depth,normal,object --spp 4 --width 80 --height 60",
+    )
+    .assert_success();
+    let jittered = Exr::read(&dir.path().join("aov4.exr"));
+    for name in AOV_CHANNELS {
+        assert!(
+            jittered.channels[name] == exr.channels[name],
+            "{name} differs between 1 and 4 spp"
+        );
+    }
+    assert_eq!(jittered.int("timbre.spp"), Some(4));
+    assert_eq!(jittered.text("timbre.seed").as_deref(), Some("0"));
+
+    // A selection of AOVs writes only those channels.
+    timbre_line(
+        dir.path(),
+        "render -q -o depth.exr --aov depth --width 8 --height 6",
+    )
+    .assert_success();
+    assert_eq!(
+        Exr::read(&dir.path().join("depth.exr")).names(),
+        ["B", "G", "R", "depth.Z"]
+    );
+
+    // OpenEXR's own reader accepts the file.
+    match Command::new("exrheader").arg(&path).output() {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            println!("note: exrheader (Debian package openexr) is not on PATH; skipped that check");
+        }
+        Err(e) => panic!("could not run exrheader: {e}"),
+        Ok(out) => {
+            let listing = String::from_utf8_lossy(&out.stdout);
+            let errors = String::from_utf8_lossy(&out.stderr);
+            assert!(out.status.success(), "exrheader failed:\n{listing}{errors}");
+            for channel in ALL_CHANNELS {
+                let listed = listing.lines().any(|l| {
+                    l.trim_start().starts_with(&format!("{channel}, "))
+                        && l.contains("32-bit floating-point")
+                });
+                assert!(
+                    listed,
+                    "exrheader does not list the f32 channel {channel}:\n{listing}"
+                );
+            }
+            for line in [
+                "dataWindow (type box2i): (0 0) - (79 59)",
+                "timbre.spp (type int): 1",
+                "timbre.seed (type string): \"42\"",
+                concat!(
+                    "timbre.version (type string): \"",
+                    env!("CARGO_PKG_VERSION"),
+                    "\""
+                ),
+            ] {
+                assert!(
+                    listing.contains(line),
+                    "exrheader does not show {line:?}:\n{listing}"
+                );
+            }
+        }
+    }
+}
+
+fn scene_files() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn every_example_scene_checks_and_renders() {
+    let files = scene_files();
+    for name in [
+        "studio.toml",
+        "glass-ball.toml",
+        "mirror.toml",
+        "shapes.toml",
+    ] {
+        assert!(
+            files.iter().any(|f| f.ends_with(name)),
+            "scenes/{name} is missing"
+        );
+    }
+    let dir = TempDir::new().unwrap();
+    for file in &files {
+        let run = timbre(dir.path(), &["check", text(file)]);
+        run.assert_success();
+        assert!(run.stdout.trim_end().ends_with(": OK"), "{}", run.stdout);
+        let args = [
+            "render",
+            "-q",
+            text(file),
+            "-o",
+            "x.png",
+            "--width",
+            "32",
+            "--height",
+            "24",
+            "--spp",
+            "1",
+        ];
+        timbre(dir.path(), &args).assert_success();
+        assert_eq!(
+            decode_png(&dir.path().join("x.png")).dimensions(),
+            (32, 24),
+            "{}",
+            file.display()
+        );
+    }
+}
+
+#[test]
+fn the_spelled_out_studio_is_the_built_in_one() {
+    let dir = TempDir::new().unwrap();
+    let studio = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/studio.toml");
+    timbre(
+        dir.path(),
+        &[
+            "render",
+            "-q",
+            text(&studio),
+            "-o",
+            "file.png",
+            "--width",
+            "80",
+            "--height",
+            "60",
+        ],
+    )
+    .assert_success();
+    timbre_line(
+        dir.path(),
+        "render -q -o builtin.png --width 80 --height 60",
+    )
+    .assert_success();
+    let file = std::fs::read(dir.path().join("file.png")).unwrap();
+    let builtin = std::fs::read(dir.path().join("builtin.png")).unwrap();
+    assert!(
+        file == builtin,
+        "scenes/studio.toml renders differently from the built-in studio"
+    );
+}
+
+#[test]
+fn the_scene_format_example_checks() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/SCENE_FORMAT.md"))
+            .unwrap();
+    let start = doc
+        .find("```toml\n")
+        .expect("a TOML example in docs/SCENE_FORMAT.md")
+        + "```toml\n".len();
+    let end = start + doc[start..].find("```").expect("the example ends");
+    let dir = TempDir::new().unwrap();
+    let scene = write(&dir, "example.toml", &doc[start..end]);
+    let run = timbre(dir.path(), &["check", text(&scene)]);
+    run.assert_success();
+    assert!(
+        run.stdout
+            .contains(": 51 objects, 1 point lights, 640x480 at 4 spp: OK"),
+        "{}",
+        run.stdout
+    );
+}
