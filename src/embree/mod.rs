@@ -48,19 +48,23 @@ pub struct Bounds {
 impl Bounds {
     /// The f32 box that contains the f64 box `[lower, upper]` (rounded outwards).
     pub fn enclosing(lower: DVec3, upper: DVec3) -> Bounds {
-        let down = |x: f64| {
-            let f = x as f32;
-            if f as f64 > x { f.next_down() } else { f }
-        };
-        let up = |x: f64| {
-            let f = x as f32;
-            if (f as f64) < x { f.next_up() } else { f }
-        };
         Bounds {
-            lower: Vec3::new(down(lower.x), down(lower.y), down(lower.z)),
-            upper: Vec3::new(up(upper.x), up(upper.y), up(upper.z)),
+            lower: Vec3::new(f32_below(lower.x), f32_below(lower.y), f32_below(lower.z)),
+            upper: Vec3::new(f32_above(upper.x), f32_above(upper.y), f32_above(upper.z)),
         }
     }
+}
+
+/// The largest f32 not above `x`.
+fn f32_below(x: f64) -> f32 {
+    let f = x as f32;
+    if f as f64 > x { f.next_down() } else { f }
+}
+
+/// The smallest f32 not below `x`.
+fn f32_above(x: f64) -> f32 {
+    let f = x as f32;
+    if (f as f64) < x { f.next_up() } else { f }
 }
 
 /// A ray in f64 as timbre traces it; Embree receives it rounded to f32.
@@ -347,12 +351,10 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
     ffi::TimbreRay {
         org: ray.origin.as_vec3().to_array(),
         dir: ray.direction.as_vec3().to_array(),
-        tnear: t_near as f32,
-        tfar: if t_far.is_finite() {
-            t_far as f32
-        } else {
-            f32::INFINITY
-        },
+        // Rounded inwards, so user-geometry callbacks, which compare exact f64 distances with
+        // these bounds, never accept a hit outside (t_near, t_far).
+        tnear: f32_above(t_near),
+        tfar: f32_below(t_far),
         mask,
         id,
     }

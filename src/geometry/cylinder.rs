@@ -3,12 +3,13 @@
 //! The textbook quadratic for a line and an infinite cylinder loses precision on long, thin
 //! cylinders (large |o − start| along the axis, tiny radius): it subtracts nearly equal
 //! squares. Here the axial components of the origin offset and the direction are removed first,
-//! so the quadratic only sees the perpendicular geometry.
+//! so the quadratic only sees the perpendicular geometry, and it is solved about the line's
+//! closest point to the axis, which keeps precision when the cylinder is seen broadside from afar.
 
 use glam::{DVec2, DVec3};
 
 use super::GeometryError;
-use crate::math::{Frame, half_b_quadratic, nearest_in};
+use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cylinder {
@@ -60,15 +61,9 @@ impl Cylinder {
             let s = oc_axial + t * d_axial;
             (0.0..=self.length).contains(&s)
         };
-        let mantle = half_b_quadratic(
-            d_perp.length_squared(),
-            oc_perp.dot(d_perp),
-            oc_perp.length_squared() - self.radius * self.radius,
-        )
-        .map(|(t0, t1)| [t0, t1])
-        .unwrap_or([f64::NAN; 2])
-        .into_iter()
-        .filter(|&t| within(t));
+        let mantle = circle_crossings(oc_perp, d_perp, self.radius)
+            .map_or([f64::NAN; 2], |(t0, t1)| [t0, t1]);
+        let mantle = mantle.into_iter().filter(|&t| within(t));
         let caps = [0.0, self.length].into_iter().filter_map(|s| {
             let t = (s - oc_axial) / d_axial;
             let r = oc_perp + t * d_perp;

@@ -210,6 +210,8 @@ pub struct SceneGeometry {
     unbounded: Vec<usize>,
     bvh: embree::Scene,
     geometries: Vec<Geometry>,
+    /// Whether the BVH holds triangles, whose hits Embree decides in f32.
+    has_meshes: bool,
 }
 
 impl SceneGeometry {
@@ -251,12 +253,14 @@ impl SceneGeometry {
             let id = builder.add_user(Box::new(group), mask(members[0]))?;
             set_geometry(&mut geometries, id, Geometry::Analytic(members));
         }
+        let has_meshes = geometries.iter().any(|g| matches!(g, Geometry::Mesh(_)));
         Ok(SceneGeometry {
             shapes,
             shadow_throwing,
             unbounded,
             bvh: builder.commit()?,
             geometries,
+            has_meshes,
         })
     }
 
@@ -300,6 +304,33 @@ impl SceneGeometry {
         self.complete(raw, &ray, t_min, t_max)
     }
 
+    /// Resolves Embree's nearest hit (`raw`, found with `mask`) in f64 and keeps it only inside
+    /// (t_min, t_max). Embree sees t_min and t_max rounded to f32 and decides triangle hits in
+    /// f32, so a hit may fall outside the interval once recomputed: beyond t_max nothing is
+    /// nearer, so there is no hit; at or before t_min (a ray leaving a triangle at a grazing
+    /// angle finds that triangle again) the query continues beyond Embree's distance.
+    fn first_hit(
+        &self,
+        mut raw: Option<embree::RawHit>,
+        ray: &ExactRay,
+        t_min: f64,
+        t_max: f64,
+        mask: u32,
+    ) -> Option<Hit> {
+        loop {
+            let r = raw?;
+            let hit = self.resolve(r, ray.origin, ray.direction, t_min);
+            if hit.t > t_min && hit.t < t_max {
+                return Some(hit);
+            }
+            let beyond = (r.t as f32).next_up() as f64;
+            if hit.t >= t_max || beyond >= t_max {
+                return None;
+            }
+            raw = self.bvh.intersect(ray, beyond.max(t_min), t_max, mask);
+        }
+    }
+
     /// Resolves Embree's hit in f64 and lets the unbounded objects compete with it.
     fn complete(
         &self,
@@ -308,7 +339,7 @@ impl SceneGeometry {
         t_min: f64,
         t_max: f64,
     ) -> Option<Hit> {
-        let mut best = raw.map(|raw| self.resolve(raw, ray.origin, ray.direction, t_min));
+        let mut best = self.first_hit(raw, ray, t_min, t_max, VISIBLE);
         for &i in &self.unbounded {
             let t_max = best.map_or(t_max, |h| h.t);
             if let Some((t, prim)) =
@@ -355,7 +386,13 @@ impl SceneGeometry {
                 && self.shapes[i]
                     .intersect(origin, direction, t_min, t_max)
                     .is_some()
-        }) || self.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
+        }) || (self.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
+            // User-geometry callbacks decide exactly in f64; triangles are decided in f32 (see
+            // `first_hit`), so with meshes an any-hit is confirmed exactly.
+            && (!self.has_meshes || {
+                let raw = self.bvh.intersect(&ray, t_min, t_max, SHADOW_THROWING);
+                self.first_hit(raw, &ray, t_min, t_max, SHADOW_THROWING).is_some()
+            }))
     }
 
     /// Reference intersector: a plain f64 loop over all objects, for tests.

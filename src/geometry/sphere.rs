@@ -3,7 +3,7 @@
 use glam::{DVec2, DVec3};
 
 use super::GeometryError;
-use crate::math::{Frame, nearest_in};
+use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
@@ -18,8 +18,7 @@ impl Sphere {
         Ok(Sphere { centre, radius })
     }
 
-    /// Nearest t in (t_min, t_max) with |o + t d − c| = r. The quadratic is solved about the
-    /// point of the line closest to the centre, which keeps precision for distant spheres.
+    /// Nearest t in (t_min, t_max) with |o + t d − c| = r.
     pub fn intersect(
         &self,
         origin: DVec3,
@@ -27,19 +26,8 @@ impl Sphere {
         t_min: f64,
         t_max: f64,
     ) -> Option<f64> {
-        let oc = origin - self.centre;
-        let a = direction.length_squared();
-        let half_b = oc.dot(direction);
-        // c = |oc|² − r², written as |oc − proj|² + |proj|² − r² to limit cancellation.
-        let closest = oc - (half_b / a) * direction;
-        let c_perp = closest.length_squared() - self.radius * self.radius;
-        // Roots in terms of s = t + half_b/a: a s² + c_perp = 0.
-        if c_perp > 0.0 {
-            return None;
-        }
-        let s = (-c_perp / a).sqrt();
-        let mid = -half_b / a;
-        nearest_in([mid - s, mid + s], t_min, t_max)
+        let (t0, t1) = circle_crossings(origin - self.centre, direction, self.radius)?;
+        nearest_in([t0, t1], t_min, t_max)
     }
 
     pub fn frame(&self, p: DVec3) -> Frame {

@@ -65,20 +65,26 @@ impl Frame {
     }
 }
 
-/// Real roots `t0 <= t1` of `a t² + 2 b t + c = 0` with a > 0, computed without the
-/// cancellation of the textbook formula. `None` when the discriminant is negative.
-pub fn half_b_quadratic(a: f64, half_b: f64, c: f64) -> Option<(f64, f64)> {
-    let disc = half_b * half_b - a * c;
-    if disc < 0.0 || a <= 0.0 {
+/// Both t with |offset + t direction| = radius, nearest first; `None` if the line passes farther
+/// than `radius` from the origin (or `direction` is zero).
+///
+/// The quadratic is solved about the line's point closest to the origin: with t = mid + s it
+/// reads a s² = r² − h², where h is that point's distance. This avoids subtracting the nearly
+/// equal |offset|² and (offset·direction)²/a of the textbook formula, which loses most digits for
+/// a small sphere or thin cylinder seen from far away.
+pub fn circle_crossings(offset: DVec3, direction: DVec3, radius: f64) -> Option<(f64, f64)> {
+    let a = direction.length_squared();
+    if a == 0.0 || a.is_nan() {
         return None;
     }
-    let q = -(half_b + half_b.signum() * disc.sqrt());
-    if q == 0.0 {
-        // b = 0 and c = 0: double root at 0.
-        return Some((0.0, 0.0));
+    let mid = -offset.dot(direction) / a;
+    let h2 = (offset + mid * direction).length_squared();
+    let r2 = radius * radius;
+    if h2 > r2 {
+        return None;
     }
-    let (r0, r1) = (q / a, c / q);
-    Some(if r0 <= r1 { (r0, r1) } else { (r1, r0) })
+    let s = ((r2 - h2) / a).sqrt();
+    Some((mid - s, mid + s))
 }
 
 /// The smallest of the candidate distances inside the open interval (t_min, t_max).
@@ -98,16 +104,17 @@ mod tests {
     use super::*;
 
     #[test]
-    fn quadratic_roots_are_accurate_when_b_dominates() {
-        // (t - 1e-9)(t - 1e9) = t² - (1e9 + 1e-9) t + 1
-        let (t0, t1) = half_b_quadratic(1.0, -(1e9 + 1e-9) / 2.0, 1.0).unwrap();
-        assert!((t0 - 1e-9).abs() < 1e-24, "{t0}");
-        assert!((t1 - 1e9).abs() < 1e-6, "{t1}");
-    }
-
-    #[test]
-    fn quadratic_without_real_roots() {
-        assert_eq!(half_b_quadratic(1.0, 0.0, 1.0), None);
+    fn circle_crossings_keep_precision_far_from_a_small_circle() {
+        // A line 1e6 away from a circle of radius 1e-3, passing 0.6e-3 from its centre: the
+        // crossings are 0.8e-3 either side of the closest point.
+        let offset = DVec3::new(-1e6, 0.6e-3, 0.0);
+        let (t0, t1) = circle_crossings(offset, DVec3::X, 1e-3).unwrap();
+        assert!(
+            (t0 - (1e6 - 0.8e-3)).abs() < 1e-9 && (t1 - (1e6 + 0.8e-3)).abs() < 1e-9,
+            "{t0} {t1}"
+        );
+        assert_eq!(circle_crossings(offset, DVec3::X, 0.5e-3), None);
+        assert_eq!(circle_crossings(offset, DVec3::ZERO, 1.0), None);
     }
 
     #[test]

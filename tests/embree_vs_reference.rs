@@ -1,0 +1,1081 @@
+//! Property tests: `SceneGeometry` (Embree's f32 BVH with f64 callbacks and f64 re-computation)
+//! against brute force over random scenes and rays; Embree instancing and errors through
+//! `timbre::embree` directly.
+//!
+//! # What may differ, and how that is decided
+//!
+//! Embree traverses with the ray rounded to f32, is given t_min and t_max rounded to f32, and
+//! decides triangle hits in f32; analytic shapes are decided by timbre's exact f64 callbacks.
+//! So answers may legitimately differ from the f64 brute force in two ways, and only these are
+//! excused:
+//!
+//! * **Marginal primitives.** Each primitive's own f64 answer (`Shape::intersect_primitive` in
+//!   (t_min, t_max); a mesh's triangles are its primitives, any other shape is one) is *robust*
+//!   unless
+//!   * (triangles) it changes when the ray origin moves by ±δ along x, y or z, with
+//!     δ = `PERTURB` × (1 + |origin| + t), about 16 f32 roundings of the coordinates involved;
+//!   * (analytic shapes) it changes when t_min or t_max move by two f32 roundings, or (for a
+//!     hit) one of those six moved rays misses the shape's bounding box, so that Embree's f32
+//!     traversal might not reach it.
+//!
+//!   A non-robust primitive may be found or missed.
+//! * **Ties.** Embree keeps hit distances in f32, so when two primitives' exact distances differ
+//!   by less than `TIE` × (1 + t) either may be reported.
+//!
+//! Everything else must match: the reported primitive must have an exact f64 hit at the
+//! reported t (to 1e-9 relative), no robust primitive may be hit nearer, a robust hit may not be
+//! missed, and the reported t must lie in (t_min, t_max). `excuses_are_rare` counts how often
+//! each excuse is used on a deterministic sample (ties and marginal primitives excuse none of
+//! ~10,000 nearest-hit answers there, and under 1% of shadow answers).
+//!
+//! Known failures as of writing (see each test):
+//! `hits_beyond_t_max_within_f32_rounding_are_not_reported`,
+//! `grazing_ray_leaving_a_triangle_does_not_hit_it_again` and
+//! `rays_leaving_meshes_match_brute_force`.
+
+use std::sync::{Arc, OnceLock};
+
+use glam::{DMat3, DQuat, DVec3, Vec3};
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::TestRunner;
+use timbre::embree::{Bounds, Device, EmbreeError, ExactRay, UserGeometry};
+use timbre::geometry::{
+    Cylinder, Disc, Hit, Parallelogram, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
+};
+
+/// Relative size of the ray perturbation that decides robustness (see the module comment).
+const PERTURB: f64 = 1e-6;
+/// Relative distance within which two objects' hits are a tie.
+const TIE: f64 = 1e-5;
+
+fn device() -> &'static Device {
+    static DEVICE: OnceLock<Device> = OnceLock::new();
+    DEVICE.get_or_init(|| Device::new("").expect("an Embree device"))
+}
+
+/// `cases` per property, or `PROPTEST_CASES` from the environment (for soak runs).
+fn config(cases: u32) -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(cases);
+    ProptestConfig {
+        cases,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random numbers for rays (a scene case carries a seed; rays are drawn from it)
+// ---------------------------------------------------------------------------------------------
+
+/// SplitMix64.
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn f(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.f()
+    }
+
+    fn index(&mut self, n: usize) -> usize {
+        ((self.f() * n as f64) as usize).min(n - 1)
+    }
+
+    fn unit(&mut self) -> DVec3 {
+        let z = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, std::f64::consts::TAU);
+        let s = (1.0 - z * z).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    }
+
+    fn point(&mut self, a: f64) -> DVec3 {
+        DVec3::new(self.range(-a, a), self.range(-a, a), self.range(-a, a))
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random scenes
+// ---------------------------------------------------------------------------------------------
+
+fn point_in(a: f64) -> impl Strategy<Value = DVec3> {
+    (-a..a, -a..a, -a..a).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+fn unit_vector() -> impl Strategy<Value = DVec3> {
+    (-1.0..1.0f64, 0.0..std::f64::consts::TAU).prop_map(|(z, phi)| {
+        let s = (1.0 - z * z).sqrt();
+        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+    })
+}
+
+const AXES: [DVec3; 6] = [
+    DVec3::X,
+    DVec3::Y,
+    DVec3::Z,
+    DVec3::NEG_X,
+    DVec3::NEG_Y,
+    DVec3::NEG_Z,
+];
+
+/// Mostly random unit vectors, sometimes a coordinate axis (flat bounding boxes in Embree).
+fn normal_vector() -> impl Strategy<Value = DVec3> {
+    prop_oneof![
+        3 => unit_vector(),
+        1 => (0..6usize).prop_map(|i| AXES[i]),
+    ]
+}
+
+fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo.ln()..hi.ln()).prop_map(f64::exp)
+}
+
+fn mesh() -> impl Strategy<Value = Shape> {
+    (point_in(5.0), prop::collection::vec(point_in(1.5), 3..7))
+        .prop_flat_map(|(offset, local)| {
+            let n = local.len() as u32;
+            let vertices: Vec<DVec3> = local.into_iter().map(|v| v + offset).collect();
+            (
+                Just(vertices),
+                prop::collection::vec(prop::array::uniform3(0..n), 1..7),
+            )
+        })
+        .prop_filter_map("no usable triangle", |(vertices, raw)| {
+            let triangles: Vec<[u32; 3]> = raw
+                .into_iter()
+                .filter(|t| {
+                    let [a, b, c] = t.map(|i| vertices[i as usize]);
+                    (b - a).cross(c - a).length() > 1e-2
+                })
+                .collect();
+            TriangleMesh::new(vertices, triangles)
+                .ok()
+                .map(Shape::TriangleMesh)
+        })
+}
+
+fn shape() -> impl Strategy<Value = Shape> {
+    prop_oneof![
+        4 => (point_in(6.0), log_uniform(0.05, 2.5))
+            .prop_map(|(c, r)| Shape::Sphere(Sphere::new(c, r).unwrap())),
+        3 => (point_in(6.0), normal_vector(), log_uniform(0.05, 2.5))
+            .prop_map(|(c, n, r)| Shape::Disc(Disc::new(c, n, r).unwrap())),
+        3 => (point_in(6.0), normal_vector(), log_uniform(0.05, 8.0), log_uniform(0.01, 1.5))
+            .prop_map(|(s, a, l, r)| Shape::Cylinder(Cylinder::new(s, s + l * a, r).unwrap())),
+        3 => (point_in(6.0), unit_vector(), normal_vector(), log_uniform(0.05, 4.0),
+              log_uniform(0.05, 4.0))
+            .prop_filter_map("parallel spans", |(c, a, b, la, lb)| {
+                Parallelogram::new(c, la * a, lb * b).ok().filter(|_| a.cross(b).length() > 0.05)
+            })
+            .prop_map(Shape::Parallelogram),
+        3 => mesh(),
+        1 => (point_in(6.0), normal_vector(), unit_vector())
+            .prop_map(|(p, n, u)| Shape::Plane(Plane::new(p, n, u).unwrap())),
+    ]
+}
+
+/// A random scene (objects with shadow-throwing flags) and a seed for its rays.
+fn scene_case() -> impl Strategy<Value = (Vec<(Shape, bool)>, u64)> {
+    (
+        prop::collection::vec((shape(), any::<bool>()), 1..13),
+        any::<u64>(),
+    )
+}
+
+/// A point of the shape (inside it for solids), for aiming rays.
+fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
+    match shape {
+        Shape::Sphere(s) => s.centre + s.radius * rng.f().cbrt() * rng.unit(),
+        Shape::Plane(p) => {
+            p.point + rng.range(-5.0, 5.0) * p.frame.u + rng.range(-5.0, 5.0) * p.frame.v
+        }
+        Shape::Disc(d) => {
+            let (rho, phi) = (
+                d.radius * rng.f().sqrt(),
+                rng.range(0.0, std::f64::consts::TAU),
+            );
+            d.centre + rho * (phi.cos() * d.frame.u + phi.sin() * d.frame.v)
+        }
+        Shape::Cylinder(c) => {
+            let radial = rng
+                .unit()
+                .reject_from_normalized(c.axis())
+                .normalize_or_zero();
+            c.start + rng.f() * (c.end - c.start) + c.radius * rng.f().sqrt() * radial
+        }
+        Shape::Parallelogram(p) => p.corner + rng.f() * p.span_u + rng.f() * p.span_v,
+        Shape::TriangleMesh(m) => {
+            let [a, b, c] =
+                m.triangles[rng.index(m.triangles.len())].map(|i| m.vertices[i as usize]);
+            let (s, u) = (rng.f().sqrt(), rng.f());
+            a * (1.0 - s) + b * (s * (1.0 - u)) + c * (s * u)
+        }
+    }
+}
+
+/// A ray query.
+#[derive(Debug, Clone, Copy)]
+struct Query {
+    origin: DVec3,
+    direction: DVec3,
+    t_min: f64,
+    t_max: f64,
+}
+
+/// Which rays a scene check draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Rays {
+    /// Random rays, rays aimed at objects, and rays leaving analytic shapes' surfaces.
+    General,
+    /// Rays leaving a point of a triangle mesh in a random direction.
+    LeavingMeshes,
+}
+
+/// A ray leaving a point of `shape` in a random direction, with the tracer's self-hit margin
+/// as t_min: 1e-9 × scale for analytic shapes, 1e-5 × scale for meshes (Embree tests triangles
+/// in f32).
+fn leaving_query(shape: &Shape, rng: &mut Rng, t_max: f64) -> Query {
+    let origin = match shape {
+        Shape::Sphere(s) => s.centre + s.radius * rng.unit(),
+        Shape::Cylinder(c) => {
+            let radial = rng
+                .unit()
+                .reject_from_normalized(c.axis())
+                .normalize_or_zero();
+            c.start + rng.f() * (c.end - c.start) + c.radius * radial
+        }
+        _ => sample_point(shape, rng),
+    };
+    let scale = 1.0 + origin.abs().max_element();
+    let margin = if matches!(shape, Shape::TriangleMesh(_)) {
+        1e-5
+    } else {
+        1e-9
+    };
+    Query {
+        origin,
+        direction: rng.unit(),
+        t_min: margin * scale,
+        t_max,
+    }
+}
+
+fn random_query(shapes: &[Shape], rays: Rays, rng: &mut Rng) -> Query {
+    let origin = rng.point(10.0);
+    let t_max = if rng.f() < 0.25 {
+        rng.range(0.0, 25.0)
+    } else {
+        f64::INFINITY
+    };
+    let is_mesh = |s: &&Shape| matches!(s, Shape::TriangleMesh(_));
+    let (meshes, analytic): (Vec<&Shape>, Vec<&Shape>) = shapes.iter().partition(is_mesh);
+    let leaving_from = match rays {
+        Rays::LeavingMeshes => meshes,
+        Rays::General => analytic,
+    };
+    let kind = if rays == Rays::LeavingMeshes {
+        1.0
+    } else {
+        rng.f()
+    };
+    if kind < 0.3 {
+        Query {
+            origin,
+            direction: rng.unit(),
+            t_min: 0.0,
+            t_max,
+        }
+    } else if kind < 0.8 || leaving_from.is_empty() {
+        let target = sample_point(&shapes[rng.index(shapes.len())], rng);
+        Query {
+            origin,
+            direction: (target - origin).normalize(),
+            t_min: 0.0,
+            t_max,
+        }
+    } else {
+        leaving_query(leaving_from[rng.index(leaving_from.len())], rng, t_max)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The reference and the acceptance rules
+// ---------------------------------------------------------------------------------------------
+
+/// One primitive's exact answer for a query (a mesh's triangles are its primitives; every other
+/// shape is the single primitive 0), and whether it is robust.
+#[derive(Debug, Clone, Copy)]
+struct Answer {
+    object: usize,
+    prim: u32,
+    /// The exact distance, if the primitive is hit in (t_min, t_max).
+    t: Option<f64>,
+    robust: bool,
+    shadow_throwing: bool,
+}
+
+fn answers(objects: &[(Shape, bool)], q: &Query) -> Vec<Answer> {
+    let mut out = Vec::new();
+    for (object, (shape, shadow_throwing)) in objects.iter().enumerate() {
+        let prims = match shape {
+            Shape::TriangleMesh(m) => m.triangles.len() as u32,
+            _ => 1,
+        };
+        for prim in 0..prims {
+            let hit_from =
+                |o: DVec3| shape.intersect_primitive(prim, o, q.direction, q.t_min, q.t_max);
+            let t = hit_from(q.origin);
+            let delta = PERTURB * (1.0 + q.origin.abs().max_element() + t.map_or(20.0, f64::abs));
+            let shifts = AXES.map(|e| delta * e);
+            let robust = match shape {
+                // Embree decides triangle hits in f32: the answer must survive moving the ray.
+                Shape::TriangleMesh(_) => shifts
+                    .iter()
+                    .all(|&s| hit_from(q.origin + s).is_some() == t.is_some()),
+                // Analytic shapes are decided exactly in f64, given t_min and t_max rounded to
+                // f32, once Embree's f32 traversal reaches their bounding box.
+                _ => {
+                    let box_reached = match (t, shape.bounds()) {
+                        (Some(_), Some((lo, hi))) => shifts.iter().all(|&s| {
+                            box_interval(q.origin + s, q.direction, lo, hi)
+                                .is_some_and(|(a, b)| a < q.t_max && b > q.t_min)
+                        }),
+                        _ => true,
+                    };
+                    interval_ends_do_not_matter(shape, q) && box_reached
+                }
+            };
+            let shadow_throwing = *shadow_throwing;
+            out.push(Answer {
+                object,
+                prim,
+                t,
+                robust,
+                shadow_throwing,
+            });
+        }
+    }
+    out
+}
+
+/// Whether moving t_min and t_max by two f32 roundings (2^-22 relative) either way leaves the
+/// shape's answer unchanged.
+fn interval_ends_do_not_matter(shape: &Shape, q: &Query) -> bool {
+    let e = 2f64.powi(-22);
+    let (o, d) = (q.origin, q.direction);
+    let moved = |t: f64, sign: f64| {
+        if t.is_finite() {
+            t + sign * e * t.abs()
+        } else {
+            t
+        }
+    };
+    let inner = shape.intersect(o, d, moved(q.t_min, 1.0), moved(q.t_max, -1.0));
+    let outer = shape.intersect(o, d, moved(q.t_min, -1.0), moved(q.t_max, 1.0));
+    inner.map(|h| h.0) == outer.map(|h| h.0)
+}
+
+/// The parameter interval in which the line o + t d is inside the box [lo, hi] (slab test).
+fn box_interval(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
+    let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..3 {
+        if d[k] == 0.0 {
+            if o[k] < lo[k] || o[k] > hi[k] {
+                return None;
+            }
+            continue;
+        }
+        let (t1, t2) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+        a = a.max(t1.min(t2));
+        b = b.min(t1.max(t2));
+    }
+    (a <= b).then_some((a, b))
+}
+
+/// How an answer was accepted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Verdict {
+    /// Same object (and t) as the brute force, or both miss.
+    Same,
+    /// A different object (or primitive) within `TIE` of the brute force's.
+    Tie,
+    /// The difference is due to a non-robust primitive.
+    Marginal,
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * (1.0 + a.abs().max(b.abs()))
+}
+
+/// Checks a nearest-hit answer against the per-primitive answers and the brute force.
+fn check_nearest(
+    answers: &[Answer],
+    brute: Option<Hit>,
+    q: &Query,
+    got: Option<Hit>,
+) -> Result<Verdict, String> {
+    let find = |object: usize, prim: u32| {
+        answers
+            .iter()
+            .find(|a| a.object == object && a.prim == prim)
+    };
+    // The brute force is the nearest of the primitives' own answers.
+    let nearest = answers.iter().filter_map(|a| a.t).min_by(f64::total_cmp);
+    let consistent = brute.map(|b| b.t) == nearest
+        && brute.is_none_or(|b| find(b.object, b.prim).is_some_and(|a| a.t == Some(b.t)));
+    if !consistent {
+        return Err(format!(
+            "brute force {brute:?} is not the nearest primitive answer"
+        ));
+    }
+    let mut robust_hits = answers.iter().filter(|a| a.robust && a.t.is_some());
+    let Some(h) = got else {
+        return match robust_hits.next() {
+            Some(a) => Err(format!("missed a robust hit {a:?}")),
+            None if brute.is_none() => Ok(Verdict::Same),
+            None => Ok(Verdict::Marginal),
+        };
+    };
+    if !(h.t > q.t_min && h.t < q.t_max) {
+        return Err(format!("hit {h:?} outside ({}, {})", q.t_min, q.t_max));
+    }
+    // The reported primitive really is hit at the reported distance, or is marginal.
+    let Some(own) = find(h.object, h.prim) else {
+        return Err(format!("hit {h:?} names no primitive"));
+    };
+    let exact = own.t.is_some_and(|t| close(t, h.t, 1e-9));
+    if !exact && own.robust {
+        return Err(format!(
+            "hit {h:?}, but the primitive's exact answer is {own:?}"
+        ));
+    }
+    if let Some(a) = robust_hits.find(|a| a.t.is_some_and(|t| t < h.t && !close(t, h.t, TIE))) {
+        return Err(format!("hit {h:?} behind a robust hit {a:?}"));
+    }
+    let b = brute.expect("a robust miss of everything was excluded above");
+    Ok(if b.object == h.object && close(b.t, h.t, 1e-9) {
+        Verdict::Same
+    } else if close(b.t, h.t, TIE) {
+        Verdict::Tie
+    } else if !exact || find(b.object, b.prim).is_some_and(|a| !a.robust) {
+        Verdict::Marginal
+    } else {
+        return Err(format!("hit {h:?} but brute force {b:?}"));
+    })
+}
+
+/// Checks a shadow query: true exactly when a shadow-throwing object lies on the ray, except
+/// that non-robust primitives of shadow-throwing objects may go either way.
+fn check_shadowed(answers: &[Answer], got: bool) -> Result<Verdict, String> {
+    let thrower = |a: &&Answer| a.shadow_throwing;
+    let robust_hit = answers
+        .iter()
+        .filter(thrower)
+        .any(|a| a.t.is_some() && a.robust);
+    let marginal = answers.iter().filter(thrower).any(|a| !a.robust);
+    match (robust_hit, marginal, got) {
+        (true, _, false) => {
+            Err("a shadow-throwing object robustly on the ray, but not shadowed".into())
+        }
+        (false, false, true) => Err("shadowed, but no shadow-throwing object is on the ray".into()),
+        (true, _, true) | (false, false, false) => Ok(Verdict::Same),
+        _ => Ok(Verdict::Marginal),
+    }
+}
+
+/// Tally of verdicts over a run.
+#[derive(Debug, Default)]
+struct Tally {
+    nearest: [usize; 3],
+    shadowed: [usize; 3],
+    packet: [usize; 3],
+    /// Packet lanes that differ from the single-ray answer.
+    packet_differs: usize,
+    /// Shadow rays whose only hits are on objects that throw no shadow.
+    masked_only: usize,
+    hits: usize,
+}
+
+/// Runs every check on one scene with `rays` single rays and `packets` packets; returns the tally.
+fn check_scene(
+    objects: &[(Shape, bool)],
+    seed: u64,
+    kinds: Rays,
+    rays: usize,
+    packets: usize,
+) -> Result<Tally, String> {
+    let scene = SceneGeometry::build(device(), objects.to_vec()).map_err(|e| e.to_string())?;
+    let shapes: Vec<Shape> = objects.iter().map(|o| o.0.clone()).collect();
+    let mut rng = Rng(seed);
+    let mut tally = Tally::default();
+    for _ in 0..rays {
+        let q = random_query(&shapes, kinds, &mut rng);
+        let answers = answers(objects, &q);
+        let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
+        let got = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
+        let v =
+            check_nearest(&answers, brute, &q, got).map_err(|e| format!("nearest: {e}\n{q:?}"))?;
+        tally.nearest[v as usize] += 1;
+        tally.hits += usize::from(got.is_some());
+        let shadowed = scene.shadowed(q.origin, q.direction, q.t_min, q.t_max);
+        let v = check_shadowed(&answers, shadowed)
+            .map_err(|e| format!("shadowed: {e}\n{q:?}\n{answers:?}"))?;
+        tally.shadowed[v as usize] += 1;
+        let masked_only = answers
+            .iter()
+            .all(|a| a.t.is_none() || (a.robust && !a.shadow_throwing));
+        tally.masked_only += usize::from(masked_only && brute.is_some());
+    }
+    for _ in 0..packets {
+        // A packet from one origin: coherent (around an aim point) or scattered.
+        let base = random_query(&shapes, kinds, &mut rng);
+        let aim = base.origin + 10.0 * base.direction;
+        let coherent = rng.f() < 0.6;
+        let n = 1 + rng.index(8);
+        let directions: Vec<DVec3> = (0..n)
+            .map(|_| {
+                if coherent {
+                    (aim + 0.5 * rng.unit() - base.origin).normalize()
+                } else {
+                    rng.unit()
+                }
+            })
+            .collect();
+        let lanes = scene.nearest8(base.origin, &directions, base.t_min, base.t_max);
+        if lanes[n..].iter().any(Option::is_some) {
+            return Err(format!(
+                "nearest8 answered lanes beyond its {n} rays: {lanes:?}"
+            ));
+        }
+        for (&direction, &lane) in directions.iter().zip(&lanes) {
+            let q = Query { direction, ..base };
+            let single = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
+            let same = match (single, lane) {
+                (None, None) => true,
+                (Some(a), Some(b)) => {
+                    a.object == b.object && a.prim == b.prim && close(a.t, b.t, 1e-12)
+                }
+                _ => false,
+            };
+            tally.packet_differs += usize::from(!same);
+            let answers = answers(objects, &q);
+            let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
+            let v = check_nearest(&answers, brute, &q, lane)
+                .map_err(|e| format!("nearest8 lane (single ray: {single:?}): {e}\n{q:?}"))?;
+            tally.packet[v as usize] += 1;
+        }
+    }
+    Ok(tally)
+}
+
+proptest! {
+    #![proptest_config(config(256))]
+
+    /// `nearest`, `shadowed` and `nearest8` against brute force on random scenes.
+    #[test]
+    fn scene_queries_match_brute_force((objects, seed) in scene_case()) {
+        check_scene(&objects, seed, Rays::General, 32, 4).map_err(TestCaseError::fail)?;
+    }
+}
+
+/// Guards against a vacuous test: on a deterministic sample, most answers agree exactly with the
+/// brute force; the excuses (ties, marginal primitives) are rare; packets agree with single rays;
+/// hits, misses and mask-only shadow rays all occur.
+#[test]
+fn excuses_are_rare() {
+    let mut runner = TestRunner::deterministic();
+    let mut total = Tally::default();
+    for _ in 0..300 {
+        let (objects, seed) = scene_case().new_tree(&mut runner).unwrap().current();
+        let t = check_scene(&objects, seed, Rays::General, 32, 4)
+            .unwrap_or_else(|e| panic!("{e}\n{objects:?}"));
+        for k in 0..3 {
+            total.nearest[k] += t.nearest[k];
+            total.shadowed[k] += t.shadowed[k];
+            total.packet[k] += t.packet[k];
+        }
+        total.packet_differs += t.packet_differs;
+        total.masked_only += t.masked_only;
+        total.hits += t.hits;
+    }
+    println!("verdicts [same, tie, marginal]: {total:?}");
+    let rays: usize = total.nearest.iter().sum();
+    let lanes: usize = total.packet.iter().sum();
+    assert!(
+        total.hits > rays / 3 && total.hits < rays * 9 / 10,
+        "{total:?}"
+    );
+    assert!(
+        total.nearest[1] + total.nearest[2] <= rays / 200,
+        "{total:?}"
+    );
+    assert!(total.shadowed[2] <= rays / 50, "{total:?}");
+    assert!(total.packet_differs <= lanes / 200, "{total:?}");
+    assert!(total.masked_only >= rays / 50, "{total:?}");
+}
+
+/// Rays leaving random meshes' surfaces (the tracer's secondary and shadow rays, with its 1e-5
+/// scale self-hit margin), 300 deterministic scenes × 64 rays, all checks as above. Kept out of
+/// the random test so that a failure here is reproducible rather than intermittent.
+/// FAILS on timbre as of writing (self-hits below t_min on rays leaving a triangle at grazing
+/// angles; see `grazing_ray_leaving_a_triangle_does_not_hit_it_again`).
+#[test]
+fn rays_leaving_meshes_match_brute_force() {
+    let mut runner = TestRunner::deterministic();
+    let mut failures = Vec::new();
+    let mut scenes = 0;
+    while scenes < 300 {
+        let (objects, seed) = scene_case().new_tree(&mut runner).unwrap().current();
+        if !objects
+            .iter()
+            .any(|o| matches!(o.0, Shape::TriangleMesh(_)))
+        {
+            continue;
+        }
+        scenes += 1;
+        if let Err(e) = check_scene(&objects, seed, Rays::LeavingMeshes, 64, 8) {
+            failures.push(e);
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{} of 300 scenes fail, e.g. {}",
+        failures.len(),
+        failures[0]
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Long, thin cylinders through Embree
+// ---------------------------------------------------------------------------------------------
+
+/// TIM's lattice: 48 cylinders of radius 0.02, lengths 2 to 30, at distances 10 to 40 from the
+/// camera at the origin.
+fn lattice() -> Vec<(Shape, bool)> {
+    let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
+    let ys = [-0.98, -0.98 + 2.0 / 3.0, -0.98 + 4.0 / 3.0, 1.02];
+    let zs = [10.0, 20.0, 30.0, 40.0];
+    let cyl = |a: DVec3, b: DVec3| (Shape::Cylinder(Cylinder::new(a, b, 0.02).unwrap()), true);
+    let mut out = Vec::new();
+    for x in xs {
+        for y in ys {
+            out.push(cyl(DVec3::new(x, y, zs[0]), DVec3::new(x, y, zs[3])));
+        }
+    }
+    for y in ys {
+        for z in zs {
+            out.push(cyl(DVec3::new(xs[0], y, z), DVec3::new(xs[3], y, z)));
+        }
+    }
+    for x in xs {
+        for z in zs {
+            out.push(cyl(DVec3::new(x, ys[0], z), DVec3::new(x, ys[3], z)));
+        }
+    }
+    out
+}
+
+fn lattice_scene() -> &'static (Vec<(Shape, bool)>, SceneGeometry) {
+    static SCENE: OnceLock<(Vec<(Shape, bool)>, SceneGeometry)> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        let objects = lattice();
+        let scene = SceneGeometry::build(device(), objects.clone()).expect("lattice builds");
+        (objects, scene)
+    })
+}
+
+/// A ray from `origin` aimed inside lattice cylinder k at axial fraction s, radial fraction rho,
+/// angle phi.
+fn check_lattice_ray(
+    k: usize,
+    origin: DVec3,
+    s: f64,
+    rho: f64,
+    phi: f64,
+) -> Result<(), TestCaseError> {
+    let (objects, scene) = lattice_scene();
+    let Shape::Cylinder(c) = &objects[k].0 else {
+        unreachable!()
+    };
+    let e1 = c.axis().any_orthonormal_vector();
+    let e2 = c.axis().cross(e1);
+    let target =
+        c.start + s * (c.end - c.start) + c.radius * rho * (phi.cos() * e1 + phi.sin() * e2);
+    let q = Query {
+        origin,
+        direction: (target - origin).normalize(),
+        t_min: 0.0,
+        t_max: f64::INFINITY,
+    };
+    let got = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
+    prop_assert!(got.is_some(), "ray aimed inside cylinder {} missed", k);
+    let answers = answers(objects, &q);
+    let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
+    check_nearest(&answers, brute, &q, got).map_err(TestCaseError::fail)?;
+    prop_assert!(scene.shadowed(q.origin, q.direction, q.t_min, q.t_max));
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(1000))]
+
+    /// Rays from near the camera aimed strictly inside a lattice cylinder (within 0.999 r of
+    /// the axis) always hit a cylinder through Embree, and the answer matches brute force.
+    #[test]
+    fn thin_lattice_cylinders_are_not_missed(
+        k in 0..48usize,
+        origin in point_in(0.1),
+        s in 0.0005..0.9995f64,
+        rho in 0.0..0.999f64,
+        phi in 0.0..std::f64::consts::TAU,
+    ) {
+        check_lattice_ray(k, origin, s, rho, phi)?;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Contract at the ends of the interval
+// ---------------------------------------------------------------------------------------------
+
+/// `nearest` promises t_min < t < t_max. A sphere whose surface lies just before the f32 rounding
+/// of t_max (but beyond t_max itself) must not be reported, nor make the ray shadowed.
+/// FAILS on timbre as of writing: Embree's user-geometry callback is given t_max rounded to f32,
+/// and nothing checks the exact distance against t_max afterwards.
+#[test]
+fn hits_beyond_t_max_within_f32_rounding_are_not_reported() {
+    // Ray from the origin along +z; the sphere's near surface is at t = 10 − 1e-7.
+    let t_hit = 10.0 - 1e-7;
+    let sphere = Sphere::new(DVec3::new(0.0, 0.0, t_hit + 1.0), 1.0).unwrap();
+    let scene = SceneGeometry::build(device(), vec![(Shape::Sphere(sphere), true)]).unwrap();
+    let t_max = 10.0 - 2e-7; // rounds to 10.0f32, beyond the hit
+    assert!(t_max < t_hit && t_max as f32 as f64 > t_hit);
+    let (o, d) = (DVec3::ZERO, DVec3::Z);
+    assert_eq!(scene.nearest_brute_force(o, d, 0.0, t_max), None);
+    let mut failures = Vec::new();
+    if let Some(h) = scene.nearest(o, d, 0.0, t_max) {
+        failures.push(format!("nearest: {h:?}"));
+    }
+    if let Some(h) = scene.nearest8(o, &[d], 0.0, t_max)[0] {
+        failures.push(format!("nearest8: {h:?}"));
+    }
+    if scene.shadowed(o, d, 0.0, t_max) {
+        failures.push("shadowed".into());
+    }
+    assert!(
+        failures.is_empty(),
+        "hits beyond t_max = {t_max} reported: {failures:?}"
+    );
+    // With t_max beyond the hit it is found, exactly.
+    assert_eq!(scene.nearest(o, d, 0.0, 10.0).map(|h| h.t), Some(t_hit));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Embree instancing through timbre::embree
+// ---------------------------------------------------------------------------------------------
+
+/// The unit sphere as Embree user geometry; inside an instance Embree hands it the ray in the
+/// instance's space, with an unnormalised direction, and t stays the world distance parameter.
+struct UnitSphere;
+
+impl UserGeometry for UnitSphere {
+    fn primitive_count(&self) -> u32 {
+        1
+    }
+
+    fn bounds(&self, _prim: u32) -> Bounds {
+        Bounds::enclosing(DVec3::splat(-1.0), DVec3::splat(1.0))
+    }
+
+    fn intersect(&self, _prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64> {
+        unit_sphere_hit(ray.origin, ray.direction, t_near, t_far)
+    }
+}
+
+/// Nearest t in (t_near, t_far) with |o + t d| = 1 (d need not be a unit vector).
+fn unit_sphere_hit(o: DVec3, d: DVec3, t_near: f64, t_far: f64) -> Option<f64> {
+    let (a, b, c) = (d.dot(d), o.dot(d), o.dot(o) - 1.0);
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a]
+        .into_iter()
+        .find(|&t| t > t_near && t < t_far)
+}
+
+/// Corners of the instanced scene's square (two triangles) in the plane z = 0.
+const SQUARE: [Vec3; 4] = [
+    Vec3::new(2.0, 0.0, 0.0),
+    Vec3::new(3.0, 0.0, 0.0),
+    Vec3::new(3.0, 1.0, 0.0),
+    Vec3::new(2.0, 1.0, 0.0),
+];
+
+/// An affine map x ↦ m x + t, with m's entries already rounded to f32 (as Embree gets them).
+#[derive(Debug, Clone, Copy)]
+struct Affine {
+    m: DMat3,
+    t: DVec3,
+}
+
+impl Affine {
+    fn rows(&self) -> [[f32; 4]; 3] {
+        let r = |i: usize| {
+            let row = self.m.row(i);
+            [row.x as f32, row.y as f32, row.z as f32, self.t[i] as f32]
+        };
+        [r(0), r(1), r(2)]
+    }
+
+    /// The ray in the instanced scene's space (same t).
+    fn local_ray(&self, o: DVec3, d: DVec3) -> (DVec3, DVec3) {
+        let inv = self.m.inverse();
+        (inv * (o - self.t), inv * d)
+    }
+}
+
+fn affine() -> impl Strategy<Value = Affine> {
+    (
+        unit_vector(),
+        0.0..std::f64::consts::PI,
+        prop::array::uniform3(0.3..3.0f64),
+        point_in(5.0),
+    )
+        .prop_map(|(axis, angle, s, t)| {
+            let m = DMat3::from_quat(DQuat::from_axis_angle(axis, angle))
+                * DMat3::from_diagonal(DVec3::from(s));
+            let round = |v: DVec3| v.as_vec3().as_dvec3();
+            let m = DMat3::from_cols(round(m.x_axis), round(m.y_axis), round(m.z_axis));
+            Affine { m, t: round(t) }
+        })
+}
+
+/// A reference hit of the instanced world: (t, instance index, 0 = sphere / 1 = square, robust).
+fn instance_hits(instances: &[Affine], o: DVec3, d: DVec3) -> Vec<(f64, usize, usize, bool)> {
+    let mut out = Vec::new();
+    for (k, a) in instances.iter().enumerate() {
+        let (lo, ld) = a.local_ray(o, d);
+        // Sphere: robust when the local line passes well inside (incidence cos > 0.3) or well
+        // outside the unit sphere, from an origin not near it.
+        let closest = lo - (lo.dot(ld) / ld.dot(ld)) * ld;
+        let sphere_robust = closest.length() < 0.95 || closest.length() > 1.001;
+        if let Some(t) = unit_sphere_hit(lo, ld, 0.0, f64::INFINITY) {
+            let robust = sphere_robust && (lo.length() - 1.0).abs() > 1e-3;
+            out.push((t, k, 0, robust));
+        }
+        // Square: robust when the crossing is well inside or outside it, at an incidence cos
+        // above 0.05 (f32 errors in t grow as 1/cos).
+        let t = -lo.z / ld.z;
+        let p = lo + t * ld;
+        let margin = (p.x - 2.0).min(3.0 - p.x).min(p.y).min(1.0 - p.y);
+        if t.is_finite() && t > 0.0 && margin > -1e-3 {
+            out.push((
+                t,
+                k,
+                1,
+                margin > 1e-3 && ld.z.abs() > 0.05 * ld.length() && t > 1e-3,
+            ));
+        }
+    }
+    out
+}
+
+fn check_instances(a: Affine, b: Affine, seed: u64) -> Result<(), TestCaseError> {
+    let dev = device();
+    let mut inner = dev.scene_builder().unwrap();
+    let sphere_id = inner.add_user(Box::new(UnitSphere), 1).unwrap();
+    let square_id = inner
+        .add_triangles(&SQUARE, &[[0, 1, 2], [0, 2, 3]], 1)
+        .unwrap();
+    let inner = Arc::new(inner.commit().unwrap());
+    let mut top = dev.scene_builder().unwrap();
+    let ids = [
+        top.add_instance(inner.clone(), a.rows(), 1).unwrap(),
+        top.add_instance(inner, b.rows(), 1).unwrap(),
+    ];
+    let top = top.commit().unwrap();
+    let instances = [a, b];
+    let mut rng = Rng(seed);
+    for _ in 0..16 {
+        // Aim at a point of one instance's sphere or square, or anywhere.
+        let origin = rng.point(12.0);
+        let k = rng.index(2);
+        let local = match rng.index(3) {
+            0 => 0.9 * rng.f().cbrt() * rng.unit(),
+            1 => DVec3::new(rng.range(2.0, 3.0), rng.range(0.0, 1.0), 0.0),
+            _ => rng.point(4.0),
+        };
+        let target = instances[k].m * local + instances[k].t;
+        let d = (target - origin).normalize();
+        let got = top.intersect(
+            &ExactRay {
+                origin,
+                direction: d,
+            },
+            0.0,
+            f64::INFINITY,
+            1,
+        );
+        let hits = instance_hits(&instances, origin, d);
+        let first = hits.iter().min_by(|x, y| x.0.total_cmp(&y.0));
+        match got {
+            None => prop_assert!(
+                hits.iter().all(|h| !h.3),
+                "missed robust instance hits {:?} (ray {} {})",
+                hits,
+                origin,
+                d
+            ),
+            Some(h) => {
+                prop_assert!(!h.exact, "instance hits carry Embree's f32 distance");
+                let inst = ids.iter().position(|&id| Some(id) == h.inst_id);
+                prop_assert!(inst.is_some(), "hit {:?} names no instance of {:?}", h, ids);
+                let part = if h.geom_id == sphere_id { 0 } else { 1 };
+                prop_assert!(h.geom_id == sphere_id || h.geom_id == square_id, "{:?}", h);
+                prop_assert!(part == 0 || h.prim_id < 2, "{:?}", h);
+                // The reported instance and part are hit at the reported distance (a
+                // non-robust, e.g. grazing, hit anywhere on the part) ...
+                let matched = hits.iter().find(|r| {
+                    r.1 == inst.unwrap() && r.2 == part && (close(r.0, h.t, 1e-4) || !r.3)
+                });
+                prop_assert!(matched.is_some(), "hit {:?} matches none of {:?}", h, hits);
+                // ... the world hit point maps onto the untransformed surface ...
+                let p = origin + h.t * d;
+                let local = instances[inst.unwrap()].m.inverse() * (p - instances[inst.unwrap()].t);
+                let scale = 1.0 + local.abs().max_element();
+                if part == 0 {
+                    prop_assert!(
+                        (local.length() - 1.0).abs() < 1e-4 * scale,
+                        "{} off the sphere",
+                        local
+                    );
+                } else {
+                    let margin = (local.x - 2.0)
+                        .min(3.0 - local.x)
+                        .min(local.y)
+                        .min(1.0 - local.y);
+                    prop_assert!(
+                        local.z.abs() < 1e-4 * scale && margin > -1e-3,
+                        "{} off the square",
+                        local
+                    );
+                }
+                // ... and nothing robust is nearer.
+                let f = first.unwrap();
+                prop_assert!(
+                    !(f.3 && f.0 < h.t && !close(f.0, h.t, 1e-3)),
+                    "hit {:?} behind {:?}",
+                    h,
+                    f
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(config(256))]
+
+    /// Two instances (rotated, anisotropically scaled and translated) of one scene holding a user
+    /// geometry (unit sphere) and native triangles (a square): hits land where the transforms say,
+    /// with the right instance and geometry ids.
+    #[test]
+    fn instances_hit_where_their_transforms_say(
+        a in affine(),
+        b in affine(),
+        seed in any::<u64>(),
+    ) {
+        check_instances(a, b, seed)?;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+// ---------------------------------------------------------------------------------------------
+
+/// Embree rejects a malformed device configuration (an integer option with a non-integer value),
+/// and timbre turns that into an `Err` with Embree's error code. (Embree 3.13 ignores unknown
+/// option names such as `unknown_option=1` on their own; it is `threads=abc` that fails.)
+#[test]
+fn embree_errors_surface_as_err() {
+    match Device::new("threads=abc,unknown_option=1") {
+        Err(EmbreeError::Device { code, message }) => {
+            assert_ne!(code, 0, "RTC_ERROR_NONE is not an error");
+            let shown = EmbreeError::Device { code, message }.to_string();
+            assert!(shown.starts_with("Embree error"), "{shown}");
+        }
+        Err(other) => panic!("expected an Embree device error, got {other:?}"),
+        Ok(_) => panic!("Embree accepted threads=abc"),
+    }
+    // The binding's own checks also return errors rather than passing bad data to Embree.
+    let mut builder = device().scene_builder().unwrap();
+    let out_of_range = builder.add_triangles(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 3]], 1);
+    assert!(
+        matches!(out_of_range, Err(EmbreeError::Creation(_))),
+        "{out_of_range:?}"
+    );
+    // The device and builder stay usable after an error.
+    builder
+        .add_triangles(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]], 1)
+        .unwrap();
+    builder.commit().unwrap();
+}
+
+/// A ray leaving a triangle at a grazing angle, with the tracer's self-hit margin for meshes
+/// (1e-5 × scale) as t_min (found by `scene_queries_match_brute_force`). Exactly, the ray meets
+/// the triangle's plane only at t ≈ 0, so nothing lies in (t_min, ∞).
+/// FAILS on timbre as of writing: Embree's f32 test finds the triangle beyond t_min, the exact
+/// recomputation rejects it, and `resolve` falls back to the plane distance, t ≈ −4e-13.
+#[test]
+fn grazing_ray_leaving_a_triangle_does_not_hit_it_again() {
+    let vertices = vec![
+        DVec3::new(
+            -1.1402061843837985,
+            0.48339898009918864,
+            -0.9932700096540684,
+        ),
+        DVec3::new(0.6642619332805989, -0.9393043833448341, 0.0),
+        DVec3::new(-1.2538070698428352, 0.0, 1.036532670241837),
+    ];
+    let mesh = TriangleMesh::new(vertices, vec![[1, 2, 0]]).unwrap();
+    let o = DVec3::new(-0.23243426322928, -0.3701800733029964, 0.009849319556553437);
+    let d = DVec3::new(-0.8109102226486831, 0.399282452571179, 0.4277828115675142);
+    let t_min = 1.3701800733029966e-5;
+    let n = mesh.frame(0).w;
+    println!(
+        "cos to the normal {:e}, origin off the plane {:e}",
+        d.dot(n),
+        (o - mesh.vertices[0]).dot(n)
+    );
+    let scene = SceneGeometry::build(device(), vec![(Shape::TriangleMesh(mesh), true)]).unwrap();
+    assert_eq!(scene.nearest_brute_force(o, d, t_min, f64::INFINITY), None);
+    let mut failures = Vec::new();
+    if let Some(h) = scene.nearest(o, d, t_min, f64::INFINITY) {
+        failures.push(format!("nearest: {h:?}"));
+    }
+    if let Some(h) = scene.nearest8(o, &[d], t_min, f64::INFINITY)[0] {
+        failures.push(format!("nearest8: {h:?}"));
+    }
+    if scene.shadowed(o, d, t_min, f64::INFINITY) {
+        failures.push("shadowed".into());
+    }
+    assert!(
+        failures.is_empty(),
+        "self-hits below t_min reported: {failures:?}"
+    );
+}
