@@ -18,17 +18,19 @@ fn studio_1080p(c: &mut Criterion) {
         height: 1080,
         ..RenderSettings::default()
     };
-    let rays = render(&scene, &d.camera, &settings, &|_| {}).rays;
+    let rays = render(&scene, &d.camera, &settings, &|_| {})
+        .expect("render")
+        .rays;
 
     let mut group = c.benchmark_group("studio_1920x1080_1spp");
     group.sample_size(10).throughput(Throughput::Elements(rays));
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .expect("thread pool");
+        let settings = RenderSettings {
+            threads: Some(threads),
+            ..settings.clone()
+        };
         group.bench_function(format!("{threads}_threads"), |b| {
-            b.iter(|| pool.install(|| render(&scene, &d.camera, &settings, &|_| {})))
+            b.iter(|| render(&scene, &d.camera, &settings, &|_| {}))
         });
     }
     group.finish();

@@ -9,7 +9,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let description = Studio::Lattice.description();
     let device = Device::new("")?;
     let scene = Scene::build(&device, &description.objects, &description.lights)?;
-    let image = render(&scene, &description.camera, &description.render, &|_| {});
+    let image = render(&scene, &description.camera, &description.render, &|_| {})?;
     timbre::io::write_png("studio.png".as_ref(), &image)?;
     println!("{} rays -> studio.png", image.rays);
     Ok(())

@@ -114,6 +114,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     s.seed = args.seed.unwrap_or(s.seed);
     s.max_trace_level = args.max_trace_level.unwrap_or(s.max_trace_level);
     s.aovs = !args.aov.is_empty();
+    s.threads = args.threads.map(|t| t as usize);
     s.validate().map_err(bad_input)?;
     let settings = s.clone();
 
@@ -122,14 +123,21 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         return Err(bad_input("--aov needs an OpenEXR output (-o NAME.exr)"));
     }
 
-    let threads = args
-        .threads
-        .map_or_else(rayon::current_num_threads, |t| t as usize);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(internal)?;
-    let device = Device::new(&format!("threads={threads}")).map_err(internal)?;
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty())
+        && !dir.is_dir()
+    {
+        return Err(bad_input(format!(
+            "{}: the output directory {} does not exist",
+            args.output.display(),
+            dir.display()
+        )));
+    }
+
+    let device = match settings.threads {
+        Some(t) => Device::new(&format!("threads={t}")),
+        None => Device::new(""),
+    }
+    .map_err(internal)?;
     let scene =
         Scene::build(&device, &description.objects, &description.lights).map_err(internal)?;
 
@@ -145,7 +153,8 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         bar
     };
     let start = Instant::now();
-    let image = pool.install(|| render(&scene, &description.camera, &settings, &|n| bar.inc(n)));
+    let image =
+        render(&scene, &description.camera, &settings, &|n| bar.inc(n)).map_err(internal)?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 

@@ -23,7 +23,7 @@ fn render_studio() -> Image {
         height: H,
         ..RenderSettings::default()
     };
-    render(&scene, &d.camera, &settings, &|_| {})
+    render(&scene, &d.camera, &settings, &|_| {}).unwrap()
 }
 
 /// Direction through the centre of pixel (x, y), derived here from TIM's convention: detector

@@ -10,7 +10,7 @@ fn render_text(toml: &str) -> Image {
     let d: SceneDescription = parse(toml, "test.toml").unwrap();
     let device = Device::new("").unwrap();
     let scene = Scene::build(&device, &d.objects, &d.lights).unwrap();
-    render(&scene, &d.camera, &d.render, &|_| {})
+    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
 }
 
 const SKY: DVec3 = DVec3::new(0.5, 0.5, 1.0);

@@ -34,18 +34,16 @@ pub fn write_exr(
     if let Some(a) = &image.aovs {
         let selected = provenance.aovs;
         if selected.depth {
-            channels.push(channel("depth.Z", a.depth.clone()));
+            channels.push(channel("depth.Z", a.iter().map(|s| s.depth).collect()));
         }
         if selected.normal {
             for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
-                channels.push(channel(
-                    &format!("normal.{axis}"),
-                    a.normal.iter().map(|n| n[k]).collect(),
-                ));
+                let values = a.iter().map(|s| s.normal[k]).collect();
+                channels.push(channel(&format!("normal.{axis}"), values));
             }
         }
         if selected.object {
-            channels.push(channel("object.id", a.object.clone()));
+            channels.push(channel("object.id", a.iter().map(|s| s.object).collect()));
         }
     }
     let mut attributes = LayerAttributes::default();

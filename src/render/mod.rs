@@ -8,13 +8,12 @@ pub use tracer::{Interaction, Tracer};
 
 use glam::Vec3;
 use rayon::prelude::*;
+use thiserror::Error;
 
 use crate::cameras::PinholeCamera;
+use crate::math::Ray;
 use crate::scene::Scene;
 use crate::surfaces::Colour;
-
-/// Side length of the square tiles that are rendered in parallel.
-const TILE: u32 = 32;
 
 /// How to render: image size, sampling and tracing limits.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +29,8 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Also record depth, normal and object id of the surface seen through each pixel centre.
     pub aovs: bool,
+    /// Worker threads; `None` for as many as the machine has cores.
+    pub threads: Option<usize>,
 }
 
 /// Largest accepted maximum trace level. Tracing recurses once per level, so worker threads get
@@ -75,19 +76,28 @@ impl Default for RenderSettings {
             max_trace_level: 100,
             shadows: true,
             aovs: false,
+            threads: None,
         }
     }
 }
 
-/// Arbitrary output variables of the surface seen through each pixel centre.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct Aovs {
-    /// Distance from the camera; infinite where nothing is hit.
-    pub depth: Vec<f32>,
+/// Arbitrary output variables of the surface seen through one pixel centre.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AovSample {
+    /// Distance from the camera along the ray; infinite where nothing is hit.
+    pub depth: f32,
     /// Outward surface normal; zero where nothing is hit.
-    pub normal: Vec<Vec3>,
+    pub normal: Vec3,
     /// Object index in the scene; −1 where nothing is hit.
-    pub object: Vec<f32>,
+    pub object: f32,
+}
+
+impl AovSample {
+    const MISS: AovSample = AovSample {
+        depth: f32::INFINITY,
+        normal: Vec3::ZERO,
+        object: -1.0,
+    };
 }
 
 /// A rendered image: linear RGB, row-major from the top-left pixel.
@@ -96,7 +106,8 @@ pub struct Image {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Colour>,
-    pub aovs: Option<Aovs>,
+    /// Per-pixel AOVs, when the settings asked for them.
+    pub aovs: Option<Vec<AovSample>>,
     /// Rays traced (primary, secondary and shadow).
     pub rays: u64,
 }
@@ -107,102 +118,85 @@ impl Image {
     }
 }
 
-/// One tile's results, in the tile's own row-major order.
-struct Tile {
-    x0: u32,
-    y0: u32,
-    w: u32,
-    pixels: Vec<Colour>,
-    aovs: Aovs,
-    rays: u64,
-}
+/// The worker pool could not be created.
+#[derive(Debug, Error)]
+#[error("could not start the render threads: {0}")]
+pub struct RenderError(#[from] rayon::ThreadPoolBuildError);
+
+/// Rows per band: the image is rendered in parallel in bands of whole rows, each written in
+/// place. A multiple of BLOCK_H.
+const BAND: u32 = 8;
 
 /// Primary rays are traced in packets of BLOCK_W × BLOCK_H neighbouring pixels (8 = Embree's
 /// native AVX2 packet width).
 const BLOCK_W: u32 = 4;
 const BLOCK_H: u32 = 2;
 
-fn render_tile(
+/// Renders the rows from `y0` into `pixels` (and `aovs`, if asked for); returns the rays traced.
+fn render_band(
     scene: &Scene,
     camera: &PinholeCamera,
     s: &RenderSettings,
-    x0: u32,
     y0: u32,
-) -> Tile {
+    pixels: &mut [Colour],
+    mut aovs: Option<&mut [AovSample]>,
+) -> u64 {
     let tracer = Tracer::new(scene, s.shadows);
-    let (w, h) = (TILE.min(s.width - x0), TILE.min(s.height - y0));
-    let n = (w * h) as usize;
-    let mut tile = Tile {
-        x0,
-        y0,
-        w,
-        pixels: vec![Colour::ZERO; n],
-        aovs: Aovs::default(),
-        rays: 0,
-    };
-    if s.aovs {
-        tile.aovs = Aovs {
-            depth: vec![0.0; n],
-            normal: vec![Vec3::ZERO; n],
-            object: vec![0.0; n],
-        };
-    }
+    let rows = (pixels.len() / s.width as usize) as u32;
     let shapes = scene.geometry.shapes();
-    for by in (y0..y0 + h).step_by(BLOCK_H as usize) {
-        for bx in (x0..x0 + w).step_by(BLOCK_W as usize) {
-            let block: Vec<(u32, u32)> = (by..(by + BLOCK_H).min(y0 + h))
-                .flat_map(|y| (bx..(bx + BLOCK_W).min(x0 + w)).map(move |x| (x, y)))
-                .collect();
+    let centre_ray = |x: u32, y: u32| camera.ray(s.width, s.height, x as f64, y as f64);
+    for by in (y0..y0 + rows).step_by(BLOCK_H as usize) {
+        for bx in (0..s.width).step_by(BLOCK_W as usize) {
+            let mut block = [(0u32, 0u32); 8];
+            let mut n = 0;
+            for y in by..(by + BLOCK_H).min(y0 + rows) {
+                for x in bx..(bx + BLOCK_W).min(s.width) {
+                    block[n] = (x, y);
+                    n += 1;
+                }
+            }
+            let block = &block[..n];
             let mut sums = [Colour::ZERO; 8];
             let mut hits = [None; 8];
             for sample in 0..s.spp {
-                let rays: Vec<_> = block
-                    .iter()
-                    .map(|&(x, y)| {
-                        let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
-                        camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy)
-                    })
-                    .collect();
-                for (i, (colour, hit)) in tracer
-                    .trace_packet(&rays, s.max_trace_level)
-                    .into_iter()
-                    .enumerate()
-                {
+                let rays: [Ray; 8] = std::array::from_fn(|i| {
+                    let (x, y) = block.get(i).copied().unwrap_or(block[0]);
+                    let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
+                    camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy)
+                });
+                let traced = tracer.trace_packet(&rays[..n], s.max_trace_level);
+                for (i, (colour, hit)) in traced.into_iter().take(n).enumerate() {
                     sums[i] += colour;
-                    if s.spp == 1 {
-                        hits[i] = hit;
-                    }
+                    hits[i] = hit;
                 }
             }
             for (i, &(x, y)) in block.iter().enumerate() {
-                let k = ((y - y0) * w + (x - x0)) as usize;
-                tile.pixels[k] = sums[i] / s.spp as f64;
-                if s.aovs {
+                let k = (y - y0) as usize * s.width as usize + x as usize;
+                pixels[k] = sums[i] / s.spp as f64;
+                if let Some(aovs) = aovs.as_deref_mut() {
                     // The surface seen through the pixel centre (the sample itself when spp = 1).
-                    let ray = camera.ray(s.width, s.height, x as f64, y as f64);
+                    let ray = centre_ray(x, y);
                     let hit = if s.spp == 1 {
                         hits[i]
                     } else {
                         tracer.nearest(&ray, 0.0)
                     };
-                    tile.aovs.depth[k] = hit.map_or(f32::INFINITY, |h| h.t as f32);
-                    tile.aovs.normal[k] = hit.map_or(Vec3::ZERO, |h| {
-                        shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3()
+                    aovs[k] = hit.map_or(AovSample::MISS, |h| AovSample {
+                        depth: h.t as f32,
+                        normal: shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3(),
+                        object: h.object as f32,
                     });
-                    tile.aovs.object[k] = hit.map_or(-1.0, |h| h.object as f32);
                 }
             }
         }
     }
-    tile.rays = tracer.rays_traced();
-    tile
+    tracer.rays_traced()
 }
 
-/// Renders `scene` through `camera` with as many threads as the current rayon pool has.
-/// `progress` is called with the number of pixels of each finished tile. The result does not
-/// depend on the number of threads.
+/// Renders `scene` through `camera` on `settings.threads` threads. `progress` is called with the number of pixels of each finished band of rows. The result
+/// does not depend on the number of threads.
 ///
-/// Tracing recurses once per trace level, so the work runs on a pool whose stacks fit
+/// Tracing recurses once per trace level, so the work runs on a pool of its own whose stacks fit
 /// `settings.max_trace_level` (levels above [`MAX_TRACE_LEVEL_LIMIT`] count as the limit; call
 /// [`RenderSettings::validate`] first to reject them).
 pub fn render(
@@ -210,66 +204,41 @@ pub fn render(
     camera: &PinholeCamera,
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
-) -> Image {
+) -> Result<Image, RenderError> {
     let s = &RenderSettings {
         max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT),
         ..settings.clone()
     };
-    let stack = (1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(rayon::current_num_threads())
-        .stack_size(stack)
-        .build();
-    match pool {
-        Ok(pool) => pool.install(|| render_on_current_pool(scene, camera, s, progress)),
-        // Without a pool of our own (thread creation refused), fall back to the caller's.
-        Err(_) => render_on_current_pool(scene, camera, s, progress),
-    }
-}
-
-fn render_on_current_pool(
-    scene: &Scene,
-    camera: &PinholeCamera,
-    s: &RenderSettings,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Image {
-    let origins: Vec<(u32, u32)> = (0..s.height)
-        .step_by(TILE as usize)
-        .flat_map(|y| (0..s.width).step_by(TILE as usize).map(move |x| (x, y)))
-        .collect();
-    let tiles: Vec<Tile> = origins
-        .par_iter()
-        .map(|&(x0, y0)| {
-            let tile = render_tile(scene, camera, s, x0, y0);
-            progress(tile.pixels.len() as u64);
-            tile
-        })
-        .collect();
+        .num_threads(s.threads.unwrap_or(0)) // 0: rayon's default, one per core
+        .stack_size((1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL)
+        .build()?;
 
     let n = s.width as usize * s.height as usize;
-    let mut image = Image {
+    let band = BAND as usize * s.width as usize;
+    let mut pixels = vec![Colour::ZERO; n];
+    let mut aovs = s.aovs.then(|| vec![AovSample::MISS; n]);
+    let rays = pool.install(|| {
+        let aov_bands: Vec<Option<&mut [AovSample]>> = match aovs.as_mut() {
+            Some(a) => a.chunks_mut(band).map(Some).collect(),
+            None => (0..n.div_ceil(band)).map(|_| None).collect(),
+        };
+        pixels
+            .par_chunks_mut(band)
+            .zip(aov_bands)
+            .enumerate()
+            .map(|(i, (pixels, aovs))| {
+                let rays = render_band(scene, camera, s, i as u32 * BAND, pixels, aovs);
+                progress(pixels.len() as u64);
+                rays
+            })
+            .sum()
+    });
+    Ok(Image {
         width: s.width,
         height: s.height,
-        pixels: vec![Colour::ZERO; n],
-        aovs: s.aovs.then(|| Aovs {
-            depth: vec![0.0; n],
-            normal: vec![Vec3::ZERO; n],
-            object: vec![0.0; n],
-        }),
-        rays: 0,
-    };
-    for tile in tiles {
-        image.rays += tile.rays;
-        for (k, colour) in tile.pixels.into_iter().enumerate() {
-            let (x, y) = (tile.x0 + k as u32 % tile.w, tile.y0 + k as u32 / tile.w);
-            let i = y as usize * s.width as usize + x as usize;
-            image.pixels[i] = colour;
-            if let Some(a) = &mut image.aovs {
-                a.depth[i] = tile.aovs.depth[k];
-                a.normal[i] = tile.aovs.normal[k];
-                a.object[i] = tile.aovs.object[k];
-            }
-        }
-    }
-    image
+        pixels,
+        aovs,
+        rays,
+    })
 }

@@ -85,9 +85,11 @@ impl<'a> Tracer<'a> {
         (colour, hit)
     }
 
-    /// [`Tracer::trace`] for up to 8 rays from one origin (primary rays of neighbouring
-    /// pixels), intersected as one packet.
-    pub fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Hit>); 8] {
+    /// [`Tracer::trace`] (from t = 0) for the first 8 of `rays`, intersected as one packet when
+    /// they share an origin (primary rays of neighbouring pixels); entries past the rays are
+    /// black misses.
+    pub(crate) fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Hit>); 8] {
+        let rays = &rays[..rays.len().min(8)];
         let mut directions = [DVec3::ZERO; 8];
         for (d, r) in directions.iter_mut().zip(rays) {
             *d = r.direction;
