@@ -200,8 +200,21 @@ fn run_check(scene: &Path) -> Result<(), Failure> {
 
 fn run_info() -> Result<(), Failure> {
     let device = Device::new("").map_err(internal)?;
-    let widths = device.native_packet_widths();
-    let isa: Vec<&str> = [
+    println!("timbre {}", env!("CARGO_PKG_VERSION"));
+    println!("Embree {}", device.version());
+    println!("CPU SIMD: {}", simd_features().join(" "));
+    println!(
+        "native Embree packet widths: {:?}",
+        device.native_packet_widths()
+    );
+    println!("threads: {}", rayon::current_num_threads());
+    Ok(())
+}
+
+/// The SIMD instruction sets that matter to Embree's kernels, as the CPU reports them.
+#[cfg(target_arch = "x86_64")]
+fn simd_features() -> Vec<&'static str> {
+    [
         ("sse4.2", std::arch::is_x86_feature_detected!("sse4.2")),
         ("avx", std::arch::is_x86_feature_detected!("avx")),
         ("avx2", std::arch::is_x86_feature_detected!("avx2")),
@@ -209,16 +222,12 @@ fn run_info() -> Result<(), Failure> {
     ]
     .into_iter()
     .filter_map(|(name, on)| on.then_some(name))
-    .collect();
-    println!("timbre {}", env!("CARGO_PKG_VERSION"));
-    println!("Embree {}", Device::version());
-    println!(
-        "ISA: {} (native Embree packets: {:?})",
-        isa.join(" "),
-        widths
-    );
-    println!("threads: {}", rayon::current_num_threads());
-    Ok(())
+    .collect()
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn simd_features() -> Vec<&'static str> {
+    vec!["(not detected on this architecture)"]
 }
 
 fn main() -> ExitCode {

@@ -28,10 +28,10 @@
 //! each excuse is used on a deterministic sample (ties and marginal primitives excuse none of
 //! ~10,000 nearest-hit answers there, and under 1% of shadow answers).
 //!
-//! Known failures as of writing (see each test):
 //! `hits_beyond_t_max_within_f32_rounding_are_not_reported`,
 //! `grazing_ray_leaving_a_triangle_does_not_hit_it_again` and
-//! `rays_leaving_meshes_match_brute_force`.
+//! `rays_leaving_meshes_match_brute_force` guard against bugs these tests found and that have
+//! been fixed (hits outside (t_min, t_max) after the f64 recompute; grazing self-hits on meshes).
 
 use std::sync::{Arc, OnceLock};
 
@@ -631,8 +631,8 @@ fn excuses_are_rare() {
 /// Rays leaving random meshes' surfaces (the tracer's secondary and shadow rays, with its 1e-5
 /// scale self-hit margin), 300 deterministic scenes × 64 rays, all checks as above. Kept out of
 /// the random test so that a failure here is reproducible rather than intermittent.
-/// FAILS on timbre as of writing (self-hits below t_min on rays leaving a triangle at grazing
-/// angles; see `grazing_ray_leaving_a_triangle_does_not_hit_it_again`).
+/// Guards against self-hits below t_min on rays leaving a triangle at grazing angles (see
+/// `grazing_ray_leaving_a_triangle_does_not_hit_it_again`).
 #[test]
 fn rays_leaving_meshes_match_brute_force() {
     let mut runner = TestRunner::deterministic();
@@ -663,30 +663,13 @@ fn rays_leaving_meshes_match_brute_force() {
 // Long, thin cylinders through Embree
 // ---------------------------------------------------------------------------------------------
 
-/// TIM's lattice: 48 cylinders of radius 0.02, lengths 2 to 30, at distances 10 to 40 from the
-/// camera at the origin.
+/// TIM's lattice (48 cylinders of radius 0.02, lengths 2 to 30, at distances 10 to 40 from the
+/// camera at the origin), as the studio builds it.
 fn lattice() -> Vec<(Shape, bool)> {
-    let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
-    let ys = [-0.98, -0.98 + 2.0 / 3.0, -0.98 + 4.0 / 3.0, 1.02];
-    let zs = [10.0, 20.0, 30.0, 40.0];
-    let cyl = |a: DVec3, b: DVec3| (Shape::Cylinder(Cylinder::new(a, b, 0.02).unwrap()), true);
-    let mut out = Vec::new();
-    for x in xs {
-        for y in ys {
-            out.push(cyl(DVec3::new(x, y, zs[0]), DVec3::new(x, y, zs[3])));
-        }
-    }
-    for y in ys {
-        for z in zs {
-            out.push(cyl(DVec3::new(xs[0], y, z), DVec3::new(xs[3], y, z)));
-        }
-    }
-    for x in xs {
-        for z in zs {
-            out.push(cyl(DVec3::new(x, ys[0], z), DVec3::new(x, ys[3], z)));
-        }
-    }
-    out
+    timbre::scene::studio::lattice()
+        .into_iter()
+        .map(|o| (o.shape, o.shadow_throwing))
+        .collect()
 }
 
 fn lattice_scene() -> &'static (Vec<(Shape, bool)>, SceneGeometry) {
@@ -753,8 +736,7 @@ proptest! {
 
 /// `nearest` promises t_min < t < t_max. A sphere whose surface lies just before the f32 rounding
 /// of t_max (but beyond t_max itself) must not be reported, nor make the ray shadowed.
-/// FAILS on timbre as of writing: Embree's user-geometry callback is given t_max rounded to f32,
-/// and nothing checks the exact distance against t_max afterwards.
+/// (Embree sees t_max rounded to f32; the exact distance must still be checked against t_max.)
 #[test]
 fn hits_beyond_t_max_within_f32_rounding_are_not_reported() {
     // Ray from the origin along +z; the sphere's near surface is at t = 10 − 1e-7.
@@ -1039,8 +1021,8 @@ fn embree_errors_surface_as_err() {
 /// A ray leaving a triangle at a grazing angle, with the tracer's self-hit margin for meshes
 /// (1e-5 × scale) as t_min (found by `scene_queries_match_brute_force`). Exactly, the ray meets
 /// the triangle's plane only at t ≈ 0, so nothing lies in (t_min, ∞).
-/// FAILS on timbre as of writing: Embree's f32 test finds the triangle beyond t_min, the exact
-/// recomputation rejects it, and `resolve` falls back to the plane distance, t ≈ −4e-13.
+/// (Embree's f32 test finds the triangle beyond t_min; the exact recomputation rejects it and the
+/// query must go on rather than fall back to the plane distance, t ≈ −4e-13.)
 #[test]
 fn grazing_ray_leaving_a_triangle_does_not_hit_it_again() {
     let vertices = vec![

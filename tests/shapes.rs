@@ -39,9 +39,9 @@
 //! the surface), and a long thin cylinder (r = 0.02, L = 30, ~40 away) must never be missed and
 //! be hit within 1e-11 r of its surface.
 //!
-//! Known failures as of writing (timbre's cylinder mantle quadratic loses ~7 digits when the
-//! cylinder is seen broadside from afar): `cylinder_hit_points_are_backward_accurate` and
-//! `long_thin_cylinder_hits_are_accurate_broadside`.
+//! `cylinder_hit_points_are_backward_accurate` and `long_thin_cylinder_hits_are_accurate_broadside`
+//! guard the cylinder's mantle quadratic being solved about the line's closest point to the axis
+//! (the plain quadratic loses ~7 digits when the cylinder is seen broadside from afar).
 
 use std::f64::consts::TAU;
 
@@ -1175,8 +1175,8 @@ proptest! {
         check_backward_accuracy(&case).map_err(TestCaseError::fail)?;
     }
 
-    /// FAILS on timbre as of writing (residuals up to ~2.4e-13 (scale + t), against ~3e-16 for
-    /// the other shapes and for the re-centred cylinder): the same cancellation as in
+    /// Without the re-centred quadratic, residuals reach ~2.4e-13 (scale + t), against ~3e-16
+    /// for the other shapes: the same cancellation as in
     /// `long_thin_cylinder_hits_are_accurate_broadside`.
     #[test]
     fn cylinder_hit_points_are_backward_accurate(case in cases(cylinder())) {
@@ -1596,8 +1596,8 @@ proptest! {
 
     /// Seen broadside from ~40 away (the *perpendicular* part of |o − start|² is large), the
     /// mantle quadratic b² − ac still subtracts nearly equal numbers (~1600 each, difference
-    /// ~r² = 4e-4), costing ~7 digits. FAILS on timbre as of writing: hit points up to ~1.4e-9 r
-    /// off the surface (see the report; `recentred_cylinder` is the fix).
+    /// ~r² = 4e-4), costing ~7 digits, unless solved about the closest point to the axis (as
+    /// timbre does; `recentred_cylinder` is the reference form): hit points were ~1.4e-9 r off.
     #[test]
     fn long_thin_cylinder_hits_are_accurate_broadside(case in thin_cylinder_case(BROADSIDE)) {
         let t = case.shape.to_shape().intersect(case.origin, case.direction, 0.0, f64::INFINITY);

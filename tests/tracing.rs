@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 use timbre::embree::Device;
+use timbre::geometry::{SceneGeometry, Shape, Sphere};
 use timbre::render::{Image, render};
 use timbre::scene::file::parse;
 use timbre::scene::{Scene, SceneDescription};
@@ -166,4 +167,92 @@ surface = { type = "mirror" }
         16 * 20000,
         "each pixel traces one ray per level"
     );
+}
+
+/// A matt white floor seen from straight above, lit from the upper left (−x), with a small
+/// ball hovering to the right of the view's centre.
+fn ball_over_floor(shadow_throwing: bool) -> String {
+    format!(
+        r#"
+studio = "none"
+[render]
+width = 11
+height = 11
+[camera]
+type = "pinhole"
+position = [0, 10, 0]
+view_direction = [0, -1, 0]
+up = [0, 0, 1]
+horizontal_view_angle_deg = 40
+[[light]]
+type = "point"
+position = [-100, 100, 0]
+colour = [1, 1, 1]
+[[object]]
+name = "floor"
+shape = {{ type = "plane", point = [0, 0, 0], normal = [0, 1, 0] }}
+surface = {{ type = "matt", colour = [1, 1, 1] }}
+[[object]]
+name = "ball"
+shadow_throwing = {shadow_throwing}
+shape = {{ type = "sphere", centre = [1.2, 1, 0], radius = 0.3 }}
+surface = {{ type = "constant_colour", colour = [0, 1, 0] }}
+"#
+    )
+}
+
+#[test]
+fn only_shadow_throwing_objects_cast_shadows() {
+    // The ball (seen at column 7) shadows the floor around x = 2.2 (column 8); a floor pixel to
+    // the left (column 2) is lit either way.
+    let (below, away) = ((8, 5), (2, 5));
+    let with = render_text(&ball_over_floor(true));
+    let without = render_text(&ball_over_floor(false));
+    let lit = |c: DVec3| c.x > 0.5;
+    assert!(lit(with.pixel(away.0, away.1)) && lit(without.pixel(away.0, away.1)));
+    assert_eq!(
+        with.pixel(below.0, below.1),
+        DVec3::ZERO,
+        "shadowed by a shadow-throwing ball"
+    );
+    assert!(
+        lit(without.pixel(below.0, below.1)),
+        "{}",
+        without.pixel(below.0, below.1)
+    );
+}
+
+#[test]
+fn a_transparent_sheet_passes_light_undeviated_scaled_by_its_coefficient() {
+    let plain = render_text(SCREEN);
+    let sheet = format!(
+        "{SCREEN}[[object]]\nshape = {{ type = \"parallelogram\", corner = [-0.2, -0.2, 5], \
+         span_u = [0.4, 0, 0], span_v = [0, 0.4, 0] }}\n\
+         surface = {{ type = \"transparent\", transmission_coefficient = 0.3 }}\n"
+    );
+    let image = render_text(&sheet);
+    // The sheet covers the middle of the view (±0.2 at z = 5), not the corners.
+    for (x, y) in [(20, 15), (20, 25), (0, 0)] {
+        let expected = if (x, y) == (0, 0) { 1.0 } else { 0.3 };
+        assert!(
+            close(image.pixel(x, y), expected * plain.pixel(x, y)),
+            "({x}, {y})"
+        );
+    }
+}
+
+#[test]
+fn enormous_shapes_are_still_hit() {
+    // Embree drops primitives whose bounds exceed about ±1.8e18; such shapes are intersected
+    // outside the BVH instead.
+    let device = Device::new("").unwrap();
+    // A sphere of radius 1e19 around the camera.
+    let huge = Shape::Sphere(Sphere::new(DVec3::ZERO, 1e19).unwrap());
+    let geometry = SceneGeometry::build(&device, vec![(huge, true)]).unwrap();
+    let hit = geometry
+        .nearest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY)
+        .unwrap();
+    assert!((hit.t / 1e19 - 1.0).abs() < 1e-12, "{}", hit.t);
+    assert!(geometry.shadowed(DVec3::ZERO, DVec3::Z, 0.0, 2e19));
+    assert!(!geometry.shadowed(DVec3::ZERO, DVec3::Z, 0.0, 1e18));
 }

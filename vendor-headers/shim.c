@@ -154,7 +154,9 @@ uint32_t timbre_device_native_packets(void *device) {
     return bits;
 }
 
-const char *timbre_embree_version(void) { return RTC_VERSION_STRING; }
+uint32_t timbre_device_version(void *device) {
+    return (uint32_t)rtcGetDeviceProperty(((Device *)device)->device, RTC_DEVICE_PROPERTY_VERSION);
+}
 
 void *timbre_scene_new(void *device) {
     RTCScene scene = rtcNewScene(((Device *)device)->device);
@@ -165,17 +167,6 @@ void *timbre_scene_new(void *device) {
 void timbre_scene_release(void *scene) { rtcReleaseScene((RTCScene)scene); }
 
 void timbre_scene_commit(void *scene) { rtcCommitScene((RTCScene)scene); }
-
-void timbre_scene_bounds(void *scene, TimbreBounds *out) {
-    struct RTCBounds b;
-    rtcGetSceneBounds((RTCScene)scene, &b);
-    out->lower[0] = b.lower_x;
-    out->lower[1] = b.lower_y;
-    out->lower[2] = b.lower_z;
-    out->upper[0] = b.upper_x;
-    out->upper[1] = b.upper_y;
-    out->upper[2] = b.upper_z;
-}
 
 static uint32_t attach(RTCScene scene, RTCGeometry geometry, uint32_t mask) {
     rtcSetGeometryMask(geometry, mask);

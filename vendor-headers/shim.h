@@ -58,13 +58,13 @@ void timbre_device_release(void *device);
 int timbre_device_ray_masks_supported(void *device);
 /* Bit set of natively supported packet widths: 4, 8, 16 (bit value = width). */
 uint32_t timbre_device_native_packets(void *device);
-const char *timbre_embree_version(void);
+/* Version of the loaded Embree library as major * 10000 + minor * 100 + patch. */
+uint32_t timbre_device_version(void *device);
 
 /* Scenes. Geometry functions return the geometry id, or TIMBRE_INVALID_ID on error. */
 void *timbre_scene_new(void *device);
 void timbre_scene_release(void *scene);
 void timbre_scene_commit(void *scene);
-void timbre_scene_bounds(void *scene, TimbreBounds *out);
 uint32_t timbre_scene_add_triangles(void *device, void *scene, const float *vertices,
                                     size_t vertex_count, const uint32_t *indices,
                                     size_t triangle_count, uint32_t mask);

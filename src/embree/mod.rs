@@ -170,12 +170,11 @@ impl Device {
         Ok(Device { inner })
     }
 
-    /// Embree's version string, e.g. "3.13.5".
-    pub fn version() -> &'static str {
-        // SAFETY: returns a pointer to a static NUL-terminated string literal.
-        unsafe { CStr::from_ptr(ffi::timbre_embree_version()) }
-            .to_str()
-            .unwrap_or("unknown")
+    /// Version of the Embree library in use, e.g. "3.13.5".
+    pub fn version(&self) -> String {
+        // SAFETY: the device is live.
+        let v = unsafe { ffi::timbre_device_version(self.inner.raw.as_ptr()) };
+        format!("{}.{}.{}", v / 10000, v / 100 % 100, v % 100)
     }
 
     /// Packet widths (4, 8, 16) that this CPU and Embree build trace natively.
@@ -189,8 +188,8 @@ impl Device {
     pub fn scene_builder(&self) -> Result<SceneBuilder, EmbreeError> {
         // SAFETY: the device is live.
         let raw = unsafe { ffi::timbre_scene_new(self.inner.raw.as_ptr()) };
-        let raw = NonNull::new(raw).ok_or(EmbreeError::Creation("a scene"))?;
         self.inner.check()?;
+        let raw = NonNull::new(raw).ok_or(EmbreeError::Creation("a scene"))?;
         Ok(SceneBuilder {
             scene: Scene {
                 raw,
@@ -294,6 +293,11 @@ impl SceneBuilder {
         transform: [[f32; 4]; 3],
         mask: u32,
     ) -> Result<u32, EmbreeError> {
+        if !Arc::ptr_eq(&instanced.device, &self.scene.device) {
+            return Err(EmbreeError::Creation(
+                "an instance of a scene from another device",
+            ));
+        }
         // SAFETY: `instanced` is a committed scene on the same device, kept alive by this
         // scene's `children`; the transform is 12 floats in row-major 3x4 order.
         let id = unsafe {
@@ -361,20 +365,6 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
 }
 
 impl Scene {
-    /// Bounds of everything in the scene.
-    pub fn bounds(&self) -> Bounds {
-        let mut b = ffi::TimbreBounds {
-            lower: [0.0; 3],
-            upper: [0.0; 3],
-        };
-        // SAFETY: the scene is committed; `b` is a valid out-pointer.
-        unsafe { ffi::timbre_scene_bounds(self.raw.as_ptr(), &mut b) };
-        Bounds {
-            lower: Vec3::from(b.lower),
-            upper: Vec3::from(b.upper),
-        }
-    }
-
     fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32)) -> Option<RawHit> {
         if raw.geom_id == INVALID_ID {
             return None;
@@ -393,7 +383,7 @@ impl Scene {
     /// Nearest hit along `ray` with `t_near < t < t_far` among geometry whose mask shares a
     /// bit with `mask`.
     pub fn intersect(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> Option<RawHit> {
-        let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
+        let best = [Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID))];
         let query = Query {
             rays: std::slice::from_ref(ray),
             best: &best,
@@ -420,7 +410,7 @@ impl Scene {
 
     /// Whether anything with a matching mask lies on `ray` at `t_near < t < t_far`.
     pub fn occluded(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> bool {
-        let best = [Cell::new((f64::NAN, INVALID_ID, INVALID_ID))];
+        let best = [Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID))];
         let query = Query {
             rays: std::slice::from_ref(ray),
             best: &best,
@@ -447,7 +437,7 @@ impl Scene {
     ) -> [Option<RawHit>; 8] {
         assert!(rays.len() <= 8, "a packet holds at most 8 rays");
         let best: [Cell<(f64, u32, u32)>; 8] =
-            std::array::from_fn(|_| Cell::new((f64::NAN, INVALID_ID, INVALID_ID)));
+            std::array::from_fn(|_| Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID)));
         let query = Query { rays, best: &best };
         let fallback = ExactRay {
             origin: DVec3::ZERO,
@@ -523,13 +513,19 @@ unsafe extern "C" fn user_intersect(
         direction: Vec3::from(ray.dir).as_dvec3(),
     };
     let r = exact.unwrap_or(&embree_ray);
-    let Some(t) = geometry.intersect(prim, r, ray.tnear as f64, ray.tfar as f64) else {
+    // On the exact ray, a hit must also beat the exact distance of the hit accepted so far:
+    // Embree's f32 tfar cannot separate hits less than an f32 step apart.
+    let best = exact.and_then(|_| query.best.get(id));
+    let t_far = best.map_or(ray.tfar as f64, |b| b.get().0.min(ray.tfar as f64));
+    let Some(t) = geometry.intersect(prim, r, ray.tnear as f64, t_far) else {
         return 0;
     };
-    if let (Some(_), Some(best)) = (exact, query.best.get(id)) {
+    if let Some(best) = best {
         best.set((t, geom_id, prim));
     }
+    // Rounded up, so that tfar never cuts off the accepted hit itself; t < tfar, hence the
+    // rounded value is at most tfar.
     // SAFETY: valid out-pointer from the shim.
-    unsafe { *t_out = (t as f32).min(ray.tfar).max(ray.tnear) };
+    unsafe { *t_out = f32_above(t) };
     1
 }

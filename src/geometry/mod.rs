@@ -150,6 +150,16 @@ impl Shape {
     }
 }
 
+/// Embree silently drops primitives whose bounds reach beyond about ±1.8e18, so shapes that
+/// extend beyond this are intersected directly, like the unbounded planes.
+const EMBREE_EXTENT: f64 = 1e18;
+
+fn fits_embree(shape: &Shape) -> bool {
+    shape
+        .bounds()
+        .is_some_and(|(lo, hi)| lo.abs().max(hi.abs()).max_element() <= EMBREE_EXTENT)
+}
+
 /// Ray masks: every object is visible; shadow rays only see shadow-throwing objects.
 const VISIBLE: u32 = 1;
 const SHADOW_THROWING: u32 = 2;
@@ -206,7 +216,7 @@ enum Geometry {
 pub struct SceneGeometry {
     shapes: Arc<[Shape]>,
     shadow_throwing: Vec<bool>,
-    /// Objects not in the BVH (unbounded planes), tested on every query.
+    /// Objects not in the BVH (unbounded planes, enormous shapes), tested on every query.
     unbounded: Vec<usize>,
     bvh: embree::Scene,
     geometries: Vec<Geometry>,
@@ -236,7 +246,7 @@ impl SceneGeometry {
         let mut analytic: [Vec<usize>; 2] = Default::default();
         for (i, shape) in shapes.iter().enumerate() {
             match shape {
-                _ if shape.bounds().is_none() => unbounded.push(i),
+                _ if !fits_embree(shape) => unbounded.push(i),
                 Shape::TriangleMesh(m) => {
                     let vertices: Vec<_> = m.vertices.iter().map(|v| v.as_vec3()).collect();
                     let id = builder.add_triangles(&vertices, &m.triangles, mask(i))?;

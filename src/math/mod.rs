@@ -118,6 +118,17 @@ mod tests {
     }
 
     #[test]
+    fn a_continued_ray_is_earlier_by_the_distance_travelled() {
+        // Traced backwards, light reached the far point 3 before it reached the origin (c = 1).
+        let ray = Ray::new(DVec3::ZERO, DVec3::new(0.0, 0.0, 2.0), 7.0);
+        let next = ray.continued(3.0, DVec3::X);
+        assert_eq!(
+            (next.origin, next.direction, next.time),
+            (DVec3::new(0.0, 0.0, 3.0), DVec3::X, 4.0)
+        );
+    }
+
+    #[test]
     fn frame_is_right_handed_and_orthonormal() {
         let f = Frame::from_normal_and_u(DVec3::new(0.0, 2.0, 0.0), DVec3::new(0.0, 0.3, 1.0));
         assert!((f.u.cross(f.v) - f.w).length() < 1e-15);

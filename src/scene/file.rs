@@ -40,44 +40,45 @@ pub enum SceneFileError {
 
 /// 1-based line and column of byte `offset` in `text`.
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
-    let before = &text[..offset.min(text.len())];
+    let before = text.get(..offset.min(text.len())).unwrap_or(text);
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let line = before.matches('\n').count() + 1;
-    let column = before
-        .rfind('\n')
-        .map_or(before.len(), |i| before.len() - i - 1)
-        + 1;
-    (line, column)
+    (line, before[line_start..].chars().count() + 1)
 }
 
-/// A finite number.
+/// Largest magnitude of any length or coordinate: far beyond any scene's scale, and small enough
+/// that products of a few such numbers (cross products, squared lengths) stay finite.
+const MAX_MAGNITUDE: f64 = 1e15;
+
+/// A finite number of magnitude at most [`MAX_MAGNITUDE`].
 #[derive(Debug, Clone, Copy)]
 struct Finite(f64);
 
 impl<'de> Deserialize<'de> for Finite {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
-        if x.is_finite() {
+        if x.abs() <= MAX_MAGNITUDE {
             Ok(Finite(x))
         } else {
             Err(de::Error::custom(format!(
-                "expected a finite number, got {x}"
+                "expected a finite number of magnitude at most {MAX_MAGNITUDE:e}, got {x}"
             )))
         }
     }
 }
 
-/// A positive finite number.
+/// A positive number of at most [`MAX_MAGNITUDE`].
 #[derive(Debug, Clone, Copy)]
 struct Positive(f64);
 
 impl<'de> Deserialize<'de> for Positive {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
-        if x > 0.0 && x.is_finite() {
+        if x > 0.0 && x <= MAX_MAGNITUDE {
             Ok(Positive(x))
         } else {
             Err(de::Error::custom(format!(
-                "expected a positive number, got {x}"
+                "expected a positive number of at most {MAX_MAGNITUDE:e}, got {x}"
             )))
         }
     }
@@ -378,10 +379,7 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
         Some(s) => s.description(),
         None => SceneDescription {
             objects: Vec::new(),
-            lights: Lights {
-                ambient: Colour::ZERO,
-                points: Vec::new(),
-            },
+            lights: Lights::none(),
             camera: studio::camera(),
             render: Default::default(),
         },
@@ -430,10 +428,7 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
 
     // Lights given in the file replace the studio's lights.
     if !file.light.is_empty() {
-        let mut lights = Lights {
-            ambient: Colour::ZERO,
-            points: Vec::new(),
-        };
+        let mut lights = Lights::none();
         for light in file.light {
             match light {
                 LightSection::Ambient { colour } => lights.ambient += colour.0,
@@ -527,7 +522,10 @@ surface = { type = "refractive", index_ratio = 1.5, transmission = 0.96 }
             "studio = \"empty\"\n[[object]]\nshape = { type = \"sphere\", centre = [0,0,5], radius = -0.5 }\nsurface = { type = \"matt\", colour = [1,1,1] }\n",
         );
         assert!(e.starts_with("s.toml:3:"), "{e}");
-        assert!(e.contains("expected a positive number, got -0.5"), "{e}");
+        assert!(
+            e.contains("expected a positive number of at most 1e15, got -0.5"),
+            "{e}"
+        );
 
         let e = error("[render]\nwidht = 3\n");
         assert!(

@@ -51,6 +51,14 @@ pub struct Lights {
 }
 
 impl Lights {
+    /// No light at all: coloured surfaces are black.
+    pub fn none() -> Lights {
+        Lights {
+            ambient: Colour::ZERO,
+            points: Vec::new(),
+        }
+    }
+
     /// Colour of a coloured surface seen at `at`.
     pub fn illuminate(&self, surface: &Coloured, tracer: &Tracer, at: &Interaction) -> Colour {
         let n = at.frame().w;
