@@ -199,28 +199,28 @@ fn scene_case() -> impl Strategy<Value = (Vec<(Shape, bool)>, u64)> {
 /// A point of the shape (inside it for solids), for aiming rays.
 fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
     match shape {
-        Shape::Sphere(s) => s.centre + s.radius * rng.f().cbrt() * rng.unit(),
+        Shape::Sphere(s) => s.centre() + s.radius() * rng.f().cbrt() * rng.unit(),
         Shape::Plane(p) => {
-            p.point + rng.range(-5.0, 5.0) * p.frame.u + rng.range(-5.0, 5.0) * p.frame.v
+            p.point() + rng.range(-5.0, 5.0) * p.frame().u + rng.range(-5.0, 5.0) * p.frame().v
         }
         Shape::Disc(d) => {
             let (rho, phi) = (
-                d.radius * rng.f().sqrt(),
+                d.radius() * rng.f().sqrt(),
                 rng.range(0.0, std::f64::consts::TAU),
             );
-            d.centre + rho * (phi.cos() * d.frame.u + phi.sin() * d.frame.v)
+            d.centre() + rho * (phi.cos() * d.frame().u + phi.sin() * d.frame().v)
         }
         Shape::Cylinder(c) => {
             let radial = rng
                 .unit()
                 .reject_from_normalized(c.axis())
                 .normalize_or_zero();
-            c.start + rng.f() * (c.end - c.start) + c.radius * rng.f().sqrt() * radial
+            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * rng.f().sqrt() * radial
         }
-        Shape::Parallelogram(p) => p.corner + rng.f() * p.span_u + rng.f() * p.span_v,
+        Shape::Parallelogram(p) => p.corner() + rng.f() * p.span_u() + rng.f() * p.span_v(),
         Shape::TriangleMesh(m) => {
             let [a, b, c] =
-                m.triangles[rng.index(m.triangles.len())].map(|i| m.vertices[i as usize]);
+                m.triangles()[rng.index(m.triangles().len())].map(|i| m.vertices()[i as usize]);
             let (s, u) = (rng.f().sqrt(), rng.f());
             a * (1.0 - s) + b * (s * (1.0 - u)) + c * (s * u)
         }
@@ -250,13 +250,13 @@ enum Rays {
 /// in f32).
 fn leaving_query(shape: &Shape, rng: &mut Rng, t_max: f64) -> Query {
     let origin = match shape {
-        Shape::Sphere(s) => s.centre + s.radius * rng.unit(),
+        Shape::Sphere(s) => s.centre() + s.radius() * rng.unit(),
         Shape::Cylinder(c) => {
             let radial = rng
                 .unit()
                 .reject_from_normalized(c.axis())
                 .normalize_or_zero();
-            c.start + rng.f() * (c.end - c.start) + c.radius * radial
+            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * radial
         }
         _ => sample_point(shape, rng),
     };
@@ -332,7 +332,7 @@ fn answers(objects: &[(Shape, bool)], q: &Query) -> Vec<Answer> {
     let mut out = Vec::new();
     for (object, (shape, shadow_throwing)) in objects.iter().enumerate() {
         let prims = match shape {
-            Shape::TriangleMesh(m) => m.triangles.len() as u32,
+            Shape::TriangleMesh(m) => m.triangles().len() as u32,
             _ => 1,
         };
         for prim in 0..prims {
@@ -696,8 +696,9 @@ fn check_lattice_ray(
     };
     let e1 = c.axis().any_orthonormal_vector();
     let e2 = c.axis().cross(e1);
-    let target =
-        c.start + s * (c.end - c.start) + c.radius * rho * (phi.cos() * e1 + phi.sin() * e2);
+    let target = c.start()
+        + s * (c.end() - c.start())
+        + c.radius() * rho * (phi.cos() * e1 + phi.sin() * e2);
     let q = Query {
         origin,
         direction: (target - origin).normalize(),
@@ -1042,7 +1043,7 @@ fn grazing_ray_leaving_a_triangle_does_not_hit_it_again() {
     println!(
         "cos to the normal {:e}, origin off the plane {:e}",
         d.dot(n),
-        (o - mesh.vertices[0]).dot(n)
+        (o - mesh.vertices()[0]).dot(n)
     );
     let scene = SceneGeometry::build(device(), vec![(Shape::TriangleMesh(mesh), true)]).unwrap();
     assert_eq!(scene.nearest_brute_force(o, d, t_min, f64::INFINITY), None);

@@ -1037,7 +1037,7 @@ proptest! {
         if let (RefShape::Plane { normal, u_dir, .. }, Shape::Plane(p)) = (&case.shape, shape) {
             let n = normal.normalize();
             if let Some(u) = (*u_dir - u_dir.dot(n) * n).try_normalize() {
-                prop_assert!((p.frame.u - u).length() < 1e-12, "{:?} vs {}", p.frame, u);
+                prop_assert!((p.frame().u - u).length() < 1e-12, "{:?} vs {}", p.frame(), u);
             }
         }
     }

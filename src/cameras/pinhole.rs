@@ -9,14 +9,14 @@ use crate::math::Ray;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PinholeCamera {
-    pub position: DVec3,
+    position: DVec3,
     /// Unit view direction.
-    pub view_direction: DVec3,
+    view_direction: DVec3,
     /// Unit "right" on the detector (up × view).
     right: DVec3,
     /// Unit "up" on the detector, perpendicular to the view direction.
     up: DVec3,
-    pub horizontal_view_angle: f64,
+    horizontal_view_angle: f64,
     /// Width of the detector between the centres of the outermost pixel columns: 2 tan(angle/2).
     detector_span: f64,
 }
@@ -43,6 +43,20 @@ impl PinholeCamera {
             horizontal_view_angle,
             detector_span,
         })
+    }
+
+    pub fn position(&self) -> DVec3 {
+        self.position
+    }
+
+    /// Unit view direction.
+    pub fn view_direction(&self) -> DVec3 {
+        self.view_direction
+    }
+
+    /// Horizontal view angle in radians, between the centres of the outermost pixel columns.
+    pub fn horizontal_view_angle(&self) -> f64 {
+        self.horizontal_view_angle
     }
 
     /// The ray through continuous detector position (x, y) in pixel units, (0, 0) being the

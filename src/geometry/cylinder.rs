@@ -13,9 +13,9 @@ use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cylinder {
-    pub start: DVec3,
-    pub end: DVec3,
-    pub radius: f64,
+    start: DVec3,
+    end: DVec3,
+    radius: f64,
     /// Unit vector from start to end.
     axis: DVec3,
     length: f64,
@@ -41,6 +41,19 @@ impl Cylinder {
         })
     }
 
+    pub fn start(&self) -> DVec3 {
+        self.start
+    }
+
+    pub fn end(&self) -> DVec3 {
+        self.end
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Unit vector from start to end.
     pub fn axis(&self) -> DVec3 {
         self.axis
     }

@@ -8,10 +8,10 @@ use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Disc {
-    pub centre: DVec3,
-    pub radius: f64,
+    centre: DVec3,
+    radius: f64,
     /// w is the unit outward normal; u, v span the disc.
-    pub frame: Frame,
+    frame: Frame,
 }
 
 impl Disc {
@@ -43,6 +43,19 @@ impl Disc {
     pub fn coordinates(&self, p: DVec3) -> DVec2 {
         let d = p - self.centre;
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
+    }
+
+    pub fn centre(&self) -> DVec3 {
+        self.centre
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// w is the unit outward normal; u, v span the disc.
+    pub fn frame(&self) -> Frame {
+        self.frame
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {

@@ -117,10 +117,10 @@ impl Shape {
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
         match self {
             Shape::Sphere(s) => s.frame(p),
-            Shape::Plane(s) => s.frame,
-            Shape::Disc(s) => s.frame,
+            Shape::Plane(s) => s.frame(),
+            Shape::Disc(s) => s.frame(),
             Shape::Cylinder(s) => s.frame(p),
-            Shape::Parallelogram(s) => s.frame,
+            Shape::Parallelogram(s) => s.frame(),
             Shape::TriangleMesh(m) => m.frame(prim),
         }
     }
@@ -248,8 +248,8 @@ impl SceneGeometry {
             match shape {
                 _ if !fits_embree(shape) => unbounded.push(i),
                 Shape::TriangleMesh(m) => {
-                    let vertices: Vec<_> = m.vertices.iter().map(|v| v.as_vec3()).collect();
-                    let id = builder.add_triangles(&vertices, &m.triangles, mask(i))?;
+                    let vertices: Vec<_> = m.vertices().iter().map(|v| v.as_vec3()).collect();
+                    let id = builder.add_triangles(&vertices, m.triangles(), mask(i))?;
                     set_geometry(&mut geometries, id, Geometry::Mesh(i));
                 }
                 _ => analytic[shadow_throwing[i] as usize].push(i),

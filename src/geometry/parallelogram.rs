@@ -8,11 +8,11 @@ use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parallelogram {
-    pub corner: DVec3,
-    pub span_u: DVec3,
-    pub span_v: DVec3,
+    corner: DVec3,
+    span_u: DVec3,
+    span_v: DVec3,
     /// w = span_u × span_v normalised (the outward side), u along span_u.
-    pub frame: Frame,
+    frame: Frame,
 }
 
 impl Parallelogram {
@@ -69,6 +69,23 @@ impl Parallelogram {
     /// Coordinates along the span vectors in units of length: (α |span_u|, β |span_v|).
     pub fn coordinates(&self, p: DVec3) -> DVec2 {
         self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
+    }
+
+    pub fn corner(&self) -> DVec3 {
+        self.corner
+    }
+
+    pub fn span_u(&self) -> DVec3 {
+        self.span_u
+    }
+
+    pub fn span_v(&self) -> DVec3 {
+        self.span_v
+    }
+
+    /// w = span_u × span_v normalised (the outward side), u along span_u.
+    pub fn frame(&self) -> Frame {
+        self.frame
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {

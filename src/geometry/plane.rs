@@ -8,9 +8,9 @@ use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plane {
-    pub point: DVec3,
+    point: DVec3,
     /// Surface frame: w is the unit outward normal, u and v the in-plane coordinate axes.
-    pub frame: Frame,
+    frame: Frame,
 }
 
 impl Plane {
@@ -23,6 +23,15 @@ impl Plane {
             point,
             frame: Frame::from_normal_and_u(normal, u_direction),
         })
+    }
+
+    pub fn point(&self) -> DVec3 {
+        self.point
+    }
+
+    /// Surface frame: w is the unit outward normal, u and v the in-plane coordinate axes.
+    pub fn frame(&self) -> Frame {
+        self.frame
     }
 
     /// The t where the line meets the plane, if in (t_min, t_max).

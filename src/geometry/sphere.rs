@@ -7,8 +7,8 @@ use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
-    pub centre: DVec3,
-    pub radius: f64,
+    centre: DVec3,
+    radius: f64,
 }
 
 impl Sphere {
@@ -41,6 +41,14 @@ impl Sphere {
         let phi = d.x.atan2(d.z);
         let theta = d.y.clamp(-1.0, 1.0).acos();
         self.radius * DVec2::new(phi, theta)
+    }
+
+    pub fn centre(&self) -> DVec3 {
+        self.centre
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.radius
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {

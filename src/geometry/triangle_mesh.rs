@@ -12,8 +12,8 @@ use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangleMesh {
-    pub vertices: Vec<DVec3>,
-    pub triangles: Vec<[u32; 3]>,
+    vertices: Vec<DVec3>,
+    triangles: Vec<[u32; 3]>,
 }
 
 impl TriangleMesh {
@@ -42,6 +42,14 @@ impl TriangleMesh {
             vertices,
             triangles,
         })
+    }
+
+    pub fn vertices(&self) -> &[DVec3] {
+        &self.vertices
+    }
+
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
     }
 
     fn corners(&self, prim: u32) -> [DVec3; 3] {
