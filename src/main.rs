@@ -167,6 +167,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         spp: settings.spp,
         seed: settings.seed,
         aovs,
+        object_names: scene.objects.iter().map(|o| o.name.clone()).collect(),
     };
     write_image(&args.output, &image, &provenance).map_err(bad_input)?;
     if !args.quiet {

@@ -167,6 +167,40 @@ surface = { type = "constant_colour", colour = [0.2, 0.4, 0.6] }
 "#;
 
 #[test]
+fn object_names_in_any_script_go_into_the_exr_header() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "names.toml",
+        "studio = \"none\"\n[[object]]\nname = \"球 ∅\"\n\
+         shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n\
+         surface = { type = \"constant_colour\", colour = [1, 1, 1] }\n",
+    );
+    let args = [
+        "render",
+        text(&scene),
+        "-q",
+        "-o",
+        "n.exr",
+        "--aov",
+        "object",
+        "--width",
+        "8",
+        "--height",
+        "6",
+    ];
+    timbre(dir.path(), &args).assert_success();
+    let exr = Exr::read(&dir.path().join("n.exr"));
+    match exr.attributes.get("timbre.objects") {
+        Some(AttributeValue::TextVector(names)) => {
+            assert_eq!(names.len(), 1);
+            assert_eq!(std::str::from_utf8(names[0].bytes()).unwrap(), "球 ∅");
+        }
+        other => panic!("timbre.objects: {other:?}"),
+    }
+}
+
+#[test]
 fn the_default_render_is_tims_640_by_480_studio() {
     let dir = TempDir::new().unwrap();
     timbre_line(dir.path(), "render -q -o default.png").assert_success();
@@ -670,6 +704,19 @@ fn exr_has_colour_and_aov_channels_and_provenance() {
     );
 
     assert_eq!(exr.int("timbre.spp"), Some(1), "{:?}", exr.attributes);
+    // object.id indexes the object names in the header: the studio's sky, floor, then lattice.
+    match exr.attributes.get("timbre.objects") {
+        Some(AttributeValue::TextVector(names)) => {
+            let names: Vec<String> = names.iter().map(|n| n.to_string()).collect();
+            assert_eq!(names.len(), 50);
+            assert_eq!((names[0].as_str(), names[1].as_str()), ("sky", "floor"));
+            assert!(
+                names[2..].iter().all(|n| n.contains("cylinder")),
+                "{names:?}"
+            );
+        }
+        other => panic!("timbre.objects: {other:?}"),
+    }
     assert_eq!(
         exr.text("timbre.seed").as_deref(),
         Some("42"),

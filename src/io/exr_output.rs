@@ -1,6 +1,7 @@
 //! OpenEXR output: one part with f32 channels R, G, B and, when rendered, the AOV layers
-//! `depth.Z`, `normal.X/Y/Z` and `object.id` that are selected. The header records the samples per pixel
-//! (`timbre.spp`), the seed (`timbre.seed`) and the timbre version (`timbre.version`).
+//! `depth.Z`, `normal.X/Y/Z` and `object.id` that are selected. The header records the samples
+//! per pixel (`timbre.spp`), the seed (`timbre.seed`), the timbre version (`timbre.version`)
+//! and, with `object.id`, the object names by id (`timbre.objects`).
 
 use std::path::Path;
 
@@ -46,6 +47,9 @@ pub fn write_exr(
             channels.push(channel("object.id", a.iter().map(|s| s.object).collect()));
         }
     }
+    // EXR strings are byte strings; timbre writes UTF-8 (exr's `Text::from` takes Latin-1 only
+    // and panics on other characters).
+    let utf8_text = |s: &str| Text::from_bytes_unchecked(SmallVec::from_slice(s.as_bytes()));
     let mut attributes = LayerAttributes::default();
     let mut note =
         |key: &str, value: AttributeValue| attributes.other.insert(Text::from(key), value);
@@ -61,6 +65,14 @@ pub fn write_exr(
         "timbre.version",
         AttributeValue::Text(Text::from(env!("CARGO_PKG_VERSION"))),
     );
+    if provenance.aovs.object && image.aovs.is_some() {
+        let names = provenance
+            .object_names
+            .iter()
+            .map(|n| utf8_text(n))
+            .collect();
+        note("timbre.objects", AttributeValue::TextVector(names));
+    }
     // Tiles are compressed in parallel; with increasing line order the writer stores them in
     // order, so the file does not depend on which tile finished first.
     let encoding = Encoding {

@@ -27,6 +27,8 @@ pub struct Provenance {
     pub spp: u32,
     pub seed: u64,
     pub aovs: AovSelection,
+    /// Object names by index: the meaning of the `object.id` AOV.
+    pub object_names: Vec<String>,
 }
 
 /// Output file formats.
