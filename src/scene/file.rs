@@ -556,6 +556,17 @@ surface = { type = "refractive", index_ratio = 1.5, transmission = 0.96 }
     }
 
     #[test]
+    fn a_plane_u_direction_along_the_normal_is_rejected() {
+        let e = error(
+            "[[object]]\nshape = { type = \"plane\", point = [0,0,5], normal = [0,0,1], u_direction = [0,0,2] }\nsurface = { type = \"mirror\" }\n",
+        );
+        assert!(
+            e.starts_with("s.toml:2:9:") && e.contains("parallel to the normal"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn line_and_column_are_one_based() {
         assert_eq!(line_column("ab\ncd", 0), (1, 1));
         assert_eq!(line_column("ab\ncd", 4), (2, 2));

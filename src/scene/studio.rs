@@ -66,7 +66,7 @@ pub fn camera() -> PinholeCamera {
 }
 
 /// The 48 cylinders (radius 0.02, shiny, shadow-throwing) of TIM's lattice on the grid
-/// x ∈ {−1, −1/3, 1/3, 1}, y ∈ {−0.98, −0.31, 0.353, 1.02}, z ∈ {10, 20, 30, 40}: red along z,
+/// x ∈ {−1, −1/3, 1/3, 1}, y ∈ {−0.98, −0.98 + 2/3, −0.98 + 4/3, 1.02}, z ∈ {10, 20, 30, 40}: red along z,
 /// blue along x, green along y.
 pub fn lattice() -> Vec<SceneObject> {
     let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
