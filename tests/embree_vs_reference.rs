@@ -33,12 +33,16 @@
 //! `rays_leaving_meshes_match_brute_force` guard against bugs these tests found and that have
 //! been fixed (hits outside (t_min, t_max) after the f64 recompute; grazing self-hits on meshes).
 
+mod common;
+
 use std::sync::{Arc, OnceLock};
 
 use glam::{DMat3, DQuat, DVec3, Vec3};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
+
+use common::{AXES, config, log_uniform, normal_vector, point_in, unit_vector};
 use timbre::embree::{Bounds, Device, EmbreeError, ExactRay, UserGeometry};
 use timbre::geometry::{
     Cylinder, Disc, Hit, Parallelogram, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
@@ -52,19 +56,6 @@ const TIE: f64 = 1e-5;
 fn device() -> &'static Device {
     static DEVICE: OnceLock<Device> = OnceLock::new();
     DEVICE.get_or_init(|| Device::new("").expect("an Embree device"))
-}
-
-/// `cases` per property, or `PROPTEST_CASES` from the environment (for soak runs).
-fn config(cases: u32) -> ProptestConfig {
-    let cases = std::env::var("PROPTEST_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(cases);
-    ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -111,38 +102,6 @@ impl Rng {
 // ---------------------------------------------------------------------------------------------
 // Random scenes
 // ---------------------------------------------------------------------------------------------
-
-fn point_in(a: f64) -> impl Strategy<Value = DVec3> {
-    (-a..a, -a..a, -a..a).prop_map(|(x, y, z)| DVec3::new(x, y, z))
-}
-
-fn unit_vector() -> impl Strategy<Value = DVec3> {
-    (-1.0..1.0f64, 0.0..std::f64::consts::TAU).prop_map(|(z, phi)| {
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
-    })
-}
-
-const AXES: [DVec3; 6] = [
-    DVec3::X,
-    DVec3::Y,
-    DVec3::Z,
-    DVec3::NEG_X,
-    DVec3::NEG_Y,
-    DVec3::NEG_Z,
-];
-
-/// Mostly random unit vectors, sometimes a coordinate axis (flat bounding boxes in Embree).
-fn normal_vector() -> impl Strategy<Value = DVec3> {
-    prop_oneof![
-        3 => unit_vector(),
-        1 => (0..6usize).prop_map(|i| AXES[i]),
-    ]
-}
-
-fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
-    (lo.ln()..hi.ln()).prop_map(f64::exp)
-}
 
 fn mesh() -> impl Strategy<Value = Shape> {
     (point_in(5.0), prop::collection::vec(point_in(1.5), 3..7))

@@ -43,12 +43,16 @@
 //! guard the cylinder's mantle quadratic being solved about the line's closest point to the axis
 //! (the plain quadratic loses ~7 digits when the cylinder is seen broadside from afar).
 
+mod common;
+
 use std::f64::consts::TAU;
 
 use glam::DVec3;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
+
+use common::{config, log_uniform, normal_vector, point_in, unit_from, unit_vector};
 use timbre::geometry::{Cylinder, Disc, Parallelogram, Plane, Shape, Sphere, TriangleMesh};
 use timbre::math::Frame;
 
@@ -149,14 +153,6 @@ fn perpendicular_pair(n: DVec3) -> (DVec3, DVec3) {
     let helper = if n.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
     let e1 = (helper - helper.dot(n) * n).normalize();
     (e1, n.cross(e1))
-}
-
-/// Unit vector from two uniforms in [0, 1).
-fn unit_from(u0: f64, u1: f64) -> DVec3 {
-    let z = 2.0 * u0 - 1.0;
-    let s = (1.0 - z * z).max(0.0).sqrt();
-    let phi = TAU * u1;
-    DVec3::new(s * phi.cos(), s * phi.sin(), z)
 }
 
 /// Cylinder quantities computed here: unit axis, length.
@@ -822,35 +818,6 @@ fn run_case(case: &Case) -> Result<Outcome, String> {
 // Random shapes and rays
 // ---------------------------------------------------------------------------------------------
 
-fn point_in(a: f64) -> impl Strategy<Value = DVec3> {
-    (-a..a, -a..a, -a..a).prop_map(|(x, y, z)| DVec3::new(x, y, z))
-}
-
-fn unit_vector() -> impl Strategy<Value = DVec3> {
-    (0.0..1.0f64, 0.0..1.0f64).prop_map(|(a, b)| unit_from(a, b))
-}
-
-const AXES: [DVec3; 6] = [
-    DVec3::X,
-    DVec3::Y,
-    DVec3::Z,
-    DVec3::NEG_X,
-    DVec3::NEG_Y,
-    DVec3::NEG_Z,
-];
-
-/// Mostly random unit vectors, sometimes a coordinate axis (flat or axis-parallel shapes).
-fn normal_vector() -> impl Strategy<Value = DVec3> {
-    prop_oneof![
-        3 => unit_vector(),
-        1 => (0..6usize).prop_map(|i| AXES[i]),
-    ]
-}
-
-fn log_uniform(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
-    (lo.ln()..hi.ln()).prop_map(f64::exp)
-}
-
 fn sphere() -> impl Strategy<Value = RefShape> {
     (point_in(5.0), log_uniform(0.05, 4.0))
         .prop_map(|(centre, radius)| RefShape::Sphere { centre, radius })
@@ -1006,19 +973,6 @@ fn make_case(shape: RefShape, mode: u8, u: [f64; 12]) -> Case {
 fn cases(shape: impl Strategy<Value = RefShape>) -> impl Strategy<Value = Case> {
     (shape, 0..6u8, prop::array::uniform12(0.0..1.0f64))
         .prop_map(|(s, mode, u)| make_case(s, mode, u))
-}
-
-/// `cases` per property, or `PROPTEST_CASES` from the environment (for soak runs).
-fn config(cases: u32) -> ProptestConfig {
-    let cases = std::env::var("PROPTEST_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(cases);
-    ProptestConfig {
-        cases,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
 }
 
 proptest! {
