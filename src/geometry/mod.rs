@@ -232,7 +232,7 @@ impl SceneGeometry {
     ) -> Result<SceneGeometry, EmbreeError> {
         let shadow_throwing: Vec<bool> = objects.iter().map(|o| o.1).collect();
         let shapes: Arc<[Shape]> = objects.into_iter().map(|o| o.0).collect();
-        let mask = |i: usize| VISIBLE | SHADOW_THROWING * shadow_throwing[i] as u32;
+        let mask = |i: usize| VISIBLE | (SHADOW_THROWING * shadow_throwing[i] as u32);
         let mut builder = device.scene_builder()?;
         let mut geometries = Vec::new();
         let mut unbounded = Vec::new();
