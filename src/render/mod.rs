@@ -1,4 +1,4 @@
-//! Rendering: primary rays from the camera, traced in parallel over image tiles.
+//! Rendering: primary rays from the camera, traced in parallel over bands of image rows.
 
 mod sampling;
 mod tracer;
