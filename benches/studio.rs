@@ -12,7 +12,7 @@ use timbre::scene::studio::Studio;
 fn studio_1080p(c: &mut Criterion) {
     let d = Studio::Lattice.description();
     let device = Device::new("").expect("Embree device");
-    let scene = Scene::build(&device, &d.objects, &d.lights).expect("studio scene");
+    let scene = Scene::build(&device, &d).expect("studio scene");
     let settings = RenderSettings {
         width: 1920,
         height: 1080,

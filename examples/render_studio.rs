@@ -8,7 +8,7 @@ use timbre::scene::{Scene, studio::Studio};
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let description = Studio::Lattice.description();
     let device = Device::new("")?;
-    let scene = Scene::build(&device, &description.objects, &description.lights)?;
+    let scene = Scene::build(&device, &description)?;
     let image = render(&scene, &description.camera, &description.render, &|_| {})?;
     timbre::io::write_png("studio.png".as_ref(), &image)?;
     println!("{} rays -> studio.png", image.rays);

@@ -9,6 +9,7 @@ pub mod embree;
 pub mod geometry;
 pub mod io;
 pub mod math;
+pub mod mesh;
 pub mod render;
 pub mod scene;
 pub mod surfaces;

@@ -138,8 +138,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         None => Device::new(""),
     }
     .map_err(internal)?;
-    let scene =
-        Scene::build(&device, &description.objects, &description.lights).map_err(internal)?;
+    let scene = Scene::build(&device, &description).map_err(internal)?;
 
     let pixels = settings.width as u64 * settings.height as u64;
     let bar = if args.quiet || !std::io::stderr().is_terminal() {

@@ -17,7 +17,7 @@ const H: u32 = 120;
 fn render_studio_with(shadows: bool) -> Image {
     let d = Studio::Lattice.description();
     let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, &d.objects, &d.lights).unwrap();
+    let scene = Scene::build(&device, &d).unwrap();
     let settings = RenderSettings {
         width: W,
         height: H,

@@ -10,7 +10,7 @@ use timbre::scene::{Scene, SceneDescription};
 fn render_text(toml: &str) -> Image {
     let d: SceneDescription = parse(toml, "test.toml").unwrap();
     let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, &d.objects, &d.lights).unwrap();
+    let scene = Scene::build(&device, &d).unwrap();
     render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
 }
 
@@ -248,7 +248,7 @@ fn enormous_shapes_are_still_hit() {
     let device = Device::new("").unwrap();
     // A sphere of radius 1e19 around the camera.
     let huge = Shape::Sphere(Sphere::new(DVec3::ZERO, 1e19).unwrap());
-    let geometry = SceneGeometry::build(&device, vec![(huge, true)]).unwrap();
+    let geometry = SceneGeometry::build(&device, vec![(huge, true)], Vec::new()).unwrap();
     let hit = geometry
         .nearest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY)
         .unwrap();

@@ -36,10 +36,6 @@ static void init_context(TimbreContext *ctx, const void *query) {
     ctx->query = query;
 }
 
-static int is_instanced(const TimbreContext *ctx) {
-    return ctx->base.instID[0] != RTC_INVALID_GEOMETRY_ID;
-}
-
 static void read_lane(const void *ray, unsigned N, unsigned i, TimbreRay *out) {
     out->org[0] = LANE_F(ray, ORG_X, N, i);
     out->org[1] = LANE_F(ray, ORG_Y, N, i);
@@ -77,7 +73,7 @@ static void user_intersect(const struct RTCIntersectFunctionNArguments *args) {
         read_lane(ray, N, i, &r);
         float t;
         if (!user->intersect(user->geometry, args->geomID, args->primID, ctx->query, &r,
-                             is_instanced(ctx), &t))
+                             ctx->base.instID[0], &t))
             continue;
         LANE_F(ray, TFAR, N, i) = t;
         /* timbre recomputes normals in f64; Embree only needs a well-formed hit. */
@@ -102,7 +98,7 @@ static void user_occluded(const struct RTCOccludedFunctionNArguments *args) {
         read_lane(args->ray, N, i, &r);
         float t;
         if (user->occluded(user->geometry, args->geomID, args->primID, ctx->query, &r,
-                            is_instanced(ctx), &t))
+                            ctx->base.instID[0], &t))
             LANE_F(args->ray, TFAR, N, i) = -INFINITY; /* Embree's "occluded" marker */
     }
 }
@@ -208,12 +204,14 @@ uint32_t timbre_scene_add_user(void *device, void *scene, uint32_t prim_count,
 }
 
 uint32_t timbre_scene_add_instance(void *device, void *scene, void *instanced_scene,
-                                   const float *transform, uint32_t mask) {
+                                   const float *translation, uint32_t mask) {
     RTCGeometry g = rtcNewGeometry(((Device *)device)->device, RTC_GEOMETRY_TYPE_INSTANCE);
     if (!g) return TIMBRE_INVALID_ID;
     rtcSetGeometryInstancedScene(g, (RTCScene)instanced_scene);
     rtcSetGeometryTimeStepCount(g, 1);
-    /* RTC_FORMAT_FLOAT3X4_ROW_MAJOR: the 3x4 matrix [L | t] row by row. */
+    /* RTC_FORMAT_FLOAT3X4_ROW_MAJOR: the 3x4 matrix [I | t] row by row. */
+    const float transform[12] = {1, 0, 0, translation[0], 0, 1, 0, translation[1],
+                                 0, 0, 1, translation[2]};
     rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, transform);
     return attach((RTCScene)scene, g, mask);
 }

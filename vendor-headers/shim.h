@@ -34,11 +34,12 @@ typedef struct {
 
 /* Callbacks into Rust. `geometry` is the user pointer given to timbre_scene_add_user,
  * `query` the pointer given to the ray query; `ray` is the ray in the user geometry's own
- * space (differs from the query's ray inside an instance, then `instanced` is non-zero). */
+ * space; inside an instance it differs from the query's ray and `inst_id` is the instance's
+ * geometry id in the top-level scene (else TIMBRE_INVALID_ID). */
 typedef void (*TimbreBoundsFn)(const void *geometry, uint32_t prim, TimbreBounds *out);
 /* Returns 1 and writes *t when the primitive is hit at tnear < t < tfar. */
 typedef int (*TimbreIntersectFn)(const void *geometry, uint32_t geom_id, uint32_t prim,
-                                 const void *query, const TimbreRay *ray, int instanced,
+                                 const void *query, const TimbreRay *ray, uint32_t inst_id,
                                  float *t);
 
 /* A user geometry: its callbacks and the Rust object they receive as `geometry`. */
@@ -71,9 +72,9 @@ uint32_t timbre_scene_add_triangles(void *device, void *scene, const float *vert
 /* `user` must outlive the scene; Embree hands it back to the callbacks. */
 uint32_t timbre_scene_add_user(void *device, void *scene, uint32_t prim_count,
                                const TimbreUserGeometry *user, uint32_t mask);
-/* `transform` is a 3x4 row-major affine map from the instanced scene to this scene. */
+/* An instance of `instanced_scene` translated by `translation` (x, y, z). */
 uint32_t timbre_scene_add_instance(void *device, void *scene, void *instanced_scene,
-                                   const float *transform, uint32_t mask);
+                                   const float *translation, uint32_t mask);
 
 /* Queries. `query` is passed unchanged to the user-geometry callbacks. */
 void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, TimbreHit *hit);

@@ -85,8 +85,8 @@ pub trait UserGeometry: Send + Sync {
 }
 
 /// The nearest hit of a query. `t` is exact (f64, computed by the user geometry on the exact
-/// ray) when `exact`; otherwise (triangles, instances) it is Embree's f32 distance and the
-/// caller recomputes the hit in f64.
+/// ray) when `exact`; otherwise (triangles) it is Embree's f32 distance and the caller
+/// recomputes the hit in f64.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RawHit {
     pub geom_id: u32,
@@ -196,6 +196,7 @@ impl Device {
                 device: self.inner.clone(),
                 user: Vec::new(),
                 children: Vec::new(),
+                instance_offsets: Vec::new(),
             },
         })
     }
@@ -285,12 +286,13 @@ impl SceneBuilder {
         self.id(id, "a user geometry")
     }
 
-    /// Adds an instance of a committed scene under the affine map `transform` (3 rows of
-    /// `[linear | translation]`, from the instanced scene's space to this one's).
+    /// Adds an instance of a committed scene translated by `translation`; returns its geometry
+    /// id. User-geometry callbacks inside it receive the exact f64 ray shifted by the exact
+    /// translation (Embree itself traverses with the translation rounded to f32).
     pub fn add_instance(
         &mut self,
         instanced: Arc<Scene>,
-        transform: [[f32; 4]; 3],
+        translation: DVec3,
         mask: u32,
     ) -> Result<u32, EmbreeError> {
         if !Arc::ptr_eq(&instanced.device, &self.scene.device) {
@@ -298,19 +300,26 @@ impl SceneBuilder {
                 "an instance of a scene from another device",
             ));
         }
+        let t = translation.as_vec3().to_array();
         // SAFETY: `instanced` is a committed scene on the same device, kept alive by this
-        // scene's `children`; the transform is 12 floats in row-major 3x4 order.
+        // scene's `children`; `t` holds the 3 floats the shim reads.
         let id = unsafe {
             ffi::timbre_scene_add_instance(
                 self.scene.device.raw.as_ptr(),
                 self.scene.raw.as_ptr(),
                 instanced.raw.as_ptr(),
-                transform.as_ptr() as *const f32,
+                t.as_ptr(),
                 mask,
             )
         };
         self.scene.children.push(instanced);
-        self.id(id, "an instance")
+        let id = self.id(id, "an instance")?;
+        let offsets = &mut self.scene.instance_offsets;
+        if offsets.len() <= id as usize {
+            offsets.resize(id as usize + 1, DVec3::ZERO);
+        }
+        offsets[id as usize] = translation;
+        Ok(id)
     }
 
     /// Builds the BVH. Call outside rayon tasks (Embree builds with its own threads).
@@ -328,6 +337,8 @@ pub struct Scene {
     device: Arc<DeviceInner>,
     user: Vec<UserEntry>,
     children: Vec<Arc<Scene>>,
+    /// Exact translation of each instance, by geometry id (zero for other geometry).
+    instance_offsets: Vec<DVec3>,
 }
 
 // SAFETY: a committed Embree scene may be queried from many threads at once (Embree API manual,
@@ -344,11 +355,21 @@ impl Drop for Scene {
     }
 }
 
+/// The latest user-geometry hit a callback accepted for one ray: its exact distance and
+/// (instance, geometry, primitive) ids.
+type Best = Cell<(f64, u32, u32, u32)>;
+
+fn no_best() -> Best {
+    Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID, INVALID_ID))
+}
+
 /// Per-query data handed through Embree to the callbacks: the exact rays (indexed by the
-/// Embree ray id) and, per ray, the exact distance of the latest accepted user-geometry hit.
+/// Embree ray id), the queried scene's exact instance translations and, per ray, the best
+/// user-geometry hit so far.
 struct Query<'a> {
     rays: &'a [ExactRay],
-    best: &'a [Cell<(f64, u32, u32)>],
+    instance_offsets: &'a [DVec3],
+    best: &'a [Best],
 }
 
 fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi::TimbreRay {
@@ -365,12 +386,12 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
 }
 
 impl Scene {
-    fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32)) -> Option<RawHit> {
+    fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32, u32)) -> Option<RawHit> {
         if raw.geom_id == INVALID_ID {
             return None;
         }
         let inst_id = (raw.inst_id != INVALID_ID).then_some(raw.inst_id);
-        let exact = inst_id.is_none() && best.1 == raw.geom_id && best.2 == raw.prim_id;
+        let exact = (best.1, best.2, best.3) == (raw.inst_id, raw.geom_id, raw.prim_id);
         Some(RawHit {
             geom_id: raw.geom_id,
             prim_id: raw.prim_id,
@@ -383,9 +404,10 @@ impl Scene {
     /// Nearest hit along `ray` with `t_near < t < t_far` among geometry whose mask shares a
     /// bit with `mask`.
     pub fn intersect(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> Option<RawHit> {
-        let best = [Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID))];
+        let best = [no_best()];
         let query = Query {
             rays: std::slice::from_ref(ray),
+            instance_offsets: &self.instance_offsets,
             best: &best,
         };
         let r = to_embree(ray, t_near, t_far, mask, 0);
@@ -410,9 +432,10 @@ impl Scene {
 
     /// Whether anything with a matching mask lies on `ray` at `t_near < t < t_far`.
     pub fn occluded(&self, ray: &ExactRay, t_near: f64, t_far: f64, mask: u32) -> bool {
-        let best = [Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID))];
+        let best = [no_best()];
         let query = Query {
             rays: std::slice::from_ref(ray),
+            instance_offsets: &self.instance_offsets,
             best: &best,
         };
         let r = to_embree(ray, t_near, t_far, mask, 0);
@@ -436,9 +459,12 @@ impl Scene {
         mask: u32,
     ) -> [Option<RawHit>; 8] {
         assert!(rays.len() <= 8, "a packet holds at most 8 rays");
-        let best: [Cell<(f64, u32, u32)>; 8] =
-            std::array::from_fn(|_| Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID)));
-        let query = Query { rays, best: &best };
+        let best: [Best; 8] = std::array::from_fn(|_| no_best());
+        let query = Query {
+            rays,
+            instance_offsets: &self.instance_offsets,
+            best: &best,
+        };
         let fallback = ExactRay {
             origin: DVec3::ZERO,
             direction: DVec3::Z,
@@ -492,7 +518,7 @@ unsafe extern "C" fn user_intersect(
     prim: u32,
     query: *const c_void,
     ray: *const ffi::TimbreRay,
-    instanced: c_int,
+    inst_id: u32,
     t_out: *mut f32,
 ) -> c_int {
     // SAFETY: `geometry` as in `user_bounds`; `query` is the `Query` passed by
@@ -506,22 +532,29 @@ unsafe extern "C" fn user_intersect(
         )
     };
     let id = ray.id as usize;
-    // Inside an instance Embree hands us the ray in the instance's space, so use it as given.
-    let exact = (instanced == 0).then(|| query.rays.get(id)).flatten();
+    // The exact ray, in the instance's space when inside one (instances only translate).
+    let offset = match inst_id {
+        INVALID_ID => Some(DVec3::ZERO),
+        i => query.instance_offsets.get(i as usize).copied(),
+    };
+    let exact = query.rays.get(id).zip(offset).map(|(r, o)| ExactRay {
+        origin: r.origin - o,
+        direction: r.direction,
+    });
     let embree_ray = ExactRay {
         origin: Vec3::from(ray.org).as_dvec3(),
         direction: Vec3::from(ray.dir).as_dvec3(),
     };
-    let r = exact.unwrap_or(&embree_ray);
+    let r = exact.unwrap_or(embree_ray);
     // On the exact ray, a hit must also beat the exact distance of the hit accepted so far:
     // Embree's f32 tfar cannot separate hits less than an f32 step apart.
     let best = exact.and_then(|_| query.best.get(id));
     let t_far = best.map_or(ray.tfar as f64, |b| b.get().0.min(ray.tfar as f64));
-    let Some(t) = geometry.intersect(prim, r, ray.tnear as f64, t_far) else {
+    let Some(t) = geometry.intersect(prim, &r, ray.tnear as f64, t_far) else {
         return 0;
     };
     if let Some(best) = best {
-        best.set((t, geom_id, prim));
+        best.set((t, inst_id, geom_id, prim));
     }
     // Rounded up, so that tfar never cuts off the accepted hit itself; t < tfar, hence the
     // rounded value is at most tfar.

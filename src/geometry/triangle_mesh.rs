@@ -4,28 +4,49 @@
 //! In a scene Embree traverses meshes natively; the f64 code here recomputes Embree's hits and
 //! serves the brute-force reference intersector.
 
+use std::sync::Arc;
+
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
 use super::plane::plane_distance;
+use super::{GeometryError, Transform};
 use crate::math::Frame;
 
+/// A triangle mesh. Its data is shared, so cloning (into a scene) is cheap.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangleMesh {
+    data: Arc<MeshData>,
+}
+
+#[derive(Debug, PartialEq)]
+struct MeshData {
     vertices: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
+    /// Unit shading normals, one per vertex.
+    normals: Option<Vec<DVec3>>,
+    /// Zero-area triangles left out of `triangles`.
+    removed: usize,
 }
 
 impl TriangleMesh {
+    /// A flat-shaded mesh; see [`TriangleMesh::with_normals`].
     pub fn new(
         vertices: Vec<DVec3>,
         triangles: Vec<[u32; 3]>,
     ) -> Result<TriangleMesh, GeometryError> {
-        if triangles.is_empty() {
-            return Err(GeometryError::Degenerate(
-                "triangle mesh has no triangles".into(),
-            ));
-        }
+        TriangleMesh::with_normals(vertices, triangles, None)
+    }
+
+    /// A mesh with optional per-vertex shading normals. Triangles of zero area (which no ray
+    /// can hit and which have no normal) are left out and counted
+    /// ([`TriangleMesh::removed_degenerate`]); a mesh with no triangle left is an error, as are
+    /// non-finite coordinates and indices beyond the vertices. Zero or non-finite normals
+    /// disable smooth shading for the whole mesh.
+    pub fn with_normals(
+        vertices: Vec<DVec3>,
+        mut triangles: Vec<[u32; 3]>,
+        normals: Option<Vec<DVec3>>,
+    ) -> Result<TriangleMesh, GeometryError> {
         for v in &vertices {
             super::check_point("mesh vertex", *v)?;
         }
@@ -38,22 +59,69 @@ impl TriangleMesh {
                 "triangle {t:?} refers to a vertex beyond the {n} given"
             )));
         }
+        let before = triangles.len();
+        triangles.retain(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            let normal = (b - a).cross(c - a);
+            normal != DVec3::ZERO && normal.is_finite()
+        });
+        if triangles.is_empty() {
+            return Err(GeometryError::Degenerate(if before == 0 {
+                "triangle mesh has no triangles".into()
+            } else {
+                format!("all {before} triangles of the mesh have zero area")
+            }));
+        }
+        let normals = normals
+            .filter(|ns| ns.len() == n)
+            .and_then(|ns| ns.into_iter().map(DVec3::try_normalize).collect());
         Ok(TriangleMesh {
-            vertices,
-            triangles,
+            data: Arc::new(MeshData {
+                vertices,
+                removed: before - triangles.len(),
+                triangles,
+                normals,
+            }),
         })
     }
 
     pub fn vertices(&self) -> &[DVec3] {
-        &self.vertices
+        &self.data.vertices
     }
 
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
+        &self.data.triangles
+    }
+
+    /// Per-vertex shading normals, if the mesh has them.
+    pub fn normals(&self) -> Option<&[DVec3]> {
+        self.data.normals.as_deref()
+    }
+
+    /// How many zero-area triangles were left out when the mesh was made.
+    pub fn removed_degenerate(&self) -> usize {
+        self.data.removed
+    }
+
+    /// The mesh placed by `t`; a reflection reverses the windings so outward stays outward.
+    pub fn transformed(&self, t: &Transform) -> Result<TriangleMesh, GeometryError> {
+        let vertices = self.vertices().iter().map(|&v| t.point(v)).collect();
+        let mut triangles = self.triangles().to_vec();
+        if t.reflects() {
+            for tri in &mut triangles {
+                tri.swap(1, 2);
+            }
+        }
+        let normals = self
+            .normals()
+            .map(|ns| ns.iter().map(|&n| t.normal(n)).collect());
+        let mut mesh = TriangleMesh::with_normals(vertices, triangles, normals)?;
+        Arc::get_mut(&mut mesh.data).expect("just made").removed += self.data.removed;
+        Ok(mesh)
     }
 
     fn corners(&self, prim: u32) -> [DVec3; 3] {
-        self.triangles[prim as usize].map(|i| self.vertices[i as usize])
+        self.data.triangles[prim as usize].map(|i| self.data.vertices[i as usize])
     }
 
     /// Möller–Trumbore intersection with triangle `prim`, in f64.
@@ -95,7 +163,7 @@ impl TriangleMesh {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        (0..self.triangles.len() as u32)
+        (0..self.triangles().len() as u32)
             .filter_map(|i| {
                 self.intersect_triangle(i, origin, direction, t_min, t_max)
                     .map(|t| (t, i))
@@ -103,11 +171,24 @@ impl TriangleMesh {
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
-    /// Frame of triangle `prim`: w its normal, u along its first edge.
-    pub fn frame(&self, prim: u32) -> Frame {
+    /// Frame at point `p` of triangle `prim`. w is the triangle's normal (its winding gives the
+    /// outward side) or, when the mesh has vertex normals, the normals interpolated
+    /// barycentrically at `p`, turned to the outward side if they point inwards; u lies along
+    /// the triangle's first edge, made perpendicular to w.
+    pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
         let [v0, v1, v2] = self.corners(prim);
-        let n = (v1 - v0).cross(v2 - v0);
-        Frame::from_normal_and_u(n, v1 - v0)
+        let geometric = (v1 - v0).cross(v2 - v0);
+        let smooth = self.normals().and_then(|normals| {
+            let [n0, n1, n2] = self.data.triangles[prim as usize].map(|i| normals[i as usize]);
+            // Barycentric weights of p: sub-triangle areas over the whole.
+            let area = |a: DVec3, b: DVec3| (b - p).cross(a - p).dot(geometric);
+            let whole = geometric.length_squared();
+            let (w0, w1) = (area(v2, v1) / whole, area(v0, v2) / whole);
+            let n = w0 * n0 + w1 * n1 + (1.0 - w0 - w1) * n2;
+            let n = n.try_normalize()?;
+            Some(if n.dot(geometric) < 0.0 { -n } else { n })
+        });
+        Frame::from_normal_and_u(smooth.unwrap_or(geometric), v1 - v0)
     }
 
     /// Surface coordinates of a mesh point: its world x and z (a mesh has no global
@@ -118,10 +199,10 @@ impl TriangleMesh {
 
     pub fn bounds(&self) -> (DVec3, DVec3) {
         let used = self
-            .triangles
+            .triangles()
             .iter()
             .flatten()
-            .map(|&i| self.vertices[i as usize]);
+            .map(|&i| self.vertices()[i as usize]);
         used.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v), hi.max(v))
         })

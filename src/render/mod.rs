@@ -143,7 +143,6 @@ fn render_band(
 ) -> u64 {
     let tracer = Tracer::new(scene, s.shadows);
     let rows = (pixels.len() / s.width as usize) as u32;
-    let shapes = scene.geometry.shapes();
     let centre_ray = |x: u32, y: u32| camera.ray(s.width, s.height, x as f64, y as f64);
     for by in (y0..y0 + rows).step_by(BLOCK_H as usize) {
         for bx in (0..s.width).step_by(BLOCK_W as usize) {
@@ -183,7 +182,7 @@ fn render_band(
                     };
                     aovs[k] = hit.map_or(AovSample::MISS, |h| AovSample {
                         depth: h.t as f32,
-                        normal: shapes[h.object].frame(ray.at(h.t), h.prim).w.as_vec3(),
+                        normal: scene.geometry.frame(&h, ray.at(h.t)).w.as_vec3(),
                         object: h.object as f32,
                     });
                 }

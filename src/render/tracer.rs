@@ -4,7 +4,7 @@ use std::cell::Cell;
 
 use glam::{DVec2, DVec3};
 
-use crate::geometry::{Hit, Shape};
+use crate::geometry::{Hit, SceneGeometry, Shape};
 use crate::math::{Frame, Ray};
 use crate::scene::{Scene, lights::Lights};
 use crate::surfaces::Colour;
@@ -12,29 +12,27 @@ use crate::surfaces::Colour;
 /// Where a ray meets a surface, with everything a surface law needs.
 pub struct Interaction<'a> {
     pub ray: Ray,
-    /// Distance along the ray.
-    pub t: f64,
-    pub shape: &'a Shape,
-    /// Primitive of the shape that was hit (triangle index for meshes).
-    pub prim: u32,
+    /// The object, array element, primitive and distance along the ray.
+    pub hit: Hit,
+    pub geometry: &'a SceneGeometry,
     /// Remaining trace levels of the incoming ray.
     pub level: u32,
 }
 
 impl Interaction<'_> {
     pub fn point(&self) -> DVec3 {
-        self.ray.at(self.t)
+        self.ray.at(self.hit.t)
     }
 
-    /// The surface frame at the hit (w the outward normal); computed on demand, since some
-    /// surfaces (constant colour) never need it.
+    /// The surface frame at the hit (w the outward normal), of the array element that was hit;
+    /// computed on demand, since some surfaces (constant colour) never need it.
     pub fn frame(&self) -> Frame {
-        self.shape.frame(self.point(), self.prim)
+        self.geometry.frame(&self.hit, self.point())
     }
 
-    /// The shape's surface coordinates at the hit.
+    /// The element's surface coordinates at the hit.
     pub fn coordinates(&self) -> DVec2 {
-        self.shape.coordinates(self.point())
+        self.geometry.coordinates(&self.hit, self.point())
     }
 
     /// Smallest distance a ray leaving this point must travel before it may hit anything, so
@@ -42,7 +40,7 @@ impl Interaction<'_> {
     /// exactly in f64; Embree tests triangles in f32, hence the larger margin.
     pub fn self_hit_margin(&self) -> f64 {
         let scale = 1.0 + self.point().abs().max_element();
-        match self.shape {
+        match self.geometry.shapes()[self.hit.object] {
             Shape::TriangleMesh(_) => 1e-5 * scale,
             _ => 1e-9 * scale,
         }
@@ -124,12 +122,10 @@ impl<'a> Tracer<'a> {
 
     /// The colour of the surface at `hit`, seen along `ray`.
     pub fn shade(&self, ray: &Ray, hit: &Hit, level: u32) -> Colour {
-        let shape = &self.scene.geometry.shapes()[hit.object];
         let at = Interaction {
             ray: *ray,
-            t: hit.t,
-            shape,
-            prim: hit.prim,
+            hit: *hit,
+            geometry: &self.scene.geometry,
             level,
         };
         self.scene.objects[hit.object].surface.colour(self, &at)
@@ -138,7 +134,7 @@ impl<'a> Tracer<'a> {
     /// The colour seen along the ray that leaves the interaction point in `direction`, one trace
     /// level down.
     pub fn trace_from(&self, at: &Interaction, direction: DVec3) -> Colour {
-        let ray = at.ray.continued(at.t, direction);
+        let ray = at.ray.continued(at.hit.t, direction);
         self.trace(&ray, at.self_hit_margin(), at.level - 1).0
     }
 

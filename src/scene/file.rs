@@ -379,6 +379,7 @@ pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError>
         Some(s) => s.description(),
         None => SceneDescription {
             objects: Vec::new(),
+            arrays: Vec::new(),
             lights: Lights::none(),
             camera: studio::camera(),
             render: Default::default(),

@@ -7,7 +7,7 @@ pub mod studio;
 
 use crate::cameras::PinholeCamera;
 use crate::embree::{Device, EmbreeError};
-use crate::geometry::{SceneGeometry, Shape};
+use crate::geometry::{ObjectArray, SceneGeometry, Shape};
 use crate::render::RenderSettings;
 use crate::surfaces::Surface;
 use lights::Lights;
@@ -26,6 +26,9 @@ pub struct SceneObject {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneDescription {
     pub objects: Vec<SceneObject>,
+    /// Objects repeated on grids: each array's members (a range of `objects`) are placed at
+    /// each of its offsets.
+    pub arrays: Vec<ObjectArray>,
     pub lights: Lights,
     pub camera: PinholeCamera,
     pub render: RenderSettings,
@@ -47,17 +50,15 @@ pub struct Scene {
 
 impl Scene {
     /// Builds the BVH for the objects of a description.
-    pub fn build(
-        device: &Device,
-        objects: &[SceneObject],
-        lights: &Lights,
-    ) -> Result<Scene, EmbreeError> {
+    pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, EmbreeError> {
+        let objects = &description.objects;
         let geometry = SceneGeometry::build(
             device,
             objects
                 .iter()
                 .map(|o| (o.shape.clone(), o.shadow_throwing))
                 .collect(),
+            description.arrays.clone(),
         )?;
         Ok(Scene {
             objects: objects
@@ -68,7 +69,7 @@ impl Scene {
                 })
                 .collect(),
             geometry,
-            lights: lights.clone(),
+            lights: description.lights.clone(),
         })
     }
 }

@@ -123,6 +123,7 @@ impl Studio {
         }
         SceneDescription {
             objects,
+            arrays: Vec::new(),
             lights: lights(),
             camera: camera(),
             render: RenderSettings::default(),

@@ -1,0 +1,231 @@
+//! Placing shapes: an affine map x ↦ R·(S x) + t (scale per axis, then rotation about an axis,
+//! then translation), composable for groups.
+//!
+//! Meshes, parallelograms and planes take any non-singular map. Spheres, discs and cylinders
+//! stay what they are only under similarity maps (rotation, uniform scale, translation,
+//! reflection), so a non-uniform scale of one is an error. A map with negative determinant (a
+//! reflection) keeps the outward side outward: mesh windings are reversed and a parallelogram's
+//! first span vector is negated.
+
+use glam::{DAffine3, DMat3, DQuat, DVec3};
+
+use super::{
+    Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, check_direction,
+    check_point,
+};
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Transform {
+    affine: DAffine3,
+}
+
+impl Default for Transform {
+    fn default() -> Transform {
+        Transform::IDENTITY
+    }
+}
+
+impl Transform {
+    pub const IDENTITY: Transform = Transform {
+        affine: DAffine3::IDENTITY,
+    };
+
+    /// Scale by `scale` (per axis), then rotate by `angle` (radians, right-handed) about
+    /// `axis`, then translate by `translation`.
+    pub fn new(
+        scale: DVec3,
+        axis: DVec3,
+        angle: f64,
+        translation: DVec3,
+    ) -> Result<Transform, GeometryError> {
+        check_point("scale", scale)?;
+        check_point("translation", translation)?;
+        if !angle.is_finite() {
+            return Err(GeometryError::NotPositive {
+                what: "rotation angle (finite)",
+                value: angle,
+            });
+        }
+        if scale.x * scale.y * scale.z == 0.0 {
+            return Err(GeometryError::Degenerate(format!(
+                "singular transform: scale {scale} has a zero factor"
+            )));
+        }
+        let axis = if angle == 0.0 {
+            DVec3::Z
+        } else {
+            check_direction("rotation axis", axis)?
+        };
+        Ok(Transform {
+            affine: DAffine3::from_scale_rotation_translation(
+                scale,
+                DQuat::from_axis_angle(axis, angle),
+                translation,
+            ),
+        })
+    }
+
+    pub fn translation(t: DVec3) -> Transform {
+        Transform {
+            affine: DAffine3::from_translation(t),
+        }
+    }
+
+    /// This map followed by `outer` (a group's transform applied to its members').
+    pub fn then(&self, outer: &Transform) -> Transform {
+        Transform {
+            affine: outer.affine * self.affine,
+        }
+    }
+
+    pub fn point(&self, p: DVec3) -> DVec3 {
+        self.affine.transform_point3(p)
+    }
+
+    pub fn vector(&self, v: DVec3) -> DVec3 {
+        self.affine.transform_vector3(v)
+    }
+
+    fn linear(&self) -> DMat3 {
+        self.affine.matrix3
+    }
+
+    /// Image of a surface normal (inverse transpose), not normalised.
+    pub fn normal(&self, n: DVec3) -> DVec3 {
+        self.linear().inverse().transpose() * n
+    }
+
+    pub fn is_identity(&self) -> bool {
+        self.affine == DAffine3::IDENTITY
+    }
+
+    /// The scale factor s > 0 when the linear part is s × an orthogonal matrix.
+    fn uniform_scale(&self) -> Option<f64> {
+        let m = self.linear();
+        let mtm = m.transpose() * m;
+        let s2 = mtm.x_axis.x;
+        let identity = DMat3::IDENTITY * s2;
+        (mtm - identity)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() <= 1e-12 * s2)
+            .then(|| s2.sqrt())
+    }
+
+    /// The shape placed by this map.
+    pub fn shape(&self, shape: &Shape) -> Result<Shape, GeometryError> {
+        let similar = |what: &str| {
+            self.uniform_scale().ok_or_else(|| {
+                GeometryError::Degenerate(format!(
+                    "a {what} cannot be scaled non-uniformly (only meshes, parallelograms and planes can)"
+                ))
+            })
+        };
+        Ok(match shape {
+            Shape::Sphere(s) => {
+                let k = similar("sphere")?;
+                Shape::Sphere(Sphere::new(self.point(s.centre()), k * s.radius())?)
+            }
+            Shape::Disc(d) => {
+                let k = similar("disc")?;
+                Shape::Disc(Disc::new(
+                    self.point(d.centre()),
+                    self.normal(d.frame().w),
+                    k * d.radius(),
+                )?)
+            }
+            Shape::Cylinder(c) => {
+                let k = similar("cylinder")?;
+                Shape::Cylinder(Cylinder::new(
+                    self.point(c.start()),
+                    self.point(c.end()),
+                    k * c.radius(),
+                )?)
+            }
+            Shape::Plane(p) => Shape::Plane(Plane::new(
+                self.point(p.point()),
+                self.normal(p.frame().w),
+                self.vector(p.frame().u),
+            )?),
+            Shape::Parallelogram(p) => {
+                let (corner, u, v) = (
+                    self.point(p.corner()),
+                    self.vector(p.span_u()),
+                    self.vector(p.span_v()),
+                );
+                Shape::Parallelogram(if self.linear().determinant() < 0.0 {
+                    Parallelogram::new(corner + u, -u, v)?
+                } else {
+                    Parallelogram::new(corner, u, v)?
+                })
+            }
+            Shape::TriangleMesh(m) => Shape::TriangleMesh(m.transformed(self)?),
+        })
+    }
+
+    /// Whether the map reverses orientation (a reflection).
+    pub(super) fn reflects(&self) -> bool {
+        self.linear().determinant() < 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::FRAC_PI_2;
+
+    #[test]
+    fn scale_then_rotate_then_translate() {
+        let t = Transform::new(DVec3::new(2.0, 3.0, 4.0), DVec3::Z, FRAC_PI_2, DVec3::X).unwrap();
+        // (1,1,1) -> scaled (2,3,4) -> rotated 90° about z (-3,2,4) -> translated (-2,2,4).
+        assert!(
+            (t.point(DVec3::ONE) - DVec3::new(-2.0, 2.0, 4.0)).length() < 1e-12,
+            "{}",
+            t.point(DVec3::ONE)
+        );
+        let g = t.then(&Transform::translation(DVec3::Y));
+        assert!((g.point(DVec3::ONE) - DVec3::new(-2.0, 3.0, 4.0)).length() < 1e-12);
+    }
+
+    #[test]
+    fn singular_and_non_uniform_maps_are_refused_where_they_must_be() {
+        let e = Transform::new(DVec3::new(1.0, 0.0, 1.0), DVec3::Z, 0.0, DVec3::ZERO);
+        assert!(e.unwrap_err().to_string().contains("singular"));
+        let squash = Transform::new(DVec3::new(1.0, 2.0, 1.0), DVec3::Z, 0.3, DVec3::ZERO).unwrap();
+        let sphere = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
+        let e = squash.shape(&sphere).unwrap_err().to_string();
+        assert!(e.contains("sphere cannot be scaled non-uniformly"), "{e}");
+        let uniform = Transform::new(DVec3::splat(-2.0), DVec3::X, 1.0, DVec3::Z).unwrap();
+        let Shape::Sphere(s) = uniform.shape(&sphere).unwrap() else {
+            unreachable!()
+        };
+        assert!((s.radius() - 2.0).abs() < 1e-12 && (s.centre() - DVec3::Z).length() < 1e-12);
+    }
+
+    #[test]
+    fn planes_keep_their_normals_under_shear_like_scaling() {
+        // The plane x + y = 0 with normal (1,1,0); scaling x by 2 maps it to x/2 + y = 0,
+        // whose normal is (1/2, 1, 0).
+        let plane =
+            Shape::Plane(Plane::new(DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0), DVec3::Z).unwrap());
+        let t = Transform::new(DVec3::new(2.0, 1.0, 1.0), DVec3::Z, 0.0, DVec3::ZERO).unwrap();
+        let Shape::Plane(p) = t.shape(&plane).unwrap() else {
+            unreachable!()
+        };
+        let expected = DVec3::new(0.5, 1.0, 0.0).normalize();
+        assert!((p.frame().w - expected).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_reflection_keeps_a_parallelogram_facing_outwards() {
+        let p = Parallelogram::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
+        let mirror =
+            Transform::new(DVec3::new(1.0, 1.0, -1.0), DVec3::Z, 0.0, DVec3::ZERO).unwrap();
+        let Shape::Parallelogram(q) = mirror.shape(&Shape::Parallelogram(p)).unwrap() else {
+            unreachable!()
+        };
+        // The mirror image of a surface facing +z (at z = 0) faces -z.
+        assert!((q.frame().w - DVec3::NEG_Z).length() < 1e-12);
+        assert_eq!(q.bounds(), (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0)));
+    }
+}

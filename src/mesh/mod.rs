@@ -1,0 +1,180 @@
+//! Triangle meshes from files: Wavefront OBJ and PLY (ASCII, binary little and big endian),
+//! read and written, and a generator of test meshes.
+//!
+//! A file is read into [`Mesh`]es (an OBJ file may hold several objects or groups, each one
+//! mesh). Polygons are triangulated as fans. Every index and coordinate is checked, and errors
+//! name the file and, where the format allows, the line or element.
+
+pub mod generate;
+mod obj;
+mod ply;
+
+use std::path::Path;
+
+use glam::DVec3;
+use thiserror::Error;
+
+pub use ply::PlyEncoding;
+
+/// A triangle mesh as read from (or written to) a file: shared vertices, index triples
+/// (counter-clockwise seen from outside) and optional per-vertex normals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mesh {
+    /// The object or group name in the file ("" when the file names none).
+    pub name: String,
+    pub vertices: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// One normal per vertex, when the file has them.
+    pub normals: Option<Vec<DVec3>>,
+}
+
+/// A mesh file that could not be read.
+#[derive(Debug, Error)]
+pub enum MeshError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    /// `location` is "line N", "element 'face' N" or empty.
+    #[error("{path}:{location}{}{message}", if location.is_empty() { " " } else { ": " })]
+    Invalid {
+        path: String,
+        location: String,
+        message: String,
+    },
+}
+
+/// Mesh file formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeshFormat {
+    Obj,
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format named by a file's extension (`.obj`, `.ply`, any case).
+    pub fn from_path(path: &Path) -> Option<MeshFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Some(MeshFormat::Obj),
+            "ply" => Some(MeshFormat::Ply),
+            _ => None,
+        }
+    }
+}
+
+/// Reads the meshes in an OBJ or PLY file (a PLY file holds one).
+pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
+    let shown = path.display().to_string();
+    let format = MeshFormat::from_path(path).ok_or_else(|| MeshError::Invalid {
+        path: shown.clone(),
+        location: String::new(),
+        message: "unknown mesh format: the file name must end in .obj or .ply".into(),
+    })?;
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+        path: shown.clone(),
+        source,
+    })?;
+    let meshes = match format {
+        MeshFormat::Obj => obj::read(&bytes),
+        MeshFormat::Ply => ply::read(&bytes).map(|m| vec![m]),
+    }
+    .map_err(|e| e.in_file(&shown))?;
+    if meshes.iter().all(|m| m.triangles.is_empty()) {
+        return Err(MeshError::Invalid {
+            path: shown,
+            location: String::new(),
+            message: "the mesh has no faces".into(),
+        });
+    }
+    Ok(meshes)
+}
+
+/// Writes a mesh as OBJ or PLY (chosen by the extension; PLY in the given encoding).
+pub fn save(path: &Path, mesh: &Mesh, encoding: PlyEncoding) -> Result<(), MeshError> {
+    let shown = path.display().to_string();
+    let io = |source| MeshError::Io {
+        path: shown.clone(),
+        source,
+    };
+    let file = std::fs::File::create(path).map_err(io)?;
+    let mut out = std::io::BufWriter::new(file);
+    match MeshFormat::from_path(path) {
+        Some(MeshFormat::Obj) => obj::write(&mut out, mesh),
+        Some(MeshFormat::Ply) => ply::write(&mut out, mesh, encoding),
+        None => {
+            return Err(MeshError::Invalid {
+                path: shown,
+                location: String::new(),
+                message: "unknown mesh format: the file name must end in .obj or .ply".into(),
+            });
+        }
+    }
+    .and_then(|()| std::io::Write::flush(&mut out))
+    .map_err(io)
+}
+
+/// A problem found while parsing, before the file name is attached.
+#[derive(Debug)]
+struct ParseProblem {
+    location: String,
+    message: String,
+}
+
+impl ParseProblem {
+    fn new(location: impl Into<String>, message: impl Into<String>) -> ParseProblem {
+        ParseProblem {
+            location: location.into(),
+            message: message.into(),
+        }
+    }
+
+    fn in_file(self, path: &str) -> MeshError {
+        MeshError::Invalid {
+            path: path.to_string(),
+            location: self.location,
+            message: self.message,
+        }
+    }
+}
+
+/// Splits a polygon (vertex indices in order) into a fan of triangles.
+fn fan(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) {
+    for i in 1..polygon.len().saturating_sub(1) {
+        triangles.push([polygon[0], polygon[i], polygon[i + 1]]);
+    }
+}
+
+/// Checks that every coordinate is finite; `locate(i)` names vertex i in the file.
+fn check_finite(
+    what: &str,
+    points: &[DVec3],
+    locate: impl Fn(usize) -> String,
+) -> Result<(), ParseProblem> {
+    match points.iter().position(|p| !p.is_finite()) {
+        Some(i) => Err(ParseProblem::new(
+            locate(i),
+            format!("{what} {} is not finite: {}", i, points[i]),
+        )),
+        None => Ok(()),
+    }
+}
+
+impl Mesh {
+    /// Per-vertex normals: the area-weighted average of the normals of the triangles around
+    /// each vertex (a vertex in no triangle, or whose triangles cancel, gets +z).
+    pub fn vertex_normals(&self) -> Vec<DVec3> {
+        let mut sums = vec![DVec3::ZERO; self.vertices.len()];
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.vertices[i as usize]);
+            let n = (b - a).cross(c - a);
+            for &i in t {
+                sums[i as usize] += n;
+            }
+        }
+        sums.into_iter()
+            .map(|n| n.try_normalize().unwrap_or(DVec3::Z))
+            .collect()
+    }
+}
