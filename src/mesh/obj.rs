@@ -17,7 +17,6 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
