@@ -12,7 +12,9 @@ use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::render::render;
 use timbre::scene::studio::Studio;
-use timbre::scene::{Scene, SceneDescription, file};
+use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::scene::file::{self, Override};
+use timbre::scene::{Scene, SceneDescription};
 
 #[derive(Parser)]
 #[command(
@@ -29,10 +31,28 @@ struct Cli {
 enum Command {
     /// Render a scene file (or, with none, TIM's standard studio) to PNG or OpenEXR.
     Render(RenderArgs),
-    /// Check a scene file without rendering it.
+    /// Check a scene file (and load its meshes) without rendering it; print a summary.
     Check {
         /// The TOML scene file.
         scene: PathBuf,
+        /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Override>,
+    },
+    /// Write a test mesh (a bumpy sphere of at least N triangles) as PLY or OBJ.
+    GenerateMesh {
+        /// Output file; the extension (.ply or .obj) chooses the format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Least number of triangles (the mesh has the smallest grid with at least this many).
+        #[arg(long, default_value_t = 10_000)]
+        triangles: usize,
+        /// Height of the bumps relative to the radius (0: a plain faceted sphere).
+        #[arg(long, default_value_t = 0.1)]
+        displacement: f64,
+        /// PLY encoding.
+        #[arg(long, value_enum, default_value_t = Encoding::BinaryLittleEndian)]
+        encoding: Encoding,
     },
     /// Print the versions of timbre and Embree, the CPU's SIMD support and the thread count.
     Info,
@@ -66,9 +86,19 @@ struct RenderArgs {
     /// Extra EXR channels: depth (depth.Z), normal (normal.X/Y/Z), object (object.id).
     #[arg(long, value_delimiter = ',')]
     aov: Vec<Aov>,
+    /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Override>,
     /// Print nothing but errors.
     #[arg(short, long)]
     quiet: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+enum Encoding {
+    Ascii,
+    BinaryLittleEndian,
+    BinaryBigEndian,
 }
 
 #[derive(Clone, Copy, PartialEq, ValueEnum)]
@@ -98,15 +128,31 @@ fn internal(message: impl ToString) -> Failure {
     }
 }
 
-fn load(scene: Option<&Path>) -> Result<SceneDescription, Failure> {
+fn load(scene: Option<&Path>, set: &[Override]) -> Result<SceneDescription, Failure> {
     match scene {
-        Some(path) => file::load(path).map_err(bad_input),
-        None => Ok(Studio::Lattice.description()),
+        Some(path) => file::load_with(path, set).map_err(bad_input),
+        None if set.is_empty() => Ok(Studio::Lattice.description()),
+        None => Err(bad_input("--set needs a scene file")),
     }
 }
 
+/// Peak resident memory of this process (Linux), e.g. "1.25 GiB".
+fn peak_memory() -> Option<String> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(format!("{:.2} GiB", kib / (1024.0 * 1024.0)))
+}
+
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
-    let mut description = load(args.scene.as_deref())?;
+    let loading = Instant::now();
+    let mut description = load(args.scene.as_deref(), &args.set)?;
+    let load_seconds = loading.elapsed().as_secs_f64();
+    if !args.quiet {
+        for w in description.warnings() {
+            eprintln!("timbre: warning: {w}");
+        }
+    }
     let s = &mut description.render;
     s.width = args.width.unwrap_or(s.width);
     s.height = args.height.unwrap_or(s.height);
@@ -138,7 +184,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         None => Device::new(""),
     }
     .map_err(internal)?;
+    let building = Instant::now();
     let scene = Scene::build(&device, &description).map_err(internal)?;
+    let build_seconds = building.elapsed().as_secs_f64();
 
     let pixels = settings.width as u64 * settings.height as u64;
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
@@ -180,20 +228,75 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             image.rays as f64 / seconds / 1e6,
             args.output.display()
         );
+        let summary = description.summary();
+        println!(
+            "scene: {} objects, {} triangles, {} instances; loaded in {:.3} s, BVH built in {:.3} s; peak memory {}",
+            summary.objects,
+            summary.triangles,
+            summary.instances,
+            load_seconds,
+            build_seconds,
+            peak_memory().unwrap_or_else(|| "unknown".into())
+        );
     }
     Ok(())
 }
 
-fn run_check(scene: &Path) -> Result<(), Failure> {
-    let description = load(Some(scene))?;
+fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
+    let description = load(Some(scene), set)?;
+    for w in description.warnings() {
+        eprintln!("timbre: warning: {w}");
+    }
+    let s = description.summary();
+    let r = &description.render;
+    println!("{}: OK", scene.display());
+    println!("  objects:      {}", s.objects);
+    println!("  triangles:    {}", s.triangles);
+    println!("  instances:    {} (in {} arrays)", s.instances, description.arrays.len());
+    match s.bounds {
+        Some((lo, hi)) => println!(
+            "  bounding box: [{}, {}, {}] to [{}, {}, {}]{}",
+            lo.x,
+            lo.y,
+            lo.z,
+            hi.x,
+            hi.y,
+            hi.z,
+            match s.unbounded {
+                0 => String::new(),
+                n => format!(" (and {n} unbounded)"),
+            }
+        ),
+        None => println!("  bounding box: none ({} unbounded objects)", s.unbounded),
+    }
+    println!("  point lights: {}", description.lights.points.len());
+    println!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
+    Ok(())
+}
+
+fn run_generate_mesh(
+    output: &Path,
+    triangles: usize,
+    displacement: f64,
+    encoding: Encoding,
+) -> Result<(), Failure> {
+    if !displacement.is_finite() || displacement.abs() >= 1.0 {
+        return Err(bad_input(format!(
+            "--displacement must be between -1 and 1, got {displacement}"
+        )));
+    }
+    let mesh = generate::displaced_sphere(triangles, displacement);
+    let encoding = match encoding {
+        Encoding::Ascii => PlyEncoding::Ascii,
+        Encoding::BinaryLittleEndian => PlyEncoding::BinaryLittleEndian,
+        Encoding::BinaryBigEndian => PlyEncoding::BinaryBigEndian,
+    };
+    mesh::save(output, &mesh, encoding).map_err(bad_input)?;
     println!(
-        "{}: {} objects, {} point lights, {}x{} at {} spp: OK",
-        scene.display(),
-        description.objects.len(),
-        description.lights.points.len(),
-        description.render.width,
-        description.render.height,
-        description.render.spp
+        "{} triangles, {} vertices -> {}",
+        mesh.triangles.len(),
+        mesh.vertices.len(),
+        output.display()
     );
     Ok(())
 }
@@ -234,7 +337,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => run_render(args),
-        Command::Check { scene } => run_check(&scene),
+        Command::Check { scene, set } => run_check(&scene, &set),
+        Command::GenerateMesh {
+            output,
+            triangles,
+            displacement,
+            encoding,
+        } => run_generate_mesh(&output, triangles, displacement, encoding),
         Command::Info => run_info(),
     };
     match result {

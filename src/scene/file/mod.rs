@@ -1,0 +1,440 @@
+//! The TOML scene-file format (documented key by key in `docs/SCENE_FORMAT.md`).
+//!
+//! Values are checked while they are read, so every error names the file, the line and column
+//! of the offending value and what was expected. Objects may come from mesh files and other
+//! scene files (`include`), and be grouped, transformed and repeated in arrays
+//! (`placement.rs`); `--set key=value` overrides any value (`overrides.rs`).
+
+mod overrides;
+mod placement;
+mod shapes;
+mod surfaces;
+mod values;
+
+use std::num::NonZeroU32;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use thiserror::Error;
+use toml::Spanned;
+
+use super::SceneDescription;
+use super::lights::{Lights, PointLight};
+use super::studio::{self, Studio};
+use crate::cameras::PinholeCamera;
+use crate::geometry::Transform;
+pub use overrides::Override;
+pub use placement::MAX_ARRAY_ELEMENTS;
+use placement::{GroupSection, IncludeSection, Items, ObjectSection, Placer};
+use values::{Positive, Rgb, Vector};
+
+/// A scene file that could not be read or understood.
+#[derive(Debug, Error)]
+pub enum SceneFileError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}:{column}: {message}")]
+    Invalid {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    /// An error in a file changed by `--set`, whose positions no longer match the file.
+    #[error("{path} (with {overrides}): {message}")]
+    Overridden {
+        path: String,
+        overrides: String,
+        message: String,
+    },
+}
+
+/// 1-based line and column of byte `offset` in `text`.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = text.get(..offset.min(text.len())).unwrap_or(text);
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let line = before.matches('\n').count() + 1;
+    (line, before[line_start..].chars().count() + 1)
+}
+
+/// The text of a scene file, for error messages, and its directory, for relative paths.
+struct Source {
+    path: String,
+    text: String,
+    dir: PathBuf,
+    /// The `--set` overrides applied to `text` (spans then refer to a rewritten file).
+    overrides: Vec<Override>,
+}
+
+impl Source {
+    fn new(text: String, path: &str) -> Source {
+        Source {
+            dir: Path::new(path)
+                .parent()
+                .map_or_else(PathBuf::new, Path::to_path_buf),
+            path: path.to_string(),
+            text,
+            overrides: Vec::new(),
+        }
+    }
+
+    fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// An error at `span` (the start of the file when `None`).
+    fn error(&self, span: Option<Range<usize>>, message: String) -> SceneFileError {
+        if !self.overrides.is_empty() {
+            let list: Vec<String> = self.overrides.iter().map(|o| format!("--set {o}")).collect();
+            return SceneFileError::Overridden {
+                path: self.path.clone(),
+                overrides: list.join(" "),
+                message,
+            };
+        }
+        let (line, column) = line_column(&self.text, span.map_or(0, |s| s.start));
+        SceneFileError::Invalid {
+            path: self.path.clone(),
+            line,
+            column,
+            message,
+        }
+    }
+
+    /// Deserialises the text into `File`.
+    fn file(&self) -> Result<File, SceneFileError> {
+        toml::from_str(&self.text)
+            .map_err(|e| self.error(e.span(), e.message().trim().to_string()))
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    studio: Option<StudioName>,
+    render: Option<Spanned<RenderSection>>,
+    camera: Option<Spanned<CameraSection>>,
+    #[serde(default)]
+    light: Vec<LightSection>,
+    #[serde(default)]
+    object: Vec<ObjectSection>,
+    #[serde(default)]
+    group: Vec<GroupSection>,
+    #[serde(default)]
+    include: Vec<IncludeSection>,
+}
+
+impl File {
+    fn items(self) -> Items {
+        Items {
+            object: self.object,
+            group: self.group,
+            include: self.include,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum StudioName {
+    /// Sky, floor, lights and camera of TIM's standard studio.
+    Empty,
+    /// The empty studio plus TIM's cylinder lattice.
+    Lattice,
+    /// Nothing at all: no sky, no floor, no lights.
+    None,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RenderSection {
+    width: Option<NonZeroU32>,
+    height: Option<NonZeroU32>,
+    spp: Option<NonZeroU32>,
+    seed: Option<u64>,
+    max_trace_level: Option<NonZeroU32>,
+    shadows: Option<bool>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum CameraSection {
+    Pinhole {
+        position: Vector,
+        view_direction: Vector,
+        up: Vector,
+        horizontal_view_angle_deg: Positive,
+    },
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum LightSection {
+    Ambient {
+        colour: Rgb,
+    },
+    Point {
+        position: Vector,
+        colour: Rgb,
+        phong_exponent: Option<Positive>,
+    },
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// Reads and checks a scene file, with `overrides` applied: the file's own errors are
+/// reported at their line and column first.
+fn read(path: &Path, overrides: &[Override]) -> Result<(Source, File), SceneFileError> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| SceneFileError::Io {
+        path: shown.clone(),
+        source,
+    })?;
+    read_text(text, &shown, overrides)
+}
+
+fn read_text(
+    text: String,
+    path: &str,
+    overrides: &[Override],
+) -> Result<(Source, File), SceneFileError> {
+    let mut source = Source::new(text, path);
+    let file = source.file()?;
+    if overrides.is_empty() {
+        return Ok((source, file));
+    }
+    source.overrides = overrides.to_vec();
+    source.text = overrides::apply(&source.text, overrides).map_err(|m| source.error(None, m))?;
+    let file = source.file()?;
+    Ok((source, file))
+}
+
+/// Reads a scene file.
+pub fn load(path: &Path) -> Result<SceneDescription, SceneFileError> {
+    load_with(path, &[])
+}
+
+/// Reads a scene file with `--set` overrides applied.
+pub fn load_with(path: &Path, overrides: &[Override]) -> Result<SceneDescription, SceneFileError> {
+    let (source, file) = read(path, overrides)?;
+    describe(&source, file, path)
+}
+
+/// Parses scene-file text; `path` names it in error messages and locates relative paths.
+pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError> {
+    let (source, file) = read_text(text.to_string(), path, &[])?;
+    describe(&source, file, Path::new(path))
+}
+
+/// The scene a checked file describes.
+fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription, SceneFileError> {
+    let invalid = |span: Option<Range<usize>>, message: String| source.error(span, message);
+    let studio = match file.studio.unwrap_or(StudioName::Empty) {
+        StudioName::Empty => Some(Studio::Empty),
+        StudioName::Lattice => Some(Studio::Lattice),
+        StudioName::None => None,
+    };
+    let mut scene = match studio {
+        Some(s) => s.description(),
+        None => SceneDescription {
+            objects: Vec::new(),
+            arrays: Vec::new(),
+            lights: Lights::none(),
+            camera: studio::camera(),
+            render: Default::default(),
+        },
+    };
+
+    if let Some(r) = file.render {
+        let span = r.span();
+        let r = r.into_inner();
+        let s = &mut scene.render;
+        s.width = r.width.map_or(s.width, NonZeroU32::get);
+        s.height = r.height.map_or(s.height, NonZeroU32::get);
+        s.spp = r.spp.map_or(s.spp, NonZeroU32::get);
+        s.seed = r.seed.unwrap_or(s.seed);
+        s.max_trace_level = r.max_trace_level.map_or(s.max_trace_level, NonZeroU32::get);
+        s.shadows = r.shadows.unwrap_or(s.shadows);
+        s.validate().map_err(|m| invalid(Some(span), m))?;
+    }
+
+    if let Some(camera) = file.camera {
+        let span = camera.span();
+        let CameraSection::Pinhole {
+            position,
+            view_direction,
+            up,
+            horizontal_view_angle_deg,
+        } = camera.into_inner();
+        if horizontal_view_angle_deg.0 >= 180.0 {
+            return Err(invalid(
+                Some(span),
+                "horizontal_view_angle_deg must be below 180".into(),
+            ));
+        }
+        scene.camera = PinholeCamera::new(
+            position.0,
+            view_direction.0,
+            up.0,
+            horizontal_view_angle_deg.0.to_radians(),
+        )
+        .ok_or_else(|| {
+            invalid(
+                Some(span),
+                "camera view_direction and up must be non-zero and not parallel".into(),
+            )
+        })?;
+    }
+
+    // Lights given in the file replace the studio's lights.
+    if !file.light.is_empty() {
+        let mut lights = Lights::none();
+        for light in file.light {
+            match light {
+                LightSection::Ambient { colour } => lights.ambient += colour.0,
+                LightSection::Point {
+                    position,
+                    colour,
+                    phong_exponent,
+                } => lights.points.push(PointLight {
+                    position: position.0,
+                    colour: colour.0,
+                    phong_exponent: phong_exponent.map_or(40.0, |k| k.0),
+                }),
+            }
+        }
+        scene.lights = lights;
+    }
+
+    let studio_objects = scene.objects.len();
+    let items = Items {
+        object: file.object,
+        group: file.group,
+        include: file.include,
+    };
+    let placed = Placer::new(path).items(source, items, &Transform::IDENTITY, "")?;
+    scene.objects.extend(placed.objects);
+    scene
+        .arrays
+        .extend(placed.arrays.into_iter().map(|mut a| {
+            a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
+            a
+        }));
+    Ok(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surfaces::{Colour, Refractive, Surface};
+
+    fn error(text: &str) -> String {
+        parse(text, "s.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn the_issue_example_parses() {
+        let s = parse(
+            r#"
+studio = "lattice"
+[render]
+width = 64
+height = 48
+[camera]
+type = "pinhole"
+position = [0,0,0]
+view_direction = [0,0,1]
+up = [0,1,0]
+horizontal_view_angle_deg = 20
+[[light]]
+type = "point"
+position = [100,300,-500]
+colour = [1,1,1]
+[[object]]
+name = "ball"
+shadow_throwing = true
+shape = { type = "sphere", centre = [0,0,5], radius = 0.5 }
+surface = { type = "refractive", index_ratio = 1.5, transmission = 0.96 }
+"#,
+            "s.toml",
+        )
+        .unwrap();
+        assert_eq!(s.objects.len(), 2 + 48 + 1);
+        assert_eq!((s.render.width, s.render.height), (64, 48));
+        assert_eq!(s.lights.points.len(), 1);
+        assert_eq!(
+            s.lights.ambient,
+            Colour::ZERO,
+            "file lights replace the studio's"
+        );
+        assert_eq!(
+            s.objects.last().unwrap().surface,
+            Surface::Refractive(Refractive {
+                index_ratio: 1.5,
+                transmission_coefficient: 0.96
+            })
+        );
+    }
+
+    #[test]
+    fn errors_name_line_column_and_reason() {
+        let e = error(
+            "studio = \"empty\"\n[[object]]\nshape = { type = \"sphere\", centre = [0,0,5], radius = -0.5 }\nsurface = { type = \"matt\", colour = [1,1,1] }\n",
+        );
+        assert!(e.starts_with("s.toml:3:"), "{e}");
+        assert!(
+            e.contains("expected a positive number of at most 1e15, got -0.5"),
+            "{e}"
+        );
+
+        let e = error("[render]\nwidht = 3\n");
+        assert!(
+            e.starts_with("s.toml:2:1:") && e.contains("unknown field `widht`"),
+            "{e}"
+        );
+
+        let e = error("[render]\nwidth = \n");
+        assert!(e.starts_with("s.toml:2:"), "{e}");
+
+        let e = error(
+            "[[object]]\nshape = { type = \"cylinder\", start = [0,0,1], end = [0,0,1], radius = 1 }\nsurface = { type = \"mirror\" }\n",
+        );
+        assert!(
+            e.starts_with("s.toml:2:9:") && e.contains("start and end coincide"),
+            "{e}"
+        );
+
+        let e = error(
+            "[camera]\ntype = \"pinhole\"\nposition = [0,0,0]\nview_direction = [0,1,0]\nup = [0,2,0]\nhorizontal_view_angle_deg = 20\n",
+        );
+        assert!(e.contains("not parallel"), "{e}");
+
+        let e = error(
+            "[[object]]\nshape = { type = \"sphere\", centre = [0,nan,5], radius = 1 }\nsurface = { type = \"mirror\" }\n",
+        );
+        assert!(e.contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn a_plane_u_direction_along_the_normal_is_rejected() {
+        let e = error(
+            "[[object]]\nshape = { type = \"plane\", point = [0,0,5], normal = [0,0,1], u_direction = [0,0,2] }\nsurface = { type = \"mirror\" }\n",
+        );
+        assert!(
+            e.starts_with("s.toml:2:9:") && e.contains("parallel to the normal"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn line_and_column_are_one_based() {
+        assert_eq!(line_column("ab\ncd", 0), (1, 1));
+        assert_eq!(line_column("ab\ncd", 4), (2, 2));
+    }
+}

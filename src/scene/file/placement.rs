@@ -1,0 +1,427 @@
+//! Where objects go: `[[object]]`, `[[group]]` and `[[include]]` entries, each with an optional
+//! `transform` (scale, then rotate, then translate) and `array` (copies on a 1-, 2- or 3-D
+//! grid).
+//!
+//! A group's transform applies to its members (after their own); an array repeats the
+//! transformed object or group along vectors given in the enclosing frame. Arrays of arrays
+//! flatten into one array whose offsets are all the sums, so Embree needs only one level of
+//! instancing.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use serde::{Deserialize, Deserializer, de};
+use toml::Spanned;
+
+use super::shapes::ShapeSection;
+use super::surfaces::SurfaceSection;
+use super::values::{Finite, Vector};
+use super::{SceneFileError, Source};
+use crate::geometry::{ObjectArray, Transform};
+use crate::scene::SceneObject;
+
+/// Most copies one array (after flattening nested arrays) may have: each is an Embree instance
+/// of about 400 bytes.
+pub const MAX_ARRAY_ELEMENTS: u64 = 10_000_000;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct ObjectSection {
+    name: Option<String>,
+    #[serde(default = "super::yes")]
+    shadow_throwing: bool,
+    shape: Spanned<ShapeSection>,
+    surface: SurfaceSection,
+    transform: Option<Spanned<TransformSection>>,
+    array: Option<Spanned<ArraySection>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct GroupSection {
+    name: Option<String>,
+    transform: Option<Spanned<TransformSection>>,
+    array: Option<Spanned<ArraySection>>,
+    #[serde(default)]
+    object: Vec<ObjectSection>,
+    #[serde(default)]
+    group: Vec<GroupSection>,
+    #[serde(default)]
+    include: Vec<IncludeSection>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct IncludeSection {
+    file: Spanned<String>,
+    name: Option<String>,
+    transform: Option<Spanned<TransformSection>>,
+    array: Option<Spanned<ArraySection>>,
+}
+
+/// The placeable entries of a file or group.
+#[derive(Debug, Default)]
+pub(super) struct Items {
+    pub object: Vec<ObjectSection>,
+    pub group: Vec<GroupSection>,
+    pub include: Vec<IncludeSection>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TransformSection {
+    scale: Option<Scale>,
+    rotate: Option<RotateSection>,
+    translate: Option<Vector>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RotateSection {
+    axis: Vector,
+    angle_deg: Finite,
+}
+
+/// A scale factor: one number (uniform) or three (per axis).
+#[derive(Debug)]
+struct Scale(DVec3);
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Either {
+            Uniform(f64),
+            PerAxis([f64; 3]),
+        }
+        let v = match Either::deserialize(d).map_err(|_| {
+            de::Error::custom("expected a scale factor or three of them, [sx, sy, sz]")
+        })? {
+            Either::Uniform(s) => DVec3::splat(s),
+            Either::PerAxis(s) => DVec3::from(s),
+        };
+        if v.abs().max_element() <= super::values::MAX_MAGNITUDE {
+            Ok(Scale(v))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected finite scale factors of magnitude at most 1e15, got {v}"
+            )))
+        }
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ArraySection {
+    vectors: Vec<Vector>,
+    counts: Vec<Count>,
+    #[serde(default)]
+    centred: bool,
+}
+
+/// A number of copies: a positive whole number.
+#[derive(Debug, Clone, Copy)]
+struct Count(u64);
+
+impl<'de> Deserialize<'de> for Count {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let n = i64::deserialize(d)?;
+        if n >= 1 && n as u64 <= MAX_ARRAY_ELEMENTS {
+            Ok(Count(n as u64))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a number of copies from 1 to {MAX_ARRAY_ELEMENTS}, got {n}"
+            )))
+        }
+    }
+}
+
+/// Objects with their arrays (ranges into `objects`).
+#[derive(Debug, Default)]
+pub(super) struct Placed {
+    pub objects: Vec<SceneObject>,
+    pub arrays: Vec<ObjectArray>,
+}
+
+impl Placed {
+    fn append(&mut self, other: Placed) {
+        let shift = self.objects.len();
+        self.objects.extend(other.objects);
+        self.arrays
+            .extend(other.arrays.into_iter().map(|a| ObjectArray {
+                objects: a.objects.start + shift..a.objects.end + shift,
+                offsets: a.offsets,
+            }));
+    }
+
+    /// Every object repeated at each of `offsets`: objects in no array become one new array;
+    /// an existing array's copies are repeated (its offsets become all the sums).
+    fn repeat(self, offsets: &[DVec3]) -> Result<Placed, String> {
+        let mut in_array = vec![false; self.objects.len()];
+        for a in &self.arrays {
+            in_array[a.objects.clone()].fill(true);
+        }
+        let mut slots: Vec<Option<SceneObject>> = self.objects.into_iter().map(Some).collect();
+        let mut take = |range: Range<usize>| -> Vec<SceneObject> {
+            slots[range].iter_mut().filter_map(Option::take).collect()
+        };
+        let mut out = Placed::default();
+        let plain: Vec<SceneObject> = in_array
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| !**a)
+            .flat_map(|(i, _)| take(i..i + 1))
+            .collect();
+        if !plain.is_empty() {
+            out.arrays.push(ObjectArray {
+                objects: 0..plain.len(),
+                offsets: offsets.to_vec(),
+            });
+            out.objects = plain;
+        }
+        for a in self.arrays {
+            let total = a.offsets.len() as u64 * offsets.len() as u64;
+            if total > MAX_ARRAY_ELEMENTS {
+                return Err(format!(
+                    "an array of arrays with {total} copies; at most {MAX_ARRAY_ELEMENTS} are supported"
+                ));
+            }
+            let start = out.objects.len();
+            out.objects.extend(take(a.objects));
+            out.arrays.push(ObjectArray {
+                objects: start..out.objects.len(),
+                offsets: offsets
+                    .iter()
+                    .flat_map(|o| a.offsets.iter().map(move |e| *e + *o))
+                    .collect(),
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// Places the items of scene files, following includes.
+pub(super) struct Placer {
+    /// The files being included, outermost first (to detect cycles).
+    stack: Vec<PathBuf>,
+    /// Objects placed so far (numbers unnamed objects).
+    count: usize,
+}
+
+impl Placer {
+    pub(super) fn new(top: &Path) -> Placer {
+        Placer {
+            stack: vec![top.canonicalize().unwrap_or_else(|_| top.to_path_buf())],
+            count: 0,
+        }
+    }
+
+    /// Places `items` of the file `source` under the map `parent`; names get `prefix`.
+    pub(super) fn items(
+        &mut self,
+        source: &Source,
+        items: Items,
+        parent: &Transform,
+        prefix: &str,
+    ) -> Result<Placed, SceneFileError> {
+        let mut placed = Placed::default();
+        for o in items.object {
+            placed.append(self.object(source, o, parent, prefix)?);
+        }
+        for g in items.group {
+            let name = join(prefix, g.name.as_deref());
+            let (own, offsets) = self.placement(source, g.transform, g.array, parent, &name)?;
+            let members = Items {
+                object: g.object,
+                group: g.group,
+                include: g.include,
+            };
+            let inner = self.items(source, members, &own, &name)?;
+            placed.append(self.repeat(source, inner, offsets, &name)?);
+        }
+        for i in items.include {
+            let name = join(prefix, i.name.as_deref());
+            let (own, offsets) = self.placement(source, i.transform, i.array, parent, &name)?;
+            let span = i.file.span();
+            let path = source.dir().join(i.file.into_inner());
+            let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+            if self.stack.contains(&key) {
+                let chain: Vec<String> = self
+                    .stack
+                    .iter()
+                    .chain([&key])
+                    .map(|p| p.display().to_string())
+                    .collect();
+                return Err(source.error(
+                    Some(span),
+                    format!("include cycle: {}", chain.join(" -> ")),
+                ));
+            }
+            let (included, file) = super::read(&path, &[])
+                .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
+            self.stack.push(key);
+            let inner = self.items(&included, file.items(), &own, &name)?;
+            self.stack.pop();
+            placed.append(self.repeat(source, inner, offsets, &name)?);
+        }
+        Ok(placed)
+    }
+
+    fn object(
+        &mut self,
+        source: &Source,
+        o: ObjectSection,
+        parent: &Transform,
+        prefix: &str,
+    ) -> Result<Placed, SceneFileError> {
+        self.count += 1;
+        let name = o
+            .name
+            .map_or_else(|| join(prefix, Some(&format!("object {}", self.count))), |n| {
+                join(prefix, Some(&n))
+            });
+        let transform_span = o.transform.as_ref().map(Spanned::span);
+        let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
+        let shape_span = o.shape.span();
+        let parts = o
+            .shape
+            .into_inner()
+            .build(source.dir())
+            .map_err(|e| source.error(Some(shape_span.clone()), format!("object '{name}': {e}")))?;
+        let surface = o.surface.build();
+        let mut placed = Placed::default();
+        for (part, shape) in parts {
+            let shape = own.shape(&shape).map_err(|e| {
+                source.error(
+                    transform_span.clone().or(Some(shape_span.clone())),
+                    format!("object '{name}': {e}"),
+                )
+            })?;
+            placed.objects.push(SceneObject {
+                name: if part.is_empty() {
+                    name.clone()
+                } else {
+                    format!("{name}/{part}")
+                },
+                shape,
+                surface: surface.clone(),
+                shadow_throwing: o.shadow_throwing,
+            });
+        }
+        self.repeat(source, placed, offsets, &name)
+    }
+
+    /// The entry's own map (its transform, then `parent`) and its array's offsets in world
+    /// coordinates, if it has an array.
+    fn placement(
+        &self,
+        source: &Source,
+        transform: Option<Spanned<TransformSection>>,
+        array: Option<Spanned<ArraySection>>,
+        parent: &Transform,
+        name: &str,
+    ) -> Result<(Transform, Option<(Range<usize>, Vec<DVec3>)>), SceneFileError> {
+        let own = match transform {
+            Some(t) => {
+                let span = t.span();
+                t.into_inner()
+                    .build()
+                    .map_err(|e| source.error(Some(span), format!("'{name}': {e}")))?
+                    .then(parent)
+            }
+            None => *parent,
+        };
+        let offsets = match array {
+            Some(a) => {
+                let span = a.span();
+                let local = a
+                    .into_inner()
+                    .offsets()
+                    .map_err(|e| source.error(Some(span.clone()), format!("'{name}': {e}")))?;
+                Some((span, local.into_iter().map(|o| parent.vector(o)).collect()))
+            }
+            None => None,
+        };
+        Ok((own, offsets))
+    }
+
+    fn repeat(
+        &self,
+        source: &Source,
+        placed: Placed,
+        offsets: Option<(Range<usize>, Vec<DVec3>)>,
+        name: &str,
+    ) -> Result<Placed, SceneFileError> {
+        match offsets {
+            Some((span, offsets)) => placed
+                .repeat(&offsets)
+                .map_err(|e| source.error(Some(span), format!("'{name}': {e}"))),
+            None => Ok(placed),
+        }
+    }
+}
+
+fn join(prefix: &str, name: Option<&str>) -> String {
+    match (prefix.is_empty(), name) {
+        (_, None) => prefix.to_string(),
+        (true, Some(n)) => n.to_string(),
+        (false, Some(n)) => format!("{prefix}/{n}"),
+    }
+}
+
+impl TransformSection {
+    fn build(self) -> Result<Transform, crate::geometry::GeometryError> {
+        let (axis, angle) = self
+            .rotate
+            .map_or((DVec3::Z, 0.0), |r| (r.axis.0, r.angle_deg.0.to_radians()));
+        Transform::new(
+            self.scale.map_or(DVec3::ONE, |s| s.0),
+            axis,
+            angle,
+            self.translate.map_or(DVec3::ZERO, |t| t.0),
+        )
+    }
+}
+
+impl ArraySection {
+    /// The offsets of all copies: i·a + j·b + k·c for i < n_a, j < n_b, k < n_c (first vector
+    /// fastest), shifted by half the extent when centred.
+    fn offsets(self) -> Result<Vec<DVec3>, String> {
+        let n = self.vectors.len();
+        if !(1..=3).contains(&n) {
+            return Err(format!("an array needs 1, 2 or 3 vectors, got {n}"));
+        }
+        if self.counts.len() != n {
+            return Err(format!(
+                "an array needs one count per vector: {n} vectors, {} counts",
+                self.counts.len()
+            ));
+        }
+        if let Some(i) = self.vectors.iter().position(|v| v.0 == DVec3::ZERO) {
+            return Err(format!("array vector {} is zero", i + 1));
+        }
+        let total = self.counts.iter().map(|c| c.0).product::<u64>();
+        if total > MAX_ARRAY_ELEMENTS {
+            return Err(format!(
+                "the array has {total} copies; at most {MAX_ARRAY_ELEMENTS} are supported"
+            ));
+        }
+        let start = if self.centred {
+            self.vectors
+                .iter()
+                .zip(&self.counts)
+                .map(|(v, c)| -0.5 * (c.0 - 1) as f64 * v.0)
+                .sum()
+        } else {
+            DVec3::ZERO
+        };
+        let mut offsets = vec![start];
+        for (v, c) in self.vectors.iter().zip(&self.counts) {
+            offsets = (0..c.0)
+                .flat_map(|i| offsets.iter().map(move |o| *o + i as f64 * v.0))
+                .collect();
+        }
+        Ok(offsets)
+    }
+}

@@ -1,0 +1,123 @@
+//! Shapes in scene files (`shape = { type = ..., ... }`), including mesh files.
+
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::values::{Positive, Vector};
+use crate::geometry::{
+    Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, TriangleMesh,
+};
+use crate::mesh;
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub(super) enum ShapeSection {
+    Sphere {
+        centre: Vector,
+        radius: Positive,
+    },
+    Plane {
+        point: Vector,
+        normal: Vector,
+        u_direction: Option<Vector>,
+    },
+    Disc {
+        centre: Vector,
+        normal: Vector,
+        radius: Positive,
+    },
+    Cylinder {
+        start: Vector,
+        end: Vector,
+        radius: Positive,
+    },
+    Parallelogram {
+        corner: Vector,
+        span_u: Vector,
+        span_v: Vector,
+    },
+    TriangleMesh {
+        vertices: Vec<Vector>,
+        triangles: Vec<[u32; 3]>,
+    },
+    /// A mesh file (OBJ or PLY), relative to the scene file.
+    Mesh {
+        file: String,
+        /// Shade with the file's vertex normals, if it has them.
+        #[serde(default = "super::yes")]
+        smooth: bool,
+    },
+}
+
+impl ShapeSection {
+    /// The shape, or for a mesh file one shape per object or group in the file, with the part's
+    /// name ("" for a single part). Mesh paths are relative to `dir`.
+    pub(super) fn build(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {
+        let shape = match self {
+            ShapeSection::Mesh { file, smooth } => return load_mesh(&dir.join(file), smooth),
+            other => other.build_analytic(),
+        };
+        shape.map(|s| vec![(String::new(), s)]).map_err(|e| e.to_string())
+    }
+
+    fn build_analytic(self) -> Result<Shape, GeometryError> {
+        Ok(match self {
+            ShapeSection::Sphere { centre, radius } => {
+                Shape::Sphere(Sphere::new(centre.0, radius.0)?)
+            }
+            ShapeSection::Plane {
+                point,
+                normal,
+                u_direction,
+            } => {
+                let u = u_direction.map_or_else(|| normal.0.any_orthogonal_vector(), |u| u.0);
+                Shape::Plane(Plane::new(point.0, normal.0, u)?)
+            }
+            ShapeSection::Disc {
+                centre,
+                normal,
+                radius,
+            } => Shape::Disc(Disc::new(centre.0, normal.0, radius.0)?),
+            ShapeSection::Cylinder { start, end, radius } => {
+                Shape::Cylinder(Cylinder::new(start.0, end.0, radius.0)?)
+            }
+            ShapeSection::Parallelogram {
+                corner,
+                span_u,
+                span_v,
+            } => Shape::Parallelogram(Parallelogram::new(corner.0, span_u.0, span_v.0)?),
+            ShapeSection::TriangleMesh {
+                vertices,
+                triangles,
+            } => Shape::TriangleMesh(TriangleMesh::new(
+                vertices.into_iter().map(|v| v.0).collect(),
+                triangles,
+            )?),
+            ShapeSection::Mesh { .. } => unreachable!("mesh files are loaded by `build`"),
+        })
+    }
+}
+
+/// The parts of a mesh file as triangle meshes.
+fn load_mesh(path: &Path, smooth: bool) -> Result<Vec<(String, Shape)>, String> {
+    let meshes = mesh::load(path).map_err(|e| e.to_string())?;
+    let single = meshes.len() == 1;
+    meshes
+        .into_iter()
+        .enumerate()
+        .filter(|(_, m)| !m.triangles.is_empty())
+        .map(|(i, m)| {
+            let name = match (single, m.name.is_empty()) {
+                (true, _) => String::new(),
+                (false, true) => format!("part {}", i + 1),
+                (false, false) => m.name.clone(),
+            };
+            let normals = m.normals.filter(|_| smooth);
+            TriangleMesh::with_normals(m.vertices, m.triangles, normals)
+                .map(|t| (name, Shape::TriangleMesh(t)))
+                .map_err(|e| format!("{}: {e}", path.display()))
+        })
+        .collect()
+}
+
