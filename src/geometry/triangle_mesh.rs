@@ -208,3 +208,69 @@ impl TriangleMesh {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(normals: Option<Vec<DVec3>>) -> TriangleMesh {
+        let v = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
+        TriangleMesh::with_normals(v, vec![[0, 1, 2]], normals).unwrap()
+    }
+
+    #[test]
+    fn vertex_normals_are_interpolated_barycentrically() {
+        let n = [
+            DVec3::new(-1.0, 0.0, 1.0).normalize(),
+            DVec3::new(1.0, 0.0, 1.0).normalize(),
+            DVec3::new(0.0, 1.0, 1.0).normalize(),
+        ];
+        let m = triangle(Some(n.to_vec()));
+        // At each corner the corner's own normal ...
+        for (p, n) in [DVec3::ZERO, DVec3::X, DVec3::Y].into_iter().zip(n) {
+            assert!((m.frame(p, 0).w - n).length() < 1e-12);
+        }
+        // ... and in between the normalised weighted sum.
+        let p = DVec3::new(0.25, 0.5, 0.0);
+        let w = (0.25 * n[0] + 0.25 * n[1] + 0.5 * n[2]).normalize();
+        let f = m.frame(p, 0);
+        assert!((f.w - w).length() < 1e-12);
+        assert!(f.u.dot(f.w).abs() < 1e-12 && (f.u.cross(f.v) - f.w).length() < 1e-12);
+    }
+
+    #[test]
+    fn inward_vertex_normals_are_turned_outwards_and_flat_meshes_use_the_winding() {
+        let m = triangle(Some(vec![DVec3::NEG_Z; 3]));
+        assert_eq!(m.frame(DVec3::new(0.2, 0.2, 0.0), 0).w, DVec3::Z);
+        let flat = triangle(None);
+        assert_eq!(flat.frame(DVec3::new(0.2, 0.2, 0.0), 0).w, DVec3::Z);
+        // A zero normal disables smooth shading for the whole mesh.
+        let bad = triangle(Some(vec![DVec3::X, DVec3::ZERO, DVec3::X]));
+        assert!(bad.normals().is_none());
+    }
+
+    #[test]
+    fn zero_area_triangles_are_left_out_and_counted() {
+        let v = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(2.0, 0.0, 0.0)];
+        let m = TriangleMesh::new(v.clone(), vec![[0, 1, 2], [0, 1, 3], [2, 2, 1]]).unwrap();
+        assert_eq!(
+            (m.triangles(), m.removed_degenerate()),
+            (&[[0, 1, 2]][..], 2)
+        );
+        let e = TriangleMesh::new(v, vec![[0, 1, 3]])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("all 1 triangles of the mesh have zero area"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_reflection_reverses_the_winding() {
+        let mirror =
+            Transform::new(DVec3::new(1.0, 1.0, -1.0), DVec3::Z, 0.0, DVec3::ZERO).unwrap();
+        let m = triangle(None).transformed(&mirror).unwrap();
+        assert_eq!(m.frame(DVec3::new(0.2, 0.2, 0.0), 0).w, DVec3::NEG_Z);
+    }
+}
