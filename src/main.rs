@@ -10,10 +10,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
-use timbre::render::render;
-use timbre::scene::studio::Studio;
 use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::render::render;
 use timbre::scene::file::{self, Override};
+use timbre::scene::studio::Studio;
 use timbre::scene::{Scene, SceneDescription};
 
 #[derive(Parser)]
@@ -252,7 +252,11 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     println!("{}: OK", scene.display());
     println!("  objects:      {}", s.objects);
     println!("  triangles:    {}", s.triangles);
-    println!("  instances:    {} (in {} arrays)", s.instances, description.arrays.len());
+    println!(
+        "  instances:    {} (in {} arrays)",
+        s.instances,
+        description.arrays.len()
+    );
     match s.bounds {
         Some((lo, hi)) => println!(
             "  bounding box: [{}, {}, {}] to [{}, {}, {}]{}",

@@ -2,9 +2,9 @@
 //! materials and texture coordinates ignored) and written with one `v` (and `vn`) line per
 //! vertex.
 //!
-//! `tobj` reports what went wrong but not where, so when it fails (or a coordinate is not
-//! finite) the text is scanned again for the first offending line.
+//! `tobj` reports what went wrong but not where, so the text is checked line by line first.
 
+use std::borrow::Cow;
 use std::io::Write;
 
 use glam::DVec3;
@@ -12,29 +12,35 @@ use glam::DVec3;
 use super::{Mesh, ParseProblem, check_finite};
 
 pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|_| ParseProblem::new("", "not a text file (invalid UTF-8)"))?;
+    let faces_only = check(text)?;
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj_buf(&mut &bytes[..], &options, |_| {
+    let (models, _materials) = tobj::load_obj_buf(&mut faces_only.as_bytes(), &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
-    .map_err(|e| locate(bytes, e))?;
+    .map_err(|e| ParseProblem::new("", format!("invalid OBJ file: {e}")))?;
 
     let mut meshes = Vec::with_capacity(models.len());
     for model in models {
         let m = model.mesh;
         let vertices = to_points(&m.positions);
-        if check_finite("vertex", &vertices, |_| String::new()).is_err() {
-            return Err(non_finite(bytes));
-        }
+        check_finite("vertex", &vertices, |_| String::new())?;
         let normals = (m.normals.len() == m.positions.len())
             .then(|| to_points(&m.normals))
             .filter(|n| n.iter().all(|n| n.is_finite()));
         meshes.push(Mesh {
-            name: model.name,
+            // tobj names the objects of a file that names none "unnamed_object".
+            name: if model.name == "unnamed_object" {
+                String::new()
+            } else {
+                model.name
+            },
             vertices,
             triangles: m
                 .indices
@@ -51,74 +57,110 @@ fn to_points(xyz: &[f64]) -> Vec<DVec3> {
     xyz.chunks_exact(3).map(DVec3::from_slice).collect()
 }
 
-/// The numbered lines of the file (1-based) that start with `keyword`, and the rest of each.
-fn lines_with<'a>(text: &'a str, keyword: &'a str) -> impl Iterator<Item = (usize, &'a str)> {
-    text.lines().enumerate().filter_map(move |(i, line)| {
-        let mut words = line.trim_start().splitn(2, char::is_whitespace);
-        (words.next() == Some(keyword)).then(|| (i + 1, words.next().unwrap_or("")))
-    })
-}
-
-fn parses_as_numbers(rest: &str, n: usize) -> bool {
-    let words: Vec<&str> = rest.split_whitespace().collect();
-    words.len() >= n && words[..n].iter().all(|w| w.parse::<f64>().is_ok())
-}
-
-/// Turns a `tobj` error into a message with the line it comes from, where that can be found.
-fn locate(bytes: &[u8], error: tobj::LoadError) -> ParseProblem {
-    let Ok(text) = std::str::from_utf8(bytes) else {
-        return ParseProblem::new("", "not a text file (invalid UTF-8)");
-    };
-    let vertex_count = lines_with(text, "v").count();
-    let found = match error {
-        tobj::LoadError::PositionParseError => lines_with(text, "v")
-            .find(|(_, rest)| !parses_as_numbers(rest, 3))
-            .map(|(line, _)| (line, "a vertex needs three numbers x y z".to_string())),
-        tobj::LoadError::NormalParseError => lines_with(text, "vn")
-            .find(|(_, rest)| !parses_as_numbers(rest, 3))
-            .map(|(line, _)| (line, "a normal needs three numbers x y z".to_string())),
-        tobj::LoadError::FaceVertexOutOfBounds | tobj::LoadError::FaceParseError => {
-            lines_with(text, "f").find_map(|(line, rest)| {
-                bad_face(rest, vertex_count).map(|message| (line, message))
-            })
+/// Checks every vertex, normal and face line (`tobj` reports errors without a line number),
+/// and returns the text with point (`p`) and polyline (`l`) lines blanked: `tobj` would read
+/// those of three or more points as polygons.
+fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
+    let mut counts = [0i64; 3]; // v, vt, vn read so far
+    let mut blanked = false;
+    for (i, line) in text.lines().enumerate() {
+        let at = |message: String| ParseProblem::new(format!("line {}", i + 1), message);
+        let mut words = line.split_whitespace();
+        let keyword = words.next().unwrap_or("");
+        let words: Vec<&str> = words.collect();
+        let numbers = || -> Result<Vec<f64>, ParseProblem> {
+            words
+                .iter()
+                .map(|w| {
+                    w.parse::<f64>()
+                        .map_err(|_| at(format!("'{w}' is not a number")))
+                })
+                .collect()
+        };
+        match keyword {
+            "v" => {
+                let x = numbers()?;
+                let p = match x.len() {
+                    3 | 6 => DVec3::new(x[0], x[1], x[2]),
+                    4 | 7 if x[3] == 0.0 => return Err(at("a vertex with w = 0".into())),
+                    4 | 7 => DVec3::new(x[0], x[1], x[2]) / x[3],
+                    n => {
+                        return Err(at(format!(
+                            "a vertex needs x y z, optionally w and r g b; got {n} numbers"
+                        )));
+                    }
+                };
+                if !p.is_finite() {
+                    return Err(at("a vertex coordinate is not finite".into()));
+                }
+                counts[0] += 1;
+            }
+            "vt" => {
+                numbers()?;
+                counts[1] += 1;
+            }
+            "vn" => {
+                if numbers()?.len() != 3 {
+                    return Err(at("a normal needs three numbers x y z".into()));
+                }
+                counts[2] += 1;
+            }
+            "f" => {
+                if words.len() < 3 {
+                    return Err(at(format!(
+                        "a face needs at least 3 vertices, got {}",
+                        words.len()
+                    )));
+                }
+                for word in &words {
+                    check_reference(word, &counts).map_err(at)?;
+                }
+            }
+            "l" | "p" => blanked = true,
+            _ => {}
         }
-        _ => None,
-    };
-    match found {
-        Some((line, message)) => ParseProblem::new(format!("line {line}"), message),
-        None => ParseProblem::new("", format!("invalid OBJ file: {error}")),
     }
+    if !blanked {
+        return Ok(Cow::Borrowed(text));
+    }
+    let kept: Vec<&str> = text
+        .lines()
+        .map(|line| match line.split_whitespace().next() {
+            Some("l" | "p") => "",
+            _ => line,
+        })
+        .collect();
+    Ok(Cow::Owned(kept.join("\n")))
 }
 
-/// What is wrong with a face line's vertex references, if anything.
-fn bad_face(rest: &str, vertex_count: usize) -> Option<String> {
-    let n = vertex_count as i64;
-    for word in rest.split_whitespace() {
-        let index = word.split('/').next().unwrap_or("");
-        match index.parse::<i64>() {
+/// Checks a face's vertex reference `v`, `v/vt`, `v//vn` or `v/vt/vn` against the vertices,
+/// texture coordinates and normals read so far (negative indices count back from the last).
+fn check_reference(word: &str, counts: &[i64; 3]) -> Result<(), String> {
+    const WHAT: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let parts: Vec<&str> = word.split('/').collect();
+    if parts.len() > 3 || parts[0].is_empty() {
+        return Err(format!("'{word}' is not a vertex reference"));
+    }
+    for (k, part) in parts.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
+        let n = counts[k];
+        match part.parse::<i64>() {
             Ok(i) if (1..=n).contains(&i) || (-n..=-1).contains(&i) => {}
-            Ok(i) => {
-                return Some(format!(
-                    "face refers to vertex {i}, but the file has {vertex_count} vertices"
+            Ok(0) => {
+                return Err(format!(
+                    "face refers to {} 0, but indices count from 1",
+                    WHAT[k]
                 ));
             }
-            Err(_) => return Some(format!("'{word}' is not a vertex reference")),
+            Ok(i) => {
+                return Err(format!(
+                    "face refers to {} {i}, but {n} are defined before this line",
+                    WHAT[k]
+                ));
+            }
+            Err(_) => return Err(format!("'{word}' is not a vertex reference")),
         }
     }
-    None
-}
-
-/// The error for a vertex with a non-finite coordinate, at its line.
-fn non_finite(bytes: &[u8]) -> ParseProblem {
-    let text = String::from_utf8_lossy(bytes);
-    let line = lines_with(&text, "v")
-        .find(|(_, rest)| {
-            rest.split_whitespace()
-                .take(3)
-                .any(|w| w.parse::<f64>().is_ok_and(|x| !x.is_finite()))
-        })
-        .map_or(String::new(), |(line, _)| format!("line {line}"));
-    ParseProblem::new(line, "a vertex coordinate is not finite")
+    Ok(())
 }
 
 pub(super) fn write(out: &mut impl Write, mesh: &Mesh) -> std::io::Result<()> {

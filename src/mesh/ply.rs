@@ -231,7 +231,15 @@ fn problem(e: ply_rs_bw::parser::ParseError, lines_mean_something: bool) -> Pars
     let message = text
         .strip_prefix(&format!("Line {}: ", e.line().unwrap_or(0)))
         .unwrap_or(&text);
-    ParseProblem::new(location, format!("invalid PLY file: {}", message.trim()))
+    // ply-rs-bw's messages run over several tab-indented lines.
+    let message: Vec<&str> = message
+        .split(['\n', '\t'])
+        .filter(|m| !m.trim().is_empty())
+        .collect();
+    ParseProblem::new(
+        location,
+        format!("invalid PLY file: {}", message.join(" ").trim()),
+    )
 }
 
 pub(super) fn write(

@@ -77,7 +77,9 @@ impl SceneDescription {
             match o.shape.bounds() {
                 Some(_) if n == 0 => {}
                 Some((a, b)) => {
-                    let (l, h) = summary.bounds.unwrap_or((DVec3::INFINITY, DVec3::NEG_INFINITY));
+                    let (l, h) = summary
+                        .bounds
+                        .unwrap_or((DVec3::INFINITY, DVec3::NEG_INFINITY));
                     summary.bounds = Some((l.min(a + lo), h.max(b + hi)));
                 }
                 None => summary.unbounded += 1,

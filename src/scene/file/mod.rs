@@ -89,7 +89,11 @@ impl Source {
     /// An error at `span` (the start of the file when `None`).
     fn error(&self, span: Option<Range<usize>>, message: String) -> SceneFileError {
         if !self.overrides.is_empty() {
-            let list: Vec<String> = self.overrides.iter().map(|o| format!("--set {o}")).collect();
+            let list: Vec<String> = self
+                .overrides
+                .iter()
+                .map(|o| format!("--set {o}"))
+                .collect();
             return SceneFileError::Overridden {
                 path: self.path.clone(),
                 overrides: list.join(" "),
@@ -107,8 +111,7 @@ impl Source {
 
     /// Deserialises the text into `File`.
     fn file(&self) -> Result<File, SceneFileError> {
-        toml::from_str(&self.text)
-            .map_err(|e| self.error(e.span(), e.message().trim().to_string()))
+        toml::from_str(&self.text).map_err(|e| self.error(e.span(), e.message().trim().to_string()))
     }
 }
 
@@ -320,12 +323,10 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
     };
     let placed = Placer::new(path).items(source, items, &Transform::IDENTITY, "")?;
     scene.objects.extend(placed.objects);
-    scene
-        .arrays
-        .extend(placed.arrays.into_iter().map(|mut a| {
-            a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
-            a
-        }));
+    scene.arrays.extend(placed.arrays.into_iter().map(|mut a| {
+        a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
+        a
+    }));
     Ok(scene)
 }
 

@@ -25,7 +25,11 @@ impl FromStr for Override {
         let (key, value) = s
             .split_once('=')
             .ok_or_else(|| format!("'{s}' is not of the form key=value"))?;
-        let key: Vec<String> = key.trim().split('.').map(|k| k.trim().to_string()).collect();
+        let key: Vec<String> = key
+            .trim()
+            .split('.')
+            .map(|k| k.trim().to_string())
+            .collect();
         if key.iter().any(String::is_empty) {
             return Err(format!("'{s}': the key has an empty part"));
         }
@@ -71,7 +75,10 @@ fn set(root: &mut Table, o: &Override) -> Result<(), String> {
             a[i] = o.value.clone();
             Ok(())
         }
-        other => Err(format!("'{last}' cannot be set inside a value of type {}", other.type_str())),
+        other => Err(format!(
+            "'{last}' cannot be set inside a value of type {}",
+            other.type_str()
+        )),
     });
     if let Value::Table(t) = here {
         *root = t;
@@ -92,7 +99,12 @@ fn descend<'a>(here: &'a mut Value, path: &[String]) -> Result<&'a mut Value, St
             let i = index(first, a.len())?;
             &mut a[i]
         }
-        other => return Err(format!("'{first}' cannot be set inside a value of type {}", other.type_str())),
+        other => {
+            return Err(format!(
+                "'{first}' cannot be set inside a value of type {}",
+                other.type_str()
+            ));
+        }
     };
     descend(next, rest)
 }
@@ -101,7 +113,9 @@ fn index(key: &str, len: usize) -> Result<usize, String> {
     match key.parse::<usize>() {
         Ok(i) if i < len => Ok(i),
         Ok(i) => Err(format!("index {i} is beyond the {len} entries")),
-        Err(_) => Err(format!("'{key}' selects an array entry, so it must be an index")),
+        Err(_) => Err(format!(
+            "'{key}' selects an array entry, so it must be an index"
+        )),
     }
 }
 
@@ -136,6 +150,9 @@ mod tests {
         let e = apply_one(text, "object.2.name=c").unwrap_err();
         assert!(e.contains("index 2 is beyond the 2 entries"), "{e}");
         let e = apply_one(text, "render.width.x=1").unwrap_err();
-        assert!(e.contains("'x' cannot be set inside a value of type integer"), "{e}");
+        assert!(
+            e.contains("'x' cannot be set inside a value of type integer"),
+            "{e}"
+        );
     }
 }

@@ -201,6 +201,9 @@ impl Placed {
     }
 }
 
+/// An entry's array: its span in the file and the world offsets of its copies.
+type Copies = (Range<usize>, Vec<DVec3>);
+
 /// Places the items of scene files, following includes.
 pub(super) struct Placer {
     /// The files being included, outermost first (to detect cycles).
@@ -253,10 +256,9 @@ impl Placer {
                     .chain([&key])
                     .map(|p| p.display().to_string())
                     .collect();
-                return Err(source.error(
-                    Some(span),
-                    format!("include cycle: {}", chain.join(" -> ")),
-                ));
+                return Err(
+                    source.error(Some(span), format!("include cycle: {}", chain.join(" -> ")))
+                );
             }
             let (included, file) = super::read(&path, &[])
                 .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
@@ -276,19 +278,17 @@ impl Placer {
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
-        let name = o
-            .name
-            .map_or_else(|| join(prefix, Some(&format!("object {}", self.count))), |n| {
-                join(prefix, Some(&n))
-            });
+        let name = o.name.map_or_else(
+            || join(prefix, Some(&format!("object {}", self.count))),
+            |n| join(prefix, Some(&n)),
+        );
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
-        let parts = o
-            .shape
-            .into_inner()
-            .build(source.dir())
-            .map_err(|e| source.error(Some(shape_span.clone()), format!("object '{name}': {e}")))?;
+        let parts =
+            o.shape.into_inner().build(source.dir()).map_err(|e| {
+                source.error(Some(shape_span.clone()), format!("object '{name}': {e}"))
+            })?;
         let surface = o.surface.build();
         let mut placed = Placed::default();
         for (part, shape) in parts {
@@ -321,7 +321,7 @@ impl Placer {
         array: Option<Spanned<ArraySection>>,
         parent: &Transform,
         name: &str,
-    ) -> Result<(Transform, Option<(Range<usize>, Vec<DVec3>)>), SceneFileError> {
+    ) -> Result<(Transform, Option<Copies>), SceneFileError> {
         let own = match transform {
             Some(t) => {
                 let span = t.span();
@@ -350,7 +350,7 @@ impl Placer {
         &self,
         source: &Source,
         placed: Placed,
-        offsets: Option<(Range<usize>, Vec<DVec3>)>,
+        offsets: Option<Copies>,
         name: &str,
     ) -> Result<Placed, SceneFileError> {
         match offsets {
@@ -401,8 +401,9 @@ impl ArraySection {
         if let Some(i) = self.vectors.iter().position(|v| v.0 == DVec3::ZERO) {
             return Err(format!("array vector {} is zero", i + 1));
         }
-        let total = self.counts.iter().map(|c| c.0).product::<u64>();
-        if total > MAX_ARRAY_ELEMENTS {
+        // At most three counts of at most 10^7 each: the product fits in a u128.
+        let total: u128 = self.counts.iter().map(|c| c.0 as u128).product();
+        if total > MAX_ARRAY_ELEMENTS as u128 {
             return Err(format!(
                 "the array has {total} copies; at most {MAX_ARRAY_ELEMENTS} are supported"
             ));

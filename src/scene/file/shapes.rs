@@ -58,7 +58,9 @@ impl ShapeSection {
             ShapeSection::Mesh { file, smooth } => return load_mesh(&dir.join(file), smooth),
             other => other.build_analytic(),
         };
-        shape.map(|s| vec![(String::new(), s)]).map_err(|e| e.to_string())
+        shape
+            .map(|s| vec![(String::new(), s)])
+            .map_err(|e| e.to_string())
     }
 
     fn build_analytic(self) -> Result<Shape, GeometryError> {
@@ -120,4 +122,3 @@ fn load_mesh(path: &Path, smooth: bool) -> Result<Vec<(String, Shape)>, String> 
         })
         .collect()
 }
-

@@ -88,4 +88,3 @@ impl<'de> Deserialize<'de> for Rgb {
         Ok(Rgb(c))
     }
 }
-
