@@ -456,7 +456,9 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     let run = timbre(dir.path(), &["check", text(&good)]);
     run.assert_success();
     let expected = format!(
-        "{}: 1 objects, 0 point lights, 40x30 at 2 spp: OK",
+        "{}: OK\n  objects:      1\n  triangles:    0\n  instances:    0 (in 0 arrays)\n  \
+         bounding box: [-10, -10, -10] to [10, 10, 10]\n  point lights: 0\n  render:       \
+         40x30 at 2 spp",
         good.display()
     );
     assert_eq!(run.stdout.trim_end(), expected);
@@ -465,12 +467,13 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     let lattice = write(&dir, "lattice.toml", "studio = \"lattice\"\n");
     let run = timbre(dir.path(), &["check", text(&lattice)]);
     run.assert_success();
-    assert!(
-        run.stdout
-            .contains(": 50 objects, 1 point lights, 640x480 at 1 spp: OK"),
-        "{}",
-        run.stdout
-    );
+    for line in [
+        "objects:      50",
+        "point lights: 1",
+        "render:       640x480 at 1 spp",
+    ] {
+        assert!(run.stdout.contains(line), "{}", run.stdout);
+    }
 
     let bad = write(
         &dir,
@@ -813,6 +816,9 @@ fn every_example_scene_checks_and_renders() {
         "glass-ball.toml",
         "mirror.toml",
         "shapes.toml",
+        "mesh.toml",
+        "lenslet-array.toml",
+        "sphere-array.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),
@@ -823,7 +829,11 @@ fn every_example_scene_checks_and_renders() {
     for file in &files {
         let run = timbre(dir.path(), &["check", text(file)]);
         run.assert_success();
-        assert!(run.stdout.trim_end().ends_with(": OK"), "{}", run.stdout);
+        assert!(
+            run.stdout.lines().next().unwrap().ends_with(": OK"),
+            "{}",
+            run.stdout
+        );
         let args = [
             "render",
             "-q",
@@ -893,10 +903,11 @@ fn the_scene_format_example_checks() {
     let scene = write(&dir, "example.toml", &doc[start..end]);
     let run = timbre(dir.path(), &["check", text(&scene)]);
     run.assert_success();
-    assert!(
-        run.stdout
-            .contains(": 51 objects, 1 point lights, 640x480 at 4 spp: OK"),
-        "{}",
-        run.stdout
-    );
+    for line in [
+        "objects:      51",
+        "point lights: 1",
+        "render:       640x480 at 4 spp",
+    ] {
+        assert!(run.stdout.contains(line), "{}", run.stdout);
+    }
 }

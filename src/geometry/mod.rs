@@ -475,6 +475,9 @@ impl SceneGeometry {
 
     /// Nearest hit on any object with t_min < t < t_max.
     pub fn nearest(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+        if !embree_can_trace(origin) {
+            return self.brute_force(origin, direction, t_min, t_max, false);
+        }
         let ray = ExactRay { origin, direction };
         let raw = self.top.bvh.intersect(&ray, t_min, t_max, VISIBLE);
         self.complete(raw, &ray, t_min, t_max)
@@ -559,6 +562,11 @@ impl SceneGeometry {
         for (ray, &direction) in rays.iter_mut().zip(directions) {
             ray.direction = direction;
         }
+        if !embree_can_trace(origin) {
+            return std::array::from_fn(|i| {
+                (i < n).then(|| self.nearest(origin, rays[i].direction, t_min, t_max))?
+            });
+        }
         let raw = self.top.bvh.intersect8(&rays[..n], t_min, t_max, VISIBLE);
         std::array::from_fn(|i| {
             if i < n {
@@ -571,6 +579,11 @@ impl SceneGeometry {
 
     /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.
     pub fn shadowed(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> bool {
+        if !embree_can_trace(origin) {
+            return self
+                .brute_force(origin, direction, t_min, t_max, true)
+                .is_some();
+        }
         let ray = ExactRay { origin, direction };
         self.unbounded.iter().any(|&e| {
             self.shadow_throwing[e.0] && self.intersect_element(e, &ray, t_min, t_max).is_some()
@@ -591,9 +604,22 @@ impl SceneGeometry {
         t_min: f64,
         t_max: f64,
     ) -> Option<Hit> {
+        self.brute_force(origin, direction, t_min, t_max, false)
+    }
+
+    /// Nearest hit by a plain f64 loop over all objects (only the shadow-throwing ones when
+    /// `shadow_only`) and array elements.
+    fn brute_force(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+        shadow_only: bool,
+    ) -> Option<Hit> {
         let ray = ExactRay { origin, direction };
         let mut best: Option<Hit> = None;
-        for object in 0..self.shapes.len() {
+        for object in (0..self.shapes.len()).filter(|&i| !shadow_only || self.shadow_throwing[i]) {
             let elements = self.array_of[object].map_or(1, |a| self.arrays[a].offsets.len());
             for element in 0..elements as u32 {
                 let t_max = best.map_or(t_max, |h| h.t);
@@ -604,6 +630,13 @@ impl SceneGeometry {
         }
         best
     }
+}
+
+/// Embree rejects rays whose origin lies beyond about ±1.8e18 (Debian's build aborts the process
+/// on an assertion); such rays (e.g. from a grazing hit on a distant plane) are traced by brute
+/// force.
+fn embree_can_trace(origin: DVec3) -> bool {
+    origin.abs().max_element() <= EMBREE_EXTENT
 }
 
 fn set_geometry(geometries: &mut Vec<Geometry>, id: u32, g: Geometry) {
