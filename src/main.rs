@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
@@ -136,6 +136,19 @@ fn load(scene: Option<&Path>, set: &[Override]) -> Result<SceneDescription, Fail
     }
 }
 
+/// A spinner saying what is going on (loading meshes, building the BVH can take seconds), on a
+/// terminal only.
+fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    // Cleared also when dropped early, by an error.
+    let spinner = ProgressBar::new_spinner().with_finish(ProgressFinish::AndClear);
+    spinner.set_message(message);
+    spinner.enable_steady_tick(std::time::Duration::from_millis(100));
+    spinner
+}
+
 /// Peak resident memory of this process (Linux), e.g. "1.25 GiB".
 fn peak_memory() -> Option<String> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -146,7 +159,9 @@ fn peak_memory() -> Option<String> {
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let loading = Instant::now();
+    let waiting = spinner(args.quiet, "loading the scene");
     let mut description = load(args.scene.as_deref(), &args.set)?;
+    waiting.finish_and_clear();
     let load_seconds = loading.elapsed().as_secs_f64();
     if !args.quiet {
         for w in description.warnings() {
@@ -185,7 +200,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     }
     .map_err(internal)?;
     let building = Instant::now();
+    let waiting = spinner(args.quiet, "building the BVH");
     let scene = Scene::build(&device, &description).map_err(internal)?;
+    waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
 
     let pixels = settings.width as u64 * settings.height as u64;
@@ -243,7 +260,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
 }
 
 fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
+    let waiting = spinner(false, "loading the scene");
     let description = load(Some(scene), set)?;
+    waiting.finish_and_clear();
     for w in description.warnings() {
         eprintln!("timbre: warning: {w}");
     }
