@@ -43,18 +43,23 @@
 mod common;
 
 use std::cell::Cell;
-use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
-use common::{AXES, config, log_uniform, normal_vector, point_in, unit_vector};
-use timbre::embree::Device;
+use common::rays::{
+    Query, box_interval, check_packet, close, device, interval_ends_do_not_matter, same_hit,
+    sample_point, self_hit_margin, surface_point,
+};
+use common::rng::Rng;
+use common::{
+    AXES, config, cylinder_shape, disc_shape, log_uniform, mesh_parts, normal_vector,
+    parallelogram_shape, point_in, sphere_shape, unit_vector,
+};
 use timbre::geometry::{
-    Cylinder, Disc, Hit, ObjectArray, Parallelogram, Plane, SceneGeometry, Shape, Sphere,
-    TriangleMesh,
+    Cylinder, Hit, ObjectArray, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
 };
 
 /// Relative size of the ray perturbation that decides robustness (see the module comment).
@@ -66,62 +71,8 @@ const ANALYTIC_T: f64 = 1e-12;
 /// Relative agreement of t for triangles (Embree's f32 hit recomputed in f64).
 const MESH_T: f64 = 1e-9;
 
-fn device() -> &'static Device {
-    static DEVICE: OnceLock<Device> = OnceLock::new();
-    DEVICE.get_or_init(|| Device::new("").expect("an Embree device"))
-}
-
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * (1.0 + a.abs().max(b.abs()))
-}
-
 fn sphere(c: DVec3, r: f64) -> Shape {
     Shape::Sphere(Sphere::new(c, r).unwrap())
-}
-
-// ---------------------------------------------------------------------------------------------
-// Random numbers for rays (a scene case carries a seed; rays are drawn from it)
-// ---------------------------------------------------------------------------------------------
-
-/// SplitMix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn f(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.f()
-    }
-
-    fn index(&mut self, n: usize) -> usize {
-        ((self.f() * n as f64) as usize).min(n - 1)
-    }
-
-    fn unit(&mut self) -> DVec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, std::f64::consts::TAU);
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
-    }
-
-    fn point_in_box(&mut self, lo: DVec3, hi: DVec3) -> DVec3 {
-        DVec3::new(
-            self.range(lo.x, hi.x),
-            self.range(lo.y, hi.y),
-            self.range(lo.z, hi.z),
-        )
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -130,43 +81,18 @@ impl Rng {
 
 /// A small mesh (3–5 vertices within 0.8 of a point within `spread` of the origin).
 fn mesh(spread: f64) -> impl Strategy<Value = Shape> {
-    (point_in(spread), prop::collection::vec(point_in(0.8), 3..6))
-        .prop_flat_map(|(centre, local)| {
-            let n = local.len() as u32;
-            let vertices: Vec<DVec3> = local.into_iter().map(|v| v + centre).collect();
-            (
-                Just(vertices),
-                prop::collection::vec(prop::array::uniform3(0..n), 1..5),
-            )
-        })
-        .prop_filter_map("no usable triangle", |(vertices, raw)| {
-            let triangles: Vec<[u32; 3]> = raw
-                .into_iter()
-                .filter(|t| {
-                    let [a, b, c] = t.map(|i| vertices[i as usize]);
-                    (b - a).cross(c - a).length() > 1e-2
-                })
-                .collect();
-            TriangleMesh::new(vertices, triangles)
-                .ok()
-                .map(Shape::TriangleMesh)
-        })
+    mesh_parts(spread, 0.8, 3..6, 1..5).prop_filter_map("no usable triangle", |(v, t)| {
+        TriangleMesh::new(v, t).ok().map(Shape::TriangleMesh)
+    })
 }
 
 /// A bounded shape within about `spread` of the origin, of size 0.01 to 3.
 fn bounded_shape(spread: f64) -> impl Strategy<Value = Shape> {
     prop_oneof![
-        4 => (point_in(spread), log_uniform(0.05, 1.0)).prop_map(|(c, r)| sphere(c, r)),
-        3 => (point_in(spread), normal_vector(), log_uniform(0.05, 1.0))
-            .prop_map(|(c, n, r)| Shape::Disc(Disc::new(c, n, r).unwrap())),
-        3 => (point_in(spread), normal_vector(), log_uniform(0.05, 3.0), log_uniform(0.01, 0.5))
-            .prop_map(|(s, a, l, r)| Shape::Cylinder(Cylinder::new(s, s + l * a, r).unwrap())),
-        3 => (point_in(spread), unit_vector(), normal_vector(), log_uniform(0.05, 2.0),
-              log_uniform(0.05, 2.0))
-            .prop_filter_map("parallel spans", |(c, a, b, la, lb)| {
-                Parallelogram::new(c, la * a, lb * b).ok().filter(|_| a.cross(b).length() > 0.05)
-            })
-            .prop_map(Shape::Parallelogram),
+        4 => sphere_shape(spread, 1.0),
+        3 => disc_shape(spread, 1.0),
+        3 => cylinder_shape(spread, 3.0, 0.5),
+        3 => parallelogram_shape(spread, 2.0),
         3 => mesh(spread),
     ]
 }
@@ -292,61 +218,6 @@ fn elements(objects: &[(Shape, bool)], arrays: &[ObjectArray]) -> Vec<Element> {
     out
 }
 
-/// A point of the shape (inside it for solids), for aiming rays.
-fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
-    match shape {
-        Shape::Sphere(s) => s.centre() + s.radius() * rng.f().cbrt() * rng.unit(),
-        Shape::Plane(p) => {
-            p.point() + rng.range(-5.0, 5.0) * p.frame().u + rng.range(-5.0, 5.0) * p.frame().v
-        }
-        Shape::Disc(d) => {
-            let (rho, phi) = (
-                d.radius() * rng.f().sqrt(),
-                rng.range(0.0, std::f64::consts::TAU),
-            );
-            d.centre() + rho * (phi.cos() * d.frame().u + phi.sin() * d.frame().v)
-        }
-        Shape::Cylinder(c) => {
-            let radial = rng
-                .unit()
-                .reject_from_normalized(c.axis())
-                .normalize_or_zero();
-            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * rng.f().sqrt() * radial
-        }
-        Shape::Parallelogram(p) => p.corner() + rng.f() * p.span_u() + rng.f() * p.span_v(),
-        Shape::TriangleMesh(m) => {
-            let [a, b, c] =
-                m.triangles()[rng.index(m.triangles().len())].map(|i| m.vertices()[i as usize]);
-            let (s, u) = (rng.f().sqrt(), rng.f());
-            a * (1.0 - s) + b * (s * (1.0 - u)) + c * (s * u)
-        }
-    }
-}
-
-/// A point on the surface of the shape, for rays leaving it.
-fn surface_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
-    match shape {
-        Shape::Sphere(s) => s.centre() + s.radius() * rng.unit(),
-        Shape::Cylinder(c) => {
-            let radial = rng
-                .unit()
-                .reject_from_normalized(c.axis())
-                .normalize_or_zero();
-            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * radial
-        }
-        _ => sample_point(shape, rng),
-    }
-}
-
-/// A ray query.
-#[derive(Debug, Clone, Copy)]
-struct Query {
-    origin: DVec3,
-    direction: DVec3,
-    t_min: f64,
-    t_max: f64,
-}
-
 /// Draws rays for a scene: 15% random, 70% aimed at a point of a random element (an object
 /// chosen uniformly, then one of its elements), 15% leaving the surface of a random element
 /// with the tracer's self-hit margin (1e-9 × scale, 1e-5 × scale for meshes) as t_min.
@@ -424,15 +295,9 @@ impl<'a> RaySource<'a> {
             }
         } else {
             let origin = surface_point(shape, rng) + e.offset;
-            let scale = 1.0 + origin.abs().max_element();
-            let margin = if matches!(shape, Shape::TriangleMesh(_)) {
-                1e-5
-            } else {
-                1e-9
-            };
             Query {
                 origin,
-                t_min: margin * scale,
+                t_min: self_hit_margin(shape, origin),
                 ..random
             }
         }
@@ -555,40 +420,6 @@ impl<'a> Answers<'a> {
         a.robust.set(Some(robust));
         robust
     }
-}
-
-/// Whether moving t_min and t_max by two f32 roundings (2^-22 relative) either way leaves the
-/// shape's answer (for the ray from `origin`, in the element's own placement) unchanged.
-fn interval_ends_do_not_matter(shape: &Shape, origin: DVec3, q: &Query) -> bool {
-    let e = 2f64.powi(-22);
-    let moved = |t: f64, sign: f64| {
-        if t.is_finite() {
-            t + sign * e * t.abs()
-        } else {
-            t
-        }
-    };
-    let d = q.direction;
-    let inner = shape.intersect(origin, d, moved(q.t_min, 1.0), moved(q.t_max, -1.0));
-    let outer = shape.intersect(origin, d, moved(q.t_min, -1.0), moved(q.t_max, 1.0));
-    inner.map(|h| h.0) == outer.map(|h| h.0)
-}
-
-/// The parameter interval in which the line o + t d is inside the box [lo, hi] (slab test).
-fn box_interval(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
-    let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
-    for k in 0..3 {
-        if d[k] == 0.0 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (t1, t2) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-        a = a.max(t1.min(t2));
-        b = b.min(t1.max(t2));
-    }
-    (a <= b).then_some((a, b))
 }
 
 /// How an answer was accepted.
@@ -780,42 +611,14 @@ fn check_scene(
     for _ in 0..packets {
         // A packet from one origin: coherent (around an aim point) or scattered.
         let base = source.query(&mut rng);
-        let aim = base.origin + 10.0 * base.direction;
-        let coherent = rng.f() < 0.6;
-        let n = 1 + rng.index(8);
-        let directions: Vec<DVec3> = (0..n)
-            .map(|_| {
-                if coherent {
-                    (aim + 0.5 * rng.unit() - base.origin).normalize()
-                } else {
-                    rng.unit()
-                }
-            })
-            .collect();
-        let lanes = scene.nearest8(base.origin, &directions, base.t_min, base.t_max);
-        if lanes[n..].iter().any(Option::is_some) {
-            return Err(format!(
-                "nearest8 answered lanes beyond its {n} rays: {lanes:?}"
-            ));
-        }
-        for (&direction, &lane) in directions.iter().zip(&lanes) {
-            let q = Query { direction, ..base };
-            let single = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
-            let same = match (single, lane) {
-                (None, None) => true,
-                (Some(a), Some(b)) => {
-                    (a.object, a.element, a.prim) == (b.object, b.element, b.prim)
-                        && close(a.t, b.t, 1e-12)
-                }
-                _ => false,
-            };
-            tally.packet_differs += usize::from(!same);
+        tally.packet_differs += check_packet(&scene, base, &mut rng, |q, lane, single| {
             let answers = Answers::new(objects, &elements, q);
             let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
             let v = check_nearest(&answers, brute, lane)
                 .map_err(|e| format!("nearest8 lane (single ray: {single:?}): {e}\n{q:?}"))?;
             tally.packet[v as usize] += 1;
-        }
+            Ok(())
+        })?;
     }
     Ok(tally)
 }
@@ -1534,13 +1337,7 @@ fn queries_from_beyond_embree_range() {
             expected,
             "brute force {origin}"
         );
-        let same = |h: Option<Hit>| match (h, brute) {
-            (Some(h), Some(b)) => {
-                (h.object, h.element, h.prim) == (b.object, b.element, b.prim)
-                    && close(h.t, b.t, ANALYTIC_T)
-            }
-            (h, b) => h == b,
-        };
+        let same = |h: Option<Hit>| same_hit(h, brute, ANALYTIC_T);
         println!("nearest from {origin} along {d}");
         let got = scene.nearest(origin, d, t_min, f64::INFINITY);
         assert!(same(got), "{got:?} vs brute force {brute:?}");

@@ -2,6 +2,8 @@
 //! directory and checks its exit code, its messages and the files it writes. Images are small
 //! (80×60 or less), so every run takes a few milliseconds.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -9,103 +11,11 @@ use std::process::Command;
 use exr::prelude::{AttributeValue, FlatSamples};
 use tempfile::TempDir;
 
-const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
-
-/// What a run of `timbre` did.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-impl Run {
-    #[track_caller]
-    fn assert_success(&self) -> &Self {
-        let Run {
-            code,
-            stdout,
-            stderr,
-        } = self;
-        assert_eq!(
-            *code,
-            Some(0),
-            "timbre failed:\nstdout: {stdout}\nstderr: {stderr}"
-        );
-        self
-    }
-
-    /// Asserts exit code 2 (bad input) and a "timbre: error:" message containing every needle.
-    #[track_caller]
-    fn assert_bad_input(&self, needles: &[&str]) -> &Self {
-        let Run {
-            code,
-            stdout,
-            stderr,
-        } = self;
-        assert_eq!(
-            *code,
-            Some(2),
-            "expected exit 2:\nstdout: {stdout}\nstderr: {stderr}"
-        );
-        assert!(
-            stderr.starts_with("timbre: error: "),
-            "no error message: {stderr}"
-        );
-        for needle in needles {
-            assert!(
-                stderr.contains(needle),
-                "error message lacks {needle:?}: {stderr}"
-            );
-        }
-        self
-    }
-}
-
-/// Runs `timbre` with `args` in `dir`.
-fn timbre(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(TIMBRE)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run timbre");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8(out.stdout).expect("UTF-8 stdout"),
-        stderr: String::from_utf8(out.stderr).expect("UTF-8 stderr"),
-    }
-}
+use common::cli::{Run, decode_png, files_in, location, path_str, timbre, write};
 
 /// Runs `timbre` with the whitespace-separated arguments of `line` in `dir`.
 fn timbre_line(dir: &Path, line: &str) -> Run {
     timbre(dir, &line.split_whitespace().collect::<Vec<_>>())
-}
-
-fn write(dir: &TempDir, name: &str, text: &str) -> PathBuf {
-    let path = dir.path().join(name);
-    std::fs::write(&path, text).expect("write scene file");
-    path
-}
-
-fn text(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 path")
-}
-
-/// The (line, column) of an error message `PATH:LINE:COLUMN: ...` about `path`.
-#[track_caller]
-fn location(stderr: &str, path: &Path) -> (usize, usize) {
-    let prefix = format!("{}:", path.display());
-    let start = stderr
-        .find(&prefix)
-        .unwrap_or_else(|| panic!("message does not name {prefix}: {stderr}"));
-    let mut parts = stderr[start + prefix.len()..].splitn(3, ':');
-    let mut number = || -> usize {
-        let part = parts.next().unwrap_or_default();
-        part.parse()
-            .unwrap_or_else(|_| panic!("no file:line:column in {stderr:?}"))
-    };
-    let (line, column) = (number(), number());
-    assert!(column >= 1, "columns are 1-based: {stderr}");
-    (line, column)
 }
 
 /// The parts of the summary line `WxH, S spp: N rays in T s (M Mrays/s) -> PATH`.
@@ -140,16 +50,6 @@ fn summary(stdout: &str) -> Summary {
     }
 }
 
-fn decode_png(path: &Path) -> image::RgbImage {
-    image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb8()
-}
-
-fn files_in(dir: &TempDir) -> usize {
-    std::fs::read_dir(dir.path()).unwrap().count()
-}
-
 /// A scene with nothing but a constant-colour sphere around the camera: every pixel of the
 /// picture is (0.2, 0.4, 0.6), i.e. (51, 102, 153) in the PNG, whatever the sampling.
 const UNIFORM_SCENE: &str = r#"
@@ -178,7 +78,7 @@ fn object_names_in_any_script_go_into_the_exr_header() {
     );
     let args = [
         "render",
-        text(&scene),
+        path_str(&scene),
         "-q",
         "-o",
         "n.exr",
@@ -260,7 +160,7 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     let scene = write(&dir, "ball.toml", UNIFORM_SCENE);
 
     // The file's own settings: 40×30 at 2 spp, every pixel the sphere's colour.
-    let run = timbre(dir.path(), &["render", text(&scene), "-o", "file.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&scene), "-o", "file.png"]);
     run.assert_success();
     let png = decode_png(&dir.path().join("file.png"));
     assert_eq!(png.dimensions(), (40, 30));
@@ -277,7 +177,7 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
         dir.path(),
         &[
             "render",
-            text(&scene),
+            path_str(&scene),
             "-o",
             "wh.png",
             "--width",
@@ -299,7 +199,7 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
         dir.path(),
         &[
             "render",
-            text(&scene),
+            path_str(&scene),
             "-o",
             "spp.png",
             "--spp",
@@ -322,10 +222,10 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
 fn a_missing_scene_file_is_named() {
     let dir = TempDir::new().unwrap();
     let missing = dir.path().join("no-such-scene.toml");
-    timbre(dir.path(), &["render", text(&missing), "-o", "x.png"])
-        .assert_bad_input(&[text(&missing)]);
-    timbre(dir.path(), &["check", text(&missing)]).assert_bad_input(&[text(&missing)]);
-    assert_eq!(files_in(&dir), 0, "nothing is written");
+    timbre(dir.path(), &["render", path_str(&missing), "-o", "x.png"])
+        .assert_bad_input(&[path_str(&missing)]);
+    timbre(dir.path(), &["check", path_str(&missing)]).assert_bad_input(&[path_str(&missing)]);
+    assert_eq!(files_in(&dir).len(), 0, "nothing is written");
 }
 
 #[test]
@@ -341,10 +241,10 @@ width = = 3
 height = 10
 "#,
     );
-    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&scene), "-o", "x.png"]);
     run.assert_bad_input(&[]);
     assert_eq!(location(&run.stderr, &scene).0, 4, "{}", run.stderr);
-    assert_eq!(files_in(&dir), 1, "no image is written");
+    assert_eq!(files_in(&dir).len(), 1, "no image is written");
 }
 
 #[test]
@@ -360,7 +260,7 @@ width = 10
 hieght = 10
 "#,
     );
-    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&scene), "-o", "x.png"]);
     run.assert_bad_input(&["unknown field `hieght`", "expected one of", "`height`"]);
     assert_eq!(location(&run.stderr, &scene), (5, 1), "{}", run.stderr);
 
@@ -369,7 +269,7 @@ hieght = 10
         "top.toml",
         "studio = \"empty\"\nstudoi = \"lattice\"\n",
     );
-    let run = timbre(dir.path(), &["check", text(&scene)]);
+    let run = timbre(dir.path(), &["check", path_str(&scene)]);
     run.assert_bad_input(&["unknown field `studoi`"]);
     assert_eq!(location(&run.stderr, &scene), (2, 1), "{}", run.stderr);
 }
@@ -388,10 +288,10 @@ shape = { type = "sphere", centre = [0, 0, 5], radius = -0.5 }
 surface = { type = "matt", colour = [1, 1, 1] }
 "#,
     );
-    let run = timbre(dir.path(), &["render", text(&scene), "-o", "x.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&scene), "-o", "x.png"]);
     run.assert_bad_input(&["expected a positive number of at most 1e15, got -0.5"]);
     assert_eq!(location(&run.stderr, &scene).0, 5, "{}", run.stderr);
-    assert_eq!(files_in(&dir), 1, "no image is written");
+    assert_eq!(files_in(&dir).len(), 1, "no image is written");
 }
 
 #[test]
@@ -405,7 +305,7 @@ shape = { type = "sphere", centre = [0, 0, 5], radius = nan }
 surface = { type = "mirror" }
 "#,
     );
-    let run = timbre(dir.path(), &["render", text(&radius), "-o", "x.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&radius), "-o", "x.png"]);
     run.assert_bad_input(&["expected a positive number of at most 1e15, got NaN"]);
     assert_eq!(location(&run.stderr, &radius).0, 2, "{}", run.stderr);
 
@@ -418,7 +318,7 @@ shape = { type = "sphere", centre = [0, nan, 5], radius = 1 }
 surface = { type = "mirror" }
 "#,
     );
-    let run = timbre(dir.path(), &["render", text(&centre), "-o", "x.png"]);
+    let run = timbre(dir.path(), &["render", path_str(&centre), "-o", "x.png"]);
     run.assert_bad_input(&["expected a finite number of magnitude at most 1e15, got NaN"]);
     assert_eq!(location(&run.stderr, &centre).0, 3, "{}", run.stderr);
 
@@ -427,8 +327,8 @@ surface = { type = "mirror" }
         "nan-light.toml",
         "[[light]]\ntype = \"ambient\"\ncolour = [0.2, -nan, 0.2]\n",
     );
-    timbre(dir.path(), &["check", text(&colour)]).assert_bad_input(&["finite", "NaN"]);
-    assert_eq!(files_in(&dir), 3, "no image is written");
+    timbre(dir.path(), &["check", path_str(&colour)]).assert_bad_input(&["finite", "NaN"]);
+    assert_eq!(files_in(&dir).len(), 3, "no image is written");
 }
 
 #[test]
@@ -446,14 +346,14 @@ fn unsupported_outputs_are_rejected() {
         "render -o aov.png --aov depth --width 8 --height 6",
     )
     .assert_bad_input(&["--aov", "OpenEXR", ".exr"]);
-    assert_eq!(files_in(&dir), 0, "nothing is written");
+    assert_eq!(files_in(&dir).len(), 0, "nothing is written");
 }
 
 #[test]
 fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     let dir = TempDir::new().unwrap();
     let good = write(&dir, "good.toml", UNIFORM_SCENE);
-    let run = timbre(dir.path(), &["check", text(&good)]);
+    let run = timbre(dir.path(), &["check", path_str(&good)]);
     run.assert_success();
     let expected = format!(
         "{}: OK\n  objects:      1\n  triangles:    0\n  instances:    0 (in 0 arrays)\n  \
@@ -462,10 +362,10 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
         good.display()
     );
     assert_eq!(run.stdout.trim_end(), expected);
-    assert_eq!(files_in(&dir), 1, "check writes nothing");
+    assert_eq!(files_in(&dir).len(), 1, "check writes nothing");
 
     let lattice = write(&dir, "lattice.toml", "studio = \"lattice\"\n");
-    let run = timbre(dir.path(), &["check", text(&lattice)]);
+    let run = timbre(dir.path(), &["check", path_str(&lattice)]);
     run.assert_success();
     for line in [
         "objects:      50",
@@ -484,7 +384,7 @@ shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
 surface = { type = "mirror", reflection = 1.5 }
 "#,
     );
-    let run = timbre(dir.path(), &["check", text(&bad)]);
+    let run = timbre(dir.path(), &["check", path_str(&bad)]);
     run.assert_bad_input(&["expected a coefficient between 0 and 1, got 1.5"]);
     assert_eq!(location(&run.stderr, &bad).0, 4, "{}", run.stderr);
     assert!(run.stdout.is_empty());
@@ -827,7 +727,7 @@ fn every_example_scene_checks_and_renders() {
     }
     let dir = TempDir::new().unwrap();
     for file in &files {
-        let run = timbre(dir.path(), &["check", text(file)]);
+        let run = timbre(dir.path(), &["check", path_str(file)]);
         run.assert_success();
         assert!(
             run.stdout.lines().next().unwrap().ends_with(": OK"),
@@ -837,7 +737,7 @@ fn every_example_scene_checks_and_renders() {
         let args = [
             "render",
             "-q",
-            text(file),
+            path_str(file),
             "-o",
             "x.png",
             "--width",
@@ -866,7 +766,7 @@ fn the_spelled_out_studio_is_the_built_in_one() {
         &[
             "render",
             "-q",
-            text(&studio),
+            path_str(&studio),
             "-o",
             "file.png",
             "--width",
@@ -901,7 +801,7 @@ fn the_scene_format_example_checks() {
     let end = start + doc[start..].find("```").expect("the example ends");
     let dir = TempDir::new().unwrap();
     let scene = write(&dir, "example.toml", &doc[start..end]);
-    let run = timbre(dir.path(), &["check", text(&scene)]);
+    let run = timbre(dir.path(), &["check", path_str(&scene)]);
     run.assert_success();
     for line in [
         "objects:      51",

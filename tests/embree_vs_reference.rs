@@ -42,105 +42,39 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
-use common::{AXES, config, log_uniform, normal_vector, point_in, unit_vector};
-use timbre::embree::{Bounds, Device, EmbreeError, ExactRay, UserGeometry};
-use timbre::geometry::{
-    Cylinder, Disc, Hit, Parallelogram, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
+use common::rays::{
+    Query, box_interval, check_packet, close, device, interval_ends_do_not_matter, sample_point,
+    self_hit_margin, surface_point,
 };
+use common::rng::Rng;
+use common::{
+    AXES, config, cylinder_shape, disc_shape, mesh_parts, normal_vector, parallelogram_shape,
+    point_in, sphere_shape, unit_vector,
+};
+use timbre::embree::{Bounds, Device, EmbreeError, ExactRay, UserGeometry};
+use timbre::geometry::{Hit, Plane, SceneGeometry, Shape, Sphere, TriangleMesh};
 
 /// Relative size of the ray perturbation that decides robustness (see the module comment).
 const PERTURB: f64 = 1e-6;
 /// Relative distance within which two objects' hits are a tie.
 const TIE: f64 = 1e-5;
 
-fn device() -> &'static Device {
-    static DEVICE: OnceLock<Device> = OnceLock::new();
-    DEVICE.get_or_init(|| Device::new("").expect("an Embree device"))
-}
-
-// ---------------------------------------------------------------------------------------------
-// Random numbers for rays (a scene case carries a seed; rays are drawn from it)
-// ---------------------------------------------------------------------------------------------
-
-/// SplitMix64.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn f(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.f()
-    }
-
-    fn index(&mut self, n: usize) -> usize {
-        ((self.f() * n as f64) as usize).min(n - 1)
-    }
-
-    fn unit(&mut self) -> DVec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, std::f64::consts::TAU);
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
-    }
-
-    fn point(&mut self, a: f64) -> DVec3 {
-        DVec3::new(self.range(-a, a), self.range(-a, a), self.range(-a, a))
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Random scenes
 // ---------------------------------------------------------------------------------------------
 
 fn mesh() -> impl Strategy<Value = Shape> {
-    (point_in(5.0), prop::collection::vec(point_in(1.5), 3..7))
-        .prop_flat_map(|(offset, local)| {
-            let n = local.len() as u32;
-            let vertices: Vec<DVec3> = local.into_iter().map(|v| v + offset).collect();
-            (
-                Just(vertices),
-                prop::collection::vec(prop::array::uniform3(0..n), 1..7),
-            )
-        })
-        .prop_filter_map("no usable triangle", |(vertices, raw)| {
-            let triangles: Vec<[u32; 3]> = raw
-                .into_iter()
-                .filter(|t| {
-                    let [a, b, c] = t.map(|i| vertices[i as usize]);
-                    (b - a).cross(c - a).length() > 1e-2
-                })
-                .collect();
-            TriangleMesh::new(vertices, triangles)
-                .ok()
-                .map(Shape::TriangleMesh)
-        })
+    mesh_parts(5.0, 1.5, 3..7, 1..7).prop_filter_map("no usable triangle", |(v, t)| {
+        TriangleMesh::new(v, t).ok().map(Shape::TriangleMesh)
+    })
 }
 
 fn shape() -> impl Strategy<Value = Shape> {
     prop_oneof![
-        4 => (point_in(6.0), log_uniform(0.05, 2.5))
-            .prop_map(|(c, r)| Shape::Sphere(Sphere::new(c, r).unwrap())),
-        3 => (point_in(6.0), normal_vector(), log_uniform(0.05, 2.5))
-            .prop_map(|(c, n, r)| Shape::Disc(Disc::new(c, n, r).unwrap())),
-        3 => (point_in(6.0), normal_vector(), log_uniform(0.05, 8.0), log_uniform(0.01, 1.5))
-            .prop_map(|(s, a, l, r)| Shape::Cylinder(Cylinder::new(s, s + l * a, r).unwrap())),
-        3 => (point_in(6.0), unit_vector(), normal_vector(), log_uniform(0.05, 4.0),
-              log_uniform(0.05, 4.0))
-            .prop_filter_map("parallel spans", |(c, a, b, la, lb)| {
-                Parallelogram::new(c, la * a, lb * b).ok().filter(|_| a.cross(b).length() > 0.05)
-            })
-            .prop_map(Shape::Parallelogram),
+        4 => sphere_shape(6.0, 2.5),
+        3 => disc_shape(6.0, 2.5),
+        3 => cylinder_shape(6.0, 8.0, 1.5),
+        3 => parallelogram_shape(6.0, 4.0),
         3 => mesh(),
         1 => (point_in(6.0), normal_vector(), unit_vector())
             .prop_map(|(p, n, u)| Shape::Plane(Plane::new(p, n, u).unwrap())),
@@ -153,46 +87,6 @@ fn scene_case() -> impl Strategy<Value = (Vec<(Shape, bool)>, u64)> {
         prop::collection::vec((shape(), any::<bool>()), 1..13),
         any::<u64>(),
     )
-}
-
-/// A point of the shape (inside it for solids), for aiming rays.
-fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
-    match shape {
-        Shape::Sphere(s) => s.centre() + s.radius() * rng.f().cbrt() * rng.unit(),
-        Shape::Plane(p) => {
-            p.point() + rng.range(-5.0, 5.0) * p.frame().u + rng.range(-5.0, 5.0) * p.frame().v
-        }
-        Shape::Disc(d) => {
-            let (rho, phi) = (
-                d.radius() * rng.f().sqrt(),
-                rng.range(0.0, std::f64::consts::TAU),
-            );
-            d.centre() + rho * (phi.cos() * d.frame().u + phi.sin() * d.frame().v)
-        }
-        Shape::Cylinder(c) => {
-            let radial = rng
-                .unit()
-                .reject_from_normalized(c.axis())
-                .normalize_or_zero();
-            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * rng.f().sqrt() * radial
-        }
-        Shape::Parallelogram(p) => p.corner() + rng.f() * p.span_u() + rng.f() * p.span_v(),
-        Shape::TriangleMesh(m) => {
-            let [a, b, c] =
-                m.triangles()[rng.index(m.triangles().len())].map(|i| m.vertices()[i as usize]);
-            let (s, u) = (rng.f().sqrt(), rng.f());
-            a * (1.0 - s) + b * (s * (1.0 - u)) + c * (s * u)
-        }
-    }
-}
-
-/// A ray query.
-#[derive(Debug, Clone, Copy)]
-struct Query {
-    origin: DVec3,
-    direction: DVec3,
-    t_min: f64,
-    t_max: f64,
 }
 
 /// Which rays a scene check draws.
@@ -208,27 +102,11 @@ enum Rays {
 /// as t_min: 1e-9 × scale for analytic shapes, 1e-5 × scale for meshes (Embree tests triangles
 /// in f32).
 fn leaving_query(shape: &Shape, rng: &mut Rng, t_max: f64) -> Query {
-    let origin = match shape {
-        Shape::Sphere(s) => s.centre() + s.radius() * rng.unit(),
-        Shape::Cylinder(c) => {
-            let radial = rng
-                .unit()
-                .reject_from_normalized(c.axis())
-                .normalize_or_zero();
-            c.start() + rng.f() * (c.end() - c.start()) + c.radius() * radial
-        }
-        _ => sample_point(shape, rng),
-    };
-    let scale = 1.0 + origin.abs().max_element();
-    let margin = if matches!(shape, Shape::TriangleMesh(_)) {
-        1e-5
-    } else {
-        1e-9
-    };
+    let origin = surface_point(shape, rng);
     Query {
         origin,
         direction: rng.unit(),
-        t_min: margin * scale,
+        t_min: self_hit_margin(shape, origin),
         t_max,
     }
 }
@@ -315,7 +193,7 @@ fn answers(objects: &[(Shape, bool)], q: &Query) -> Vec<Answer> {
                         }),
                         _ => true,
                     };
-                    interval_ends_do_not_matter(shape, q) && box_reached
+                    interval_ends_do_not_matter(shape, q.origin, q) && box_reached
                 }
             };
             let shadow_throwing = *shadow_throwing;
@@ -331,40 +209,6 @@ fn answers(objects: &[(Shape, bool)], q: &Query) -> Vec<Answer> {
     out
 }
 
-/// Whether moving t_min and t_max by two f32 roundings (2^-22 relative) either way leaves the
-/// shape's answer unchanged.
-fn interval_ends_do_not_matter(shape: &Shape, q: &Query) -> bool {
-    let e = 2f64.powi(-22);
-    let (o, d) = (q.origin, q.direction);
-    let moved = |t: f64, sign: f64| {
-        if t.is_finite() {
-            t + sign * e * t.abs()
-        } else {
-            t
-        }
-    };
-    let inner = shape.intersect(o, d, moved(q.t_min, 1.0), moved(q.t_max, -1.0));
-    let outer = shape.intersect(o, d, moved(q.t_min, -1.0), moved(q.t_max, 1.0));
-    inner.map(|h| h.0) == outer.map(|h| h.0)
-}
-
-/// The parameter interval in which the line o + t d is inside the box [lo, hi] (slab test).
-fn box_interval(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
-    let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
-    for k in 0..3 {
-        if d[k] == 0.0 {
-            if o[k] < lo[k] || o[k] > hi[k] {
-                return None;
-            }
-            continue;
-        }
-        let (t1, t2) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-        a = a.max(t1.min(t2));
-        b = b.min(t1.max(t2));
-    }
-    (a <= b).then_some((a, b))
-}
-
 /// How an answer was accepted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Verdict {
@@ -374,10 +218,6 @@ enum Verdict {
     Tie,
     /// The difference is due to a non-robust primitive.
     Marginal,
-}
-
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * (1.0 + a.abs().max(b.abs()))
 }
 
 /// Checks a nearest-hit answer against the per-primitive answers and the brute force.
@@ -503,41 +343,14 @@ fn check_scene(
     for _ in 0..packets {
         // A packet from one origin: coherent (around an aim point) or scattered.
         let base = random_query(&shapes, kinds, &mut rng);
-        let aim = base.origin + 10.0 * base.direction;
-        let coherent = rng.f() < 0.6;
-        let n = 1 + rng.index(8);
-        let directions: Vec<DVec3> = (0..n)
-            .map(|_| {
-                if coherent {
-                    (aim + 0.5 * rng.unit() - base.origin).normalize()
-                } else {
-                    rng.unit()
-                }
-            })
-            .collect();
-        let lanes = scene.nearest8(base.origin, &directions, base.t_min, base.t_max);
-        if lanes[n..].iter().any(Option::is_some) {
-            return Err(format!(
-                "nearest8 answered lanes beyond its {n} rays: {lanes:?}"
-            ));
-        }
-        for (&direction, &lane) in directions.iter().zip(&lanes) {
-            let q = Query { direction, ..base };
-            let single = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
-            let same = match (single, lane) {
-                (None, None) => true,
-                (Some(a), Some(b)) => {
-                    a.object == b.object && a.prim == b.prim && close(a.t, b.t, 1e-12)
-                }
-                _ => false,
-            };
-            tally.packet_differs += usize::from(!same);
+        tally.packet_differs += check_packet(&scene, base, &mut rng, |q, lane, single| {
             let answers = answers(objects, &q);
             let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
             let v = check_nearest(&answers, brute, &q, lane)
                 .map_err(|e| format!("nearest8 lane (single ray: {single:?}): {e}\n{q:?}"))?;
             tally.packet[v as usize] += 1;
-        }
+            Ok(())
+        })?;
     }
     Ok(tally)
 }

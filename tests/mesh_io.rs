@@ -5,16 +5,17 @@
 //! `generate-mesh` and `check` on scenes that use mesh files. Everything is small: the whole
 //! file runs in well under a second of work.
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::DVec3;
 use tempfile::TempDir;
+
+use common::cli::{timbre, write};
 use timbre::geometry::TriangleMesh;
 use timbre::mesh::{self, Mesh, MeshError, MeshFormat, PlyEncoding, generate};
-
-const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
 
 /// Every PLY encoding, with a file-name-friendly label.
 const ENCODINGS: [(PlyEncoding, &str); 3] = [
@@ -32,12 +33,6 @@ fn corpus(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/meshes")
         .join(name)
-}
-
-fn write_file(dir: &TempDir, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {
-    let path = dir.path().join(name);
-    std::fs::write(&path, bytes).expect("write test file");
-    path
 }
 
 /// Loads a file that must load.
@@ -164,60 +159,6 @@ fn small_mesh() -> Mesh {
             DVec3::Z,
             DVec3::new(0.0, -0.5, 1.0),
         ]),
-    }
-}
-
-/// What a run of `timbre` did.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-impl Run {
-    #[track_caller]
-    fn assert_success(&self) -> &Self {
-        assert_eq!(
-            self.code,
-            Some(0),
-            "timbre failed:\nstdout: {}\nstderr: {}",
-            self.stdout,
-            self.stderr
-        );
-        self
-    }
-
-    /// Asserts exit code 2 (bad input) and a "timbre: error:" message containing every needle.
-    #[track_caller]
-    fn assert_bad_input(&self, needles: &[&str]) -> &Self {
-        assert_eq!(
-            self.code,
-            Some(2),
-            "expected exit 2:\nstdout: {}\nstderr: {}",
-            self.stdout,
-            self.stderr
-        );
-        assert!(
-            self.stderr.starts_with("timbre: error: "),
-            "no error message: {}",
-            self.stderr
-        );
-        assert_contains(&self.stderr, needles);
-        self
-    }
-}
-
-/// Runs `timbre` with `args` in `dir`.
-fn timbre(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(TIMBRE)
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run timbre");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8(out.stdout).expect("UTF-8 stdout"),
-        stderr: String::from_utf8(out.stderr).expect("UTF-8 stderr"),
     }
 }
 
@@ -432,7 +373,7 @@ fn assert_covers_polygon(m: &Mesh, polygon: &[DVec3], n: usize, area: f64, facin
 #[test]
 fn obj_quads_and_pentagons_are_split_into_fans() {
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "polygons.obj",
         "# a 2×1 rectangle and a convex pentagon of area 7, both facing +z\n\
@@ -458,7 +399,7 @@ fn obj_quads_and_pentagons_are_split_into_fans() {
 fn a_ply_quad_is_split_into_two_triangles() {
     let dir = TempDir::new().unwrap();
     // A unit square in the x = 1 plane, counter-clockwise seen from +x.
-    let path = write_file(
+    let path = write(
         &dir,
         "quad.ply",
         "ply\nformat ascii 1.0\n\
@@ -480,7 +421,7 @@ fn ply_with_mixed_types_extra_properties_and_elements_loads() {
     // float/int/uchar coordinates, a colour, normals as floats, `vertex_index` (the other
     // common name) as a list of uint counted by a uchar, a per-face property after the list,
     // and an `edge` element between the vertices and the faces.
-    let path = write_file(
+    let path = write(
         &dir,
         "types.ply",
         "ply\nformat ascii 1.0\ncomment mixed types\nobj_info made by hand\n\
@@ -553,7 +494,7 @@ fn small_types_ply(big_endian: bool) -> Vec<u8> {
 fn binary_ply_with_small_integer_types_loads_in_both_byte_orders() {
     let dir = TempDir::new().unwrap();
     for big_endian in [false, true] {
-        let path = write_file(
+        let path = write(
             &dir,
             &format!("small_{big_endian}.ply"),
             small_types_ply(big_endian),
@@ -580,7 +521,7 @@ fn binary_ply_with_small_integer_types_loads_in_both_byte_orders() {
 #[test]
 fn obj_objects_and_groups_become_separate_named_meshes() {
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "two.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
@@ -600,7 +541,7 @@ fn obj_objects_and_groups_become_separate_named_meshes() {
         [DVec3::X, DVec3::Y, DVec3::Z]
     );
 
-    let groups = write_file(
+    let groups = write(
         &dir,
         "groups.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\n\
@@ -616,7 +557,7 @@ fn an_obj_file_that_names_no_object_gives_a_mesh_with_an_empty_name() {
     // `Mesh::name` is documented as "" when the file names none; it must not be a placeholder
     // made up by the OBJ reader (tobj says "unnamed_object").
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "anonymous.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
@@ -638,7 +579,7 @@ fn obj_face_with_two_vertices_is_an_error() {
     // Like a PLY face with two vertices (see `ply_face_with_two_vertices_names_the_face`),
     // an OBJ `f` with two vertices is malformed and must not vanish silently.
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "two.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n",
@@ -652,7 +593,7 @@ fn obj_polylines_are_not_faces() {
     // `l` lines are polylines (ignored by timbre); a polyline through three or four points
     // is not a triangle or a quad.
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "lines.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n\
@@ -721,7 +662,7 @@ fn obj_face_index_out_of_range_names_the_line() {
 #[test]
 fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
     let dir = TempDir::new().unwrap();
-    let crlf = write_file(
+    let crlf = write(
         &dir,
         "crlf.obj",
         "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\n\r\nf 1 2 3\r\nf 1 2 9\r\n",
@@ -731,7 +672,7 @@ fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
         &["crlf.obj:line 6: ", "refers to vertex 9"],
     );
     // Relative indices: -1 is the last vertex so far, -4 is before the first of three.
-    let negative = write_file(
+    let negative = write(
         &dir,
         "negative.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nf -1 -2 -4\n",
@@ -741,7 +682,7 @@ fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
         &["negative.obj:line 5: ", "refers to vertex -4"],
     );
     // Texture-coordinate-and-normal syntax still finds the vertex index.
-    let slashes = write_file(
+    let slashes = write(
         &dir,
         "slashes.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1//1 5//1 3//1\n",
@@ -783,7 +724,7 @@ fn obj_errors_name_the_line_for_every_kind_of_bad_vertex_or_reference() {
     ];
     let mut wrong = Vec::new();
     for (name, text, line) in cases {
-        let path = write_file(&dir, name, text);
+        let path = write(&dir, name, text);
         let message = load_err(&path);
         if !message.contains(&format!("{name}:line {line}: ")) {
             wrong.push(format!("expected line {line}: {message}"));
@@ -825,12 +766,12 @@ fn obj_vertex_with_two_coordinates_names_the_line() {
 #[test]
 fn obj_vertex_with_a_word_names_the_line() {
     let dir = TempDir::new().unwrap();
-    let path = write_file(&dir, "word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
+    let path = write(&dir, "word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
     assert_contains(
         &load_err(&path),
         &["word.obj:line 2: ", "'zero' is not a number"],
     );
-    let normal = write_file(
+    let normal = write(
         &dir,
         "normal.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 1\nf 1 2 3\n",
@@ -839,7 +780,7 @@ fn obj_vertex_with_a_word_names_the_line() {
         &load_err(&normal),
         &["normal.obj:line 4: ", "a normal needs three numbers"],
     );
-    let face = write_file(
+    let face = write(
         &dir,
         "face.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 two 3\n",
@@ -867,7 +808,7 @@ fn obj_non_finite_vertex_names_the_line() {
         ("huge.obj", "1e999"),
         ("neg.obj", "-inf"),
     ] {
-        let path = write_file(
+        let path = write(
             &dir,
             name,
             format!("v 0 0 0\nv 1 0 0\nv 0 {word} 0\nf 1 2 3\n"),
@@ -887,9 +828,9 @@ fn obj_without_faces_is_an_error() {
         format!("{}: the mesh has no faces", path.display())
     );
     let dir = TempDir::new().unwrap();
-    let empty = write_file(&dir, "empty.obj", "");
+    let empty = write(&dir, "empty.obj", "");
     assert_contains(&load_err(&empty), &["empty.obj: ", "no faces"]);
-    let comments = write_file(&dir, "comments.obj", "# nothing\n\n# at all\n");
+    let comments = write(&dir, "comments.obj", "# nothing\n\n# at all\n");
     assert_contains(&load_err(&comments), &["comments.obj: ", "no faces"]);
 }
 
@@ -899,7 +840,7 @@ fn obj_that_is_not_utf8_is_an_error() {
     let mut bytes = b"v 0 0 0\nv 1 0 0\nv 0 1 0\n# caf".to_vec();
     bytes.extend([0xE9, 0xFF, 0xFE, b'\n']);
     bytes.extend(b"f 1 2 3\n");
-    let path = write_file(&dir, "latin1.obj", bytes);
+    let path = write(&dir, "latin1.obj", bytes);
     assert_eq!(
         load_err(&path),
         format!("{}: not a text file (invalid UTF-8)", path.display())
@@ -908,7 +849,7 @@ fn obj_that_is_not_utf8_is_an_error() {
     let noise: Vec<u8> = (0..4096u32)
         .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
         .collect();
-    let path = write_file(&dir, "noise.obj", noise);
+    let path = write(&dir, "noise.obj", noise);
     load_err(&path);
 }
 
@@ -942,7 +883,7 @@ fn ply_without_a_face_element_is_an_error() {
     );
     // A face element without an index list.
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "no_list.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
@@ -1035,7 +976,7 @@ fn truncated_binary_ply_is_an_error() {
             ("one_short", bytes.len() - 1),
             ("header_only", body),
         ] {
-            let path = write_file(&dir, &format!("{cut}_{label}.ply"), &bytes[..keep]);
+            let path = write(&dir, &format!("{cut}_{label}.ply"), &bytes[..keep]);
             let text = load_err(&path);
             assert_contains(
                 &text,
@@ -1063,14 +1004,14 @@ fn truncated_ascii_ply_names_the_missing_line() {
     let dir = TempDir::new().unwrap();
     let bytes = std::fs::read(&path).unwrap();
     let keep = bytes.windows(5).position(|w| w == b"1 0 0").unwrap() + 3;
-    let cut = write_file(&dir, "cut.ply", &bytes[..keep]);
+    let cut = write(&dir, "cut.ply", &bytes[..keep]);
     assert_contains(&load_err(&cut), &["cut.ply:line 11: ", "invalid PLY file"]);
 }
 
 #[test]
 fn ply_garbage_in_the_body_names_the_line() {
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "garbage.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
@@ -1092,15 +1033,15 @@ fn ply_garbage_header_is_an_error_at_line_1() {
     );
     // An OBJ file named .ply, and a header that never ends.
     let dir = TempDir::new().unwrap();
-    let obj = write_file(&dir, "obj.ply", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let obj = write(&dir, "obj.ply", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     assert_contains(&load_err(&obj), &["obj.ply:line 1: ", "invalid PLY file"]);
-    let endless = write_file(
+    let endless = write(
         &dir,
         "endless.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n",
     );
     assert_contains(&load_err(&endless), &["endless.ply:", "end_header"]);
-    let bad_property = write_file(
+    let bad_property = write(
         &dir,
         "bad_property.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty quaternion x\nend_header\n",
@@ -1134,7 +1075,7 @@ fn ply_with_huge_counts_in_a_tiny_file_is_an_error_not_an_abort() {
         ("le", "binary_little_endian"),
         ("be", "binary_big_endian"),
     ] {
-        let path = write_file(
+        let path = write(
             &dir,
             &format!("huge_{label}.ply"),
             format!(
@@ -1157,7 +1098,7 @@ fn ply_with_huge_counts_in_a_tiny_file_is_an_error_not_an_abort() {
     }
     bytes.extend(u32::MAX.to_le_bytes());
     bytes.extend([0u8; 12]);
-    let path = write_file(&dir, "long_list.ply", bytes);
+    let path = write(&dir, "long_list.ply", bytes);
     load_err(&path);
 }
 
@@ -1245,7 +1186,7 @@ fn a_mesh_of_only_zero_area_triangles_is_rejected() {
 fn check_warns_about_zero_area_triangles() {
     let dir = TempDir::new().unwrap();
     std::fs::copy(corpus("degenerate.obj"), dir.path().join("degenerate.obj")).unwrap();
-    write_file(&dir, "scene.toml", mesh_scene("degenerate.obj"));
+    write(&dir, "scene.toml", mesh_scene("degenerate.obj"));
     let run = timbre(dir.path(), &["check", "scene.toml"]);
     run.assert_success();
     assert_eq!(
@@ -1264,7 +1205,7 @@ fn check_rejects_a_mesh_of_only_zero_area_triangles() {
         dir.path().join("all_degenerate.ply"),
     )
     .unwrap();
-    write_file(&dir, "scene.toml", mesh_scene("all_degenerate.ply"));
+    write(&dir, "scene.toml", mesh_scene("all_degenerate.ply"));
     timbre(dir.path(), &["check", "scene.toml"]).assert_bad_input(&[
         &format!("scene.toml:{SHAPE_AT}: object 'm': "),
         "all_degenerate.ply",
@@ -1302,7 +1243,7 @@ fn a_generated_mesh_checks_with_the_triangle_count_generate_mesh_printed() {
         assert_eq!(loaded[0].triangles.len() as u64, made, "{file}");
 
         let scene = format!("{file}.toml");
-        write_file(&dir, &scene, mesh_scene(file));
+        write(&dir, &scene, mesh_scene(file));
         let run = timbre(dir.path(), &["check", &scene]);
         run.assert_success();
         assert_eq!(run.stderr, "", "{file}: no warnings");
@@ -1354,7 +1295,7 @@ fn generate_mesh_rejects_bad_arguments() {
 #[test]
 fn check_names_the_scene_position_and_a_missing_mesh() {
     let dir = TempDir::new().unwrap();
-    write_file(&dir, "scene.toml", mesh_scene("missing.ply"));
+    write(&dir, "scene.toml", mesh_scene("missing.ply"));
     let run = timbre(dir.path(), &["check", "scene.toml"]);
     run.assert_bad_input(&[&format!(
         "scene.toml:{SHAPE_AT}: object 'm': missing.ply: No such file"
@@ -1366,7 +1307,7 @@ fn check_names_the_scene_position_and_a_missing_mesh() {
 fn check_names_the_scene_the_mesh_and_the_line_of_a_malformed_obj() {
     let dir = TempDir::new().unwrap();
     std::fs::copy(corpus("face_out_of_range.obj"), dir.path().join("bad.obj")).unwrap();
-    write_file(&dir, "scene.toml", mesh_scene("bad.obj"));
+    write(&dir, "scene.toml", mesh_scene("bad.obj"));
     let run = timbre(dir.path(), &["check", "scene.toml"]);
     run.assert_bad_input(&[]);
     assert_eq!(
@@ -1387,7 +1328,7 @@ fn check_resolves_mesh_paths_relative_to_the_scene_file() {
         dir.path().join("scenes/meshes/bad.ply"),
     )
     .unwrap();
-    write_file(&dir, "scenes/scene.toml", mesh_scene("meshes/bad.ply"));
+    write(&dir, "scenes/scene.toml", mesh_scene("meshes/bad.ply"));
     timbre(dir.path(), &["check", "scenes/scene.toml"]).assert_bad_input(&[&format!(
         "scenes/scene.toml:{SHAPE_AT}: object 'm': scenes/meshes/bad.ply:element 'face' 1: \
          vertex index 3 is out of range"
@@ -1409,14 +1350,14 @@ fn check_resolves_mesh_paths_relative_to_the_scene_file() {
 #[test]
 fn check_reports_each_part_of_a_multi_object_obj() {
     let dir = TempDir::new().unwrap();
-    write_file(
+    write(
         &dir,
         "parts.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n\
          o good\nf 1 2 3\n\
          o flat\nf 1 2 3\nf 1 2 4\n",
     );
-    write_file(&dir, "scene.toml", mesh_scene("parts.obj"));
+    write(&dir, "scene.toml", mesh_scene("parts.obj"));
     let run = timbre(dir.path(), &["check", "scene.toml"]);
     run.assert_success();
     assert_eq!(number_after(&run.stdout, "objects:"), 2);
@@ -1432,14 +1373,14 @@ fn check_numbers_the_unnamed_parts_of_a_multi_object_obj() {
     // Faces before the first `o` form a part the file does not name: the scene calls it
     // "part 1" (src/scene/file/shapes.rs), which needs `Mesh::name` to be "" for it.
     let dir = TempDir::new().unwrap();
-    write_file(
+    write(
         &dir,
         "parts.obj",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n\
          f 1 2 3\nf 1 2 4\n\
          o b\nf 3 2 1\n",
     );
-    write_file(&dir, "scene.toml", mesh_scene("parts.obj"));
+    write(&dir, "scene.toml", mesh_scene("parts.obj"));
     let run = timbre(dir.path(), &["check", "scene.toml"]);
     run.assert_success();
     assert_eq!(number_after(&run.stdout, "objects:"), 2);
@@ -1452,7 +1393,7 @@ fn check_numbers_the_unnamed_parts_of_a_multi_object_obj() {
 #[test]
 fn ply_with_no_faces_is_an_error() {
     let dir = TempDir::new().unwrap();
-    let path = write_file(
+    let path = write(
         &dir,
         "zero_faces.ply",
         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\

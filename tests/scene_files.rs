@@ -5,17 +5,18 @@
 //! run the built binary in a temporary directory. Every scene is tiny (renders are 32×24 at
 //! one sample per pixel), so the whole file runs in a second or two.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use glam::{DMat3, DVec3};
 use tempfile::TempDir;
 
+use common::cli::{TIMBRE, decode_png, files_in, location, path_str, run, timbre, write};
 use timbre::geometry::{Cylinder, ObjectArray, Parallelogram, Shape, Sphere, TriangleMesh};
 use timbre::scene::file::{self, MAX_ARRAY_ELEMENTS, Override};
 use timbre::scene::{SceneDescription, SceneObject};
-
-const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -56,26 +57,6 @@ fn line_of(text: &str, needle: &str) -> usize {
     lines[0]
 }
 
-/// The line of an error message `PATH:LINE:COLUMN: ...` about `path`.
-#[track_caller]
-fn error_line(message: &str, path: &str) -> usize {
-    let prefix = format!("{path}:");
-    let start = message
-        .find(&prefix)
-        .unwrap_or_else(|| panic!("message does not name {prefix}: {message}"));
-    let mut parts = message[start + prefix.len()..].splitn(3, ':');
-    let line: usize = parts
-        .next()
-        .and_then(|l| l.parse().ok())
-        .unwrap_or_else(|| panic!("no {path}:line:column in {message:?}"));
-    let column: usize = parts
-        .next()
-        .and_then(|c| c.parse().ok())
-        .unwrap_or_else(|| panic!("no {path}:line:column in {message:?}"));
-    assert!(column >= 1, "columns are 1-based: {message}");
-    line
-}
-
 /// Asserts that `message` is `s.toml:LINE:COL: ...` with LINE the line of `needle` in `text`,
 /// and that it contains every one of `parts`.
 #[track_caller]
@@ -83,7 +64,7 @@ fn assert_error_at(text: &str, needle: &str, parts: &[&str]) {
     let message = parse_error(text);
     assert!(message.starts_with("s.toml:"), "{message}");
     assert_eq!(
-        error_line(&message, "s.toml"),
+        location(&message, "s.toml").0,
         line_of(text, needle),
         "wrong line: {message}"
     );
@@ -206,141 +187,6 @@ fn assert_arrays_well_formed(scene: &SceneDescription) {
             owner[i] = Some(k);
         }
     }
-}
-
-// CLI helpers (after tests/cli.rs).
-
-/// What a run of `timbre` did.
-struct Run {
-    code: Option<i32>,
-    stdout: String,
-    stderr: String,
-}
-
-impl Run {
-    #[track_caller]
-    fn assert_success(&self) -> &Self {
-        assert_eq!(
-            self.code,
-            Some(0),
-            "timbre failed:\nstdout: {}\nstderr: {}",
-            self.stdout,
-            self.stderr
-        );
-        self
-    }
-
-    /// Asserts exit code 2 (bad input) and a "timbre: error:" message containing every needle.
-    #[track_caller]
-    fn assert_bad_input(&self, needles: &[&str]) -> &Self {
-        assert_eq!(
-            self.code,
-            Some(2),
-            "expected exit 2:\nstdout: {}\nstderr: {}",
-            self.stdout,
-            self.stderr
-        );
-        assert!(
-            self.stderr.starts_with("timbre: error: "),
-            "no error message: {}",
-            self.stderr
-        );
-        for needle in needles {
-            assert!(
-                self.stderr.contains(needle),
-                "error message lacks {needle:?}: {}",
-                self.stderr
-            );
-        }
-        self
-    }
-
-    /// The value after `  NAME:` in the output of `timbre check`.
-    #[track_caller]
-    fn field(&self, name: &str) -> &str {
-        let prefix = format!("  {name}:");
-        self.stdout
-            .lines()
-            .find_map(|l| l.strip_prefix(&prefix))
-            .map(str::trim)
-            .unwrap_or_else(|| panic!("no {prefix:?} line in:\n{}", self.stdout))
-    }
-
-    /// The number after `  NAME:` in the output of `timbre check`.
-    #[track_caller]
-    fn count(&self, name: &str) -> u64 {
-        let value = self.field(name);
-        value
-            .split_whitespace()
-            .next()
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("{name}: no number in {value:?}"))
-    }
-
-    /// The bounding box `[x, y, z] to [x, y, z]` printed by `timbre check`.
-    #[track_caller]
-    fn bounding_box(&self) -> (DVec3, DVec3) {
-        let value = self.field("bounding box");
-        let parse = |s: &str| -> DVec3 {
-            let inner = s
-                .trim()
-                .strip_prefix('[')
-                .and_then(|s| s.split(']').next())
-                .unwrap_or_else(|| panic!("no [x, y, z] in {value:?}"));
-            let xyz: Vec<f64> = inner
-                .split(',')
-                .map(|n| n.trim().parse().expect("a number"))
-                .collect();
-            DVec3::from_slice(&xyz)
-        };
-        let (lo, hi) = value
-            .split_once(" to ")
-            .unwrap_or_else(|| panic!("no 'A to B' in {value:?}"));
-        (parse(lo), parse(hi))
-    }
-}
-
-fn run(mut command: Command) -> Run {
-    let out = command.output().expect("run timbre");
-    Run {
-        code: out.status.code(),
-        stdout: String::from_utf8(out.stdout).expect("UTF-8 stdout"),
-        stderr: String::from_utf8(out.stderr).expect("UTF-8 stderr"),
-    }
-}
-
-/// Runs `timbre` with `args` in `dir`.
-fn timbre(dir: &Path, args: &[&str]) -> Run {
-    let mut command = Command::new(TIMBRE);
-    command.args(args).current_dir(dir);
-    run(command)
-}
-
-/// Writes `text` to `dir/name`, creating directories on the way.
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-    std::fs::write(&path, text).expect("write scene file");
-    path
-}
-
-fn path_str(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 path")
-}
-
-fn files_in(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
-fn decode_png(path: &Path) -> image::RgbImage {
-    image::open(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-        .to_rgb8()
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -952,7 +798,7 @@ fn array_counts_whose_product_overflows_are_rejected() {
     let scene = write(
         dir.path(),
         "huge.toml",
-        &array_scene(
+        array_scene(
             "{ vectors = [[1, 0, 0], [0, 1, 0], [0, 0, 1]], counts = [1048576, 4194304, 4194304] }",
         ),
     );
@@ -971,14 +817,14 @@ fn array_counts_whose_product_overflows_are_rejected() {
     let small = write(
         dir.path(),
         "small.toml",
-        &array_scene("{ vectors = [[1, 0, 0]], counts = [1000] }"),
+        array_scene("{ vectors = [[1, 0, 0]], counts = [1000] }"),
     );
     limited(&small).assert_success();
 
     let run = limited(&scene);
     run.assert_bad_input(&["copies", "at most 10000000"]);
     assert_eq!(
-        error_line(&run.stderr, path_str(&scene)),
+        location(&run.stderr, path_str(&scene)).0,
         6,
         "{}",
         run.stderr
@@ -995,7 +841,7 @@ fn include_tree(root: &Path) -> PathBuf {
     let main = write(
         root,
         "scenes/main.toml",
-        &format!(
+        format!(
             r#"studio = "none"
 [[light]]
 type = "ambient"
@@ -1017,7 +863,7 @@ array = {{ vectors = [[5, 0, 0]], counts = [2] }}
     write(
         root,
         "scenes/parts/sub.toml",
-        &format!(
+        format!(
             r#"# Only the objects, groups and includes of an included file are used.
 studio = "lattice"
 [render]
@@ -1048,7 +894,7 @@ transform = {{ rotate = {{ axis = [0, 0, 1], angle_deg = 90 }} }}
     write(
         root,
         "scenes/parts/deeper/leaf.toml",
-        &format!(
+        format!(
             r#"[[object]]
 name = "stick"
 shape = {{ type = "cylinder", start = [1, 0, 0], end = [2, 0, 0], radius = 0.1 }}
@@ -1161,7 +1007,7 @@ fn the_same_file_may_be_included_twice() {
     write(
         dir.path(),
         "brick.toml",
-        &format!(
+        format!(
             "[[object]]\nname = \"b\"\nshape = {{ type = \"sphere\", centre = [0, 0, 0], radius = 1 }}\n{MATT}\n"
         ),
     );
@@ -1208,7 +1054,7 @@ fn include_cycles_are_errors() {
     assert!(e.contains("a.toml") && e.contains("b.toml"), "{e}");
     // Located at the include that closes the cycle.
     assert_eq!(
-        error_line(&e, path_str(&b)),
+        location(&e, path_str(&b)).0,
         line_of(&b_text, "../a.toml"),
         "{e}"
     );
@@ -1221,7 +1067,7 @@ fn include_cycles_are_errors() {
     );
     let e = file::load(&own).unwrap_err().to_string();
     assert!(e.contains("include cycle"), "{e}");
-    assert_eq!(error_line(&e, path_str(&own)), 5, "{e}");
+    assert_eq!(location(&e, path_str(&own)).0, 5, "{e}");
 
     // The command line reports it as bad input.
     timbre(dir.path(), &["check", "a.toml"]).assert_bad_input(&["include cycle"]);
@@ -1235,7 +1081,7 @@ fn a_missing_include_is_named_at_the_including_line() {
     let main = write(dir.path(), "main.toml", source);
     let e = file::load(&main).unwrap_err().to_string();
     assert!(e.starts_with(&format!("{}:", main.display())), "{e}");
-    assert_eq!(error_line(&e, path_str(&main)), 5, "{e}");
+    assert_eq!(location(&e, path_str(&main)).0, 5, "{e}");
     assert!(e.contains("missing.toml"), "{e}");
 
     let run = timbre(dir.path(), &["check", "main.toml"]);
@@ -1258,7 +1104,7 @@ fn errors_in_included_files_name_the_included_file_and_line() {
     );
     write(dir.path(), "parts/bad.toml", &bad_text);
     let e = file::load(&main).unwrap_err().to_string();
-    assert_eq!(error_line(&e, path_str(&bad)), 3, "{e}");
+    assert_eq!(location(&e, path_str(&bad)).0, 3, "{e}");
     assert!(e.contains("got -1"), "{e}");
 
     // A TOML syntax error.
@@ -1268,7 +1114,7 @@ fn errors_in_included_files_name_the_included_file_and_line() {
         "[[object]]\nname = \"b\"\nshape = {\n",
     );
     let e = file::load(&main).unwrap_err().to_string();
-    assert_eq!(error_line(&e, path_str(&bad)), 3, "{e}");
+    assert_eq!(location(&e, path_str(&bad)).0, 3, "{e}");
 
     // A placement error, found while the included file's objects are placed.
     let bad_text = format!(
@@ -1276,7 +1122,7 @@ fn errors_in_included_files_name_the_included_file_and_line() {
     );
     write(dir.path(), "parts/bad.toml", &bad_text);
     let e = file::load(&main).unwrap_err().to_string();
-    assert_eq!(error_line(&e, path_str(&bad)), 6, "{e}");
+    assert_eq!(location(&e, path_str(&bad)).0, 6, "{e}");
     assert!(e.contains("array vector 1 is zero"), "{e}");
 
     // A singular transform in a file included by an included file.
@@ -1290,7 +1136,7 @@ fn errors_in_included_files_name_the_included_file_and_line() {
     );
     let worse = write(dir.path(), "parts/deeper/worse.toml", &worse_text);
     let e = file::load(&main).unwrap_err().to_string();
-    assert_eq!(error_line(&e, path_str(&worse)), 5, "{e}");
+    assert_eq!(location(&e, path_str(&worse)).0, 5, "{e}");
     assert!(e.contains("singular"), "{e}");
 
     let run = timbre(dir.path(), &["check", "main.toml"]);
@@ -1630,7 +1476,7 @@ fn check_summarises_objects_triangles_instances_and_bounds_and_renders_nothing()
     write(
         dir.path(),
         "scene.toml",
-        &format!(
+        format!(
             r#"studio = "none"
 
 [[object]]
@@ -1699,7 +1545,7 @@ fn check_counts_generated_meshes_in_nested_arrays() {
     write(
         dir.path(),
         "scene.toml",
-        &format!(
+        format!(
             r#"studio = "none"
 [[group]]
 name = "crate"
@@ -1769,7 +1615,7 @@ fn an_includes_transform_turns_the_included_arrays_but_not_its_own() {
     write(
         dir.path(),
         "row.toml",
-        &format!(
+        format!(
             r#"[[object]]
 name = "bead"
 shape = {{ type = "sphere", centre = [0, 0, 0], radius = 0.1 }}

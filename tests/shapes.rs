@@ -52,7 +52,7 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
-use common::{config, log_uniform, normal_vector, point_in, unit_from, unit_vector};
+use common::{config, log_uniform, mesh_parts, normal_vector, point_in, unit_from, unit_vector};
 use timbre::geometry::{Cylinder, Disc, Parallelogram, Plane, Shape, Sphere, TriangleMesh};
 use timbre::math::Frame;
 
@@ -876,27 +876,10 @@ fn parallelogram() -> impl Strategy<Value = RefShape> {
 }
 
 fn mesh() -> impl Strategy<Value = RefShape> {
-    (point_in(4.0), prop::collection::vec(point_in(2.5), 3..8))
-        .prop_flat_map(|(offset, local)| {
-            let n = local.len() as u32;
-            let vertices: Vec<DVec3> = local.into_iter().map(|v| v + offset).collect();
-            (
-                Just(vertices),
-                prop::collection::vec(prop::array::uniform3(0..n), 1..8),
-            )
-        })
-        .prop_map(|(vertices, raw)| {
-            let triangles: Vec<[u32; 3]> = raw
-                .into_iter()
-                .filter(|t| {
-                    let [a, b, c] = t.map(|i| vertices[i as usize]);
-                    (b - a).cross(c - a).length() > 1e-2
-                })
-                .collect();
-            RefShape::Mesh {
-                vertices,
-                triangles,
-            }
+    mesh_parts(4.0, 2.5, 3..8, 1..8)
+        .prop_map(|(vertices, triangles)| RefShape::Mesh {
+            vertices,
+            triangles,
         })
         .prop_filter(
             "no usable triangle",

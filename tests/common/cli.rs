@@ -1,0 +1,162 @@
+//! Running the built `timbre` command in a temporary directory, and reading what it printed and
+//! wrote (`tests/cli.rs`, `tests/mesh_io.rs`, `tests/scene_files.rs`).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use glam::DVec3;
+
+pub const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
+
+/// What a run of `timbre` did.
+pub struct Run {
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+impl Run {
+    #[track_caller]
+    pub fn assert_success(&self) -> &Self {
+        assert_eq!(
+            self.code,
+            Some(0),
+            "timbre failed:\nstdout: {}\nstderr: {}",
+            self.stdout,
+            self.stderr
+        );
+        self
+    }
+
+    /// Asserts exit code 2 (bad input) and a "timbre: error:" message containing every needle.
+    #[track_caller]
+    pub fn assert_bad_input(&self, needles: &[&str]) -> &Self {
+        assert_eq!(
+            self.code,
+            Some(2),
+            "expected exit 2:\nstdout: {}\nstderr: {}",
+            self.stdout,
+            self.stderr
+        );
+        assert!(
+            self.stderr.starts_with("timbre: error: "),
+            "no error message: {}",
+            self.stderr
+        );
+        for needle in needles {
+            assert!(
+                self.stderr.contains(needle),
+                "error message lacks {needle:?}: {}",
+                self.stderr
+            );
+        }
+        self
+    }
+
+    /// The value after `  NAME:` in the output of `timbre check`.
+    #[track_caller]
+    pub fn field(&self, name: &str) -> &str {
+        let prefix = format!("  {name}:");
+        self.stdout
+            .lines()
+            .find_map(|l| l.strip_prefix(&prefix))
+            .map(str::trim)
+            .unwrap_or_else(|| panic!("no {prefix:?} line in:\n{}", self.stdout))
+    }
+
+    /// The number after `  NAME:` in the output of `timbre check`.
+    #[track_caller]
+    pub fn count(&self, name: &str) -> u64 {
+        let value = self.field(name);
+        value
+            .split_whitespace()
+            .next()
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{name}: no number in {value:?}"))
+    }
+
+    /// The bounding box `[x, y, z] to [x, y, z]` printed by `timbre check`.
+    #[track_caller]
+    pub fn bounding_box(&self) -> (DVec3, DVec3) {
+        let value = self.field("bounding box");
+        let parse = |s: &str| -> DVec3 {
+            let inner = s
+                .trim()
+                .strip_prefix('[')
+                .and_then(|s| s.split(']').next())
+                .unwrap_or_else(|| panic!("no [x, y, z] in {value:?}"));
+            let xyz: Vec<f64> = inner
+                .split(',')
+                .map(|n| n.trim().parse().expect("a number"))
+                .collect();
+            DVec3::from_slice(&xyz)
+        };
+        let (lo, hi) = value
+            .split_once(" to ")
+            .unwrap_or_else(|| panic!("no 'A to B' in {value:?}"));
+        (parse(lo), parse(hi))
+    }
+}
+
+/// Runs `command` (which runs `timbre`) and collects what it did.
+pub fn run(mut command: Command) -> Run {
+    let out = command.output().expect("run timbre");
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8(out.stdout).expect("UTF-8 stdout"),
+        stderr: String::from_utf8(out.stderr).expect("UTF-8 stderr"),
+    }
+}
+
+/// Runs `timbre` with `args` in `dir`.
+pub fn timbre(dir: &Path, args: &[&str]) -> Run {
+    let mut command = Command::new(TIMBRE);
+    command.args(args).current_dir(dir);
+    run(command)
+}
+
+/// Writes `contents` to `dir/name`, creating directories on the way.
+pub fn write(dir: impl AsRef<Path>, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
+    let path = dir.as_ref().join(name);
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(&path, contents).expect("write test file");
+    path
+}
+
+pub fn path_str(path: &Path) -> &str {
+    path.to_str().expect("UTF-8 path")
+}
+
+/// The names of the files in `dir`, sorted.
+pub fn files_in(dir: impl AsRef<Path>) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+pub fn decode_png(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+/// The (line, column) of an error message `PATH:LINE:COLUMN: ...` about `path`.
+#[track_caller]
+pub fn location(message: &str, path: impl AsRef<Path>) -> (usize, usize) {
+    let prefix = format!("{}:", path.as_ref().display());
+    let start = message
+        .find(&prefix)
+        .unwrap_or_else(|| panic!("message does not name {prefix}: {message}"));
+    let mut parts = message[start + prefix.len()..].splitn(3, ':');
+    let mut number = || -> usize {
+        let part = parts.next().unwrap_or_default();
+        part.parse()
+            .unwrap_or_else(|_| panic!("no {prefix}line:column in {message:?}"))
+    };
+    let (line, column) = (number(), number());
+    assert!(column >= 1, "columns are 1-based: {message}");
+    (line, column)
+}
