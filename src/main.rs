@@ -44,9 +44,10 @@ enum Command {
         /// Output file; the extension (.ply or .obj) chooses the format.
         #[arg(short, long)]
         output: PathBuf,
-        /// Least number of triangles (the mesh has the smallest grid with at least this many).
-        #[arg(long, default_value_t = 10_000)]
-        triangles: usize,
+        /// Least number of triangles (the mesh has the smallest grid with at least this many),
+        /// at most 200 million.
+        #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=200_000_000))]
+        triangles: u64,
         /// Height of the bumps relative to the radius (0: a plain faceted sphere).
         #[arg(long, default_value_t = 0.1)]
         displacement: f64,
@@ -299,7 +300,7 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
 
 fn run_generate_mesh(
     output: &Path,
-    triangles: usize,
+    triangles: u64,
     displacement: f64,
     encoding: Encoding,
 ) -> Result<(), Failure> {
@@ -308,7 +309,7 @@ fn run_generate_mesh(
             "--displacement must be between -1 and 1, got {displacement}"
         )));
     }
-    let mesh = generate::displaced_sphere(triangles, displacement);
+    let mesh = generate::displaced_sphere(triangles as usize, displacement);
     let encoding = match encoding {
         Encoding::Ascii => PlyEncoding::Ascii,
         Encoding::BinaryLittleEndian => PlyEncoding::BinaryLittleEndian,

@@ -120,3 +120,51 @@ fn a_cube_mesh_renders_like_six_parallelograms() {
         );
     }
 }
+
+/// Smooth normals bend the shading, but a surface law must still see a ray arrive from the side
+/// the triangle faces, and a reflection about w must not pass through the triangle — also at
+/// silhouettes, where the interpolated normal and the triangle's normal disagree most.
+#[test]
+fn smooth_mesh_frames_agree_with_the_triangle_about_sides() {
+    use timbre::geometry::{SceneGeometry, Shape, TriangleMesh};
+    use timbre::mesh::generate;
+
+    let m = generate::displaced_sphere(200, 0.0);
+    let mesh = TriangleMesh::with_normals(m.vertices, m.triangles, m.normals).unwrap();
+    let device = Device::new("").unwrap();
+    let scene = SceneGeometry::build(
+        &device,
+        vec![(Shape::TriangleMesh(mesh.clone()), true)],
+        vec![],
+    )
+    .unwrap();
+    let origin = DVec3::new(0.0, 0.0, -4.0);
+    let (mut hits, mut bent) = (0, 0);
+    for i in 0..200 {
+        for j in 0..200 {
+            let target = DVec3::new(-1.1 + 0.011 * i as f64, -1.1 + 0.011 * j as f64, 0.0);
+            let d = (target - origin).normalize();
+            let Some(hit) = scene.nearest(origin, d, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            hits += 1;
+            let p = origin + hit.t * d;
+            let g = mesh.face_normal(hit.prim);
+            let w = scene.frame_along(&hit, p, d).w;
+            let r = d - 2.0 * d.dot(w) * w;
+            assert!(
+                d.dot(g) < 0.0 && d.dot(w) < 0.0,
+                "ray from outside seen from inside"
+            );
+            assert!(r.dot(g) > 0.0, "reflection through the triangle at {p}");
+            if (w - g.normalize()).length() > 1e-6 {
+                bent += 1;
+            }
+        }
+    }
+    // Most hits keep their smooth normal.
+    assert!(
+        hits > 20_000 && bent > hits * 9 / 10,
+        "{bent} of {hits} smooth"
+    );
+}

@@ -1700,3 +1700,82 @@ fn an_override_is_the_same_as_editing_the_file() {
         assert_ne!(overridden, file::load(&path).unwrap(), "--set {set}");
     }
 }
+
+#[test]
+fn set_camera_values_work_on_a_file_without_a_camera() {
+    // The documented example: the other camera keys keep the standard camera's values.
+    let dir = tempfile::TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "s.toml",
+        "studio = \"lattice\"\n[render]\nwidth = 32\nheight = 24\n",
+    );
+    let path = scene.to_str().unwrap();
+    timbre(
+        dir.path(),
+        &["check", path, "--set", "camera.position=[0,0,-2]"],
+    )
+    .assert_success();
+    let standard = timbre(dir.path(), &["render", path, "-o", "a.png", "-q"]);
+    standard.assert_success();
+    let moved = timbre(
+        dir.path(),
+        &[
+            "render",
+            path,
+            "-o",
+            "b.png",
+            "-q",
+            "--set",
+            "camera.position=[0,0,-2]",
+        ],
+    );
+    moved.assert_success();
+    let same = timbre(
+        dir.path(),
+        &[
+            "render",
+            path,
+            "-o",
+            "c.png",
+            "-q",
+            "--set",
+            "camera.up=[0,1,0]",
+        ],
+    );
+    same.assert_success();
+    let read = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    assert_ne!(
+        read("a.png"),
+        read("b.png"),
+        "moving the camera changes the picture"
+    );
+    assert_eq!(
+        read("a.png"),
+        read("c.png"),
+        "the standard camera's own values change nothing"
+    );
+    // A value that looks like TOML but is not is an error (clap's, exit 2), not a string.
+    let bad = timbre(
+        dir.path(),
+        &["check", path, "--set", "camera.position=[0,0,-2"],
+    );
+    assert_eq!(bad.code, Some(2), "{}", bad.stderr);
+    assert!(bad.stderr.contains("not valid TOML"), "{}", bad.stderr);
+}
+
+#[test]
+fn array_copies_are_limited_for_the_whole_scene() {
+    // Two arrays of 6 000 000 copies each: each within the per-array limit, together not.
+    let object = |name: &str| {
+        format!(
+            "[[object]]\nname = \"{name}\"\nshape = {{ type = \"sphere\", centre = [0, 0, 0], radius = 0.1 }}\n{MATT}\narray = {{ vectors = [[1, 0, 0], [0, 1, 0]], counts = [3000, 2000] }}\n"
+        )
+    };
+    let e = parse_error(&format!(
+        "studio = \"none\"\n{}{}",
+        object("a"),
+        object("b")
+    ));
+    assert!(e.contains("12000000 copies in all"), "{e}");
+}

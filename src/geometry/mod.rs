@@ -419,6 +419,26 @@ impl SceneGeometry {
         self.shapes[hit.object].frame(p - self.offset(hit.object, hit.element), hit.prim)
     }
 
+    /// The frame a surface law sees for a ray arriving along `direction`: [`Self::frame`],
+    /// except that a mesh's interpolated (smooth) normal gives way to the triangle's own where
+    /// the two disagree about the side the ray comes from, or where reflecting about the smooth
+    /// normal would send the ray through the triangle (at silhouettes). Surface laws tell
+    /// inside from outside by w, so that decision follows the geometry.
+    pub fn frame_along(&self, hit: &Hit, p: DVec3, direction: DVec3) -> Frame {
+        let f = self.frame(hit, p);
+        let Shape::TriangleMesh(m) = &self.shapes[hit.object] else {
+            return f;
+        };
+        let g = m.face_normal(hit.prim);
+        let from_front = direction.dot(g) < 0.0;
+        let reflected = direction - 2.0 * direction.dot(f.w) * f.w;
+        if (direction.dot(f.w) < 0.0) == from_front && (reflected.dot(g) > 0.0) == from_front {
+            f
+        } else {
+            Frame::from_normal_and_u(g, f.u)
+        }
+    }
+
     /// Surface coordinates of world point `p` of a hit, on the hit element.
     pub fn coordinates(&self, hit: &Hit, p: DVec3) -> DVec2 {
         self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element))

@@ -171,13 +171,19 @@ impl TriangleMesh {
             .min_by(|a, b| a.0.total_cmp(&b.0))
     }
 
+    /// The normal of triangle `prim` from its winding (not normalised).
+    pub fn face_normal(&self, prim: u32) -> DVec3 {
+        let [v0, v1, v2] = self.corners(prim);
+        (v1 - v0).cross(v2 - v0)
+    }
+
     /// Frame at point `p` of triangle `prim`. w is the triangle's normal (its winding gives the
     /// outward side) or, when the mesh has vertex normals, the normals interpolated
     /// barycentrically at `p`, turned to the outward side if they point inwards; u lies along
     /// the triangle's first edge, made perpendicular to w.
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
         let [v0, v1, v2] = self.corners(prim);
-        let geometric = (v1 - v0).cross(v2 - v0);
+        let geometric = self.face_normal(prim);
         let smooth = self.normals().and_then(|normals| {
             let [n0, n1, n2] = self.data.triangles[prim as usize].map(|i| normals[i as usize]);
             // Barycentric weights of p: sub-triangle areas over the whole.

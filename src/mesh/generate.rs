@@ -12,7 +12,8 @@ use super::Mesh;
 /// centre along its unit direction (x, y, z). Vertex normals are the area-weighted face
 /// normals. `displacement` 0 gives a faceted sphere inscribed in the unit sphere.
 pub fn displaced_sphere(triangles: usize, displacement: f64) -> Mesh {
-    let mut rings = 2usize;
+    // Start just below the solution of 4r(r − 1) = triangles (4r² underestimates it).
+    let mut rings = ((triangles as f64 / 4.0).sqrt() as usize).max(2);
     while 4 * rings * (rings - 1) < triangles {
         rings += 1;
     }

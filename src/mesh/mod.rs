@@ -98,18 +98,18 @@ pub fn save(path: &Path, mesh: &Mesh, encoding: PlyEncoding) -> Result<(), MeshE
         path: shown.clone(),
         source,
     };
+    let Some(format) = MeshFormat::from_path(path) else {
+        return Err(MeshError::Invalid {
+            path: shown,
+            location: String::new(),
+            message: "unknown mesh format: the file name must end in .obj or .ply".into(),
+        });
+    };
     let file = std::fs::File::create(path).map_err(io)?;
     let mut out = std::io::BufWriter::new(file);
-    match MeshFormat::from_path(path) {
-        Some(MeshFormat::Obj) => obj::write(&mut out, mesh),
-        Some(MeshFormat::Ply) => ply::write(&mut out, mesh, encoding),
-        None => {
-            return Err(MeshError::Invalid {
-                path: shown,
-                location: String::new(),
-                message: "unknown mesh format: the file name must end in .obj or .ply".into(),
-            });
-        }
+    match format {
+        MeshFormat::Obj => obj::write(&mut out, mesh),
+        MeshFormat::Ply => ply::write(&mut out, mesh, encoding),
     }
     .and_then(|()| std::io::Write::flush(&mut out))
     .map_err(io)

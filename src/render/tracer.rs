@@ -24,10 +24,12 @@ impl Interaction<'_> {
         self.ray.at(self.hit.t)
     }
 
-    /// The surface frame at the hit (w the outward normal), of the array element that was hit;
-    /// computed on demand, since some surfaces (constant colour) never need it.
+    /// The surface frame at the hit (w the outward normal), of the array element that was hit,
+    /// as seen by this ray (see [`SceneGeometry::frame_along`]); computed on demand, since some
+    /// surfaces (constant colour) never need it.
     pub fn frame(&self) -> Frame {
-        self.geometry.frame(&self.hit, self.point())
+        self.geometry
+            .frame_along(&self.hit, self.point(), self.ray.direction)
     }
 
     /// The element's surface coordinates at the hit.

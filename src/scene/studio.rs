@@ -61,8 +61,19 @@ pub fn lights() -> Lights {
 }
 
 /// Pinhole at the origin looking along +z, up +y, horizontal view angle 20°.
+pub const CAMERA_POSITION: DVec3 = DVec3::ZERO;
+pub const CAMERA_VIEW_DIRECTION: DVec3 = DVec3::Z;
+pub const CAMERA_UP: DVec3 = DVec3::Y;
+pub const CAMERA_VIEW_ANGLE_DEG: f64 = 20.0;
+
 pub fn camera() -> PinholeCamera {
-    PinholeCamera::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 20f64.to_radians()).expect("valid camera")
+    PinholeCamera::new(
+        CAMERA_POSITION,
+        CAMERA_VIEW_DIRECTION,
+        CAMERA_UP,
+        CAMERA_VIEW_ANGLE_DEG.to_radians(),
+    )
+    .expect("valid camera")
 }
 
 /// The 48 cylinders (radius 0.02, shiny, shadow-throwing) of TIM's lattice on the grid

@@ -163,15 +163,23 @@ struct RenderSection {
     shadows: Option<bool>,
 }
 
+/// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
+/// file without a `[camera]`).
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-enum CameraSection {
-    Pinhole {
-        position: Vector,
-        view_direction: Vector,
-        up: Vector,
-        horizontal_view_angle_deg: Positive,
-    },
+#[serde(deny_unknown_fields)]
+struct CameraSection {
+    #[serde(rename = "type")]
+    _kind: Option<CameraKind>,
+    position: Option<Vector>,
+    view_direction: Option<Vector>,
+    up: Option<Vector>,
+    horizontal_view_angle_deg: Option<Positive>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum CameraKind {
+    Pinhole,
 }
 
 #[derive(Debug, Deserialize)]
@@ -269,30 +277,28 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     if let Some(camera) = file.camera {
         let span = camera.span();
-        let CameraSection::Pinhole {
-            position,
-            view_direction,
-            up,
-            horizontal_view_angle_deg,
-        } = camera.into_inner();
-        if horizontal_view_angle_deg.0 >= 180.0 {
+        let c = camera.into_inner();
+        let position = c.position.map_or(studio::CAMERA_POSITION, |v| v.0);
+        let view_direction = c
+            .view_direction
+            .map_or(studio::CAMERA_VIEW_DIRECTION, |v| v.0);
+        let up = c.up.map_or(studio::CAMERA_UP, |v| v.0);
+        let angle = c
+            .horizontal_view_angle_deg
+            .map_or(studio::CAMERA_VIEW_ANGLE_DEG, |a| a.0);
+        if angle >= 180.0 {
             return Err(invalid(
                 Some(span),
                 "horizontal_view_angle_deg must be below 180".into(),
             ));
         }
-        scene.camera = PinholeCamera::new(
-            position.0,
-            view_direction.0,
-            up.0,
-            horizontal_view_angle_deg.0.to_radians(),
-        )
-        .ok_or_else(|| {
-            invalid(
-                Some(span),
-                "camera view_direction and up must be non-zero and not parallel".into(),
-            )
-        })?;
+        scene.camera = PinholeCamera::new(position, view_direction, up, angle.to_radians())
+            .ok_or_else(|| {
+                invalid(
+                    Some(span),
+                    "camera view_direction and up must be non-zero and not parallel".into(),
+                )
+            })?;
     }
 
     // Lights given in the file replace the studio's lights.

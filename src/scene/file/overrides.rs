@@ -34,11 +34,17 @@ impl FromStr for Override {
             return Err(format!("'{s}': the key has an empty part"));
         }
         let value = value.trim();
-        let value = format!("v = {value}")
+        let parsed = format!("v = {value}")
             .parse::<Table>()
-            .ok()
-            .and_then(|mut t| t.remove("v"))
-            .unwrap_or_else(|| Value::String(value.to_string()));
+            .map(|mut t| t.remove("v"));
+        let value = match parsed {
+            Ok(Some(v)) => v,
+            // A bare word is a string; anything that looks like TOML must be TOML.
+            _ if value.starts_with(['[', '{', '"', '\'']) || value.is_empty() => {
+                return Err(format!("'{s}': the value is not valid TOML"));
+            }
+            _ => Value::String(value.to_string()),
+        };
         Ok(Override {
             key,
             value,
@@ -57,7 +63,7 @@ impl fmt::Display for Override {
 pub(super) fn apply(text: &str, overrides: &[Override]) -> Result<String, String> {
     let mut root = text.parse::<Table>().map_err(|e| e.to_string())?;
     for o in overrides {
-        set(&mut root, o).map_err(|e| format!("--set {o}: {e}"))?;
+        set(&mut root, o).map_err(|e| format!("{o}: {e}"))?;
     }
     toml::to_string(&root).map_err(|e| e.to_string())
 }

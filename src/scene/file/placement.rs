@@ -21,9 +21,12 @@ use super::{SceneFileError, Source};
 use crate::geometry::{ObjectArray, Transform};
 use crate::scene::SceneObject;
 
-/// Most copies one array (after flattening nested arrays) may have: each is an Embree instance
-/// of about 400 bytes.
+/// Most array copies a scene may have in all (after flattening nested arrays): each is an
+/// Embree instance of about 500 bytes.
 pub const MAX_ARRAY_ELEMENTS: u64 = 10_000_000;
+
+/// Most objects a scene may have (each mesh file part is one; repetition belongs in arrays).
+pub const MAX_OBJECTS: usize = 1_000_000;
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -157,7 +160,37 @@ impl Placed {
 
     /// Every object repeated at each of `offsets`: objects in no array become one new array;
     /// an existing array's copies are repeated (its offsets become all the sums).
+    /// Array copies in all.
+    fn copies(&self) -> u64 {
+        self.arrays.iter().map(|a| a.offsets.len() as u64).sum()
+    }
+
+    /// Checks the scene-wide limits on objects and array copies.
+    fn check_size(&self) -> Result<(), String> {
+        if self.objects.len() > MAX_OBJECTS {
+            return Err(format!(
+                "the scene has more than {MAX_OBJECTS} objects (repeated objects belong in arrays)"
+            ));
+        }
+        let copies = self.copies();
+        if copies > MAX_ARRAY_ELEMENTS {
+            return Err(format!(
+                "the scene's arrays have {copies} copies in all; at most {MAX_ARRAY_ELEMENTS} are supported"
+            ));
+        }
+        Ok(())
+    }
+
     fn repeat(self, offsets: &[DVec3]) -> Result<Placed, String> {
+        // Afterwards the objects in no array are one array of offsets.len() copies, and each
+        // array has offsets.len() times as many copies as before.
+        let plain = (self.objects.len() > self.arrays.iter().map(|a| a.objects.len()).sum()) as u64;
+        let total = (self.copies() + plain) as u128 * offsets.len() as u128;
+        if total > MAX_ARRAY_ELEMENTS as u128 {
+            return Err(format!(
+                "the scene's arrays would have {total} copies in all; at most {MAX_ARRAY_ELEMENTS} are supported"
+            ));
+        }
         let mut in_array = vec![false; self.objects.len()];
         for a in &self.arrays {
             in_array[a.objects.clone()].fill(true);
@@ -181,12 +214,6 @@ impl Placed {
             out.objects = plain;
         }
         for a in self.arrays {
-            let total = a.offsets.len() as u64 * offsets.len() as u64;
-            if total > MAX_ARRAY_ELEMENTS {
-                return Err(format!(
-                    "an array of arrays with {total} copies; at most {MAX_ARRAY_ELEMENTS} are supported"
-                ));
-            }
             let start = out.objects.len();
             out.objects.extend(take(a.objects));
             out.arrays.push(ObjectArray {
@@ -231,6 +258,7 @@ impl Placer {
         let mut placed = Placed::default();
         for o in items.object {
             placed.append(self.object(source, o, parent, prefix)?);
+            placed.check_size().map_err(|e| source.error(None, e))?;
         }
         for g in items.group {
             let name = join(prefix, g.name.as_deref());
@@ -242,6 +270,7 @@ impl Placer {
             };
             let inner = self.items(source, members, &own, &name)?;
             placed.append(self.repeat(source, inner, offsets, &name)?);
+            placed.check_size().map_err(|e| source.error(None, e))?;
         }
         for i in items.include {
             let name = join(prefix, i.name.as_deref());
@@ -266,6 +295,7 @@ impl Placer {
             let inner = self.items(&included, file.items(), &own, &name)?;
             self.stack.pop();
             placed.append(self.repeat(source, inner, offsets, &name)?);
+            placed.check_size().map_err(|e| source.error(None, e))?;
         }
         Ok(placed)
     }

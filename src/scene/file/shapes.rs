@@ -116,9 +116,14 @@ fn load_mesh(path: &Path, smooth: bool) -> Result<Vec<(String, Shape)>, String> 
                 (false, false) => m.name.clone(),
             };
             let normals = m.normals.filter(|_| smooth);
+            let part = if single {
+                String::new()
+            } else {
+                format!(" (part '{name}')")
+            };
             TriangleMesh::with_normals(m.vertices, m.triangles, normals)
                 .map(|t| (name, Shape::TriangleMesh(t)))
-                .map_err(|e| format!("{}: {e}", path.display()))
+                .map_err(|e| format!("{}{part}: {e}", path.display()))
         })
         .collect()
 }
