@@ -158,8 +158,6 @@ impl Placed {
             }));
     }
 
-    /// Every object repeated at each of `offsets`: objects in no array become one new array;
-    /// an existing array's copies are repeated (its offsets become all the sums).
     /// Array copies in all.
     fn copies(&self) -> u64 {
         self.arrays.iter().map(|a| a.offsets.len() as u64).sum()
@@ -181,30 +179,30 @@ impl Placed {
         Ok(())
     }
 
+    /// Every object repeated at each of `offsets`: objects in no array become one new array;
+    /// an existing array's copies are repeated (its offsets become all the sums).
     fn repeat(self, offsets: &[DVec3]) -> Result<Placed, String> {
+        let mut in_array = vec![false; self.objects.len()];
+        for a in &self.arrays {
+            in_array[a.objects.clone()].fill(true);
+        }
         // Afterwards the objects in no array are one array of offsets.len() copies, and each
         // array has offsets.len() times as many copies as before.
-        let plain = (self.objects.len() > self.arrays.iter().map(|a| a.objects.len()).sum()) as u64;
-        let total = (self.copies() + plain) as u128 * offsets.len() as u128;
+        let new_array = in_array.contains(&false) as u64;
+        let total = (self.copies() + new_array) as u128 * offsets.len() as u128;
         if total > MAX_ARRAY_ELEMENTS as u128 {
             return Err(format!(
                 "the scene's arrays would have {total} copies in all; at most {MAX_ARRAY_ELEMENTS} are supported"
             ));
-        }
-        let mut in_array = vec![false; self.objects.len()];
-        for a in &self.arrays {
-            in_array[a.objects.clone()].fill(true);
         }
         let mut slots: Vec<Option<SceneObject>> = self.objects.into_iter().map(Some).collect();
         let mut take = |range: Range<usize>| -> Vec<SceneObject> {
             slots[range].iter_mut().filter_map(Option::take).collect()
         };
         let mut out = Placed::default();
-        let plain: Vec<SceneObject> = in_array
-            .iter()
-            .enumerate()
-            .filter(|(_, a)| !**a)
-            .flat_map(|(i, _)| take(i..i + 1))
+        let plain: Vec<SceneObject> = (0..in_array.len())
+            .filter(|&i| !in_array[i])
+            .flat_map(|i| take(i..i + 1))
             .collect();
         if !plain.is_empty() {
             out.arrays.push(ObjectArray {
@@ -308,10 +306,8 @@ impl Placer {
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
-        let name = o.name.map_or_else(
-            || join(prefix, Some(&format!("object {}", self.count))),
-            |n| join(prefix, Some(&n)),
-        );
+        let own_name = o.name.unwrap_or_else(|| format!("object {}", self.count));
+        let name = join(prefix, Some(&own_name));
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
