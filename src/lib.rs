@@ -12,4 +12,5 @@ pub mod math;
 pub mod mesh;
 pub mod render;
 pub mod scene;
+pub mod stereo;
 pub mod surfaces;

@@ -11,10 +11,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
-use timbre::render::render;
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
 use timbre::scene::{Scene, SceneDescription};
+use timbre::stereo::{Stereo, render_stereo};
 
 #[derive(Parser)]
 #[command(
@@ -179,6 +179,15 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     s.threads = args.threads.map(|t| t as usize);
     s.validate().map_err(bad_input)?;
     let settings = s.clone();
+    let stereo = &description.stereo;
+    stereo
+        .validate(settings.width, settings.height)
+        .map_err(bad_input)?;
+    if settings.aovs && *stereo != Stereo::Mono {
+        return Err(bad_input(
+            "--aov works with single views only (camera.stereo = \"none\")",
+        ));
+    }
 
     let format = OutputFormat::from_path(&args.output).map_err(bad_input)?;
     if settings.aovs && format != OutputFormat::Exr {
@@ -206,7 +215,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
 
-    let pixels = settings.width as u64 * settings.height as u64;
+    let pixels = settings.width as u64 * settings.height as u64 * stereo.views() as u64;
     let bar = if args.quiet || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
     } else {
@@ -218,8 +227,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         bar
     };
     let start = Instant::now();
+    let camera = &description.camera;
     let image =
-        render(&scene, &description.camera, &settings, &|n| bar.inc(n)).map_err(internal)?;
+        render_stereo(&scene, camera, &settings, stereo, &|n| bar.inc(n)).map_err(internal)?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
@@ -232,14 +242,14 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         spp: settings.spp,
         seed: settings.seed,
         aovs,
-        object_names: scene.objects.iter().map(|o| o.name.clone()).collect(),
+        object_names: scene.object_names.clone(),
     };
     write_image(&args.output, &image, &provenance).map_err(bad_input)?;
     if !args.quiet {
         println!(
             "{}x{}, {} spp: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
-            settings.width,
-            settings.height,
+            image.width,
+            image.height,
             settings.spp,
             image.rays,
             seconds,

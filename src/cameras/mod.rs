@@ -1,5 +1,274 @@
-//! Cameras: where primary rays start and in which directions.
+//! Cameras: where primary rays start, in which directions and at what times.
+//!
+//! One camera type covers TIM's pinhole, finite-aperture ("any focus surface") and orthographic
+//! cameras, each optionally moving at relativistic speed (§2). Rays are generated in the camera
+//! frame; [`Camera::to_scene_frame`] Lorentz-transforms them into the scene frame. The two
+//! frames' coordinates coincide at time 0, and the boost is taken about the camera position
+//! (the pupil centre): at t = 0 the camera is where `position` says, in both frames.
 
-mod pinhole;
+mod shutter;
 
-pub use pinhole::PinholeCamera;
+pub use shutter::{Shutter, ShutterGeometry};
+
+use glam::DVec3;
+
+use crate::math::{LorentzTransform, Ray};
+
+/// How detector positions map to chief rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// Chief rays through the pupil centre, following TIM's convention: the detector lies at
+    /// distance 1 behind the pinhole (mirrored in front of it), and the horizontal view angle
+    /// spans the *centres* of the outermost pixel columns, so the pixel pitch is
+    /// 2 tan(angle/2) / (width − 1). Pixels are square; the rows are centred on the view
+    /// direction.
+    Perspective { horizontal_view_angle: f64 },
+    /// Chief rays parallel to the view direction, from the points of the plane through the
+    /// camera position; `view_width` spans the centres of the outermost pixel columns.
+    Orthographic { view_width: f64 },
+}
+
+/// Where the images of the detector pixels are (TIM can focus on almost any surface).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Focus {
+    /// The plane perpendicular to the view direction at this distance ahead of the pupil.
+    Plane { distance: f64 },
+    /// The scene's focus-surface objects, in the camera frame: a pixel's image is where its
+    /// chief ray first meets them, or at infinity if it misses them.
+    Surface,
+}
+
+/// Focus distance when none is given, in floor tiles.
+pub const DEFAULT_FOCUS_DISTANCE: f64 = 10.0;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    /// Centre of the entrance pupil (the pinhole).
+    position: DVec3,
+    /// Unit view direction, perpendicular to the pupil disk.
+    view_direction: DVec3,
+    /// Unit "right" on the detector (up × view).
+    right: DVec3,
+    /// Unit "up" on the detector, perpendicular to the view direction.
+    up: DVec3,
+    projection: Projection,
+    /// Detector pitch per pixel at unit distance (perspective) or in length (orthographic),
+    /// times (width − 1).
+    span: f64,
+    aperture_radius: f64,
+    focus: Focus,
+    shutter: Shutter,
+    shutter_time: f64,
+    /// Distance i of the detector plane behind the pupil (detector-plane shutter).
+    detector_distance: f64,
+    /// Camera velocity.
+    boost: LorentzTransform,
+    /// Offset of this eye's pupil from `position` (stereo views); zero for a single camera.
+    eye: DVec3,
+}
+
+impl Camera {
+    /// A pinhole camera at rest, shutter in the entrance pupil at t = 0. `up` need not be
+    /// perpendicular to `view_direction`, only not parallel to it; both are normalised here.
+    /// Returns `None` for parallel or zero vectors.
+    pub fn new(
+        position: DVec3,
+        view_direction: DVec3,
+        up: DVec3,
+        projection: Projection,
+    ) -> Option<Camera> {
+        let view = view_direction.try_normalize()?;
+        // With x right, y up and the view along +z (TIM's convention), right = up × view.
+        let right = up.cross(view).try_normalize()?;
+        let up = view.cross(right);
+        let span = match projection {
+            Projection::Perspective {
+                horizontal_view_angle,
+            } => 2.0 * (0.5 * horizontal_view_angle).tan(),
+            Projection::Orthographic { view_width } => view_width,
+        };
+        Some(Camera {
+            position,
+            view_direction: view,
+            right,
+            up,
+            projection,
+            span,
+            aperture_radius: 0.0,
+            focus: Focus::Plane {
+                distance: DEFAULT_FOCUS_DISTANCE,
+            },
+            shutter: Shutter::EntrancePupil,
+            shutter_time: 0.0,
+            detector_distance: 1.0,
+            boost: LorentzTransform::new(DVec3::ZERO).expect("zero velocity"),
+            eye: DVec3::ZERO,
+        })
+    }
+
+    /// A pinhole camera with the given horizontal view angle (radians).
+    pub fn pinhole(
+        position: DVec3,
+        view_direction: DVec3,
+        up: DVec3,
+        horizontal_view_angle: f64,
+    ) -> Option<Camera> {
+        Camera::new(
+            position,
+            view_direction,
+            up,
+            Projection::Perspective {
+                horizontal_view_angle,
+            },
+        )
+    }
+
+    /// A finite entrance pupil of this radius (0: a pinhole), focused on `focus`.
+    pub fn with_aperture(self, radius: f64, focus: Focus) -> Camera {
+        Camera {
+            aperture_radius: radius,
+            focus,
+            ..self
+        }
+    }
+
+    /// The shutter model, its opening time t_s and the detector distance i behind the pupil.
+    pub fn with_shutter(self, shutter: Shutter, time: f64, detector_distance: f64) -> Camera {
+        Camera {
+            shutter,
+            shutter_time: time,
+            detector_distance,
+            ..self
+        }
+    }
+
+    /// The camera moving with velocity `boost` through the scene.
+    pub fn with_velocity(self, boost: LorentzTransform) -> Camera {
+        Camera { boost, ..self }
+    }
+
+    /// The view of an eye whose pupil is `offset` from this camera's, imaging each pixel onto
+    /// the same point of the focus surface (both eyes converge there).
+    pub fn eye(&self, offset: DVec3) -> Camera {
+        Camera {
+            eye: offset,
+            ..self.clone()
+        }
+    }
+
+    pub fn position(&self) -> DVec3 {
+        self.position
+    }
+
+    /// Unit view direction.
+    pub fn view_direction(&self) -> DVec3 {
+        self.view_direction
+    }
+
+    /// Unit right and up directions of the detector.
+    pub fn right_up(&self) -> (DVec3, DVec3) {
+        (self.right, self.up)
+    }
+
+    pub fn projection(&self) -> Projection {
+        self.projection
+    }
+
+    pub fn aperture_radius(&self) -> f64 {
+        self.aperture_radius
+    }
+
+    pub fn focus(&self) -> Focus {
+        self.focus
+    }
+
+    pub fn shutter(&self) -> (Shutter, f64) {
+        (self.shutter, self.shutter_time)
+    }
+
+    pub fn boost(&self) -> &LorentzTransform {
+        &self.boost
+    }
+
+    /// The undeviated chief ray of continuous detector position (x, y) in pixel units, (0, 0)
+    /// being the centre of the top-left pixel, x to the right and y downwards: its pupil centre
+    /// (ignoring the eye offset) and direction (not normalised).
+    pub fn chief_ray(&self, width: u32, height: u32, x: f64, y: f64) -> (DVec3, DVec3) {
+        let pitch = self.span / (width.max(2) - 1) as f64;
+        let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
+        let dy = (0.5 * (height as f64 - 1.0) - y) * pitch;
+        let across = dx * self.right + dy * self.up;
+        match self.projection {
+            Projection::Perspective { .. } => (self.position, self.view_direction + across),
+            Projection::Orthographic { .. } => (self.position + across, self.view_direction),
+        }
+    }
+
+    /// The camera-frame ray of one sample of detector position (x, y): it leaves a point E of
+    /// the entrance-pupil disk, chosen by the two uniform numbers `pupil`, towards the pixel's
+    /// image I, at the time the shutter model gives. `focus_surface(origin, direction)` is the
+    /// distance along a chief ray to the focus surface (used with [`Focus::Surface`]).
+    pub fn ray(
+        &self,
+        width: u32,
+        height: u32,
+        (x, y): (f64, f64),
+        pupil: [f64; 2],
+        focus_surface: &dyn Fn(DVec3, DVec3) -> Option<f64>,
+    ) -> Ray {
+        let (centre, direction) = self.chief_ray(width, height, x, y);
+        let chief = direction.normalize();
+        let image = match self.focus {
+            Focus::Plane { distance } => {
+                Some(centre + distance / chief.dot(self.view_direction) * chief)
+            }
+            Focus::Surface => focus_surface(centre, chief).map(|t| centre + t * chief),
+        };
+        // This eye's pupil centre and chief ray (through the common image point).
+        let eye_centre = centre + self.eye;
+        let eye_chief = match image {
+            Some(i) if self.eye != DVec3::ZERO => (i - eye_centre).normalize(),
+            _ => chief,
+        };
+        let pupil_point = if self.aperture_radius > 0.0 {
+            let r = self.aperture_radius * pupil[0].sqrt();
+            let (s, c) = (std::f64::consts::TAU * pupil[1]).sin_cos();
+            eye_centre + r * (c * self.right + s * self.up)
+        } else {
+            eye_centre
+        };
+        // A pinhole's rays are the chief rays themselves, exactly.
+        let direction = match image {
+            _ if pupil_point == centre => direction,
+            Some(i) => i - pupil_point,
+            None => chief,
+        };
+        let geometry = ShutterGeometry {
+            pupil_point,
+            pupil_centre: eye_centre,
+            pixel: eye_centre
+                - self.detector_distance / eye_chief.dot(self.view_direction) * eye_chief,
+            image,
+            chief: eye_chief,
+        };
+        Ray::new(
+            pupil_point,
+            direction,
+            self.shutter.start_time(self.shutter_time, &geometry),
+        )
+    }
+
+    /// The scene-frame ray of a camera-frame ray: its origin event (Eq 1, about the camera
+    /// position) and its backwards-traced direction (Eq 4). Exactly `ray` at rest.
+    pub fn to_scene_frame(&self, ray: &Ray) -> Ray {
+        if self.boost.is_identity() {
+            return *ray;
+        }
+        let (x, t) = self.boost.event(ray.origin - self.position, ray.time);
+        Ray::new(
+            self.position + x,
+            self.boost.backwards_direction(ray.direction),
+            t,
+        )
+    }
+}

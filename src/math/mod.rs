@@ -1,4 +1,9 @@
-//! f64 geometry shared by the whole renderer: rays, surface frames, quadratic roots.
+//! f64 geometry shared by the whole renderer: rays, surface frames, quadratic roots, Lorentz
+//! transformations.
+
+mod lorentz;
+
+pub use lorentz::LorentzTransform;
 
 use glam::DVec3;
 

@@ -4,15 +4,15 @@ mod sampling;
 mod tracer;
 
 pub use sampling::{pixel_offset, uniform};
-pub use tracer::{Interaction, Tracer};
+pub use tracer::{Found, Interaction, Tracer};
 
 use glam::Vec3;
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::cameras::PinholeCamera;
+use crate::cameras::Camera;
 use crate::math::Ray;
-use crate::scene::Scene;
+use crate::scene::{ReferenceFrame, Scene};
 use crate::surfaces::Colour;
 
 /// How to render: image size, sampling and tracing limits.
@@ -84,7 +84,8 @@ impl Default for RenderSettings {
 /// Arbitrary output variables of the surface seen through one pixel centre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AovSample {
-    /// Distance from the camera along the ray; infinite where nothing is hit.
+    /// Distance from the camera along the ray (from its Lorentz-transformed start in the scene
+    /// frame if it meets no camera-frame object); infinite where nothing is hit.
     pub depth: f32,
     /// Outward surface normal; zero where nothing is hit.
     pub normal: Vec3,
@@ -135,15 +136,35 @@ const BLOCK_H: u32 = 2;
 /// Renders the rows from `y0` into `pixels` (and `aovs`, if asked for); returns the rays traced.
 fn render_band(
     scene: &Scene,
-    camera: &PinholeCamera,
+    camera: &Camera,
     s: &RenderSettings,
     y0: u32,
     pixels: &mut [Colour],
     mut aovs: Option<&mut [AovSample]>,
 ) -> u64 {
-    let tracer = Tracer::new(scene, s.shadows);
+    let tracer = Tracer::new(scene, camera, s.shadows);
     let rows = (pixels.len() / s.width as usize) as u32;
-    let centre_ray = |x: u32, y: u32| camera.ray(s.width, s.height, x as f64, y as f64);
+    let focus = |origin, direction| {
+        let surface = scene.focus_surface.as_ref()?;
+        surface
+            .nearest(origin, direction, 0.0, f64::INFINITY)
+            .map(|h| h.t)
+    };
+    // The ray of one sample (pixel offset and pupil point from the sample's random numbers).
+    let sample_ray = |x: u32, y: u32, sample: u32| {
+        let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
+        let pupil = [
+            uniform(s.seed, x, y, sample, 2),
+            uniform(s.seed, x, y, sample, 3),
+        ];
+        camera.ray(
+            s.width,
+            s.height,
+            (x as f64 + dx, y as f64 + dy),
+            pupil,
+            &focus,
+        )
+    };
     for by in (y0..y0 + rows).step_by(BLOCK_H as usize) {
         for bx in (0..s.width).step_by(BLOCK_W as usize) {
             let mut block = [(0u32, 0u32); 8];
@@ -156,17 +177,16 @@ fn render_band(
             }
             let block = &block[..n];
             let mut sums = [Colour::ZERO; 8];
-            let mut hits = [None; 8];
+            let mut firsts = [None; 8];
             for sample in 0..s.spp {
                 let rays: [Ray; 8] = std::array::from_fn(|i| {
                     let (x, y) = block.get(i).copied().unwrap_or(block[0]);
-                    let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
-                    camera.ray(s.width, s.height, x as f64 + dx, y as f64 + dy)
+                    sample_ray(x, y, sample)
                 });
                 let traced = tracer.trace_packet(&rays[..n], s.max_trace_level);
-                for (i, (colour, hit)) in traced.into_iter().take(n).enumerate() {
+                for (i, (colour, found)) in traced.into_iter().take(n).enumerate() {
                     sums[i] += colour;
-                    hits[i] = hit;
+                    firsts[i] = found;
                 }
             }
             for (i, &(x, y)) in block.iter().enumerate() {
@@ -174,16 +194,20 @@ fn render_band(
                 pixels[k] = sums[i] / s.spp as f64;
                 if let Some(aovs) = aovs.as_deref_mut() {
                     // The surface seen through the pixel centre (the sample itself when spp = 1).
-                    let ray = centre_ray(x, y);
-                    let hit = if s.spp == 1 {
-                        hits[i]
+                    let found = if s.spp == 1 {
+                        firsts[i]
                     } else {
-                        tracer.nearest(&ray, 0.0)
+                        let ray =
+                            camera.ray(s.width, s.height, (x as f64, y as f64), [0.0; 2], &focus);
+                        tracer.first(&ray, 0.0, ReferenceFrame::Camera)
                     };
-                    aovs[k] = hit.map_or(AovSample::MISS, |h| AovSample {
-                        depth: h.t as f32,
-                        normal: scene.geometry.frame(&h, ray.at(h.t)).w.as_vec3(),
-                        object: h.object as f32,
+                    aovs[k] = found.map_or(AovSample::MISS, |f| {
+                        let (object, normal) = tracer.identify(&f);
+                        AovSample {
+                            depth: f.hit.t as f32,
+                            normal: normal.as_vec3(),
+                            object: object as f32,
+                        }
                     });
                 }
             }
@@ -200,7 +224,7 @@ fn render_band(
 /// [`RenderSettings::validate`] first to reject them).
 pub fn render(
     scene: &Scene,
-    camera: &PinholeCamera,
+    camera: &Camera,
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, RenderError> {

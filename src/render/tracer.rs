@@ -4,19 +4,32 @@ use std::cell::Cell;
 
 use glam::{DVec2, DVec3};
 
+use crate::cameras::Camera;
 use crate::geometry::{Hit, SceneGeometry, Shape};
 use crate::math::{Frame, Ray};
-use crate::scene::{Scene, lights::Lights};
+use crate::scene::{ReferenceFrame, Scene, World, lights::Lights};
 use crate::surfaces::Colour;
 
 /// Where a ray meets a surface, with everything a surface law needs.
 pub struct Interaction<'a> {
+    /// The incoming ray, in the frame of the object it meets.
     pub ray: Ray,
     /// The object, array element, primitive and distance along the ray.
     pub hit: Hit,
     pub geometry: &'a SceneGeometry,
+    /// The frame the object is at rest in; rays leaving it are traced on in that frame.
+    pub frame: ReferenceFrame,
     /// Remaining trace levels of the incoming ray.
     pub level: u32,
+}
+
+/// The first surface a ray meets, in whichever frame it is at rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Found {
+    pub frame: ReferenceFrame,
+    /// The ray in that frame (Lorentz-transformed if it left the camera-frame scene).
+    pub ray: Ray,
+    pub hit: Hit,
 }
 
 impl Interaction<'_> {
@@ -50,16 +63,22 @@ impl Interaction<'_> {
 }
 
 /// Traces rays through one scene; one per worker (it counts the rays it traces).
+///
+/// Rays start in the camera frame. They meet the camera-frame objects first; a ray that leaves
+/// the last of them (or misses them all) is Lorentz-transformed into the scene frame there
+/// (§2.1) and traced on through the scene-frame objects, never returning to the camera frame.
 pub struct Tracer<'a> {
     scene: &'a Scene,
+    camera: &'a Camera,
     shadows: bool,
     rays: Cell<u64>,
 }
 
 impl<'a> Tracer<'a> {
-    pub fn new(scene: &'a Scene, shadows: bool) -> Tracer<'a> {
+    pub fn new(scene: &'a Scene, camera: &'a Camera, shadows: bool) -> Tracer<'a> {
         Tracer {
             scene,
+            camera,
             shadows,
             rays: Cell::new(0),
         }
@@ -74,81 +93,141 @@ impl<'a> Tracer<'a> {
         &self.scene.lights
     }
 
-    /// The colour seen along `ray` (hits closer than `t_min` are ignored) with `level` trace
-    /// levels left, and the hit. A ray with no levels left, or that hits nothing, is black.
-    pub fn trace(&self, ray: &Ray, t_min: f64, level: u32) -> (Colour, Option<Hit>) {
+    /// The colour seen along `ray`, in `frame` (hits closer than `t_min` are ignored), with
+    /// `level` trace levels left. A ray with no levels left, or that hits nothing, is black.
+    pub fn trace(&self, ray: &Ray, t_min: f64, level: u32, frame: ReferenceFrame) -> Colour {
         if level == 0 {
-            return (Colour::ZERO, None);
+            return Colour::ZERO;
         }
-        let hit = self.nearest(ray, t_min);
-        let colour = hit.map_or(Colour::ZERO, |hit| self.shade(ray, &hit, level));
-        (colour, hit)
+        self.first(ray, t_min, frame)
+            .map_or(Colour::ZERO, |found| self.shade(&found, level))
     }
 
-    /// [`Tracer::trace`] (from t = 0) for the first 8 of `rays`, intersected as one packet when
-    /// they share an origin (primary rays of neighbouring pixels); entries past the rays are
-    /// black misses.
-    pub(crate) fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Hit>); 8] {
+    /// The first surface along `ray`, which starts in `frame`.
+    pub fn first(&self, ray: &Ray, t_min: f64, frame: ReferenceFrame) -> Option<Found> {
+        if frame == ReferenceFrame::Camera {
+            if let Some(world) = &self.scene.camera_frame
+                && let Some(hit) = self.nearest(world, ray, t_min)
+            {
+                return Some(Found {
+                    frame,
+                    ray: *ray,
+                    hit,
+                });
+            }
+            let ray = self.camera.to_scene_frame(ray);
+            return self.first(&ray, 0.0, ReferenceFrame::Scene);
+        }
+        let hit = self.nearest(&self.scene.scene_frame, ray, t_min)?;
+        Some(Found {
+            frame,
+            ray: *ray,
+            hit,
+        })
+    }
+
+    /// [`Tracer::trace`] of the first 8 of `rays`, primary rays in the camera frame, and the
+    /// surfaces they meet first; entries past the rays are black misses. Rays that reach the
+    /// scene frame from the same origin (primary rays of neighbouring pixels) are intersected
+    /// as one packet.
+    pub(crate) fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Found>); 8] {
         let rays = &rays[..rays.len().min(8)];
+        let single = |r: &Ray| {
+            let found = self.first(r, 0.0, ReferenceFrame::Camera);
+            (found.map_or(Colour::ZERO, |f| self.shade(&f, level)), found)
+        };
+        if level == 0 || rays.is_empty() {
+            return [(Colour::ZERO, None); 8];
+        }
+        if self.scene.camera_frame.is_some() {
+            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), single));
+        }
+        let mut scene_rays = [rays[0]; 8];
+        for (s, r) in scene_rays.iter_mut().zip(rays) {
+            *s = self.camera.to_scene_frame(r);
+        }
+        let scene_rays = &scene_rays[..rays.len()];
+        if scene_rays.iter().any(|r| r.origin != scene_rays[0].origin) {
+            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), single));
+        }
         let mut directions = [DVec3::ZERO; 8];
-        for (d, r) in directions.iter_mut().zip(rays) {
+        for (d, r) in directions.iter_mut().zip(scene_rays) {
             *d = r.direction;
         }
-        let same_origin = rays.iter().all(|r| r.origin == rays[0].origin);
-        if level == 0 || rays.is_empty() || !same_origin {
-            return std::array::from_fn(|i| {
-                rays.get(i)
-                    .map_or((Colour::ZERO, None), |r| self.trace(r, 0.0, level))
-            });
-        }
         self.rays.set(self.rays.get() + rays.len() as u64);
-        let hits = self.scene.geometry.nearest8(
-            rays[0].origin,
+        let hits = self.scene.scene_frame.geometry.nearest8(
+            scene_rays[0].origin,
             &directions[..rays.len()],
             0.0,
             f64::INFINITY,
         );
         std::array::from_fn(|i| match hits[i] {
-            Some(hit) => (self.shade(&rays[i], &hit, level), Some(hit)),
+            Some(hit) => {
+                let found = Found {
+                    frame: ReferenceFrame::Scene,
+                    ray: scene_rays[i],
+                    hit,
+                };
+                (self.shade(&found, level), Some(found))
+            }
             None => (Colour::ZERO, None),
         })
     }
 
-    /// The nearest hit along `ray`.
-    pub fn nearest(&self, ray: &Ray, t_min: f64) -> Option<Hit> {
+    /// The nearest hit along `ray` in `world`.
+    fn nearest(&self, world: &World, ray: &Ray, t_min: f64) -> Option<Hit> {
         self.rays.set(self.rays.get() + 1);
-        self.scene
+        world
             .geometry
             .nearest(ray.origin, ray.direction, t_min, f64::INFINITY)
     }
 
-    /// The colour of the surface at `hit`, seen along `ray`.
-    pub fn shade(&self, ray: &Ray, hit: &Hit, level: u32) -> Colour {
+    /// The objects at rest in `frame`.
+    fn world(&self, frame: ReferenceFrame) -> &World {
+        self.scene
+            .world(frame)
+            .expect("rays meet only objects that exist")
+    }
+
+    /// The colour of the surface found, seen along its ray.
+    pub fn shade(&self, found: &Found, level: u32) -> Colour {
+        let world = self.world(found.frame);
         let at = Interaction {
-            ray: *ray,
-            hit: *hit,
-            geometry: &self.scene.geometry,
+            ray: found.ray,
+            hit: found.hit,
+            geometry: &world.geometry,
+            frame: found.frame,
             level,
         };
-        self.scene.objects[hit.object].surface.colour(self, &at)
+        world.objects[found.hit.object].surface.colour(self, &at)
+    }
+
+    /// The description index and outward normal of the surface found.
+    pub fn identify(&self, found: &Found) -> (usize, DVec3) {
+        let world = self.world(found.frame);
+        let normal = world
+            .geometry
+            .frame(&found.hit, found.ray.at(found.hit.t))
+            .w;
+        (world.objects[found.hit.object].id, normal)
     }
 
     /// The colour seen along the ray that leaves the interaction point in `direction`, one trace
-    /// level down.
+    /// level down, in the interaction's frame.
     pub fn trace_from(&self, at: &Interaction, direction: DVec3) -> Colour {
         let ray = at.ray.continued(at.hit.t, direction);
-        self.trace(&ray, at.self_hit_margin(), at.level - 1).0
+        self.trace(&ray, at.self_hit_margin(), at.level - 1, at.frame)
     }
 
-    /// Whether a shadow-throwing object hides a light at `distance` in unit direction `l` from
-    /// the interaction point (always false with shadows switched off).
+    /// Whether a shadow-throwing object at rest in the interaction's frame hides a light at
+    /// `distance` in unit direction `l` from the interaction point (always false with shadows
+    /// switched off).
     pub fn shadowed(&self, at: &Interaction, l: DVec3, distance: f64) -> bool {
         if !self.shadows {
             return false;
         }
         self.rays.set(self.rays.get() + 1);
-        self.scene
-            .geometry
+        at.geometry
             .shadowed(at.point(), l, at.self_hit_margin(), distance)
     }
 }

@@ -7,12 +7,24 @@ pub mod studio;
 
 use glam::DVec3;
 
-use crate::cameras::PinholeCamera;
+use crate::cameras::Camera;
 use crate::embree::{Device, EmbreeError};
 use crate::geometry::{ObjectArray, SceneGeometry, Shape};
 use crate::render::RenderSettings;
+use crate::stereo::Stereo;
 use crate::surfaces::Surface;
 use lights::Lights;
+
+/// The inertial frame an object is at rest in (§2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ReferenceFrame {
+    /// At rest in the scene (everything, usually).
+    #[default]
+    Scene,
+    /// Moving with the camera: the camera-frame scene, which rays meet before they are
+    /// Lorentz-transformed into the scene frame.
+    Camera,
+}
 
 /// A named shape with a surface property.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,6 +34,7 @@ pub struct SceneObject {
     pub surface: Surface,
     /// Whether the object casts shadows.
     pub shadow_throwing: bool,
+    pub frame: ReferenceFrame,
 }
 
 /// Everything needed to render a picture, before the BVH is built.
@@ -32,7 +45,11 @@ pub struct SceneDescription {
     /// each of its offsets.
     pub arrays: Vec<ObjectArray>,
     pub lights: Lights,
-    pub camera: PinholeCamera,
+    pub camera: Camera,
+    /// Shapes (in the camera frame) the camera focuses on, with [`crate::cameras::Focus::Surface`].
+    pub focus_surface: Vec<Shape>,
+    /// A single view, or a stereo output of two views.
+    pub stereo: Stereo,
     pub render: RenderSettings,
 }
 
@@ -108,39 +125,116 @@ impl SceneDescription {
 /// Object data the tracer needs per hit (the shape lives in the geometry).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ObjectInfo {
+    /// Index of the object in the scene description (the object AOV).
+    pub id: usize,
     pub name: String,
     pub surface: Surface,
 }
 
-/// A scene ready for tracing: geometry in Embree's BVH, surfaces and lights.
-pub struct Scene {
+/// The objects at rest in one reference frame, with their BVH; `objects` is indexed by the
+/// geometry's object index.
+pub struct World {
     pub objects: Vec<ObjectInfo>,
     pub geometry: SceneGeometry,
+}
+
+/// A scene ready for tracing: the scene-frame and camera-frame objects in Embree's BVHs, the
+/// camera's focus surface, and the lights.
+pub struct Scene {
+    pub scene_frame: World,
+    /// The camera-frame scene, if any object moves with the camera.
+    pub camera_frame: Option<World>,
+    /// The focus-surface shapes, if there are any.
+    pub focus_surface: Option<SceneGeometry>,
     pub lights: Lights,
+    /// All object names, by description index.
+    pub object_names: Vec<String>,
 }
 
 impl Scene {
-    /// Builds the BVH for the objects of a description.
+    /// Builds the BVHs for the objects of a description.
     pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, EmbreeError> {
-        let objects = &description.objects;
-        let geometry = SceneGeometry::build(
-            device,
-            objects
+        let world = |frame| World::build(device, description, frame);
+        let camera_frame = if description
+            .objects
+            .iter()
+            .any(|o| o.frame == ReferenceFrame::Camera)
+        {
+            Some(world(ReferenceFrame::Camera)?)
+        } else {
+            None
+        };
+        let focus_surface = if description.focus_surface.is_empty() {
+            None
+        } else {
+            let shapes = description
+                .focus_surface
                 .iter()
-                .map(|o| (o.shape.clone(), o.shadow_throwing))
-                .collect(),
-            description.arrays.clone(),
-        )?;
+                .map(|s| (s.clone(), false))
+                .collect();
+            Some(SceneGeometry::build(device, shapes, Vec::new())?)
+        };
         Ok(Scene {
-            objects: objects
-                .iter()
-                .map(|o| ObjectInfo {
+            scene_frame: world(ReferenceFrame::Scene)?,
+            camera_frame,
+            focus_surface,
+            lights: description.lights.clone(),
+            object_names: description.objects.iter().map(|o| o.name.clone()).collect(),
+        })
+    }
+
+    /// The objects at rest in `frame` (the camera frame's may be absent).
+    pub fn world(&self, frame: ReferenceFrame) -> Option<&World> {
+        match frame {
+            ReferenceFrame::Scene => Some(&self.scene_frame),
+            ReferenceFrame::Camera => self.camera_frame.as_ref(),
+        }
+    }
+}
+
+impl World {
+    /// The objects of `description` at rest in `frame`, in their order. Each array is
+    /// restricted to its members in this frame, which stay contiguous.
+    fn build(
+        device: &Device,
+        description: &SceneDescription,
+        frame: ReferenceFrame,
+    ) -> Result<World, EmbreeError> {
+        // New index of each object of this frame.
+        let mut index = vec![usize::MAX; description.objects.len()];
+        let mut objects = Vec::new();
+        let mut shapes = Vec::new();
+        for (id, o) in description.objects.iter().enumerate() {
+            if o.frame == frame {
+                index[id] = objects.len();
+                objects.push(ObjectInfo {
+                    id,
                     name: o.name.clone(),
                     surface: o.surface.clone(),
+                });
+                shapes.push((o.shape.clone(), o.shadow_throwing));
+            }
+        }
+        let arrays = description
+            .arrays
+            .iter()
+            .filter_map(|a| {
+                let members: Vec<usize> = a
+                    .objects
+                    .clone()
+                    .map(|i| index[i])
+                    .filter(|&i| i != usize::MAX)
+                    .collect();
+                let (&first, &last) = (members.first()?, members.last()?);
+                Some(ObjectArray {
+                    objects: first..last + 1,
+                    offsets: a.offsets.clone(),
                 })
-                .collect(),
-            geometry,
-            lights: description.lights.clone(),
+            })
+            .collect();
+        Ok(World {
+            objects,
+            geometry: SceneGeometry::build(device, shapes, arrays)?,
         })
     }
 }

@@ -4,10 +4,11 @@
 use glam::DVec3;
 
 use super::lights::{Lights, PointLight};
-use super::{SceneDescription, SceneObject};
-use crate::cameras::PinholeCamera;
+use super::{ReferenceFrame, SceneDescription, SceneObject};
+use crate::cameras::Camera;
 use crate::geometry::{Cylinder, Plane, Shape, Sphere};
 use crate::render::RenderSettings;
+use crate::stereo::Stereo;
 use crate::surfaces::{Chequerboard, Colour, Coloured, Surface};
 
 /// The backdrop a scene starts from.
@@ -26,6 +27,7 @@ pub fn sky() -> SceneObject {
         shape: Shape::Sphere(Sphere::new(DVec3::ZERO, 1e5).expect("valid sky")),
         surface: Surface::ConstantColour(Colour::new(0.5, 0.5, 1.0)),
         shadow_throwing: false,
+        frame: ReferenceFrame::Scene,
     }
 }
 
@@ -45,6 +47,7 @@ pub fn floor() -> SceneObject {
             ]),
         }),
         shadow_throwing: true,
+        frame: ReferenceFrame::Scene,
     }
 }
 
@@ -66,8 +69,8 @@ pub const CAMERA_VIEW_DIRECTION: DVec3 = DVec3::Z;
 pub const CAMERA_UP: DVec3 = DVec3::Y;
 pub const CAMERA_VIEW_ANGLE_DEG: f64 = 20.0;
 
-pub fn camera() -> PinholeCamera {
-    PinholeCamera::new(
+pub fn camera() -> Camera {
+    Camera::pinhole(
         CAMERA_POSITION,
         CAMERA_VIEW_DIRECTION,
         CAMERA_UP,
@@ -90,6 +93,7 @@ pub fn lattice() -> Vec<SceneObject> {
         shape: Shape::Cylinder(Cylinder::new(start, end, 0.02).expect("valid lattice cylinder")),
         surface: Surface::Coloured(Coloured::shiny(colour)),
         shadow_throwing: true,
+        frame: ReferenceFrame::Scene,
     };
     let mut objects = Vec::with_capacity(48);
     for (i, &x) in xs.iter().enumerate() {
@@ -137,6 +141,8 @@ impl Studio {
             arrays: Vec::new(),
             lights: lights(),
             camera: camera(),
+            focus_surface: Vec::new(),
+            stereo: Stereo::default(),
             render: RenderSettings::default(),
         }
     }

@@ -5,6 +5,7 @@
 //! scene files (`include`), and be grouped, transformed and repeated in arrays
 //! (`placement.rs`); `--set key=value` overrides any value (`overrides.rs`).
 
+mod camera;
 mod overrides;
 mod placement;
 mod shapes;
@@ -19,11 +20,11 @@ use serde::Deserialize;
 use thiserror::Error;
 use toml::Spanned;
 
-use super::SceneDescription;
 use super::lights::{Lights, PointLight};
 use super::studio::{self, Studio};
-use crate::cameras::PinholeCamera;
+use super::{ReferenceFrame, SceneDescription};
 use crate::geometry::Transform;
+use camera::CameraSection;
 pub use overrides::Override;
 pub use placement::MAX_ARRAY_ELEMENTS;
 use placement::{GroupSection, IncludeSection, Items, ObjectSection, Placer};
@@ -163,25 +164,6 @@ struct RenderSection {
     shadows: Option<bool>,
 }
 
-/// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
-/// file without a `[camera]`).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CameraSection {
-    #[serde(rename = "type")]
-    _kind: Option<CameraKind>,
-    position: Option<Vector>,
-    view_direction: Option<Vector>,
-    up: Option<Vector>,
-    horizontal_view_angle_deg: Option<Positive>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(rename_all = "snake_case")]
-enum CameraKind {
-    Pinhole,
-}
-
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 enum LightSection {
@@ -258,6 +240,8 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
             arrays: Vec::new(),
             lights: Lights::none(),
             camera: studio::camera(),
+            focus_surface: Vec::new(),
+            stereo: Default::default(),
             render: Default::default(),
         },
     };
@@ -277,28 +261,14 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     if let Some(camera) = file.camera {
         let span = camera.span();
-        let c = camera.into_inner();
-        let position = c.position.map_or(studio::CAMERA_POSITION, |v| v.0);
-        let view_direction = c
-            .view_direction
-            .map_or(studio::CAMERA_VIEW_DIRECTION, |v| v.0);
-        let up = c.up.map_or(studio::CAMERA_UP, |v| v.0);
-        let angle = c
-            .horizontal_view_angle_deg
-            .map_or(studio::CAMERA_VIEW_ANGLE_DEG, |a| a.0);
-        if angle >= 180.0 {
-            return Err(invalid(
-                Some(span),
-                "horizontal_view_angle_deg must be below 180".into(),
-            ));
-        }
-        scene.camera = PinholeCamera::new(position, view_direction, up, angle.to_radians())
-            .ok_or_else(|| {
-                invalid(
-                    Some(span),
-                    "camera view_direction and up must be non-zero and not parallel".into(),
-                )
-            })?;
+        let setup = camera.into_inner().build(source, Some(span.clone()))?;
+        setup
+            .stereo
+            .validate(scene.render.width, scene.render.height)
+            .map_err(|m| invalid(Some(span), m))?;
+        scene.camera = setup.camera;
+        scene.focus_surface = setup.focus_surface;
+        scene.stereo = setup.stereo;
     }
 
     // Lights given in the file replace the studio's lights.
@@ -327,7 +297,13 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         group: file.group,
         include: file.include,
     };
-    let placed = Placer::new(path).items(source, items, &Transform::IDENTITY, "")?;
+    let placed = Placer::new(path).items(
+        source,
+        items,
+        &Transform::IDENTITY,
+        ReferenceFrame::Scene,
+        "",
+    )?;
     scene.objects.extend(placed.objects);
     scene.arrays.extend(placed.arrays.into_iter().map(|mut a| {
         a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;

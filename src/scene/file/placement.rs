@@ -19,7 +19,7 @@ use super::surfaces::SurfaceSection;
 use super::values::{Finite, Vector};
 use super::{SceneFileError, Source};
 use crate::geometry::{ObjectArray, Transform};
-use crate::scene::SceneObject;
+use crate::scene::{ReferenceFrame, SceneObject};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
@@ -34,6 +34,7 @@ pub(super) struct ObjectSection {
     name: Option<String>,
     #[serde(default = "super::yes")]
     shadow_throwing: bool,
+    frame: Option<FrameName>,
     shape: Spanned<ShapeSection>,
     surface: SurfaceSection,
     transform: Option<Spanned<TransformSection>>,
@@ -44,6 +45,7 @@ pub(super) struct ObjectSection {
 #[serde(deny_unknown_fields)]
 pub(super) struct GroupSection {
     name: Option<String>,
+    frame: Option<FrameName>,
     transform: Option<Spanned<TransformSection>>,
     array: Option<Spanned<ArraySection>>,
     #[serde(default)]
@@ -59,8 +61,27 @@ pub(super) struct GroupSection {
 pub(super) struct IncludeSection {
     file: Spanned<String>,
     name: Option<String>,
+    frame: Option<FrameName>,
     transform: Option<Spanned<TransformSection>>,
     array: Option<Spanned<ArraySection>>,
+}
+
+/// The frame an object, group or include is at rest in; members inherit their group's.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum FrameName {
+    Scene,
+    Camera,
+}
+
+impl FrameName {
+    fn or(frame: Option<FrameName>, inherited: ReferenceFrame) -> ReferenceFrame {
+        match frame {
+            None => inherited,
+            Some(FrameName::Scene) => ReferenceFrame::Scene,
+            Some(FrameName::Camera) => ReferenceFrame::Camera,
+        }
+    }
 }
 
 /// The placeable entries of a file or group.
@@ -245,17 +266,19 @@ impl Placer {
         }
     }
 
-    /// Places `items` of the file `source` under the map `parent`; names get `prefix`.
+    /// Places `items` of the file `source` under the map `parent`, in `frame` unless they say
+    /// otherwise; names get `prefix`.
     pub(super) fn items(
         &mut self,
         source: &Source,
         items: Items,
         parent: &Transform,
+        frame: ReferenceFrame,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         let mut placed = Placed::default();
         for o in items.object {
-            placed.append(self.object(source, o, parent, prefix)?);
+            placed.append(self.object(source, o, parent, frame, prefix)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
         }
         for g in items.group {
@@ -266,7 +289,8 @@ impl Placer {
                 group: g.group,
                 include: g.include,
             };
-            let inner = self.items(source, members, &own, &name)?;
+            let frame = FrameName::or(g.frame, frame);
+            let inner = self.items(source, members, &own, frame, &name)?;
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
         }
@@ -290,7 +314,8 @@ impl Placer {
             let (included, file) = super::read(&path, &[])
                 .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
             self.stack.push(key);
-            let inner = self.items(&included, file.items(), &own, &name)?;
+            let frame = FrameName::or(i.frame, frame);
+            let inner = self.items(&included, file.items(), &own, frame, &name)?;
             self.stack.pop();
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
@@ -303,6 +328,7 @@ impl Placer {
         source: &Source,
         o: ObjectSection,
         parent: &Transform,
+        frame: ReferenceFrame,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
@@ -333,6 +359,7 @@ impl Placer {
                 shape,
                 surface: surface.clone(),
                 shadow_throwing: o.shadow_throwing,
+                frame: FrameName::or(o.frame, frame),
             });
         }
         self.repeat(source, placed, offsets, &name)

@@ -1,0 +1,343 @@
+//! The `[camera]` table: projection, aperture and focus, velocity and shutter (§2), and the
+//! stereo output (anaglyphs, frame packing, autostereograms).
+
+use std::ops::Range;
+
+use glam::DVec3;
+use serde::{Deserialize, Deserializer, de};
+use toml::Spanned;
+
+use super::shapes::ShapeSection;
+use super::values::{Finite, Positive, Vector};
+use super::{SceneFileError, Source};
+use crate::cameras::{Camera, DEFAULT_FOCUS_DISTANCE, Focus, Projection, Shutter};
+use crate::geometry::Shape;
+use crate::math::LorentzTransform;
+use crate::scene::studio;
+use crate::stereo::{Packing, Stereo};
+
+/// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
+/// file without a `[camera]`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct CameraSection {
+    #[serde(rename = "type")]
+    kind: Option<CameraKind>,
+    position: Option<Vector>,
+    view_direction: Option<Vector>,
+    up: Option<Vector>,
+    horizontal_view_angle_deg: Option<Spanned<Positive>>,
+    view_width: Option<Spanned<Positive>>,
+    aperture_radius: Option<Spanned<NonNegative>>,
+    focus_distance: Option<Spanned<Positive>>,
+    focus_surface: Option<Spanned<Vec<Spanned<ShapeSection>>>>,
+    beta: Option<Spanned<Vector>>,
+    shutter: Option<ShutterName>,
+    shutter_time: Option<Finite>,
+    detector_distance: Option<Positive>,
+    stereo: Option<StereoName>,
+    eye_separation: Option<Spanned<Vector>>,
+    autostereogram: Option<Spanned<AutostereogramSection>>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum CameraKind {
+    Pinhole,
+    #[serde(alias = "finite_aperture")]
+    FiniteAperture,
+    Orthographic,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum ShutterName {
+    #[serde(alias = "detector_plane")]
+    DetectorPlane,
+    #[serde(alias = "entrance_pupil")]
+    EntrancePupil,
+    #[serde(alias = "focus_surface")]
+    FocusSurface,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum StereoName {
+    None,
+    Anaglyph,
+    #[serde(alias = "colour_anaglyph", alias = "color-anaglyph")]
+    ColourAnaglyph,
+    #[serde(alias = "side_by_side")]
+    SideBySide,
+    #[serde(alias = "side_by_side_half")]
+    SideBySideHalf,
+    #[serde(alias = "top_bottom")]
+    TopBottom,
+    #[serde(alias = "top_bottom_half")]
+    TopBottomHalf,
+    Autostereogram,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AutostereogramSection {
+    eye_separation_px: Option<u32>,
+    depth_of_field: Option<f64>,
+    near: Option<NonNegative>,
+    far: Option<Positive>,
+    #[serde(default = "super::yes")]
+    colour: bool,
+}
+
+/// A number ≥ 0 of at most 1e15.
+#[derive(Debug, Clone, Copy)]
+struct NonNegative(f64);
+
+impl<'de> Deserialize<'de> for NonNegative {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = f64::deserialize(d)?;
+        if (0.0..=super::values::MAX_MAGNITUDE).contains(&x) {
+            Ok(NonNegative(x))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a number from 0 to 1e15, got {x}"
+            )))
+        }
+    }
+}
+
+/// What the `[camera]` table describes.
+pub(super) struct CameraSetup {
+    pub camera: Camera,
+    pub focus_surface: Vec<Shape>,
+    pub stereo: Stereo,
+}
+
+impl CameraSection {
+    /// The camera, its focus surface and the stereo output; `span` is the table's.
+    pub(super) fn build(
+        self,
+        source: &Source,
+        span: Option<Range<usize>>,
+    ) -> Result<CameraSetup, SceneFileError> {
+        let at = |s: Option<Range<usize>>, m: &str| source.error(s.or(span.clone()), m.to_string());
+        let position = self.position.map_or(studio::CAMERA_POSITION, |v| v.0);
+        let view = self
+            .view_direction
+            .map_or(studio::CAMERA_VIEW_DIRECTION, |v| v.0);
+        let up = self.up.map_or(studio::CAMERA_UP, |v| v.0);
+        let aperture = self
+            .aperture_radius
+            .as_ref()
+            .map(|a| (a.span(), a.get_ref().0));
+        let kind = self.kind.unwrap_or(match aperture {
+            Some((_, r)) if r > 0.0 => CameraKind::FiniteAperture,
+            _ => CameraKind::Pinhole,
+        });
+
+        let projection = if kind == CameraKind::Orthographic {
+            if let Some(a) = &self.horizontal_view_angle_deg {
+                return Err(at(
+                    Some(a.span()),
+                    "an orthographic camera has a view_width, not a view angle",
+                ));
+            }
+            let w = self
+                .view_width
+                .as_ref()
+                .ok_or_else(|| at(None, "an orthographic camera needs view_width"))?;
+            Projection::Orthographic {
+                view_width: w.get_ref().0,
+            }
+        } else {
+            if let Some(w) = &self.view_width {
+                return Err(at(
+                    Some(w.span()),
+                    "view_width is for orthographic cameras (type = \"orthographic\")",
+                ));
+            }
+            let angle = self
+                .horizontal_view_angle_deg
+                .as_ref()
+                .map_or(studio::CAMERA_VIEW_ANGLE_DEG, |a| a.get_ref().0);
+            if angle >= 180.0 {
+                let s = self.horizontal_view_angle_deg.as_ref().map(Spanned::span);
+                return Err(at(s, "horizontal_view_angle_deg must be below 180"));
+            }
+            Projection::Perspective {
+                horizontal_view_angle: angle.to_radians(),
+            }
+        };
+        let camera = Camera::new(position, view, up, projection).ok_or_else(|| {
+            at(
+                None,
+                "camera view_direction and up must be non-zero and not parallel",
+            )
+        })?;
+
+        let radius = match (kind, aperture) {
+            (CameraKind::FiniteAperture, Some((_, r))) if r > 0.0 => r,
+            (CameraKind::FiniteAperture, a) => {
+                return Err(at(
+                    a.map(|a| a.0),
+                    "a finite-aperture camera needs aperture_radius > 0",
+                ));
+            }
+            (_, Some((s, r))) if r > 0.0 => {
+                return Err(at(
+                    Some(s),
+                    "only a finite-aperture camera (type = \"finite-aperture\") has an aperture_radius",
+                ));
+            }
+            _ => 0.0,
+        };
+        let focus = match (&self.focus_distance, &self.focus_surface) {
+            (Some(d), Some(s)) => {
+                let _ = d;
+                return Err(at(
+                    Some(s.span()),
+                    "give focus_distance or focus_surface, not both",
+                ));
+            }
+            (Some(d), None) => Focus::Plane {
+                distance: d.get_ref().0,
+            },
+            (None, Some(_)) => Focus::Surface,
+            (None, None) => Focus::Plane {
+                distance: DEFAULT_FOCUS_DISTANCE,
+            },
+        };
+        let mut focus_surface = Vec::new();
+        if let Some(shapes) = self.focus_surface {
+            if shapes.get_ref().is_empty() {
+                return Err(at(
+                    Some(shapes.span()),
+                    "focus_surface needs at least one shape",
+                ));
+            }
+            for shape in shapes.into_inner() {
+                let span = shape.span();
+                let parts = shape
+                    .into_inner()
+                    .build(source.dir())
+                    .map_err(|e| at(Some(span.clone()), &format!("focus_surface: {e}")))?;
+                focus_surface.extend(parts.into_iter().map(|(_, s)| s));
+            }
+        }
+
+        let boost = match self.beta {
+            Some(b) => LorentzTransform::new(b.get_ref().0).ok_or_else(|| {
+                at(
+                    Some(b.span()),
+                    &format!(
+                        "beta must have a magnitude below 1 (the speed of light), got {}",
+                        b.get_ref().0.length()
+                    ),
+                )
+            })?,
+            None => *camera.boost(),
+        };
+        let shutter = match self.shutter {
+            None | Some(ShutterName::EntrancePupil) => Shutter::EntrancePupil,
+            Some(ShutterName::DetectorPlane) => Shutter::DetectorPlane,
+            Some(ShutterName::FocusSurface) => Shutter::FocusSurface,
+        };
+        let camera = camera
+            .with_aperture(radius, focus)
+            .with_shutter(
+                shutter,
+                self.shutter_time.map_or(0.0, |t| t.0),
+                self.detector_distance.map_or(1.0, |d| d.0),
+            )
+            .with_velocity(boost);
+
+        let (right, _) = camera.right_up();
+        let eye_span = self.eye_separation.as_ref().map(Spanned::span);
+        let eye_separation = self
+            .eye_separation
+            .as_ref()
+            .map_or(0.4 * right, |e| e.get_ref().0);
+        let stereo_name = self.stereo.unwrap_or(StereoName::None);
+        let two_eyes = !matches!(stereo_name, StereoName::None | StereoName::Autostereogram);
+        if two_eyes && eye_separation == DVec3::ZERO {
+            return Err(at(eye_span, "eye_separation must not be zero"));
+        }
+        if let Some(a) = &self.autostereogram
+            && stereo_name != StereoName::Autostereogram
+        {
+            return Err(at(
+                Some(a.span()),
+                "[camera.autostereogram] needs stereo = \"autostereogram\"",
+            ));
+        }
+        let packing = |packing, half| Stereo::FramePacking {
+            eye_separation,
+            packing,
+            half,
+        };
+        let stereo = match stereo_name {
+            StereoName::None => Stereo::Mono,
+            StereoName::Anaglyph => Stereo::Anaglyph {
+                eye_separation,
+                colour: false,
+            },
+            StereoName::ColourAnaglyph => Stereo::Anaglyph {
+                eye_separation,
+                colour: true,
+            },
+            StereoName::SideBySide => packing(Packing::SideBySide, false),
+            StereoName::SideBySideHalf => packing(Packing::SideBySide, true),
+            StereoName::TopBottom => packing(Packing::TopBottom, false),
+            StereoName::TopBottomHalf => packing(Packing::TopBottom, true),
+            StereoName::Autostereogram => {
+                let (a, a_span) = match self.autostereogram {
+                    Some(a) => {
+                        let span = a.span();
+                        (a.into_inner(), Some(span))
+                    }
+                    None => (
+                        AutostereogramSection {
+                            eye_separation_px: None,
+                            depth_of_field: None,
+                            near: None,
+                            far: None,
+                            colour: true,
+                        },
+                        None,
+                    ),
+                };
+                let near = a.near.map(|n| n.0);
+                let far = a.far.map(|f| f.0);
+                if let (Some(n), Some(f)) = (near, far)
+                    && n >= f
+                {
+                    return Err(at(
+                        a_span,
+                        &format!("autostereogram near ({n}) must be less than far ({f})"),
+                    ));
+                }
+                let depth_of_field = a.depth_of_field.unwrap_or(1.0 / 3.0);
+                if !(depth_of_field > 0.0 && depth_of_field < 1.0) {
+                    return Err(at(
+                        a_span,
+                        &format!(
+                            "autostereogram depth_of_field must be between 0 and 1, got {depth_of_field}"
+                        ),
+                    ));
+                }
+                Stereo::Autostereogram {
+                    eye_separation_px: a.eye_separation_px,
+                    depth_of_field,
+                    colour: a.colour,
+                    near,
+                    far,
+                }
+            }
+        };
+        Ok(CameraSetup {
+            camera,
+            focus_surface,
+            stereo,
+        })
+    }
+}

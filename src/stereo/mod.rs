@@ -1,0 +1,288 @@
+//! Stereo outputs: red-blue and colour anaglyphs, HDMI 1.4a 3D-TV frame packing (§6) and
+//! random-dot autostereograms.
+//!
+//! The two eyes are the camera with its pupil moved by ∓s/2 (s, the eye separation, points from
+//! the left eye to the right, in the camera frame). Both image each pixel onto the same point of
+//! the camera's focus surface, so the eyes converge there: objects on it have no parallax.
+
+pub mod autostereogram;
+
+use glam::DVec3;
+
+pub use autostereogram::Autostereogram;
+
+use crate::cameras::Camera;
+use crate::render::{Image, RenderError, RenderSettings, render};
+use crate::scene::Scene;
+use crate::surfaces::Colour;
+
+/// Relative luminance of linear RGB (ITU-R BT.709).
+pub const LUMINANCE: Colour = Colour::new(0.2126, 0.7152, 0.0722);
+
+/// How the two views are put side by side or on top of each other in one image (HDMI 1.4a).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Packing {
+    /// Left view on the left, right view on the right.
+    SideBySide,
+    /// Left view on top, right view below.
+    TopBottom,
+}
+
+/// What image to make of the scene.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Stereo {
+    /// One view: the camera's.
+    #[default]
+    Mono,
+    /// Red-blue anaglyph: the left eye's luminance in red, the right eye's in blue. With
+    /// `colour`, a red-cyan colour anaglyph: red from the left eye, green and blue from the
+    /// right.
+    Anaglyph { eye_separation: DVec3, colour: bool },
+    /// Both views in one image. Full resolution doubles the width (side by side) or the height
+    /// (top and bottom); half resolution keeps the image size, each view squeezed to half by
+    /// averaging pairs of columns or rows of a full-resolution render.
+    FramePacking {
+        eye_separation: DVec3,
+        packing: Packing,
+        half: bool,
+    },
+    /// A random-dot autostereogram of the depth of the surfaces seen through the pixel
+    /// centres (see [`autostereogram`]). Depths (distances along the view direction) from
+    /// `near` to `far` span the depth range; nearer ones count as near, farther ones and misses
+    /// as far. Without `near` and `far`, the nearest depth seen and the median depth are used.
+    Autostereogram {
+        /// Eye separation in pixels; by default 2.5 inches at 72 dpi (180), at most a third
+        /// of the width.
+        eye_separation_px: Option<u32>,
+        depth_of_field: f64,
+        colour: bool,
+        near: Option<f64>,
+        far: Option<f64>,
+    },
+}
+
+impl Stereo {
+    /// The number of views rendered (for progress reports).
+    pub fn views(&self) -> u32 {
+        match self {
+            Stereo::Mono | Stereo::Autostereogram { .. } => 1,
+            Stereo::Anaglyph { .. } | Stereo::FramePacking { .. } => 2,
+        }
+    }
+
+    /// Checks the output against the image size; the message says what is wrong.
+    pub fn validate(&self, width: u32, height: u32) -> Result<(), String> {
+        match self {
+            Stereo::FramePacking {
+                packing: Packing::SideBySide,
+                half: true,
+                ..
+            } if width % 2 == 1 => Err(format!(
+                "half-resolution side-by-side frame packing needs an even width, got {width}"
+            )),
+            Stereo::FramePacking {
+                packing: Packing::TopBottom,
+                half: true,
+                ..
+            } if height % 2 == 1 => Err(format!(
+                "half-resolution top-bottom frame packing needs an even height, got {height}"
+            )),
+            Stereo::Autostereogram { near, far, .. } => {
+                if let (Some(n), Some(f)) = (near, far)
+                    && !(0.0 <= *n && n < f)
+                {
+                    return Err(format!(
+                        "the autostereogram depth range needs 0 <= near < far, got near = {n}, far = {f}"
+                    ));
+                }
+                self.autostereogram(width, 0)
+                    .expect("an autostereogram")
+                    .validate(width)
+                    .map_err(|m| format!("autostereogram: {m}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+impl Stereo {
+    /// The autostereogram options for an image `width` pixels wide, with random dots from
+    /// `seed`; `None` unless this is an autostereogram.
+    pub fn autostereogram(&self, width: u32, seed: u64) -> Option<Autostereogram> {
+        match *self {
+            Stereo::Autostereogram {
+                eye_separation_px,
+                depth_of_field,
+                colour,
+                ..
+            } => Some(Autostereogram {
+                eye_separation: eye_separation_px.unwrap_or(180.min(width / 3)),
+                depth_of_field,
+                seed,
+                colour,
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// Renders the image `stereo` asks for: one view or two, combined. `progress` counts the
+/// pixels of every view. AOVs (if the settings ask for them) are kept for single views only.
+pub fn render_stereo(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    stereo: &Stereo,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Image, RenderError> {
+    let views = |s: DVec3| -> Result<(Image, Image), RenderError> {
+        let view = |offset| render(scene, &camera.eye(offset), settings, progress);
+        Ok((view(-0.5 * s)?, view(0.5 * s)?))
+    };
+    match stereo {
+        Stereo::Mono => render(scene, camera, settings, progress),
+        Stereo::Anaglyph {
+            eye_separation,
+            colour,
+        } => {
+            let (left, right) = views(*eye_separation)?;
+            Ok(anaglyph(&left, &right, *colour))
+        }
+        Stereo::FramePacking {
+            eye_separation,
+            packing,
+            half,
+        } => {
+            let (left, right) = views(*eye_separation)?;
+            Ok(pack(&left, &right, *packing, *half))
+        }
+        Stereo::Autostereogram { near, far, .. } => {
+            let with_depth = RenderSettings {
+                aovs: true,
+                ..settings.clone()
+            };
+            let image = render(scene, camera, &with_depth, progress)?;
+            let depth = depth_map(&image, camera, *near, *far);
+            let options = stereo
+                .autostereogram(image.width, settings.seed)
+                .expect("an autostereogram");
+            Ok(Image {
+                pixels: options.render(&depth, image.width, image.height),
+                aovs: None,
+                ..image
+            })
+        }
+    }
+}
+
+/// The anaglyph of two views of the same size: red-blue from the luminances, or red-cyan
+/// colour.
+pub fn anaglyph(left: &Image, right: &Image, colour: bool) -> Image {
+    let pixels = left
+        .pixels
+        .iter()
+        .zip(&right.pixels)
+        .map(|(l, r)| {
+            if colour {
+                Colour::new(l.x, r.y, r.z)
+            } else {
+                Colour::new(l.dot(LUMINANCE), 0.0, r.dot(LUMINANCE))
+            }
+        })
+        .collect();
+    Image {
+        width: left.width,
+        height: left.height,
+        pixels,
+        aovs: None,
+        rays: left.rays + right.rays,
+    }
+}
+
+/// Two views of the same size packed into one frame.
+pub fn pack(left: &Image, right: &Image, packing: Packing, half: bool) -> Image {
+    let (w, h) = (left.width as usize, left.height as usize);
+    let (views, width, height) = match (packing, half) {
+        (Packing::SideBySide, false) => ([left.clone(), right.clone()], 2 * w, h),
+        (Packing::TopBottom, false) => ([left.clone(), right.clone()], w, 2 * h),
+        (Packing::SideBySide, true) => ([squeeze(left, 2, 1), squeeze(right, 2, 1)], w, h),
+        (Packing::TopBottom, true) => ([squeeze(left, 1, 2), squeeze(right, 1, 2)], w, h),
+    };
+    let mut pixels = vec![Colour::ZERO; width * height];
+    for (k, view) in views.iter().enumerate() {
+        let (vw, vh) = (view.width as usize, view.height as usize);
+        // The right view starts after the left one: to its right, or below it.
+        let (x0, y0) = match packing {
+            Packing::SideBySide => (k * vw, 0),
+            Packing::TopBottom => (0, k * vh),
+        };
+        for y in 0..vh {
+            let row = (y0 + y) * width + x0;
+            pixels[row..row + vw].copy_from_slice(&view.pixels[y * vw..(y + 1) * vw]);
+        }
+    }
+    Image {
+        width: width as u32,
+        height: height as u32,
+        pixels,
+        aovs: None,
+        rays: left.rays + right.rays,
+    }
+}
+
+/// The image with each `fx` × `fy` block of pixels averaged into one (sizes divisible).
+fn squeeze(image: &Image, fx: usize, fy: usize) -> Image {
+    let (w, h) = (image.width as usize / fx, image.height as usize / fy);
+    let mut pixels = Vec::with_capacity(w * h);
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = Colour::ZERO;
+            for j in 0..fy {
+                for i in 0..fx {
+                    sum += image.pixels[(fy * y + j) * image.width as usize + fx * x + i];
+                }
+            }
+            pixels.push(sum / (fx * fy) as f64);
+        }
+    }
+    Image {
+        width: w as u32,
+        height: h as u32,
+        pixels,
+        aovs: None,
+        rays: image.rays,
+    }
+}
+
+/// Depth z ∈ [0, 1] (1 near, 0 far) per pixel: the distance of the surface seen through the
+/// pixel centre along the view direction, mapped linearly from [far, near] to [0, 1]. A missing
+/// `near` is the nearest depth seen, a missing `far` the median depth (misses count as
+/// infinitely far).
+fn depth_map(image: &Image, camera: &Camera, near: Option<f64>, far: Option<f64>) -> Vec<f64> {
+    let aovs = image.aovs.as_ref().expect("rendered with AOVs");
+    let (w, h) = (image.width, image.height);
+    let along: Vec<f64> = aovs
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            let (x, y) = ((k as u32 % w) as f64, (k as u32 / w) as f64);
+            let (_, chief) = camera.chief_ray(w, h, x, y);
+            a.depth as f64 * chief.normalize().dot(camera.view_direction())
+        })
+        .collect();
+    let mut sorted = along.clone();
+    sorted.sort_by(f64::total_cmp);
+    let near = near.unwrap_or(sorted[0]);
+    let far = far.unwrap_or(sorted[sorted.len() / 2]);
+    let range = (far - near).max(f64::MIN_POSITIVE);
+    along
+        .iter()
+        .map(|&d| {
+            if d.is_finite() {
+                ((far - d) / range).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
