@@ -719,6 +719,13 @@ fn every_example_scene_checks_and_renders() {
         "mesh.toml",
         "lenslet-array.toml",
         "sphere-array.toml",
+        "fig2a-at-rest.toml",
+        "fig2b-forwards-0.99c.toml",
+        "fig2c-oblique-0.99c.toml",
+        "fig3-finite-aperture-0.99c.toml",
+        "fig4-relativistic-anaglyph.toml",
+        "3d-tv-side-by-side.toml",
+        "autostereogram.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),
