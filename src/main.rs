@@ -8,12 +8,13 @@ use std::time::Instant;
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 
+use timbre::cameras::{Focus, Projection};
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
-use timbre::scene::{Scene, SceneDescription};
+use timbre::scene::{ReferenceFrame, Scene, SceneDescription};
 use timbre::stereo::{Stereo, render_stereo};
 
 #[derive(Parser)]
@@ -179,6 +180,11 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     s.threads = args.threads.map(|t| t as usize);
     s.validate().map_err(bad_input)?;
     let settings = s.clone();
+    if !args.quiet && description.camera.aperture_radius() > 0.0 && settings.spp == 1 {
+        eprintln!(
+            "timbre: warning: a finite-aperture camera with 1 sample per pixel sees through one random pupil point per pixel (noisy); set --spp or [render] spp"
+        );
+    }
     let stereo = &description.stereo;
     stereo
         .validate(settings.width, settings.height)
@@ -304,8 +310,55 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
         None => println!("  bounding box: none ({} unbounded objects)", s.unbounded),
     }
     println!("  point lights: {}", description.lights.points.len());
+    println!("  camera:       {}", camera_summary(&description));
     println!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
     Ok(())
+}
+
+/// The camera in words: projection, aperture and focus, velocity and shutter, stereo output.
+fn camera_summary(d: &SceneDescription) -> String {
+    let c = &d.camera;
+    // Degrees to 9 decimals (20° comes back from radians as 19.999999999999996).
+    let degrees = |a: f64| (a.to_degrees() * 1e9).round() / 1e9;
+    let mut parts = vec![match c.projection() {
+        Projection::Orthographic { view_width } => format!("orthographic, {view_width} wide"),
+        Projection::Perspective {
+            horizontal_view_angle: a,
+        } => match c.aperture_radius() {
+            0.0 => format!("pinhole, {}°", degrees(a)),
+            r => format!("finite aperture (radius {r}), {}°", degrees(a)),
+        },
+    }];
+    let boost = c.boost();
+    if c.aperture_radius() > 0.0 || !boost.is_identity() {
+        parts.push(match c.focus() {
+            Focus::Plane { distance } => format!("focused at {distance}"),
+            Focus::Surface => format!("focused on {} shapes", d.focus_surface.len()),
+        });
+    }
+    if !boost.is_identity() {
+        let (shutter, time) = c.shutter();
+        let b = boost.beta();
+        parts.push(format!(
+            "moving at beta = ({}, {}, {}) (gamma = {:.4}), {shutter:?} shutter at t = {time}",
+            b.x,
+            b.y,
+            b.z,
+            boost.gamma()
+        ));
+    }
+    let camera_frame = d
+        .objects
+        .iter()
+        .filter(|o| o.frame == ReferenceFrame::Camera)
+        .count();
+    if camera_frame > 0 {
+        parts.push(format!("{camera_frame} objects moving with it"));
+    }
+    if d.stereo != Stereo::Mono {
+        parts.push(format!("{:?}", d.stereo));
+    }
+    parts.join("; ")
 }
 
 fn run_generate_mesh(

@@ -357,8 +357,8 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     run.assert_success();
     let expected = format!(
         "{}: OK\n  objects:      1\n  triangles:    0\n  instances:    0 (in 0 arrays)\n  \
-         bounding box: [-10, -10, -10] to [10, 10, 10]\n  point lights: 0\n  render:       \
-         40x30 at 2 spp",
+         bounding box: [-10, -10, -10] to [10, 10, 10]\n  point lights: 0\n  camera:       \
+         pinhole, 20°\n  render:       40x30 at 2 spp",
         good.display()
     );
     assert_eq!(run.stdout.trim_end(), expected);
@@ -374,6 +374,22 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     ] {
         assert!(run.stdout.contains(line), "{}", run.stdout);
     }
+
+    // The camera line says how the camera moves and focuses.
+    let moving = write(
+        &dir,
+        "moving.toml",
+        "[camera]\naperture_radius = 0.1\nfocus_distance = 15\nbeta = [0, 0.6, 0]\nshutter = \"focus-surface\"\nstereo = \"anaglyph\"\n",
+    );
+    let run = timbre(dir.path(), &["check", path_str(&moving)]);
+    run.assert_success();
+    assert!(
+        run.stdout.contains(
+            "camera:       finite aperture (radius 0.1), 20°; focused at 15; moving at beta = (0, 0.6, 0) (gamma = 1.2500), FocusSurface shutter at t = 0; Anaglyph"
+        ),
+        "{}",
+        run.stdout
+    );
 
     let bad = write(
         &dir,

@@ -193,6 +193,7 @@ impl Camera {
     /// The undeviated chief ray of continuous detector position (x, y) in pixel units, (0, 0)
     /// being the centre of the top-left pixel, x to the right and y downwards: its pupil centre
     /// (ignoring the eye offset) and direction (not normalised).
+    #[inline]
     pub fn chief_ray(&self, width: u32, height: u32, x: f64, y: f64) -> (DVec3, DVec3) {
         let pitch = self.span / (width.max(2) - 1) as f64;
         let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
@@ -208,6 +209,7 @@ impl Camera {
     /// the entrance-pupil disk, chosen by the two uniform numbers `pupil`, towards the pixel's
     /// image I, at the time the shutter model gives. `focus_surface(origin, direction)` is the
     /// distance along a chief ray to the focus surface (used with [`Focus::Surface`]).
+    #[inline]
     pub fn ray(
         &self,
         width: u32,
@@ -217,6 +219,14 @@ impl Camera {
         focus_surface: &dyn Fn(DVec3, DVec3) -> Option<f64>,
     ) -> Ray {
         let (centre, direction) = self.chief_ray(width, height, x, y);
+        // A single pinhole with the shutter in the pupil needs no image point: its rays are the
+        // chief rays themselves, leaving at t_s.
+        if self.aperture_radius == 0.0
+            && self.eye == DVec3::ZERO
+            && self.shutter == Shutter::EntrancePupil
+        {
+            return Ray::new(centre, direction, self.shutter_time);
+        }
         let chief = direction.normalize();
         let image = match self.focus {
             Focus::Plane { distance } => {
@@ -260,6 +270,7 @@ impl Camera {
 
     /// The scene-frame ray of a camera-frame ray: its origin event (Eq 1, about the camera
     /// position) and its backwards-traced direction (Eq 4). Exactly `ray` at rest.
+    #[inline]
     pub fn to_scene_frame(&self, ray: &Ray) -> Ray {
         if self.boost.is_identity() {
             return *ray;

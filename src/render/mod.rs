@@ -153,10 +153,14 @@ fn render_band(
     // The ray of one sample (pixel offset and pupil point from the sample's random numbers).
     let sample_ray = |x: u32, y: u32, sample: u32| {
         let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
-        let pupil = [
-            uniform(s.seed, x, y, sample, 2),
-            uniform(s.seed, x, y, sample, 3),
-        ];
+        let pupil = if camera.aperture_radius() > 0.0 {
+            [
+                uniform(s.seed, x, y, sample, 2),
+                uniform(s.seed, x, y, sample, 3),
+            ]
+        } else {
+            [0.0; 2]
+        };
         camera.ray(
             s.width,
             s.height,
@@ -183,11 +187,9 @@ fn render_band(
                     let (x, y) = block.get(i).copied().unwrap_or(block[0]);
                     sample_ray(x, y, sample)
                 });
-                let traced = tracer.trace_packet(&rays[..n], s.max_trace_level);
-                for (i, (colour, found)) in traced.into_iter().take(n).enumerate() {
-                    sums[i] += colour;
-                    firsts[i] = found;
-                }
+                // The surfaces met are kept for the AOVs of a single sample.
+                let record = (aovs.is_some() && s.spp == 1).then_some(&mut firsts[..]);
+                tracer.trace_packet(&rays[..n], s.max_trace_level, &mut sums, record);
             }
             for (i, &(x, y)) in block.iter().enumerate() {
                 let k = (y - y0) as usize * s.width as usize + x as usize;

@@ -126,29 +126,46 @@ impl<'a> Tracer<'a> {
         })
     }
 
-    /// [`Tracer::trace`] of the first 8 of `rays`, primary rays in the camera frame, and the
-    /// surfaces they meet first; entries past the rays are black misses. Rays that reach the
-    /// scene frame from the same origin (primary rays of neighbouring pixels) are intersected
-    /// as one packet.
-    pub(crate) fn trace_packet(&self, rays: &[Ray], level: u32) -> [(Colour, Option<Found>); 8] {
+    /// [`Tracer::trace`] of primary rays (at most 8, in the camera frame): adds each ray's
+    /// colour to `colours` and, if asked, records the surface it meets first in `firsts`. Rays
+    /// that reach the scene frame from the same origin (primary rays of neighbouring pixels)
+    /// are intersected as one packet.
+    pub(crate) fn trace_packet(
+        &self,
+        rays: &[Ray],
+        level: u32,
+        colours: &mut [Colour],
+        mut firsts: Option<&mut [Option<Found>]>,
+    ) {
         let rays = &rays[..rays.len().min(8)];
-        let single = |r: &Ray| {
-            let found = self.first(r, 0.0, ReferenceFrame::Camera);
-            (found.map_or(Colour::ZERO, |f| self.shade(&f, level)), found)
-        };
         if level == 0 || rays.is_empty() {
-            return [(Colour::ZERO, None); 8];
+            return;
         }
-        if self.scene.camera_frame.is_some() {
-            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), single));
-        }
-        let mut scene_rays = [rays[0]; 8];
-        for (s, r) in scene_rays.iter_mut().zip(rays) {
-            *s = self.camera.to_scene_frame(r);
-        }
-        let scene_rays = &scene_rays[..rays.len()];
-        if scene_rays.iter().any(|r| r.origin != scene_rays[0].origin) {
-            return std::array::from_fn(|i| rays.get(i).map_or((Colour::ZERO, None), single));
+        let mut record = |i: usize, found: Option<Found>| {
+            if let Some(f) = firsts.as_deref_mut() {
+                f[i] = found;
+            }
+        };
+        let mut transformed = [rays[0]; 8];
+        let scene_rays = if self.camera.boost().is_identity() {
+            rays
+        } else {
+            for (s, r) in transformed.iter_mut().zip(rays) {
+                *s = self.camera.to_scene_frame(r);
+            }
+            &transformed[..rays.len()]
+        };
+        if self.scene.camera_frame.is_some()
+            || scene_rays.iter().any(|r| r.origin != scene_rays[0].origin)
+        {
+            for (i, r) in rays.iter().enumerate() {
+                let found = self.first(r, 0.0, ReferenceFrame::Camera);
+                if let Some(f) = &found {
+                    colours[i] += self.shade(f, level);
+                }
+                record(i, found);
+            }
+            return;
         }
         let mut directions = [DVec3::ZERO; 8];
         for (d, r) in directions.iter_mut().zip(scene_rays) {
@@ -161,17 +178,17 @@ impl<'a> Tracer<'a> {
             0.0,
             f64::INFINITY,
         );
-        std::array::from_fn(|i| match hits[i] {
-            Some(hit) => {
-                let found = Found {
-                    frame: ReferenceFrame::Scene,
-                    ray: scene_rays[i],
-                    hit,
-                };
-                (self.shade(&found, level), Some(found))
+        for (i, (hit, ray)) in hits.into_iter().zip(scene_rays).enumerate() {
+            let found = hit.map(|hit| Found {
+                frame: ReferenceFrame::Scene,
+                ray: *ray,
+                hit,
+            });
+            if let Some(f) = &found {
+                colours[i] += self.shade(f, level);
             }
-            None => (Colour::ZERO, None),
-        })
+            record(i, found);
+        }
     }
 
     /// The nearest hit along `ray` in `world`.
