@@ -138,6 +138,14 @@ fn load(scene: Option<&Path>, set: &[Override]) -> Result<SceneDescription, Fail
     }
 }
 
+/// `message` about the scene file, if there is one.
+fn in_file(scene: Option<&Path>, message: String) -> String {
+    match scene {
+        Some(path) => format!("{}: {message}", path.display()),
+        None => message,
+    }
+}
+
 /// A spinner saying what is going on (loading meshes, building the BVH can take seconds), on a
 /// terminal only.
 fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
@@ -188,7 +196,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let stereo = &description.stereo;
     stereo
         .validate(settings.width, settings.height)
-        .map_err(bad_input)?;
+        .map_err(|m| bad_input(in_file(args.scene.as_deref(), m)))?;
     if settings.aovs && *stereo != Stereo::Mono {
         return Err(bad_input(
             "--aov works with single views only (camera.stereo = \"none\")",
@@ -283,8 +291,12 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     for w in description.warnings() {
         eprintln!("timbre: warning: {w}");
     }
-    let s = description.summary();
     let r = &description.render;
+    description
+        .stereo
+        .validate(r.width, r.height)
+        .map_err(|m| bad_input(in_file(Some(scene), m)))?;
+    let s = description.summary();
     println!("{}: OK", scene.display());
     println!("  objects:      {}", s.objects);
     println!("  triangles:    {}", s.triangles);
@@ -340,11 +352,12 @@ fn camera_summary(d: &SceneDescription) -> String {
         let (shutter, time) = c.shutter();
         let b = boost.beta();
         parts.push(format!(
-            "moving at beta = ({}, {}, {}) (gamma = {:.4}), {shutter:?} shutter at t = {time}",
+            "moving at beta = ({}, {}, {}) (gamma = {:.4}), {} shutter at t = {time}",
             b.x,
             b.y,
             b.z,
-            boost.gamma()
+            boost.gamma(),
+            shutter.name()
         ));
     }
     let camera_frame = d
@@ -356,7 +369,7 @@ fn camera_summary(d: &SceneDescription) -> String {
         parts.push(format!("{camera_frame} objects moving with it"));
     }
     if d.stereo != Stereo::Mono {
-        parts.push(format!("{:?}", d.stereo));
+        parts.push(format!("stereo {}", d.stereo.name()));
     }
     parts.join("; ")
 }

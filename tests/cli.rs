@@ -385,7 +385,7 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     run.assert_success();
     assert!(
         run.stdout.contains(
-            "camera:       finite aperture (radius 0.1), 20°; focused at 15; moving at beta = (0, 0.6, 0) (gamma = 1.2500), FocusSurface shutter at t = 0; Anaglyph"
+            "camera:       finite aperture (radius 0.1), 20°; focused at 15; moving at beta = (0, 0.6, 0) (gamma = 1.2500), focus-surface shutter at t = 0; stereo anaglyph"
         ),
         "{}",
         run.stdout

@@ -328,8 +328,8 @@ fn bad_camera_keys_are_reported_where_they_are() {
         3,
     );
     check(
-        "[render]\nwidth = 100\n[camera]\nstereo = \"autostereogram\"\n[camera.autostereogram]\neye_separation_px = 250\n",
-        &["eye_separation"],
+        "[camera]\nstereo = \"anaglyph\"\neye_separation = [0.4, 0, 0.1]\n",
+        &["eye_separation must be perpendicular to the view direction"],
         3,
     );
     check(
@@ -337,6 +337,78 @@ fn bad_camera_keys_are_reported_where_they_are() {
         &["unknown variant `train`"],
         2,
     );
+}
+
+#[test]
+fn stereo_outputs_are_checked_against_the_final_image_size() {
+    let dir = TempDir::new().unwrap();
+    let odd = write(
+        &dir,
+        "odd.toml",
+        "studio = \"lattice\"\n[render]\nwidth = 41\nheight = 30\n[camera]\nstereo = \"side-by-side-half\"\n",
+    );
+    let path = path_str(&odd);
+    timbre(dir.path(), &["check", path]).assert_bad_input(&[path, "even width, got 41"]);
+    timbre(dir.path(), &["render", "-q", path, "-o", "x.png"])
+        .assert_bad_input(&["even width, got 41"]);
+    // The command line may fix what the file gets wrong.
+    timbre(
+        dir.path(),
+        &["render", "-q", path, "-o", "x.png", "--width", "40"],
+    )
+    .assert_success();
+    assert_eq!(decode_png(&dir.path().join("x.png")).dimensions(), (40, 30));
+
+    let auto = write(
+        &dir,
+        "auto.toml",
+        "[render]\nwidth = 100\n[camera]\nstereo = \"autostereogram\"\n[camera.autostereogram]\neye_separation_px = 250\n",
+    );
+    timbre(dir.path(), &["check", path_str(&auto)])
+        .assert_bad_input(&["eye_separation_px", "too wide for an image 100 pixels wide"]);
+    let auto = write(
+        &dir,
+        "narrow.toml",
+        "[camera]\nstereo = \"autostereogram\"\n",
+    );
+    timbre(
+        dir.path(),
+        &[
+            "render",
+            "-q",
+            path_str(&auto),
+            "-o",
+            "x.png",
+            "--width",
+            "5",
+        ],
+    )
+    .assert_bad_input(&["at least 6 pixels wide, got 5"]);
+}
+
+#[test]
+fn an_autostereogram_of_a_ball_in_empty_space_is_not_flat() {
+    // Most rays hit nothing: the default depth range comes from the ball alone, so the ball
+    // stands out (its pixels repeat closer than the far separation).
+    let d = file::parse(
+        "studio = \"none\"\n[render]\nwidth = 400\nheight = 100\n\
+         [camera]\nstereo = \"autostereogram\"\n[camera.autostereogram]\neye_separation_px = 90\n\
+         [[light]]\ntype = \"ambient\"\ncolour = [1, 1, 1]\n\
+         [[object]]\nshape = { type = \"sphere\", centre = [0, 0, 10], radius = 0.5 }\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n",
+        "ball.toml",
+    )
+    .unwrap();
+    let device = Device::new("").unwrap();
+    let scene = Scene::build(&device, &d).unwrap();
+    let image = render_stereo(&scene, &d.camera, &d.render, &d.stereo, &|_| {}).unwrap();
+    let far = |x: u32| image.pixel(x, 50) == image.pixel(x - 45, 50);
+    // The ball covers about a quarter of the picture, columns 143 to 257 of the middle row.
+    let repeating_far = (190..210).filter(|&x| far(x)).count();
+    assert!(
+        repeating_far < 5,
+        "{repeating_far} ball pixels repeat at the far separation"
+    );
+    assert!((50..90).all(far), "the empty background is the far plane");
 }
 
 #[test]

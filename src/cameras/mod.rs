@@ -68,7 +68,8 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A pinhole camera at rest, shutter in the entrance pupil at t = 0. `up` need not be
+    /// A camera with this projection and no aperture, at rest, shutter in the entrance pupil at
+    /// t = 0, focused at [`DEFAULT_FOCUS_DISTANCE`]. `up` need not be
     /// perpendicular to `view_direction`, only not parallel to it; both are normalised here.
     /// Returns `None` for parallel or zero vectors.
     pub fn new(
@@ -148,10 +149,11 @@ impl Camera {
     }
 
     /// The view of an eye whose pupil is `offset` from this camera's, imaging each pixel onto
-    /// the same point of the focus surface (both eyes converge there).
+    /// the same point of the focus surface (both eyes converge there). The eyes lie in the
+    /// pupil plane: the offset's component along the view direction is dropped.
     pub fn eye(&self, offset: DVec3) -> Camera {
         Camera {
-            eye: offset,
+            eye: offset.reject_from_normalized(self.view_direction),
             ..self.clone()
         }
     }

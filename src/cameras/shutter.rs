@@ -34,13 +34,24 @@ pub struct ShutterGeometry {
 }
 
 impl Shutter {
+    /// The scene-file name (`camera.shutter`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Shutter::DetectorPlane => "detector-plane",
+            Shutter::EntrancePupil => "entrance-pupil",
+            Shutter::FocusSurface => "focus-surface",
+        }
+    }
+
     /// The time the ray leaves E, for a shutter opening at `t_s`:
     /// entrance pupil t_s; focus surface t_s − |I − E|; detector plane
     /// t_s + |I − P| − |I − E|, with |I − P| = |P − C| + |I − C| since C lies between P and I.
     ///
     /// For an image at infinity the rays of a pixel are parallel and |I − E| is infinite; the
-    /// common infinite delay |I − C| is then dropped, leaving its finite limit
-    /// |I − C| − |I − E| → (E − C)·chief.
+    /// infinite delay |I − C| is then dropped, leaving its finite limit
+    /// |I − C| − |I − E| → (E − C)·chief. With the focus-surface shutter that delay is not
+    /// common to pixels whose images are finite, so a moving camera focused on shapes that do
+    /// not cover the whole view shows a seam where the chief rays start missing them.
     pub fn start_time(self, t_s: f64, g: &ShutterGeometry) -> f64 {
         let (c, e) = (g.pupil_centre, g.pupil_point);
         // |I − C| − |I − E|: the path difference from I to the pupil centre and to E.

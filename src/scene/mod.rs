@@ -7,7 +7,7 @@ pub mod studio;
 
 use glam::DVec3;
 
-use crate::cameras::Camera;
+use crate::cameras::{Camera, Focus, Shutter};
 use crate::embree::{Device, EmbreeError};
 use crate::geometry::{ObjectArray, SceneGeometry, Shape};
 use crate::render::RenderSettings;
@@ -106,8 +106,16 @@ impl SceneDescription {
     }
 
     /// Things worth telling the user that are not errors: zero-area triangles left out of
-    /// meshes.
+    /// meshes; a moving camera with the focus-surface shutter focused on shapes (pixels that
+    /// miss them start their rays at a different time, see [`crate::cameras::Shutter`]).
     pub fn warnings(&self) -> Vec<String> {
+        let c = &self.camera;
+        let seam = !c.boost().is_identity()
+            && c.shutter().0 == Shutter::FocusSurface
+            && c.focus() == Focus::Surface;
+        let seam = seam.then(|| {
+            "camera: with a moving camera and the focus-surface shutter, pixels whose chief rays miss the focus_surface shapes are timed as if focused at infinity; make the shapes cover the whole view (e.g. a sphere round the camera) to avoid a seam".to_string()
+        });
         self.objects
             .iter()
             .filter_map(|o| match &o.shape {
@@ -118,6 +126,7 @@ impl SceneDescription {
                 )),
                 _ => None,
             })
+            .chain(seam)
             .collect()
     }
 }

@@ -70,6 +70,22 @@ impl Stereo {
         }
     }
 
+    /// The scene-file name of the output (`camera.stereo`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Stereo::Mono => "none",
+            Stereo::Anaglyph { colour: false, .. } => "anaglyph",
+            Stereo::Anaglyph { colour: true, .. } => "colour-anaglyph",
+            Stereo::FramePacking { packing, half, .. } => match (packing, half) {
+                (Packing::SideBySide, false) => "side-by-side",
+                (Packing::SideBySide, true) => "side-by-side-half",
+                (Packing::TopBottom, false) => "top-bottom",
+                (Packing::TopBottom, true) => "top-bottom-half",
+            },
+            Stereo::Autostereogram { .. } => "autostereogram",
+        }
+    }
+
     /// Checks the output against the image size; the message says what is wrong.
     pub fn validate(&self, width: u32, height: u32) -> Result<(), String> {
         match self {
@@ -87,25 +103,21 @@ impl Stereo {
             } if height % 2 == 1 => Err(format!(
                 "half-resolution top-bottom frame packing needs an even height, got {height}"
             )),
-            Stereo::Autostereogram { near, far, .. } => {
-                if let (Some(n), Some(f)) = (near, far)
-                    && !(0.0 <= *n && n < f)
-                {
-                    return Err(format!(
-                        "the autostereogram depth range needs 0 <= near < far, got near = {n}, far = {f}"
-                    ));
-                }
-                self.autostereogram(width, 0)
-                    .expect("an autostereogram")
-                    .validate(width)
-                    .map_err(|m| format!("autostereogram: {m}"))
-            }
+            Stereo::Autostereogram {
+                eye_separation_px: None,
+                ..
+            } if width < 6 => Err(format!(
+                "an autostereogram needs an image at least 6 pixels wide, got {width}"
+            )),
+            Stereo::Autostereogram { .. } => self
+                .autostereogram(width, 0)
+                .expect("an autostereogram")
+                .validate(width)
+                .map_err(|m| format!("autostereogram (eye_separation_px): {m}")),
             _ => Ok(()),
         }
     }
-}
 
-impl Stereo {
     /// The autostereogram options for an image `width` pixels wide, with random dots from
     /// `seed`; `None` unless this is an autostereogram.
     pub fn autostereogram(&self, width: u32, seed: u64) -> Option<Autostereogram> {
@@ -135,6 +147,8 @@ pub fn render_stereo(
     stereo: &Stereo,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, RenderError> {
+    // Both eyes use the same random numbers (pixel offsets, pupil points), so their noise is
+    // correlated, not independent.
     let views = |s: DVec3| -> Result<(Image, Image), RenderError> {
         let view = |offset| render(scene, &camera.eye(offset), settings, progress);
         Ok((view(-0.5 * s)?, view(0.5 * s)?))
@@ -157,8 +171,10 @@ pub fn render_stereo(
             Ok(pack(&left, &right, *packing, *half))
         }
         Stereo::Autostereogram { near, far, .. } => {
+            // Only the depth of the surface seen through each pixel centre is used.
             let with_depth = RenderSettings {
                 aovs: true,
+                spp: 1,
                 ..settings.clone()
             };
             let image = render(scene, camera, &with_depth, progress)?;
@@ -256,8 +272,10 @@ fn squeeze(image: &Image, fx: usize, fy: usize) -> Image {
 
 /// Depth z ∈ [0, 1] (1 near, 0 far) per pixel: the distance of the surface seen through the
 /// pixel centre along the view direction, mapped linearly from [far, near] to [0, 1]. A missing
-/// `near` is the nearest depth seen, a missing `far` the median depth (misses count as
-/// infinitely far).
+/// `near` is the nearest depth seen, a missing `far` the median of the depths seen (misses are
+/// far, but do not count for the median). For a moving camera the depth is measured along the
+/// scene-frame ray (from its Lorentz-transformed start), projected on the camera-frame view
+/// direction: an approximation.
 fn depth_map(image: &Image, camera: &Camera, near: Option<f64>, far: Option<f64>) -> Vec<f64> {
     let aovs = image.aovs.as_ref().expect("rendered with AOVs");
     let (w, h) = (image.width, image.height);
@@ -270,10 +288,10 @@ fn depth_map(image: &Image, camera: &Camera, near: Option<f64>, far: Option<f64>
             a.depth as f64 * chief.normalize().dot(camera.view_direction())
         })
         .collect();
-    let mut sorted = along.clone();
-    sorted.sort_by(f64::total_cmp);
-    let near = near.unwrap_or(sorted[0]);
-    let far = far.unwrap_or(sorted[sorted.len() / 2]);
+    let mut seen: Vec<f64> = along.iter().copied().filter(|d| d.is_finite()).collect();
+    seen.sort_by(f64::total_cmp);
+    let near = near.unwrap_or(seen.first().copied().unwrap_or(0.0));
+    let far = far.unwrap_or(seen.get(seen.len() / 2).copied().unwrap_or(1.0));
     let range = (far - near).max(f64::MIN_POSITIVE);
     along
         .iter()

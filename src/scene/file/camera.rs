@@ -192,8 +192,7 @@ impl CameraSection {
             _ => 0.0,
         };
         let focus = match (&self.focus_distance, &self.focus_surface) {
-            (Some(d), Some(s)) => {
-                let _ = d;
+            (Some(_), Some(s)) => {
                 return Err(at(
                     Some(s.span()),
                     "give focus_distance or focus_surface, not both",
@@ -261,6 +260,15 @@ impl CameraSection {
         let two_eyes = !matches!(stereo_name, StereoName::None | StereoName::Autostereogram);
         if two_eyes && eye_separation == DVec3::ZERO {
             return Err(at(eye_span, "eye_separation must not be zero"));
+        }
+        let along = eye_separation.dot(camera.view_direction());
+        if along.abs() > 1e-9 * eye_separation.length() {
+            return Err(at(
+                eye_span,
+                &format!(
+                    "eye_separation must be perpendicular to the view direction (the eyes lie in the pupil plane); its component along it is {along}"
+                ),
+            ));
         }
         if let Some(a) = &self.autostereogram
             && stereo_name != StereoName::Autostereogram

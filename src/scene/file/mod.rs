@@ -261,11 +261,9 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     if let Some(camera) = file.camera {
         let span = camera.span();
-        let setup = camera.into_inner().build(source, Some(span.clone()))?;
-        setup
-            .stereo
-            .validate(scene.render.width, scene.render.height)
-            .map_err(|m| invalid(Some(span), m))?;
+        // The stereo output is checked against the image size by the caller, after any
+        // command-line size.
+        let setup = camera.into_inner().build(source, Some(span))?;
         scene.camera = setup.camera;
         scene.focus_surface = setup.focus_surface;
         scene.stereo = setup.stereo;
