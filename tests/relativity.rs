@@ -327,3 +327,19 @@ fn an_orthographic_camera_sees_sizes_independent_of_distance() {
         "{near} {expected}"
     );
 }
+
+#[test]
+fn an_orthographic_camera_moving_along_its_rays_sees_what_it_sees_at_rest() {
+    // Eq 4 leaves directions along β unchanged and Eq 1 leaves the pupil plane (perpendicular
+    // to β, at t = 0) in place, so parallel rays along β are the same rays in both frames; a
+    // pinhole camera's oblique rays are aberrated.
+    let orthographic = |beta: &str| {
+        render_text(&format!(
+            "{LATTICE}[camera]\ntype = \"orthographic\"\nposition = [0, 0.2, 0]\nview_width = 3\nbeta = {beta}\n"
+        ))
+    };
+    let rest = orthographic("[0, 0, 0]");
+    assert_eq!(differing(&rest, &orthographic("[0, 0, 0.9]")), 0);
+    // Moving sideways tilts every ray the same way: a different picture.
+    assert!(differing(&rest, &orthographic("[0.5, 0, 0]")) > 1000);
+}
