@@ -17,6 +17,15 @@ use timbre::scene::studio::Studio;
 use timbre::scene::{ReferenceFrame, Scene, SceneDescription};
 use timbre::stereo::{Stereo, render_stereo};
 
+/// `println!` that ignores a closed standard output (`timbre check s.toml | head -1`) instead
+/// of panicking.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "timbre",
@@ -260,7 +269,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     };
     write_image(&args.output, &image, &provenance).map_err(bad_input)?;
     if !args.quiet {
-        println!(
+        out!(
             "{}x{}, {} spp: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
             image.width,
             image.height,
@@ -271,7 +280,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             args.output.display()
         );
         let summary = description.summary();
-        println!(
+        out!(
             "scene: {} objects, {} triangles, {} instances; loaded in {:.3} s, BVH built in {:.3} s; peak memory {}",
             summary.objects,
             summary.triangles,
@@ -297,16 +306,16 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
         .validate(r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
     let s = description.summary();
-    println!("{}: OK", scene.display());
-    println!("  objects:      {}", s.objects);
-    println!("  triangles:    {}", s.triangles);
-    println!(
+    out!("{}: OK", scene.display());
+    out!("  objects:      {}", s.objects);
+    out!("  triangles:    {}", s.triangles);
+    out!(
         "  instances:    {} (in {} arrays)",
         s.instances,
         description.arrays.len()
     );
     match s.bounds {
-        Some((lo, hi)) => println!(
+        Some((lo, hi)) => out!(
             "  bounding box: [{}, {}, {}] to [{}, {}, {}]{}",
             lo.x,
             lo.y,
@@ -319,11 +328,11 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
                 n => format!(" (and {n} unbounded)"),
             }
         ),
-        None => println!("  bounding box: none ({} unbounded objects)", s.unbounded),
+        None => out!("  bounding box: none ({} unbounded objects)", s.unbounded),
     }
-    println!("  point lights: {}", description.lights.points.len());
-    println!("  camera:       {}", camera_summary(&description));
-    println!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
+    out!("  point lights: {}", description.lights.points.len());
+    out!("  camera:       {}", camera_summary(&description));
+    out!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
     Ok(())
 }
 
@@ -392,7 +401,7 @@ fn run_generate_mesh(
         Encoding::BinaryBigEndian => PlyEncoding::BinaryBigEndian,
     };
     mesh::save(output, &mesh, encoding).map_err(bad_input)?;
-    println!(
+    out!(
         "{} triangles, {} vertices -> {}",
         mesh.triangles.len(),
         mesh.vertices.len(),
@@ -403,14 +412,14 @@ fn run_generate_mesh(
 
 fn run_info() -> Result<(), Failure> {
     let device = Device::new("").map_err(internal)?;
-    println!("timbre {}", env!("CARGO_PKG_VERSION"));
-    println!("Embree {}", device.version());
-    println!("CPU SIMD: {}", simd_features().join(" "));
-    println!(
+    out!("timbre {}", env!("CARGO_PKG_VERSION"));
+    out!("Embree {}", device.version());
+    out!("CPU SIMD: {}", simd_features().join(" "));
+    out!(
         "native Embree packet widths: {:?}",
         device.native_packet_widths()
     );
-    println!("threads: {}", rayon::current_num_threads());
+    out!("threads: {}", rayon::current_num_threads());
     Ok(())
 }
 

@@ -834,3 +834,23 @@ fn the_scene_format_example_checks() {
         assert!(run.stdout.contains(line), "{}", run.stdout);
     }
 }
+
+#[test]
+fn a_closed_standard_output_is_not_a_crash() {
+    // `timbre check scene.toml | head -0`: the reader is gone before timbre prints.
+    let dir = TempDir::new().unwrap();
+    let scene = write(&dir, "s.toml", "studio = \"lattice\"\n");
+    let mut child = Command::new(common::cli::TIMBRE)
+        .args(["check", path_str(&scene)])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+}
