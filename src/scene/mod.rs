@@ -16,10 +16,9 @@ use crate::surfaces::Surface;
 use lights::Lights;
 
 /// The inertial frame an object is at rest in (§2.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ReferenceFrame {
     /// At rest in the scene (everything, usually).
-    #[default]
     Scene,
     /// Moving with the camera: the camera-frame scene, which rays meet before they are
     /// Lorentz-transformed into the scene frame.
