@@ -1,8 +1,10 @@
 //! f64 geometry shared by the whole renderer: rays, surface frames, quadratic roots, Lorentz
-//! transformations.
+//! transformations, and the ODE integrator of the gradient-index lenses.
 
+mod dormand_prince;
 mod lorentz;
 
+pub use dormand_prince::DormandPrince;
 pub use lorentz::LorentzTransform;
 
 use glam::DVec3;

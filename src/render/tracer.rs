@@ -8,7 +8,7 @@ use crate::cameras::Camera;
 use crate::geometry::{Hit, SceneGeometry, Shape};
 use crate::math::{Frame, Ray};
 use crate::scene::{ReferenceFrame, Scene, World, lights::Lights};
-use crate::surfaces::Colour;
+use crate::surfaces::{Colour, lenses::Exit};
 
 /// Where a ray meets a surface, with everything a surface law needs.
 pub struct Interaction<'a> {
@@ -54,7 +54,12 @@ impl Interaction<'_> {
     /// it does not re-hit its own surface through rounding. Analytic shapes are intersected
     /// exactly in f64; Embree tests triangles in f32, hence the larger margin.
     pub fn self_hit_margin(&self) -> f64 {
-        let scale = 1.0 + self.point().abs().max_element();
+        self.self_hit_margin_at(self.point())
+    }
+
+    /// [`Self::self_hit_margin`] for a ray leaving the same object at another point `p`.
+    fn self_hit_margin_at(&self, p: DVec3) -> f64 {
+        let scale = 1.0 + p.abs().max_element();
         match self.geometry.shapes()[self.hit.object] {
             Shape::TriangleMesh(_) => 1e-5 * scale,
             _ => 1e-9 * scale,
@@ -234,6 +239,23 @@ impl<'a> Tracer<'a> {
     pub fn trace_from(&self, at: &Interaction, direction: DVec3) -> Colour {
         let ray = at.ray.continued(at.hit.t, direction);
         self.trace(&ray, at.self_hit_margin(), at.level - 1, at.frame)
+    }
+
+    /// The colour seen along the ray that leaves the interaction's object where `exit` says,
+    /// `levels` trace levels down, in the interaction's frame: for laws that move the ray
+    /// through the object (§3's lenses). The ray left `exit.path` earlier than it arrived.
+    pub fn trace_emerging(&self, at: &Interaction, exit: Exit, levels: u32) -> Colour {
+        let ray = Ray::new(
+            exit.point,
+            exit.direction,
+            at.ray.time - at.hit.t - exit.path,
+        );
+        self.trace(
+            &ray,
+            at.self_hit_margin_at(exit.point),
+            at.level.saturating_sub(levels),
+            at.frame,
+        )
     }
 
     /// Whether a shadow-throwing object at rest in the interaction's frame hides a light at

@@ -125,8 +125,39 @@ impl SceneDescription {
                 )),
                 _ => None,
             })
+            .chain(self.objects.iter().filter_map(|o| {
+                o.surface
+                    .check_shape(&o.shape)
+                    .err()
+                    .map(|e| format!("object '{}': {e}; it renders black", o.name))
+            }))
             .chain(seam)
+            .chain(self.lenses_around_camera().map(|name| {
+                format!(
+                    "camera: inside lens '{name}', whose surface rays from inside pass unchanged"
+                )
+            }))
             .collect()
+    }
+
+    /// Names of the lenses (§3) whose sphere, or one of whose array copies, contains the
+    /// camera.
+    fn lenses_around_camera(&self) -> impl Iterator<Item = &str> {
+        let camera = self.camera.position();
+        self.objects.iter().enumerate().filter_map(move |(i, o)| {
+            let (Surface::Lens(_), Shape::Sphere(s)) = (&o.surface, &o.shape) else {
+                return None;
+            };
+            let offsets = self
+                .arrays
+                .iter()
+                .find(|a| a.objects.contains(&i))
+                .map_or(&[DVec3::ZERO][..], |a| &a.offsets);
+            offsets
+                .iter()
+                .any(|&offset| camera.distance(s.centre() + offset) < s.radius())
+                .then_some(o.name.as_str())
+        })
     }
 }
 

@@ -4,16 +4,19 @@
 
 mod chequerboard;
 mod coloured;
+pub mod lenses;
 mod reflective;
 mod refractive;
 mod transparent;
 
 pub use chequerboard::Chequerboard;
 pub use coloured::Coloured;
+pub use lenses::Lens;
 pub use reflective::{Mirror, reflect};
 pub use refractive::{Refractive, refract};
 pub use transparent::Transparent;
 
+use crate::geometry::Shape;
 use crate::render::{Interaction, Tracer};
 
 /// Linear RGB radiance, unbounded (clamped only when written to PNG).
@@ -29,6 +32,8 @@ pub enum Surface {
     Mirror(Mirror),
     Refractive(Refractive),
     Transparent(Transparent),
+    /// §3's lenses; the surface of a sphere.
+    Lens(Lens),
 }
 
 impl Surface {
@@ -41,6 +46,19 @@ impl Surface {
             Surface::Mirror(s) => s.colour(tracer, at),
             Surface::Refractive(s) => s.colour(tracer, at),
             Surface::Transparent(s) => s.colour(tracer, at),
+            Surface::Lens(s) => s.colour(tracer, at),
+        }
+    }
+
+    /// Whether the law works on `shape`: §3's lenses need a sphere's centre and radius.
+    pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
+        match (self, shape) {
+            (Surface::Lens(_), Shape::Sphere(_)) => Ok(()),
+            (Surface::Lens(l), _) => Err(format!(
+                "a {} surface needs a sphere shape (its centre and radius)",
+                l.law.name()
+            )),
+            _ => Ok(()),
         }
     }
 }

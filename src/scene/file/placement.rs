@@ -36,7 +36,7 @@ pub(super) struct ObjectSection {
     shadow_throwing: bool,
     frame: Option<FrameName>,
     shape: Spanned<ShapeSection>,
-    surface: SurfaceSection,
+    surface: Spanned<SurfaceSection>,
     transform: Option<Spanned<TransformSection>>,
     array: Option<Spanned<ArraySection>>,
 }
@@ -341,9 +341,15 @@ impl Placer {
             o.shape.into_inner().build(source.dir()).map_err(|e| {
                 source.error(Some(shape_span.clone()), format!("object '{name}': {e}"))
             })?;
-        let surface = o.surface.build();
+        let surface_span = o.surface.span();
+        let surface = o.surface.into_inner().build().map_err(|e| {
+            source.error(Some(surface_span.clone()), format!("object '{name}': {e}"))
+        })?;
         let mut placed = Placed::default();
         for (part, shape) in parts {
+            surface.check_shape(&shape).map_err(|e| {
+                source.error(Some(surface_span.clone()), format!("object '{name}': {e}"))
+            })?;
             let shape = own.shape(&shape).map_err(|e| {
                 source.error(
                     transform_span.clone().or(Some(shape_span.clone())),

@@ -88,3 +88,38 @@ impl<'de> Deserialize<'de> for Rgb {
         Ok(Rgb(c))
     }
 }
+
+/// A distance of a GGRIN lens's focal point from its centre, in units of the lens radius: at
+/// least 1, or `inf` (TOML's infinity).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct LensDistance(pub f64);
+
+impl<'de> Deserialize<'de> for LensDistance {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = f64::deserialize(d)?;
+        if x >= 1.0 && (x <= MAX_MAGNITUDE || x == f64::INFINITY) {
+            Ok(LensDistance(x))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a distance in units of the lens radius, at least 1 (the surface) or inf, got {x}"
+            )))
+        }
+    }
+}
+
+/// A radius in units of the lens radius, in [0, 1).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct InnerRadius(pub f64);
+
+impl<'de> Deserialize<'de> for InnerRadius {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = f64::deserialize(d)?;
+        if (0.0..1.0).contains(&x) {
+            Ok(InnerRadius(x))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a radius in units of the lens radius, at least 0 and less than 1, got {x}"
+            )))
+        }
+    }
+}

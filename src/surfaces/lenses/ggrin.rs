@@ -1,0 +1,63 @@
+//! The generalised focusing gradient-index (GGRIN) lens of Šarbort and Tyc (§3.1, Eqs 11–15).
+//!
+//! Before the lens, the ray's straight line passes through a point A at distance r from the
+//! centre C; after it, through a point A′ at distance r′, such that the lines AC and CA′ meet at
+//! the angle φ and the impact parameter (the angular momentum) is unchanged. Table 1: Luneburg
+//! is (∞, R, 180°), Eaton (∞, ∞, 0°), Maxwell fisheye (R, R, 180°).
+//!
+//! r and r′ are given in units of the lens radius R and may be `f64::INFINITY`. Eq 13's
+//! arctan(x, y) is the angle of the point (x, y), i.e. `y.atan2(x)`; with r = ∞, a_d = −∞ and
+//! IEEE arithmetic gives that angle's exact limit, π, not an approximation by a large r.
+
+use glam::DVec3;
+
+use super::Exit;
+use crate::geometry::Sphere;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ggrin {
+    /// Distance of A from the centre, in units of the lens radius (≥ 1, may be infinite).
+    pub r: f64,
+    /// Distance of A′ from the centre, in units of the lens radius (≥ 1, may be infinite).
+    pub r_prime: f64,
+    /// Angle φ between the lines AC and CA′, in radians.
+    pub phi: f64,
+}
+
+impl Ggrin {
+    /// The ray leaving the lens `lens` after entering at `p` with direction `d`.
+    ///
+    /// A ray aimed exactly at the centre has no plane of incidence (ê of Eq 11 is undefined);
+    /// any plane containing it is taken, which matters only for φ ∉ {0°, 180°}.
+    pub fn transmit(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Exit {
+        let radius = lens.radius();
+        let d_hat = d.normalize();
+        let pv = p - lens.centre();
+        let p_d = d_hat.dot(pv);
+        // Eq 11.
+        let e_hat = (pv - d_hat * p_d)
+            .try_normalize()
+            .unwrap_or_else(|| d_hat.any_orthonormal_vector());
+        let p_e = e_hat.dot(pv);
+        // A on the incident line, a distance r from C, before P (a_d < 0).
+        let (a_e, a_d) = (p_e, -leg(self.r * radius, p_e));
+        // Eq 12: Q (where the undeviated ray would leave) and I (distance r′ from C on it).
+        let (q_e, q_d) = (p_e, -p_d);
+        let (i_e, i_d) = (p_e, leg(self.r_prime * radius, p_e));
+        // Eq 13.
+        let beta = a_e.atan2(a_d) - i_e.atan2(i_d) + self.phi;
+        // Eq 14.
+        let (sin, cos) = beta.sin_cos();
+        let d_prime = d_hat * cos + e_hat * sin;
+        let e_prime = -d_hat * sin + e_hat * cos;
+        // Eq 15.
+        let exit = lens.centre() + q_d * d_prime + q_e * e_prime;
+        Exit::chord(p, exit, d_prime)
+    }
+}
+
+/// The leg √(h² − x²) of a right triangle with hypotenuse h ≥ |x| (infinite for infinite h),
+/// clamped at zero against rounding when h = |x|.
+fn leg(h: f64, x: f64) -> f64 {
+    ((h - x) * (h + x)).max(0.0).sqrt()
+}

@@ -1,0 +1,231 @@
+//! Perfect-imaging lenses on spheres (§3): Luneburg, Eaton and Maxwell-fisheye lenses and the
+//! general GGRIN lens, each mapping the point and direction where a ray enters to those where
+//! it leaves by a closed formula, as Dr TIM does; or any spherically symmetric index profile
+//! traced by integrating the ray equation through it.
+//!
+//! Around each law the lens adds the invisible core of a multi-focal lens (§3.2) and refraction
+//! at a surface whose index differs from the surrounding medium's (§3.3).
+
+mod eaton;
+mod ggrin;
+mod gradient_index;
+mod luneburg;
+mod maxwell_fisheye;
+mod profile;
+
+pub use eaton::eaton;
+pub use ggrin::Ggrin;
+pub use gradient_index::GradientIndex;
+pub use luneburg::luneburg;
+pub use maxwell_fisheye::maxwell_fisheye;
+pub use profile::{IndexProfile, TableProfile};
+
+use glam::DVec3;
+
+use super::{Colour, reflect, refract};
+use crate::geometry::{Shape, Sphere};
+use crate::render::{Interaction, Tracer};
+
+/// Where and how a ray leaves a lens.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Exit {
+    /// On the lens surface.
+    pub point: DVec3,
+    /// Unit vector.
+    pub direction: DVec3,
+    /// The time the passage takes (c = 1): the optical path length ∫n ds for integrated
+    /// rays; for closed-form laws, which say nothing about the path inside, the straight
+    /// distance from entry to exit (TIM's equivalent length of vacuum).
+    pub path: f64,
+}
+
+impl Exit {
+    /// Leaving from `exit` in `direction` (normalised here) after entering at `entry`, timed
+    /// by the straight distance.
+    pub fn chord(entry: DVec3, exit: DVec3, direction: DVec3) -> Exit {
+        Exit {
+            point: exit,
+            direction: direction.normalize(),
+            path: entry.distance(exit),
+        }
+    }
+}
+
+/// What a lens does between entry and exit.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LensLaw {
+    /// Eqs 5–6.
+    Luneburg,
+    /// Eqs 7–8.
+    Eaton,
+    /// Eqs 9–10.
+    MaxwellFisheye,
+    /// Eqs 11–15.
+    Ggrin(Ggrin),
+    /// The ray equation integrated through an index profile.
+    GradientIndex(GradientIndex),
+}
+
+impl LensLaw {
+    /// The ray leaving `lens` after entering at `p` with direction `d` (inside the lens
+    /// material); `None` for an integrated ray that never leaves.
+    pub fn transmit(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+        match self {
+            LensLaw::Luneburg => Some(luneburg(lens, p, d)),
+            LensLaw::Eaton => Some(eaton(lens, p, d)),
+            LensLaw::MaxwellFisheye => Some(maxwell_fisheye(lens, p, d)),
+            LensLaw::Ggrin(g) => Some(g.transmit(lens, p, d)),
+            LensLaw::GradientIndex(g) => g.transmit(lens, p, d),
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            LensLaw::Luneburg => "Luneburg lens",
+            LensLaw::Eaton => "Eaton lens",
+            LensLaw::MaxwellFisheye => "Maxwell-fisheye lens",
+            LensLaw::Ggrin(_) => "GGRIN lens",
+            LensLaw::GradientIndex(_) => "gradient-index lens",
+        }
+    }
+}
+
+/// A lens surface: a law, optionally with an invisible core and an index step at the surface.
+/// It must be the surface of a sphere.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lens {
+    pub law: LensLaw,
+    /// Radius R_t of the invisible core, in units of the lens radius, in [0, 1): rays whose
+    /// straight line inside the lens passes closer than R_t to the centre cross it undeviated
+    /// (§3.2), whatever the law.
+    pub invisible_radius: f64,
+    /// n_surface / n_surrounding (§3.3). An integrated profile is multiplied by it.
+    pub index_ratio: f64,
+    /// Fraction of the light transmitted per passage through the lens, in [0, 1].
+    pub transmission_coefficient: f64,
+}
+
+/// How a ray gets through a lens: where and how it leaves, the time it takes and how many
+/// passages it makes (more than one after total internal reflection at the surface).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Emergence {
+    pub exit: Exit,
+    pub passages: u32,
+}
+
+impl Lens {
+    /// The lens with law `law` and nothing else: no invisible core, matched index, lossless.
+    pub fn new(law: LensLaw) -> Lens {
+        Lens {
+            law,
+            invisible_radius: 0.0,
+            index_ratio: 1.0,
+            transmission_coefficient: 1.0,
+        }
+    }
+
+    /// The ratio of the index just inside the surface to the surrounding medium's.
+    pub fn surface_index(&self) -> f64 {
+        match &self.law {
+            LensLaw::GradientIndex(g) => self.index_ratio * g.profile.n(1.0),
+            _ => self.index_ratio,
+        }
+    }
+
+    /// The ray that emerges from `lens` when a ray arrives at `p` on its surface from outside
+    /// with direction `d` (unit): refracted into the surface index (§3.3), carried across by
+    /// the invisible core (§3.2) or the law, and refracted out. Total internal reflection on
+    /// the way out sends the ray back across the lens, at most `max_passages` times in all
+    /// (`None` if it is still inside then, or an integrated ray is trapped); on the way in it
+    /// reflects the ray off the surface (an emergence with no passage).
+    pub fn emerge(
+        &self,
+        lens: &Sphere,
+        p: DVec3,
+        d: DVec3,
+        max_passages: u32,
+    ) -> Option<Emergence> {
+        let (centre, radius) = (lens.centre(), lens.radius());
+        let normal = |x: DVec3| (x - centre) / radius;
+        let n_surface = self.surface_index();
+        // A matched surface (ratio exactly 1) leaves directions exactly as they are.
+        let refract = |d: DVec3, n: DVec3| {
+            if n_surface == 1.0 {
+                Some(d)
+            } else {
+                refract(d, n, n_surface)
+            }
+        };
+        let Some(mut direction) = refract(d, normal(p)) else {
+            return Some(Emergence {
+                exit: Exit {
+                    point: p,
+                    direction: reflect(d, normal(p)),
+                    path: 0.0,
+                },
+                passages: 0,
+            });
+        };
+        let (mut point, mut path) = (p, 0.0);
+        for passages in 1..=max_passages {
+            let exit = self.cross(lens, point, direction)?;
+            path += exit.path;
+            let n = normal(exit.point);
+            match refract(exit.direction, n) {
+                Some(out) => {
+                    return Some(Emergence {
+                        exit: Exit {
+                            point: exit.point,
+                            direction: out,
+                            path,
+                        },
+                        passages,
+                    });
+                }
+                None => (point, direction) = (exit.point, reflect(exit.direction, n)),
+            }
+        }
+        None
+    }
+
+    /// One passage from `p` in direction `d` inside the lens to the surface.
+    fn cross(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+        let x = p - lens.centre();
+        let along = x.dot(d);
+        if (x - along * d).length() < self.invisible_radius * lens.radius() {
+            return Some(Exit::chord(p, p - 2.0 * along * d, d));
+        }
+        let exit = self.law.transmit(lens, p, d)?;
+        Some(match self.law {
+            LensLaw::GradientIndex(_) => Exit {
+                path: self.index_ratio * exit.path,
+                ..exit
+            },
+            _ => exit,
+        })
+    }
+
+    /// The colour seen along a ray meeting the lens. A ray that meets it from inside (a camera
+    /// or light path starting within the sphere) passes the surface unchanged; one that cannot
+    /// get out within its trace levels is black.
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let d = at.ray.direction;
+        let Shape::Sphere(sphere) = &at.geometry.shapes()[at.hit.object] else {
+            return Colour::ZERO;
+        };
+        let offset = at.geometry.offset(at.hit.object, at.hit.element);
+        let lens = Sphere::new(sphere.centre() + offset, sphere.radius())
+            .expect("a sphere's translated copy is a sphere");
+        let p = at.point();
+        if d.dot(p - lens.centre()) >= 0.0 {
+            return self.transmission_coefficient * tracer.trace_from(at, d);
+        }
+        match self.emerge(&lens, p, d, at.level.saturating_sub(1)) {
+            Some(e) => {
+                self.transmission_coefficient.powi(e.passages as i32)
+                    * tracer.trace_emerging(at, e.exit, e.passages.max(1))
+            }
+            None => Colour::ZERO,
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Spherically symmetric refractive-index profiles n(ρ), ρ = r/R, of the gradient-index
+//! lenses, with n∇n = ∇(n²)/2, the force of the ray equation in Hamiltonian form.
+//!
+//! - Luneburg: n = √(2 − ρ²);
+//! - Eaton: n = √(2/ρ − 1), singular at the centre;
+//! - Maxwell-fisheye lens: n = 2/(1 + ρ²), Maxwell's fisheye truncated at ρ = 1 (§3);
+//! - a table n(ρᵢ), interpolated by a cubic spline with n′(0) = 0 (a smooth spherically
+//!   symmetric profile has no slope at its centre) and the not-a-knot condition at the surface
+//!   end, which imposes nothing on the data there.
+//!
+//! All three built-in profiles have n(1) = 1, matching the surrounding medium. Beyond ρ = 1 each
+//! is continued by its own formula (the table by its last cubic), which the integrator's trial
+//! stages may sample just outside the surface.
+
+use glam::DVec3;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum IndexProfile {
+    Luneburg,
+    Eaton,
+    MaxwellFisheye,
+    Table(TableProfile),
+}
+
+impl IndexProfile {
+    /// n at ρ = r/R.
+    pub fn n(&self, rho: f64) -> f64 {
+        match self {
+            IndexProfile::Luneburg => (2.0 - rho * rho).sqrt(),
+            IndexProfile::Eaton => (2.0 / rho - 1.0).sqrt(),
+            IndexProfile::MaxwellFisheye => 2.0 / (1.0 + rho * rho),
+            IndexProfile::Table(t) => t.eval(rho).0,
+        }
+    }
+
+    /// n∇n = ∇(n²)/2 at the point `x` (in units of R, relative to the centre).
+    pub fn force(&self, x: DVec3) -> DVec3 {
+        match self {
+            IndexProfile::Luneburg => -x,
+            IndexProfile::Eaton => -x / x.length().powi(3),
+            IndexProfile::MaxwellFisheye => -8.0 * x / (1.0 + x.length_squared()).powi(3),
+            IndexProfile::Table(t) => {
+                let rho = x.length();
+                if rho == 0.0 {
+                    return DVec3::ZERO;
+                }
+                let (n, slope) = t.eval(rho);
+                n * slope / rho * x
+            }
+        }
+    }
+
+    /// For a profile that is infinite at the centre (Eaton's), where a ray aimed at it cannot
+    /// be integrated: the optical path 2∫₀¹ n dρ of the trip to the centre and back (with
+    /// ρ = 2 sin²u, 2∫₀¹ √(2/ρ − 1) dρ = π + 2). `None` for profiles finite there.
+    pub fn singular_return_path(&self) -> Option<f64> {
+        matches!(self, IndexProfile::Eaton).then_some(std::f64::consts::PI + 2.0)
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            IndexProfile::Luneburg => "luneburg",
+            IndexProfile::Eaton => "eaton",
+            IndexProfile::MaxwellFisheye => "maxwell-fisheye",
+            IndexProfile::Table(_) => "table",
+        }
+    }
+}
+
+/// A tabulated profile n(ρᵢ), interpolated by a C² cubic spline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TableProfile {
+    rho: Vec<f64>,
+    n: Vec<f64>,
+    /// The spline's second derivatives at the knots.
+    curvature: Vec<f64>,
+}
+
+/// Spline samples per table interval checked for a positive n.
+const POSITIVITY_SAMPLES: usize = 16;
+
+impl TableProfile {
+    /// The spline through (ρᵢ, nᵢ). ρ must rise strictly from 0 to 1, and n (at the knots and
+    /// in between) must be positive and finite.
+    pub fn new(rho: Vec<f64>, n: Vec<f64>) -> Result<TableProfile, String> {
+        if rho.len() != n.len() {
+            return Err(format!(
+                "rho has {} values but n has {}",
+                rho.len(),
+                n.len()
+            ));
+        }
+        if rho.len() < 2 || rho[0] != 0.0 || rho[rho.len() - 1] != 1.0 {
+            return Err("rho must run from 0 (the centre) to 1 (the surface)".into());
+        }
+        if let Some(i) = rho
+            .windows(2)
+            .position(|w| w[0].partial_cmp(&w[1]) != Some(std::cmp::Ordering::Less))
+        {
+            return Err(format!(
+                "rho must increase strictly (rho[{}] = {} follows {})",
+                i + 1,
+                rho[i + 1],
+                rho[i]
+            ));
+        }
+        if let Some(i) = n.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+            return Err(format!("n[{i}] = {} is not a positive number", n[i]));
+        }
+        let curvature = spline_curvature(&rho, &n);
+        let table = TableProfile { rho, n, curvature };
+        for (i, w) in table.rho.windows(2).enumerate() {
+            for k in 1..POSITIVITY_SAMPLES {
+                let x = w[0] + (w[1] - w[0]) * k as f64 / POSITIVITY_SAMPLES as f64;
+                if table.eval(x).0 <= 0.0 {
+                    return Err(format!(
+                        "the interpolated n is not positive between rho = {} and {} (table entries {i} and {}); add points there",
+                        w[0],
+                        w[1],
+                        i + 1
+                    ));
+                }
+            }
+        }
+        Ok(table)
+    }
+
+    /// n and dn/dρ at `rho` (the end cubics continue beyond the table).
+    fn eval(&self, rho: f64) -> (f64, f64) {
+        let last = self.rho.len() - 2;
+        let i = self.rho.partition_point(|&x| x <= rho).clamp(1, last + 1) - 1;
+        let (x0, x1) = (self.rho[i], self.rho[i + 1]);
+        let (y0, y1) = (self.n[i], self.n[i + 1]);
+        let (m0, m1) = (self.curvature[i], self.curvature[i + 1]);
+        let h = x1 - x0;
+        let (a, b) = (x1 - rho, rho - x0);
+        let (c0, c1) = (y0 / h - m0 * h / 6.0, y1 / h - m1 * h / 6.0);
+        let n = (m0 * a.powi(3) + m1 * b.powi(3)) / (6.0 * h) + c0 * a + c1 * b;
+        let slope = (m1 * b * b - m0 * a * a) / (2.0 * h) + c1 - c0;
+        (n, slope)
+    }
+}
+
+/// Second derivatives Mᵢ of the cubic spline through (xᵢ, yᵢ) with slope 0 at the first knot
+/// and, at the last, the not-a-knot condition (M = 0 for two knots): a tridiagonal system
+/// solved by the Thomas algorithm.
+fn spline_curvature(x: &[f64], y: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
+    let secant = |i: usize| (y[i + 1] - y[i]) / h[i];
+    // Rows i = 0..n−1 of  sub Mᵢ₋₁ + diag Mᵢ + sup Mᵢ₊₁ = rhs.
+    let mut diag = vec![1.0; n];
+    let mut sup = vec![0.0; n];
+    let mut rhs = vec![0.0; n];
+    let mut sub = vec![0.0; n];
+    (diag[0], sup[0], rhs[0]) = (2.0 * h[0], h[0], 6.0 * secant(0));
+    for i in 1..n - 1 {
+        sub[i] = h[i - 1];
+        diag[i] = 2.0 * (h[i - 1] + h[i]);
+        sup[i] = h[i];
+        rhs[i] = 6.0 * (secant(i) - secant(i - 1));
+    }
+    if n >= 3 {
+        // Not-a-knot at the last interior knot (the third derivative is continuous there):
+        // hₙ₋₂ Mₙ₋₃ − (hₙ₋₃ + hₙ₋₂) Mₙ₋₂ + hₙ₋₃ Mₙ₋₁ = 0, with Mₙ₋₃ eliminated by row n − 2.
+        let (a, b, c, r) = (sub[n - 2], diag[n - 2], sup[n - 2], rhs[n - 2]);
+        let (p, q, s) = (h[n - 2], -(h[n - 3] + h[n - 2]), h[n - 3]);
+        (sub[n - 1], diag[n - 1], rhs[n - 1]) = (q - p * b / a, s - p * c / a, -p * r / a);
+    } // With two knots, the last row is M = 0 (diag 1, rhs 0, as initialised).
+    for i in 1..n {
+        let w = sub[i] / diag[i - 1];
+        diag[i] -= w * sup[i - 1];
+        rhs[i] -= w * rhs[i - 1];
+    }
+    let mut m = vec![0.0; n];
+    m[n - 1] = rhs[n - 1] / diag[n - 1];
+    for i in (0..n - 1).rev() {
+        m[i] = (rhs[i] - sup[i] * m[i + 1]) / diag[i];
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn luneburg_table(points: usize) -> TableProfile {
+        let rho: Vec<f64> = (0..points)
+            .map(|i| i as f64 / (points - 1) as f64)
+            .collect();
+        let n = rho.iter().map(|r| IndexProfile::Luneburg.n(*r)).collect();
+        TableProfile::new(rho, n).unwrap()
+    }
+
+    #[test]
+    fn spline_passes_through_the_table_and_approximates_a_smooth_profile() {
+        let t = luneburg_table(41);
+        for (r, n) in t.rho.iter().zip(&t.n) {
+            assert!((t.eval(*r).0 - n).abs() < 1e-14);
+        }
+        for k in 0..=1000 {
+            let rho = k as f64 / 1000.0;
+            let (n, slope) = t.eval(rho);
+            let exact_slope = -rho / (2.0 - rho * rho).sqrt();
+            assert!((n - IndexProfile::Luneburg.n(rho)).abs() < 1e-6, "{rho}");
+            assert!((slope - exact_slope).abs() < 2e-3, "{rho}: {slope}");
+        }
+        assert_eq!(t.eval(0.0).1, 0.0, "no slope at the centre");
+    }
+
+    #[test]
+    fn spline_is_continuous_with_continuous_slope_at_the_knots() {
+        let t = TableProfile::new(vec![0.0, 0.3, 0.5, 1.0], vec![2.0, 1.4, 1.6, 1.0]).unwrap();
+        for &k in &t.rho[1..3] {
+            let (below, above) = (t.eval(k - 1e-9), t.eval(k + 1e-9));
+            assert!((below.0 - above.0).abs() < 1e-8 && (below.1 - above.1).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn force_is_half_the_gradient_of_n_squared() {
+        let profiles = [
+            IndexProfile::Luneburg,
+            IndexProfile::Eaton,
+            IndexProfile::MaxwellFisheye,
+            IndexProfile::Table(luneburg_table(11)),
+        ];
+        let x = DVec3::new(0.3, -0.4, 0.2);
+        for p in &profiles {
+            let n2 = |x: DVec3| p.n(x.length()).powi(2) / 2.0;
+            let h = 1e-6;
+            let numeric = DVec3::new(
+                n2(x + DVec3::X * h) - n2(x - DVec3::X * h),
+                n2(x + DVec3::Y * h) - n2(x - DVec3::Y * h),
+                n2(x + DVec3::Z * h) - n2(x - DVec3::Z * h),
+            ) / (2.0 * h);
+            assert!((p.force(x) - numeric).length() < 1e-7, "{}", p.name());
+        }
+    }
+
+    #[test]
+    fn bad_tables_are_rejected() {
+        let bad = [
+            (vec![0.0, 1.0], vec![1.0]),
+            (vec![0.0], vec![1.0]),
+            (vec![0.1, 1.0], vec![1.0, 1.0]),
+            (vec![0.0, 0.9], vec![1.0, 1.0]),
+            (vec![0.0, 0.5, 0.5, 1.0], vec![1.0; 4]),
+            (vec![0.0, 1.0], vec![1.0, f64::NAN]),
+            (vec![0.0, 1.0], vec![0.0, 1.0]),
+            // Positive at the knots but not between them.
+            (vec![0.0, 0.1, 0.2, 1.0], vec![0.05, 3.0, 0.05, 1.0]),
+        ];
+        for (rho, n) in bad {
+            assert!(
+                TableProfile::new(rho.clone(), n.clone()).is_err(),
+                "{rho:?} {n:?}"
+            );
+        }
+    }
+}
