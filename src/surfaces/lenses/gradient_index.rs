@@ -92,6 +92,8 @@ impl GradientIndex {
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::{FRAC_PI_2, PI};
+
     use super::*;
     use crate::surfaces::lenses::{eaton, luneburg, maxwell_fisheye};
 
@@ -147,5 +149,65 @@ mod tests {
     #[test]
     fn integrated_maxwell_fisheye_profile_leaves_where_eqs_9_and_10_say() {
         assert_matches(IndexProfile::MaxwellFisheye, maxwell_fisheye);
+    }
+
+    /// A ray along +z entering the unit lens at the origin with impact parameter `b`, and its
+    /// integrated exit.
+    fn along_z(profile: IndexProfile, b: f64) -> (DVec3, Exit) {
+        let lens = Sphere::new(DVec3::ZERO, 1.0).unwrap();
+        let p = DVec3::new(b, 0.0, -(1.0 - b * b).sqrt());
+        (
+            p,
+            GradientIndex { profile }
+                .transmit(&lens, p, DVec3::Z)
+                .unwrap(),
+        )
+    }
+
+    /// Fermat: the rays of a perfect image have equal optical paths, so the integrated ∫n ds
+    /// (the time a ray takes) must make them equal. Each expected value is the path of the ray
+    /// through the centre, an integral done by hand.
+    #[test]
+    fn optical_paths_of_perfectly_imaged_rays_are_equal() {
+        for k in 1..20 {
+            let b = k as f64 / 20.0;
+            // Luneburg: from the plane z = −1 to the focus (0, 0, 1):
+            // 2∫₀¹ √(2 − ρ²) dρ = 1 + π/2.
+            let (p, e) = along_z(IndexProfile::Luneburg, b);
+            let total = (p.z + 1.0) + e.path;
+            assert!(
+                (total - (1.0 + FRAC_PI_2)).abs() < 1e-9,
+                "Luneburg b = {b}: {total}"
+            );
+            // Maxwell fisheye: from P to its antipode, 2∫₀¹ 2/(1 + ρ²) dρ = π.
+            let (_, e) = along_z(IndexProfile::MaxwellFisheye, b);
+            assert!((e.path - PI).abs() < 1e-9, "Maxwell b = {b}: {}", e.path);
+            // Eaton: from the plane z = −1 back to it, π + 2.
+            let (p, e) = along_z(IndexProfile::Eaton, b);
+            let total = (p.z + 1.0) + e.path + (e.point.z + 1.0);
+            assert!((total - (PI + 2.0)).abs() < 1e-8, "Eaton b = {b}: {total}");
+        }
+    }
+
+    #[test]
+    fn a_ray_aimed_at_the_eaton_centre_is_turned_straight_back() {
+        let (p, e) = along_z(IndexProfile::Eaton, 1e-7);
+        assert_eq!(e.direction, -DVec3::Z);
+        assert!((e.point - DVec3::new(-p.x, 0.0, p.z)).length() < 1e-15);
+        assert_eq!(e.path, PI + 2.0, "the radial return trip");
+    }
+
+    #[test]
+    fn a_table_sampled_from_a_profile_traces_like_the_profile() {
+        let rho: Vec<f64> = (0..=100).map(|i| i as f64 / 100.0).collect();
+        let n = rho.iter().map(|&r| IndexProfile::Luneburg.n(r)).collect();
+        let table =
+            IndexProfile::Table(crate::surfaces::lenses::TableProfile::new(rho, n).unwrap());
+        for k in 1..10 {
+            let b = k as f64 / 10.0;
+            let (_, exact) = along_z(IndexProfile::Luneburg, b);
+            let (_, tabled) = along_z(table.clone(), b);
+            assert!(exact.point.distance(tabled.point) < 1e-5, "b = {b}");
+        }
     }
 }
