@@ -242,9 +242,9 @@ impl<'a> Tracer<'a> {
     }
 
     /// The colour seen along the ray that leaves the interaction's object where `exit` says,
-    /// `levels` trace levels down, in the interaction's frame: for laws that move the ray
-    /// through the object (§3's lenses). The ray left `exit.path` earlier than it arrived.
-    pub fn trace_emerging(&self, at: &Interaction, exit: Exit, levels: u32) -> Colour {
+    /// one trace level down, in the interaction's frame: for laws that move the ray through the
+    /// object (§3's lenses). The ray left `exit.path` earlier than it arrived.
+    pub fn trace_emerging(&self, at: &Interaction, exit: Exit) -> Colour {
         let ray = Ray::new(
             exit.point,
             exit.direction,
@@ -253,7 +253,7 @@ impl<'a> Tracer<'a> {
         self.trace(
             &ray,
             at.self_hit_margin_at(exit.point),
-            at.level.saturating_sub(levels),
+            at.level - 1,
             at.frame,
         )
     }

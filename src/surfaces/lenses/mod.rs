@@ -101,16 +101,8 @@ pub struct Lens {
     pub invisible_radius: f64,
     /// n_surface / n_surrounding (§3.3). An integrated profile is multiplied by it.
     pub index_ratio: f64,
-    /// Fraction of the light transmitted per passage through the lens, in [0, 1].
+    /// Fraction of the light transmitted through the lens (or reflected off it), in [0, 1].
     pub transmission_coefficient: f64,
-}
-
-/// How a ray gets through a lens: where and how it leaves, the time it takes and how many
-/// passages it makes (more than one after total internal reflection at the surface).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Emergence {
-    pub exit: Exit,
-    pub passages: u32,
 }
 
 impl Lens {
@@ -134,58 +126,35 @@ impl Lens {
 
     /// The ray that emerges from `lens` when a ray arrives at `p` on its surface from outside
     /// with direction `d` (unit): refracted into the surface index (§3.3), carried across by
-    /// the invisible core (§3.2) or the law, and refracted out. Total internal reflection on
-    /// the way out sends the ray back across the lens, at most `max_passages` times in all
-    /// (`None` if it is still inside then, or an integrated ray is trapped); on the way in it
-    /// reflects the ray off the surface (an emergence with no passage).
-    pub fn emerge(
-        &self,
-        lens: &Sphere,
-        p: DVec3,
-        d: DVec3,
-        max_passages: u32,
-    ) -> Option<Emergence> {
+    /// the invisible core (§3.2) or the law, and refracted out. `None` for an integrated ray
+    /// that never leaves.
+    ///
+    /// Beyond the critical angle on the way in (a surface index below the surroundings') the
+    /// ray is reflected off the surface: the exit is `p` itself, after no time. On the way out
+    /// there is no total internal reflection: every law conserves the angular momentum n r sin θ
+    /// (spherical symmetry), so the ray meets the surface from inside at the angle it was
+    /// refracted to on the way in, below the critical angle; a ray that rounding puts beyond it
+    /// (near grazing incidence) leaves along the tangent.
+    pub fn emerge(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
         let (centre, radius) = (lens.centre(), lens.radius());
-        let normal = |x: DVec3| (x - centre) / radius;
         let n_surface = self.surface_index();
+        let n = (p - centre) / radius;
         // A matched surface (ratio exactly 1) leaves directions exactly as they are.
-        let refract = |d: DVec3, n: DVec3| {
-            if n_surface == 1.0 {
-                Some(d)
-            } else {
-                refract(d, n, n_surface)
-            }
-        };
-        let Some(mut direction) = refract(d, normal(p)) else {
-            return Some(Emergence {
-                exit: Exit {
-                    point: p,
-                    direction: reflect(d, normal(p)),
-                    path: 0.0,
-                },
-                passages: 0,
+        if n_surface == 1.0 {
+            return self.cross(lens, p, d);
+        }
+        let Some(inside) = refract(d, n, n_surface) else {
+            return Some(Exit {
+                point: p,
+                direction: reflect(d, n),
+                path: 0.0,
             });
         };
-        let (mut point, mut path) = (p, 0.0);
-        for passages in 1..=max_passages {
-            let exit = self.cross(lens, point, direction)?;
-            path += exit.path;
-            let n = normal(exit.point);
-            match refract(exit.direction, n) {
-                Some(out) => {
-                    return Some(Emergence {
-                        exit: Exit {
-                            point: exit.point,
-                            direction: out,
-                            path,
-                        },
-                        passages,
-                    });
-                }
-                None => (point, direction) = (exit.point, reflect(exit.direction, n)),
-            }
-        }
-        None
+        let exit = self.cross(lens, p, inside)?;
+        let n = (exit.point - centre) / radius;
+        let direction = refract(exit.direction, n, n_surface)
+            .unwrap_or_else(|| exit.direction.reject_from_normalized(n).normalize());
+        Some(Exit { direction, ..exit })
     }
 
     /// One passage from `p` in direction `d` inside the lens to the surface.
@@ -206,8 +175,8 @@ impl Lens {
     }
 
     /// The colour seen along a ray meeting the lens. A ray that meets it from inside (a camera
-    /// or light path starting within the sphere) passes the surface unchanged; one that cannot
-    /// get out within its trace levels is black.
+    /// or light path starting within the sphere) passes the surface as if it were transparent;
+    /// an integrated ray that never leaves is black.
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
         let d = at.ray.direction;
         let Shape::Sphere(sphere) = &at.geometry.shapes()[at.hit.object] else {
@@ -220,11 +189,8 @@ impl Lens {
         if d.dot(p - lens.centre()) >= 0.0 {
             return self.transmission_coefficient * tracer.trace_from(at, d);
         }
-        match self.emerge(&lens, p, d, at.level.saturating_sub(1)) {
-            Some(e) => {
-                self.transmission_coefficient.powi(e.passages as i32)
-                    * tracer.trace_emerging(at, e.exit, e.passages.max(1))
-            }
+        match self.emerge(&lens, p, d) {
+            Some(exit) => self.transmission_coefficient * tracer.trace_emerging(at, exit),
             None => Colour::ZERO,
         }
     }
