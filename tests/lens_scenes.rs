@@ -287,3 +287,22 @@ fn a_camera_inside_a_lens_is_warned_about() {
             .is_empty()
     );
 }
+
+#[test]
+fn a_lens_moving_with_the_camera_charges_its_crossing_time() {
+    // A multi-focal lens in the camera frame whose invisible core fills all but a thin rim:
+    // rays cross it straight and leave 2·√(R² − b²) further on, as much earlier (TIM's vacuum
+    // length), so their events lie on the scene-frame rays they would have followed without
+    // the lens and the picture is unchanged. Charging no time would move each by γβ × chord.
+    // (The camera moves horizontally: moving up or down, the lens's exit events would lie
+    // below the floor in the scene frame, as if the lens cut through it, and the floor would
+    // be skipped, rightly.)
+    let lens = "[[object]]\nframe = \"camera\"\nshadow_throwing = false\n\
+        shape = { type = \"sphere\", centre = [0, 0, 4], radius = 0.95 }\n\
+        surface = { type = \"ggrin-lens\", r = inf, r_prime = inf, phi_deg = 90, invisible_radius = 0.999 }\n";
+    let camera = "[camera]\nbeta = [0.3, 0, 0.9]\n";
+    let without = render_text(&format!("{LATTICE}{camera}"));
+    let with = render_text(&format!("{LATTICE}{camera}{lens}"));
+    let n = differing(&with, &without);
+    assert!(n <= 40, "{n} pixels differ");
+}
