@@ -306,3 +306,23 @@ fn a_lens_moving_with_the_camera_charges_its_crossing_time() {
     let n = differing(&with, &without);
     assert!(n <= 40, "{n} pixels differ");
 }
+
+#[test]
+fn a_lens_as_a_chequerboard_tile_also_needs_a_sphere() {
+    let tiles = r#"{ type = "chequerboard", surfaces = [{ type = "matt", colour = [1, 1, 1] }, { type = "eaton-lens" }] }"#;
+    let on = |shape: &str| format!("{LATTICE}[[object]]\nshape = {shape}\nsurface = {tiles}\n");
+    let e = file::parse(
+        &on(r#"{ type = "plane", point = [0, 0, 9], normal = [0, 0, -1] }"#),
+        "s.toml",
+    )
+    .map(|_| ())
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with("s.toml:7:") && e.contains("needs a sphere"),
+        "{e}"
+    );
+    parse(&on(
+        r#"{ type = "sphere", centre = [0, 0, 8], radius = 1 }"#,
+    ));
+}

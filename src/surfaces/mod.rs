@@ -50,7 +50,8 @@ impl Surface {
         }
     }
 
-    /// Whether the law works on `shape`: §3's lenses need a sphere's centre and radius.
+    /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
+    /// sphere's centre and radius.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match (self, shape) {
             (Surface::Lens(_), Shape::Sphere(_)) => Ok(()),
@@ -58,6 +59,9 @@ impl Surface {
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
+            (Surface::Chequerboard(c), _) => {
+                c.surfaces.iter().try_for_each(|s| s.check_shape(shape))
+            }
             _ => Ok(()),
         }
     }
