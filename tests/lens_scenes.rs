@@ -326,3 +326,31 @@ fn a_lens_as_a_chequerboard_tile_also_needs_a_sphere() {
         r#"{ type = "sphere", centre = [0, 0, 8], radius = 1 }"#,
     ));
 }
+
+#[test]
+fn behind_an_index_step_the_core_is_no_longer_an_empty_tunnel() {
+    // Fig. 12: with n_surface / n_surrounding = 1.5 rays are refracted at the surface, so even
+    // those crossing the invisible core are deviated, like rays through a glass ball.
+    let surface = |ratio: f64| {
+        format!(
+            r#"{{ type = "ggrin-lens", r = inf, r_prime = inf, phi_deg = 90, invisible_radius = 0.4, index_ratio = {ratio} }}"#
+        )
+    };
+    let without = render_text(LATTICE);
+    let (w, h) = (without.width, without.height);
+    let centre = |image: &Image| {
+        // The 9 × 9 pixels about the view's centre, all well inside the core.
+        (h / 2 - 4..h / 2 + 5)
+            .flat_map(|y| (w / 2 - 4..w / 2 + 5).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                (image.pixel(x, y) - without.pixel(x, y))
+                    .abs()
+                    .max_element()
+                    > 1e-9
+            })
+            .count()
+    };
+    assert_eq!(centre(&render_text(&lens_scene(&surface(1.0)))), 0);
+    let changed = centre(&render_text(&lens_scene(&surface(1.5))));
+    assert!(changed > 40, "{changed} of 81 central pixels changed");
+}
