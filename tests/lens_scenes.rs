@@ -3,32 +3,14 @@
 //! GGRIN parameters against the named lenses, the invisible core, lenses in arrays, and the
 //! warning for a camera inside a lens. (The laws themselves are checked in tests/lenses.rs.)
 
-use timbre::embree::Device;
-use timbre::io::to_rgb8;
-use timbre::render::{Image, render};
-use timbre::scene::{Scene, SceneDescription, file};
+mod common;
+
+use timbre::render::Image;
+use timbre::scene::{SceneDescription, file};
 use timbre::surfaces::Surface;
 use timbre::surfaces::lenses::{IndexProfile, LensLaw};
 
-fn parse(text: &str) -> SceneDescription {
-    file::parse(text, "s.toml").unwrap_or_else(|e| panic!("{e}\nin:\n{text}"))
-}
-
-fn render_text(text: &str) -> Image {
-    let d = parse(text);
-    let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, &d).unwrap();
-    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
-}
-
-/// Pixels whose 8-bit colours differ.
-fn differing(a: &Image, b: &Image) -> usize {
-    to_rgb8(a)
-        .pixels()
-        .zip(to_rgb8(b).pixels())
-        .filter(|(p, q)| p != q)
-        .count()
-}
+use common::images::{differing, parse, render_text};
 
 const LATTICE: &str = "studio = \"lattice\"\n[render]\nwidth = 128\nheight = 96\n";
 
@@ -194,11 +176,7 @@ fn closed_form_lenses_and_their_integrated_profiles_render_the_same_picture() {
         render_text(&text)
     };
     let (mapped, integrated) = (scene("mapping"), scene("integration"));
-    let lens_pixels = to_rgb8(&mapped)
-        .pixels()
-        .zip(to_rgb8(&render_text(LATTICE)).pixels())
-        .filter(|(p, q)| p != q)
-        .count();
+    let lens_pixels = differing(&mapped, &render_text(LATTICE));
     assert!(lens_pixels > 1500, "the lenses change {lens_pixels} pixels");
     let n = differing(&mapped, &integrated);
     assert!(n <= 10, "{n} of {lens_pixels} lens pixels differ");

@@ -85,6 +85,13 @@ impl Worst {
     }
 }
 
+/// Checks every tracker.
+fn check_all<const N: usize>(worsts: [Worst; N]) {
+    for w in worsts {
+        w.check();
+    }
+}
+
 fn random_lens(rng: &mut Rng) -> Sphere {
     let centre = rng.point(10.0);
     let radius = rng.range(0.1f64.ln(), 10f64.ln()).exp();
@@ -267,14 +274,12 @@ fn luneburg_focuses_a_parallel_bundle_onto_the_far_surface() {
             integrated_direction.see(i.direction.distance(towards), case);
         }
     }
-    for w in [
+    check_all([
         closed_point,
         closed_direction,
         integrated_point,
         integrated_direction,
-    ] {
-        w.check();
-    }
+    ]);
 }
 
 #[test]
@@ -302,14 +307,12 @@ fn eaton_lens_retro_reflects() {
             integrated_direction.see(i.direction.distance(-d), case);
         }
     }
-    for w in [
+    check_all([
         closed_point,
         closed_direction,
         integrated_point,
         integrated_direction,
-    ] {
-        w.check();
-    }
+    ]);
 }
 
 #[test]
@@ -341,14 +344,12 @@ fn maxwell_fisheye_lens_images_every_surface_point_onto_its_antipode() {
             integrated_direction.see(i.direction.distance(expected), case);
         }
     }
-    for w in [
+    check_all([
         closed_point,
         closed_direction,
         integrated_point,
         integrated_direction,
-    ] {
-        w.check();
-    }
+    ]);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -424,9 +425,7 @@ fn ggrin_conserves_angular_momentum_and_turns_the_ray_by_phi_in_its_plane() {
         };
         angle.see(wrap(angle_a_prime - angle_a - g.phi).abs(), case);
     }
-    for w in [momentum, plane, surface, inwards, angle] {
-        w.check();
-    }
+    check_all([momentum, plane, surface, inwards, angle]);
 }
 
 #[test]
@@ -610,7 +609,7 @@ fn luneburg_behind_an_index_step_refracts_in_maps_and_refracts_out() {
             profile_path.see((g.path - expected).abs() / lens.radius(), case);
         }
     }
-    for w in [
+    check_all([
         own_point,
         own_direction,
         snell_in,
@@ -618,9 +617,7 @@ fn luneburg_behind_an_index_step_refracts_in_maps_and_refracts_out() {
         profile_point,
         profile_direction,
         profile_path,
-    ] {
-        w.check();
-    }
+    ]);
 }
 
 #[test]

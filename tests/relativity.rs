@@ -2,37 +2,15 @@
 //! along rays, the three shutter models, finite apertures and focus surfaces, orthographic
 //! projection.
 
+mod common;
+
 use glam::DVec3;
 use timbre::cameras::{Camera, Focus, Shutter};
-use timbre::embree::Device;
 use timbre::io::to_rgb8;
 use timbre::math::LorentzTransform;
-use timbre::render::{Image, render};
-use timbre::scene::{Scene, SceneDescription, file};
+use timbre::render::Image;
 
-fn parse(text: &str) -> SceneDescription {
-    file::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn render_description(d: &SceneDescription) -> Image {
-    let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, d).unwrap();
-    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
-}
-
-fn render_text(text: &str) -> Image {
-    render_description(&parse(text))
-}
-
-/// Pixels whose 8-bit colours differ.
-fn differing(a: &Image, b: &Image) -> usize {
-    assert_eq!((a.width, a.height), (b.width, b.height));
-    to_rgb8(a)
-        .pixels()
-        .zip(to_rgb8(b).pixels())
-        .filter(|(p, q)| p != q)
-        .count()
-}
+use common::images::{differing, parse, render_description, render_text};
 
 const LATTICE: &str = "studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n";
 

@@ -1,9 +1,11 @@
 //! Helpers shared by the integration tests: random inputs for the property tests (here),
 //! deterministic random numbers ([`rng`]), ray queries and exact reference answers ([`rays`]),
-//! and running the `timbre` command ([`cli`]).
+//! rendering scene text and comparing pictures ([`images`]), and running the `timbre` command
+//! ([`cli`]).
 #![allow(dead_code)] // each test crate uses its own subset
 
 pub mod cli;
+pub mod images;
 pub mod rays;
 pub mod rng;
 

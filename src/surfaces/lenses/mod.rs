@@ -138,11 +138,11 @@ impl Lens {
     pub fn emerge(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
         let (centre, radius) = (lens.centre(), lens.radius());
         let n_surface = self.surface_index();
-        let n = (p - centre) / radius;
         // A matched surface (ratio exactly 1) leaves directions exactly as they are.
         if n_surface == 1.0 {
             return self.cross(lens, p, d);
         }
+        let n = (p - centre) / radius;
         let Some(inside) = refract(d, n, n_surface) else {
             return Some(Exit {
                 point: p,

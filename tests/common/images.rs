@@ -1,0 +1,33 @@
+//! Rendering scene-file text in the library and comparing the pictures.
+
+use timbre::embree::Device;
+use timbre::io::to_rgb8;
+use timbre::render::{Image, render};
+use timbre::scene::{Scene, SceneDescription, file};
+
+/// The scene of `text` (named "test.toml"), panicking with the error if it is rejected.
+pub fn parse(text: &str) -> SceneDescription {
+    file::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}\nin:\n{text}"))
+}
+
+/// The picture of a scene description, with its own render settings.
+pub fn render_description(d: &SceneDescription) -> Image {
+    let device = Device::new("").unwrap();
+    let scene = Scene::build(&device, d).unwrap();
+    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
+}
+
+/// The picture of the scene of `text`.
+pub fn render_text(text: &str) -> Image {
+    render_description(&parse(text))
+}
+
+/// Pixels whose 8-bit colours differ.
+pub fn differing(a: &Image, b: &Image) -> usize {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    to_rgb8(a)
+        .pixels()
+        .zip(to_rgb8(b).pixels())
+        .filter(|(p, q)| p != q)
+        .count()
+}
