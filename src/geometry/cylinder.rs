@@ -111,6 +111,18 @@ impl Cylinder {
         DVec2::new(self.radius * d.dot(f.v).atan2(d.dot(f.u)), d.dot(self.axis))
     }
 
+    /// The mantle point with surface coordinates `c` (inverse of [`Self::coordinates`]);
+    /// `None` beyond the ends.
+    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        let angle = c.x / self.radius;
+        if !(0.0..=self.length).contains(&c.y) || !angle.is_finite() {
+            return None;
+        }
+        let f = Frame::from_normal(self.axis);
+        let (s, co) = angle.sin_cos();
+        Some(self.start + c.y * self.axis + self.radius * (co * f.u + s * f.v))
+    }
+
     pub fn bounds(&self) -> (DVec3, DVec3) {
         // Each end disc extends r·sqrt(1 − a_i²) along axis i.
         let a = self.axis;

@@ -45,6 +45,12 @@ impl Disc {
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
     }
 
+    /// The point with coordinates `c`; `None` outside the disc.
+    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        (c.length_squared() <= self.radius * self.radius)
+            .then(|| self.centre + c.x * self.frame.u + c.y * self.frame.v)
+    }
+
     pub fn centre(&self) -> DVec3 {
         self.centre
     }

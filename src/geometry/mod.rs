@@ -140,6 +140,31 @@ impl Shape {
         }
     }
 
+    /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]; a cylinder's
+    /// mantle), or `None` if no point of the shape has them, or for meshes.
+    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        match self {
+            Shape::Sphere(s) => s.point_at(c),
+            Shape::Plane(s) => Some(s.point_at(c)),
+            Shape::Disc(s) => s.point_at(c),
+            Shape::Cylinder(s) => s.point_at(c),
+            Shape::Parallelogram(s) => s.point_at(c),
+            Shape::TriangleMesh(_) => None,
+        }
+    }
+
+    /// Cartesian coordinates of `p` along the frame's u and v, from a flat shape's reference
+    /// point (a plane's point, a disc's centre, a parallelogram's corner); `None` for curved
+    /// shapes and meshes.
+    pub fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
+        match self {
+            Shape::Plane(s) => Some(s.coordinates(p)),
+            Shape::Disc(s) => Some(s.coordinates(p)),
+            Shape::Parallelogram(s) => Some(s.plane_coordinates(p)),
+            _ => None,
+        }
+    }
+
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         match self {
@@ -442,6 +467,11 @@ impl SceneGeometry {
     /// Surface coordinates of world point `p` of a hit, on the hit element.
     pub fn coordinates(&self, hit: &Hit, p: DVec3) -> DVec2 {
         self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element))
+    }
+
+    /// Flat-surface coordinates (see [`Shape::plane_coordinates`]) of world point `p` of a hit.
+    pub fn plane_coordinates(&self, hit: &Hit, p: DVec3) -> Option<DVec2> {
+        self.shapes[hit.object].plane_coordinates(p - self.offset(hit.object, hit.element))
     }
 
     /// Turns Embree's hit into an exact f64 hit.

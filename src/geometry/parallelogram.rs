@@ -71,6 +71,19 @@ impl Parallelogram {
         self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
     }
 
+    /// The point with coordinates `c` (inverse of [`Self::coordinates`]); `None` outside.
+    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        let ab = c / DVec2::new(self.span_u.length(), self.span_v.length());
+        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y))
+            .then(|| self.corner + ab.x * self.span_u + ab.y * self.span_v)
+    }
+
+    /// Cartesian coordinates along the frame's u and v from the corner.
+    pub fn plane_coordinates(&self, p: DVec3) -> DVec2 {
+        let d = p - self.corner;
+        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
+    }
+
     pub fn corner(&self) -> DVec3 {
         self.corner
     }

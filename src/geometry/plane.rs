@@ -56,6 +56,11 @@ impl Plane {
         let d = p - self.point;
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
     }
+
+    /// The point with coordinates `c`.
+    pub fn point_at(&self, c: DVec2) -> DVec3 {
+        self.point + c.x * self.frame.u + c.y * self.frame.v
+    }
 }
 
 /// Distance along the line o + t d to the plane through `point` with normal `n`; `None` when the

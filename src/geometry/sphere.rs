@@ -43,6 +43,17 @@ impl Sphere {
         self.radius * DVec2::new(phi, theta)
     }
 
+    /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]); `None` if
+    /// the polar angle is outside [0, π].
+    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        let (phi, theta) = (c.x / self.radius, c.y / self.radius);
+        if !(0.0..=std::f64::consts::PI).contains(&theta) || !phi.is_finite() {
+            return None;
+        }
+        let d = DVec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos());
+        Some(self.centre + self.radius * d)
+    }
+
     pub fn centre(&self) -> DVec3 {
         self.centre
     }

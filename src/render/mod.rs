@@ -3,7 +3,7 @@
 mod sampling;
 mod tracer;
 
-pub use sampling::{pixel_offset, uniform};
+pub use sampling::{pixel_offset, uniform, uniform_keyed};
 pub use tracer::{Found, Interaction, Tracer};
 
 use glam::Vec3;

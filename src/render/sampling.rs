@@ -14,6 +14,17 @@ pub fn uniform(seed: u64, x: u32, y: u32, sample: u32, dim: u32) -> f64 {
         ((x as u64) << 32) | y as u64,
         ((sample as u64) << 32) | dim as u64,
     ];
+    unit(seed, &key)
+}
+
+/// Uniform number in [0, 1) for dimension `dim` determined by `key` alone: reproducible noise
+/// for surface laws with random errors, keyed by the ray.
+pub fn uniform_keyed(key: &[u64], dim: u32) -> f64 {
+    unit(dim as u64, key)
+}
+
+/// `seed` and `key` hashed to [0, 1).
+fn unit(seed: u64, key: &[u64]) -> f64 {
     let h = key
         .iter()
         .fold(mix(seed ^ 0x9e37_79b9_7f4a_7c15), |h, &k| mix(h ^ mix(k)));

@@ -50,6 +50,11 @@ impl Interaction<'_> {
         self.geometry.coordinates(&self.hit, self.point())
     }
 
+    /// Cartesian coordinates of the hit on a flat surface (see [`Shape::plane_coordinates`]).
+    pub fn plane_coordinates(&self) -> Option<DVec2> {
+        self.geometry.plane_coordinates(&self.hit, self.point())
+    }
+
     /// Smallest distance a ray leaving this point must travel before it may hit anything, so
     /// it does not re-hit its own surface through rounding. Analytic shapes are intersected
     /// exactly in f64; Embree tests triangles in f32, hence the larger margin.

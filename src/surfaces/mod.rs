@@ -5,6 +5,7 @@
 mod chequerboard;
 mod coloured;
 pub mod lenses;
+pub mod metatoys;
 mod reflective;
 mod refractive;
 mod transparent;
@@ -12,6 +13,10 @@ mod transparent;
 pub use chequerboard::Chequerboard;
 pub use coloured::Coloured;
 pub use lenses::Lens;
+pub use metatoys::{
+    ConfocalLensletArrays, LorentzWindow, MetricInterface, PhaseConjugating, PhaseHologram,
+    RayFlipping, RayRotating, Teleporting,
+};
 pub use reflective::{Mirror, reflect};
 pub use refractive::{Refractive, refract};
 pub use transparent::Transparent;
@@ -34,6 +39,17 @@ pub enum Surface {
     Transparent(Transparent),
     /// §3's lenses; the surface of a sphere.
     Lens(Lens),
+    /// §4: refraction between spaces with different optical metrics.
+    MetricInterface(MetricInterface),
+    /// §5: generalised confocal lenslet arrays.
+    ConfocalLensletArrays(ConfocalLensletArrays),
+    RayRotating(RayRotating),
+    RayFlipping(RayFlipping),
+    /// Flat surfaces only.
+    PhaseHologram(PhaseHologram),
+    PhaseConjugating(PhaseConjugating),
+    LorentzWindow(LorentzWindow),
+    Teleporting(Teleporting),
 }
 
 impl Surface {
@@ -47,11 +63,19 @@ impl Surface {
             Surface::Refractive(s) => s.colour(tracer, at),
             Surface::Transparent(s) => s.colour(tracer, at),
             Surface::Lens(s) => s.colour(tracer, at),
+            Surface::MetricInterface(s) => s.colour(tracer, at),
+            Surface::ConfocalLensletArrays(s) => s.colour(tracer, at),
+            Surface::RayRotating(s) => s.colour(tracer, at),
+            Surface::RayFlipping(s) => s.colour(tracer, at),
+            Surface::PhaseHologram(s) => s.colour(tracer, at),
+            Surface::PhaseConjugating(s) => s.colour(tracer, at),
+            Surface::LorentzWindow(s) => s.colour(tracer, at),
+            Surface::Teleporting(s) => s.colour(tracer, at),
         }
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius.
+    /// sphere's centre and radius; phase holograms need a flat shape's coordinates.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match (self, shape) {
             (Surface::Lens(_), Shape::Sphere(_)) => Ok(()),
@@ -59,6 +83,12 @@ impl Surface {
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
+            (Surface::PhaseHologram(_), Shape::Plane(_) | Shape::Disc(_))
+            | (Surface::PhaseHologram(_), Shape::Parallelogram(_)) => Ok(()),
+            (Surface::PhaseHologram(_), _) => Err(
+                "a phase-hologram surface needs a flat shape (plane, disc or parallelogram)"
+                    .to_string(),
+            ),
             (Surface::Chequerboard(c), _) => {
                 c.surfaces.iter().try_for_each(|s| s.check_shape(shape))
             }

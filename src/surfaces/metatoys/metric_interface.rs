@@ -1,0 +1,214 @@
+//! Refraction at the interface between spaces with different optical metrics (§4, Eqs 16–38).
+//!
+//! A metric g makes the squared optical path length ds² = drᵀ g dr (Eq 17). With the interface
+//! in the plane z = 0, Fermat's principle (Eqs 19–20) fixes the tangential part of h e for the
+//! outgoing direction e from the incident direction d: (h e)ₓ = cₓ and (h e)ᵧ = c_y (Eqs 25–26),
+//! where c = ±(g d)/√|dᵀ g d| (Eq 22; − for negative refraction). Normalising eᵀ h e = 1
+//! (Eq 24) leaves the quadratic a e_z² + c = 0 (Eqs 29–31), with e_z of the sign of d_z
+//! (Eq 32). No real root (−c/a < 0) means total internal reflection.
+//!
+//! When dᵀ g d < 0 (an indefinite metric), the solution with imaginary optical path lengths
+//! (§4.2) normalises eᵀ h e = −1 (Eq 35), which changes c to Eq 36; it is used only if the
+//! interface allows it, otherwise the ray is totally internally reflected.
+//!
+//! Choices the paper leaves open, made here:
+//! - Total internal reflection obeys the same condition in the incident metric: the tangential
+//!   part of g e stays that of g d and eᵀ g e = ±1, so e is the other root of Eq 29 with h = g.
+//!   In an isotropic metric this is the mirror image; in an anisotropic one it is the direction
+//!   Fermat's principle gives, which is not.
+//! - A null incident direction (dᵀ g d = 0) and a tangential metric with h₁₁h₂₂ − h₁₂² = 0 or
+//!   a = 0 (det h = 0) give no unique direction; the ray is reflected (in a degenerate incident
+//!   metric, mirrored). Scene files reject singular tensors, so this can only happen for a
+//!   globally given indefinite metric at points where the surface's tangent plane is null.
+
+use glam::{DMat3, DVec2, DVec3};
+
+use super::{Basis, jacobian};
+use crate::render::{Interaction, Tracer};
+use crate::surfaces::{Colour, reflect};
+
+/// Whether the optical path lengths on the two sides have the same sign (positive refraction)
+/// or opposite signs (negative refraction, e.g. n = −1 against n = +1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Refraction {
+    #[default]
+    Positive,
+    Negative,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct MetricInterface {
+    /// The metric tensor g on the inside (the side the outward normal points away from).
+    pub inside: DMat3,
+    /// The metric tensor h on the outside.
+    pub outside: DMat3,
+    /// The basis the tensors are given in (Eqs 37–38).
+    pub basis: Basis,
+    pub refraction: Refraction,
+    /// Whether to use the imaginary-optical-path-length solution of §4.2.
+    pub allow_imaginary: bool,
+    /// Fraction of the light transmitted (or totally internally reflected), in [0, 1].
+    pub transmission_coefficient: f64,
+}
+
+/// Eqs 22–36: the direction e of the ray leaving the interface z = 0 into metric `h` when it
+/// arrives in metric `g` with direction `d` (any length, d_z ≠ 0). e is normalised as Eq 24
+/// (eᵀ h e = 1), or as Eq 35 (eᵀ h e = −1) for the imaginary solution. `None` means total
+/// internal reflection.
+pub fn metric_refracted_direction(
+    d: DVec3,
+    g: &DMat3,
+    h: &DMat3,
+    refraction: Refraction,
+    allow_imaginary: bool,
+) -> Option<DVec3> {
+    let (c, q) = fermat_constants(d, g)?;
+    if q < 0.0 && !allow_imaginary {
+        return None;
+    }
+    let c = match refraction {
+        Refraction::Positive => c,
+        Refraction::Negative => -c,
+    };
+    solve(c, h, d.z.signum(), q.signum())
+}
+
+/// The direction of a ray arriving with direction `d` in metric `g` at the interface z = 0 and
+/// totally internally reflected, normalised like the incident ray (eᵀ g e = ±1); the mirror
+/// image for isotropic metrics.
+pub fn metric_reflected_direction(d: DVec3, g: &DMat3) -> DVec3 {
+    fermat_constants(d, g)
+        .and_then(|(c, q)| solve(c, g, -d.z.signum(), q.signum()))
+        .unwrap_or_else(|| reflect(d, DVec3::Z))
+}
+
+/// Eq 22 with the '+' sign: (cₓ, c_y) = (g d)ₓ,ᵧ / √|dᵀ g d|, and dᵀ g d itself; `None` for a
+/// null direction.
+fn fermat_constants(d: DVec3, g: &DMat3) -> Option<(DVec2, f64)> {
+    let gd = *g * d;
+    let q = d.dot(gd);
+    (q != 0.0 && q.is_finite()).then(|| (DVec2::new(gd.x, gd.y) / q.abs().sqrt(), q))
+}
+
+/// Eqs 27–32 (with Eq 36 for `norm` = −1): the e with (h e)ₓ,ᵧ = c, eᵀ h e = `norm` and e_z of
+/// the sign of `side`; `None` if there is no real (or no unique) solution.
+fn solve(c: DVec2, h: &DMat3, side: f64, norm: f64) -> Option<DVec3> {
+    let [h11, h12, h13] = h.x_axis.to_array();
+    let [_, h22, h23] = h.y_axis.to_array();
+    let h33 = h.z_axis.z;
+    let det2 = h11 * h22 - h12 * h12;
+    // Eq 30.
+    let a = h13 * h13 * h22 - 2.0 * h12 * h13 * h23 + h12 * h12 * h33 + h11 * h23 * h23
+        - h11 * h22 * h33;
+    // Eq 31 (norm = 1) or Eq 36 (norm = −1).
+    let c0 = -c.y * c.y * h11 + 2.0 * c.x * c.y * h12 - c.x * c.x * h22 + norm * det2;
+    if det2 == 0.0 || a == 0.0 {
+        return None;
+    }
+    let ez2 = -c0 / a;
+    if !(ez2 >= 0.0) {
+        return None;
+    }
+    // Eq 32, on the far side.
+    let ez = side * ez2.sqrt();
+    // Eqs 27–28.
+    let ex = (c.x * h22 - c.y * h12 - ez * h13 * h22 + ez * h12 * h23) / det2;
+    let ey = (c.y * h11 - c.x * h12 - ez * h23 * h11 + ez * h12 * h13) / det2;
+    Some(DVec3::new(ex, ey, ez))
+}
+
+impl MetricInterface {
+    /// The unit direction a ray arriving with direction `d` leaves in, at a point with surface
+    /// frame given by the Jacobian `lambda` (Eq 38); either side may be the incident one.
+    pub fn direction(&self, d: DVec3, lambda: &DMat3) -> DVec3 {
+        let (g, h) = match self.basis {
+            // Eq 37.
+            Basis::Global => (
+                lambda.transpose() * self.inside * *lambda,
+                lambda.transpose() * self.outside * *lambda,
+            ),
+            Basis::Local => (self.inside, self.outside),
+        };
+        let d = lambda.transpose() * d;
+        // A ray arriving from outside (against w) travels from h into g.
+        let (from, to) = if d.z < 0.0 { (&h, &g) } else { (&g, &h) };
+        let e = metric_refracted_direction(d, from, to, self.refraction, self.allow_imaginary)
+            .unwrap_or_else(|| metric_reflected_direction(d, from));
+        (*lambda * e).normalize()
+    }
+
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let out = self.direction(at.ray.direction, &jacobian(&at.frame()));
+        self.transmission_coefficient * tracer.trace_from(at, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn isotropic(n: f64) -> DMat3 {
+        DMat3::from_diagonal(DVec3::splat(n * n))
+    }
+
+    #[test]
+    fn isotropic_metrics_refract_by_snells_law_with_eq_24_normalisation() {
+        // From n = 1 (z < 0) into n = 1.5 at 30°: sin θ₂ = 1/3, and |e| = 1/n₂ by Eq 24.
+        let d = DVec3::new(0.5, 0.0, 3f64.sqrt() / 2.0);
+        let e = metric_refracted_direction(
+            d,
+            &isotropic(1.0),
+            &isotropic(1.5),
+            Refraction::Positive,
+            false,
+        )
+        .unwrap();
+        assert!((e.dot(isotropic(1.5) * e) - 1.0).abs() < 1e-15);
+        let e = e.normalize();
+        assert!((e.x - 1.0 / 3.0).abs() < 1e-15 && e.z > 0.0 && e.y == 0.0, "{e}");
+    }
+
+    #[test]
+    fn reflection_in_an_isotropic_metric_is_the_mirror_image() {
+        let d = DVec3::new(0.3, -0.4, 0.8);
+        let r = metric_reflected_direction(d, &isotropic(2.0));
+        let mirror = DVec3::new(d.x, d.y, -d.z);
+        assert!((r.normalize() - mirror.normalize()).length() < 1e-15, "{r}");
+    }
+
+    #[test]
+    fn reflection_in_an_anisotropic_metric_keeps_the_tangential_constants() {
+        let g = DMat3::from_cols(
+            DVec3::new(1.0, 0.2, 0.3),
+            DVec3::new(0.2, 1.2, -0.5),
+            DVec3::new(0.3, -0.5, 2.0),
+        );
+        let d = DVec3::new(0.3, -0.4, 0.8);
+        let r = metric_reflected_direction(d, &g);
+        let (c, q) = fermat_constants(d, &g).unwrap();
+        let gr = g * r;
+        assert!((DVec2::new(gr.x, gr.y) - c).length() < 1e-14);
+        assert!((r.dot(gr) - q.signum()).abs() < 1e-14 && r.z < 0.0);
+    }
+
+    #[test]
+    fn a_tangential_null_plane_reflects_instead_of_giving_nan() {
+        // An indefinite metric (det h = −1) whose tangential part h₁₁h₂₂ − h₁₂² vanishes.
+        let h = DMat3::from_cols(DVec3::new(0.0, 0.0, 1.0), DVec3::Y, DVec3::new(1.0, 0.0, 1.0));
+        let d = DVec3::new(0.1, 0.2, 1.0);
+        assert_eq!(
+            metric_refracted_direction(d, &isotropic(1.0), &h, Refraction::Positive, true),
+            None
+        );
+        let interface = MetricInterface {
+            inside: isotropic(1.0),
+            outside: h,
+            basis: Basis::Local,
+            refraction: Refraction::Positive,
+            allow_imaginary: true,
+            transmission_coefficient: 1.0,
+        };
+        let out = interface.direction(d.normalize(), &DMat3::IDENTITY);
+        assert!(out.is_finite() && out.z < 0.0, "{out}");
+    }
+}

@@ -1,0 +1,18 @@
+//! Phase conjugation (§6): a phase-conjugating mirror reverses every ray, d′ = −d, so light
+//! retraces its path whatever the angle of incidence (the surface reflects the wave with its
+//! phase conjugated, which reverses the wave vector).
+
+use crate::render::{Interaction, Tracer};
+use crate::surfaces::Colour;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseConjugating {
+    /// Fraction of the light sent back, in [0, 1].
+    pub reflection_coefficient: f64,
+}
+
+impl PhaseConjugating {
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        self.reflection_coefficient * tracer.trace_from(at, -at.ray.direction)
+    }
+}

@@ -1,0 +1,113 @@
+//! Generalised refraction by a thin phase hologram (§6): the tangential component of the ray
+//! direction changes by the gradient of the hologram's phase.
+//!
+//! Derivation: a phase Φ(u, v) added across a surface adds ∇Φ to the tangential wave vector,
+//! k′_t = k_t + ∇Φ (phase matching). With k = 2π/λ and the phase given as φ = Φ/k (an optical
+//! path length, so holograms do not depend on the wavelength), the unit direction's tangential
+//! part becomes d′_t = d_t + ∇φ, and its normal part keeps its sign with |d′| = 1. If
+//! |d′_t| > 1 the transmitted wave is evanescent and the ray is reflected (as TIR). The same
+//! kick applied to −d′ gives −d, so the law is reciprocal.
+//!
+//! Phases, in Cartesian coordinates (u, v) of a flat surface measured from its reference point
+//! (a plane's point, a disc's centre, a parallelogram's corner):
+//! - linear (a prism): φ = g·(u, v), a constant kick g;
+//! - quadratic (a thin lens of focal length f about a centre c): φ = −|r − c|²/(2f), kick
+//!   −(r − c)/f, which focuses a parallel bundle at distance f (paraxially; exactly in the
+//!   limit of small apertures);
+//! - cylindrical (a cylindrical lens with its axis at an angle ψ from u): φ = −(m·(r − c))²/(2f)
+//!   with m the in-plane unit vector perpendicular to the axis.
+
+use glam::{DVec2, DVec3};
+
+use super::{jacobian, or_reflected};
+use crate::render::{Interaction, Tracer};
+use crate::surfaces::Colour;
+
+/// The hologram's phase φ(u, v), as an optical path length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Phase {
+    /// φ = gradient · (u, v).
+    Linear { gradient: DVec2 },
+    /// φ = −|r − centre|²/(2 focal_length).
+    Quadratic { focal_length: f64, centre: DVec2 },
+    /// φ = −(m·(r − centre))²/(2 focal_length), m ⊥ the cylinder axis, which is at
+    /// `axis_angle` (radians) from u towards v.
+    Cylindrical {
+        focal_length: f64,
+        centre: DVec2,
+        axis_angle: f64,
+    },
+}
+
+impl Phase {
+    /// ∇φ at surface position `r`.
+    pub fn gradient(&self, r: DVec2) -> DVec2 {
+        match *self {
+            Phase::Linear { gradient } => gradient,
+            Phase::Quadratic {
+                focal_length,
+                centre,
+            } => -(r - centre) / focal_length,
+            Phase::Cylindrical {
+                focal_length,
+                centre,
+                axis_angle,
+            } => {
+                let (s, c) = axis_angle.sin_cos();
+                let m = DVec2::new(-s, c);
+                -m.dot(r - centre) * m / focal_length
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseHologram {
+    pub phase: Phase,
+    /// Fraction of the light transmitted, in [0, 1].
+    pub transmission_coefficient: f64,
+}
+
+/// The unit direction leaving a hologram with phase gradient `kick` for the unit direction
+/// `d`, both in the surface's local (u, v, w) frame; `None` if the wave is evanescent.
+pub fn hologram_direction(d: DVec3, kick: DVec2) -> Option<DVec3> {
+    let t = DVec2::new(d.x, d.y) + kick;
+    let w2 = 1.0 - t.length_squared();
+    (w2 > 0.0).then(|| DVec3::new(t.x, t.y, d.z.signum() * w2.sqrt()))
+}
+
+impl PhaseHologram {
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let frame = at.frame();
+        let lambda = jacobian(&frame);
+        let d = at.ray.direction;
+        let out = at
+            .plane_coordinates()
+            .and_then(|r| hologram_direction(lambda.transpose() * d, self.phase.gradient(r)))
+            .map(|e| lambda * e);
+        self.transmission_coefficient * tracer.trace_from(at, or_reflected(out, d, frame.w))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cylindrical_kick_is_across_the_axis_only() {
+        let phase = Phase::Cylindrical {
+            focal_length: 2.0,
+            centre: DVec2::ZERO,
+            axis_angle: 0.0,
+        };
+        // Axis along u: only the v offset matters.
+        assert_eq!(phase.gradient(DVec2::new(5.0, 1.0)), DVec2::new(0.0, -0.5));
+    }
+
+    #[test]
+    fn evanescent_waves_are_refused_and_the_side_is_kept() {
+        assert_eq!(hologram_direction(DVec3::Z, DVec2::new(1.5, 0.0)), None);
+        let out = hologram_direction(-DVec3::Z, DVec2::new(0.6, 0.0)).unwrap();
+        assert!((out - DVec3::new(0.6, 0.0, -0.8)).length() < 1e-15, "{out}");
+    }
+}
