@@ -6,10 +6,11 @@ use glam::DVec3;
 use super::lights::{Lights, PointLight};
 use super::{ReferenceFrame, SceneDescription, SceneObject};
 use crate::cameras::Camera;
-use crate::geometry::{Cylinder, Plane, Shape, Sphere};
+use crate::geometry::{Cylinder, Parallelogram, Plane, Shape, Sphere};
 use crate::render::RenderSettings;
 use crate::stereo::Stereo;
-use crate::surfaces::{Chequerboard, Colour, Coloured, Surface};
+use crate::surfaces::metatoys::RotationAxis;
+use crate::surfaces::{Chequerboard, Colour, Coloured, RayRotating, Surface};
 
 /// The backdrop a scene starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -18,6 +19,9 @@ pub enum Studio {
     Empty,
     /// The empty studio plus TIM's lattice of 48 red, green and blue cylinders.
     Lattice,
+    /// TIM's "METATOY science" scene: a smaller lattice behind a framed window whose surface
+    /// is a METATOY (by default ray-rotating by 60°).
+    MetatoyWindow,
 }
 
 /// Sky: a sphere of radius 100 000 about the origin, constant colour (0.5, 0.5, 1), no shadow.
@@ -83,11 +87,26 @@ pub fn camera() -> Camera {
 /// x ∈ {−1, −1/3, 1/3, 1}, y ∈ {−0.98, −0.98 + 2/3, −0.98 + 4/3, 1.02}, z ∈ {10, 20, 30, 40}: red along z,
 /// blue along x, green along y.
 pub fn lattice() -> Vec<SceneObject> {
-    let xs = [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0];
-    let ys: Vec<f64> = (0..4)
+    let ys = (0..4)
         .map(|i| -0.98 + i as f64 * (1.02 + 0.98) / 3.0)
-        .collect();
-    let zs = [10.0, 20.0, 30.0, 40.0];
+        .collect::<Vec<_>>();
+    cylinder_lattice(
+        [-1.0, -1.0 / 3.0, 1.0 / 3.0, 1.0],
+        ys.try_into().expect("four"),
+        [10.0, 20.0, 30.0, 40.0],
+    )
+}
+
+/// The lattice behind the METATOY window: x, y ∈ {−0.98, −0.98/3, 0.98/3, 0.98},
+/// z ∈ {11, 20, 29, 38}.
+pub fn metatoy_lattice() -> Vec<SceneObject> {
+    let xy = [-0.98, -0.98 / 3.0, 0.98 / 3.0, 0.98];
+    cylinder_lattice(xy, xy, [11.0, 20.0, 29.0, 38.0])
+}
+
+/// 48 cylinders of radius 0.02 (shiny, shadow-throwing) through the grid points: red along z,
+/// blue along x, green along y, each spanning the grid.
+fn cylinder_lattice(xs: [f64; 4], ys: [f64; 4], zs: [f64; 4]) -> Vec<SceneObject> {
     let cylinder = |name: String, start: DVec3, end: DVec3, colour: Colour| SceneObject {
         name,
         shape: Shape::Cylinder(Cylinder::new(start, end, 0.02).expect("valid lattice cylinder")),
@@ -129,12 +148,86 @@ pub fn lattice() -> Vec<SceneObject> {
     objects
 }
 
+/// Name of the METATOY window's pane.
+pub const WINDOW: &str = "window";
+
+/// The METATOY window's pane: corner (−1.5, −0.98, 10), spans (3, 0, 0) and (0, 2, 0), outward
+/// normal +z (so the camera sees it from inside); not shadow-throwing.
+pub fn window_pane(surface: Surface) -> SceneObject {
+    SceneObject {
+        name: WINDOW.into(),
+        shape: Shape::Parallelogram(
+            Parallelogram::new(
+                DVec3::new(-1.5, -0.98, 10.0),
+                DVec3::X * 3.0,
+                DVec3::Y * 2.0,
+            )
+            .expect("valid window"),
+        ),
+        surface,
+        shadow_throwing: false,
+        frame: ReferenceFrame::Scene,
+    }
+}
+
+/// The window's default surface: TIM's "Rotating", 60° about the normal, transmission 0.96.
+pub fn default_window_surface() -> Surface {
+    Surface::RayRotating(RayRotating {
+        angle: 60f64.to_radians(),
+        axis: RotationAxis::Normal,
+        transmission_coefficient: 0.96,
+    })
+}
+
+/// The window's frame: capped cylinders of radius 0.025 along the pane's edges and spheres of
+/// radius 0.025 at its corners, shiny grey (diffuse 0.5, specular white), shadow-throwing.
+pub fn window_frame() -> Vec<SceneObject> {
+    let corners = [
+        DVec3::new(-1.5, -0.98, 10.0),
+        DVec3::new(1.5, -0.98, 10.0),
+        DVec3::new(1.5, 1.02, 10.0),
+        DVec3::new(-1.5, 1.02, 10.0),
+    ];
+    let grey = Surface::Coloured(Coloured {
+        diffuse: Colour::splat(0.5),
+        specular: Colour::ONE,
+    });
+    let part = |name: String, shape: Shape| SceneObject {
+        name,
+        shape,
+        surface: grey.clone(),
+        shadow_throwing: true,
+        frame: ReferenceFrame::Scene,
+    };
+    (0..4)
+        .map(|i| {
+            let (a, b) = (corners[i], corners[(i + 1) % 4]);
+            part(
+                format!("window frame edge {i}"),
+                Shape::Cylinder(Cylinder::new(a, b, 0.025).expect("valid frame edge")),
+            )
+        })
+        .chain((0..4).map(|i| {
+            part(
+                format!("window frame corner {i}"),
+                Shape::Sphere(Sphere::new(corners[i], 0.025).expect("valid frame corner")),
+            )
+        }))
+        .collect()
+}
+
 impl Studio {
     /// The studio as a complete scene with TIM's default render settings (640×480, 1 spp).
     pub fn description(self) -> SceneDescription {
         let mut objects = vec![sky(), floor()];
-        if self == Studio::Lattice {
-            objects.extend(lattice());
+        match self {
+            Studio::Empty => {}
+            Studio::Lattice => objects.extend(lattice()),
+            Studio::MetatoyWindow => {
+                objects.extend(metatoy_lattice());
+                objects.push(window_pane(default_window_surface()));
+                objects.extend(window_frame());
+            }
         }
         SceneDescription {
             objects,

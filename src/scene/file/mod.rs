@@ -23,11 +23,13 @@ use toml::Spanned;
 use super::lights::{Lights, PointLight};
 use super::studio::{self, Studio};
 use super::{ReferenceFrame, SceneDescription};
-use crate::geometry::Transform;
+use crate::geometry::{Shape, Transform};
+use crate::surfaces::Surface;
 use camera::CameraSection;
 pub use overrides::Override;
 pub use placement::MAX_ARRAY_ELEMENTS;
-use placement::{GroupSection, IncludeSection, Items, ObjectSection, Placer};
+use placement::{GroupSection, IncludeSection, Items, Link, ObjectSection, Placer};
+use surfaces::SurfaceSection;
 use values::{Positive, Rgb, Vector};
 
 /// A scene file that could not be read or understood.
@@ -52,6 +54,30 @@ pub enum SceneFileError {
         overrides: String,
         message: String,
     },
+}
+
+impl SceneFileError {
+    /// The same place in the file with another message.
+    fn with_message(self, message: String) -> SceneFileError {
+        match self {
+            SceneFileError::Io { .. } => self,
+            SceneFileError::Invalid {
+                path, line, column, ..
+            } => SceneFileError::Invalid {
+                path,
+                line,
+                column,
+                message,
+            },
+            SceneFileError::Overridden {
+                path, overrides, ..
+            } => SceneFileError::Overridden {
+                path,
+                overrides,
+                message,
+            },
+        }
+    }
 }
 
 /// 1-based line and column of byte `offset` in `text`.
@@ -130,6 +156,14 @@ struct File {
     group: Vec<GroupSection>,
     #[serde(default)]
     include: Vec<IncludeSection>,
+    window: Option<Spanned<WindowSection>>,
+}
+
+/// The METATOY window's pane (studio "metatoy-window").
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WindowSection {
+    surface: Spanned<SurfaceSection>,
 }
 
 impl File {
@@ -149,6 +183,9 @@ enum StudioName {
     Empty,
     /// The empty studio plus TIM's cylinder lattice.
     Lattice,
+    /// TIM's "METATOY science" scene: a lattice behind a framed METATOY window.
+    #[serde(rename = "metatoy-window", alias = "metatoy_window")]
+    MetatoyWindow,
     /// Nothing at all: no sky, no floor, no lights.
     None,
 }
@@ -231,6 +268,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
     let studio = match file.studio.unwrap_or(StudioName::Empty) {
         StudioName::Empty => Some(Studio::Empty),
         StudioName::Lattice => Some(Studio::Lattice),
+        StudioName::MetatoyWindow => Some(Studio::MetatoyWindow),
         StudioName::None => None,
     };
     let mut scene = match studio {
@@ -289,13 +327,41 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         scene.lights = lights;
     }
 
+    let mut links = Vec::new();
+    if let Some(window) = file.window {
+        let span = window.span();
+        let pane = scene
+            .objects
+            .iter_mut()
+            .find(|o| o.name == studio::WINDOW && studio == Some(Studio::MetatoyWindow))
+            .ok_or_else(|| {
+                invalid(
+                    Some(span),
+                    "[window] sets the pane of studio = \"metatoy-window\", which this scene does not use".into(),
+                )
+            })?;
+        let surface_span = window.into_inner().surface;
+        let (span, section) = (surface_span.span(), surface_span.into_inner());
+        let at = |m: String| invalid(Some(span.clone()), format!("window: {m}"));
+        if let Some(destination) = section.destination() {
+            links.push(Link {
+                origin: studio::WINDOW.to_string(),
+                destination: destination.to_string(),
+                at: at(String::new()),
+            });
+        }
+        pane.surface = section.build().map_err(at)?;
+        pane.surface.check_shape(&pane.shape).map_err(at)?;
+    }
+
     let studio_objects = scene.objects.len();
     let items = Items {
         object: file.object,
         group: file.group,
         include: file.include,
     };
-    let placed = Placer::new(path).items(
+    let mut placer = Placer::new(path);
+    let placed = placer.items(
         source,
         items,
         &Transform::IDENTITY,
@@ -307,7 +373,59 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
         a
     }));
+    for link in links.into_iter().chain(placer.links) {
+        link_teleporter(&mut scene, &link.origin, &link.destination)
+            .map_err(|m| link.at.with_message(format!("object '{}': {m}", link.origin)))?;
+    }
     Ok(scene)
+}
+
+/// Gives the teleporting surfaces of object `origin` (and its parts) the shape of the object
+/// named `destination`, which must be a single analytic shape at rest in the same frame.
+fn link_teleporter(
+    scene: &mut SceneDescription,
+    origin: &str,
+    destination: &str,
+) -> Result<(), String> {
+    let named: Vec<usize> = (0..scene.objects.len())
+        .filter(|&i| scene.objects[i].name == destination)
+        .collect();
+    let &[target] = named.as_slice() else {
+        return Err(if named.is_empty() {
+            format!("teleporting: no object is named '{destination}' (the destination is named in full, with its group names, as `timbre check` lists it)")
+        } else {
+            format!(
+                "teleporting: {} objects are named '{destination}'; give the destination a unique name",
+                named.len()
+            )
+        });
+    };
+    if scene.arrays.iter().any(|a| a.objects.contains(&target)) {
+        return Err(format!(
+            "teleporting: the destination '{destination}' is repeated in an array; it must be a single object"
+        ));
+    }
+    let target = &scene.objects[target];
+    if matches!(target.shape, Shape::TriangleMesh(_)) {
+        return Err(format!(
+            "teleporting: the destination '{destination}' is a mesh, which has no surface coordinates to arrive at; use an analytic shape"
+        ));
+    }
+    let (shape, frame) = (target.shape.clone(), target.frame);
+    let part = format!("{origin}/");
+    for o in &mut scene.objects {
+        if o.name == origin || o.name.starts_with(&part) {
+            if let Surface::Teleporting(t) = &mut o.surface {
+                if o.frame != frame {
+                    return Err(format!(
+                        "teleporting: the destination '{destination}' is at rest in another frame"
+                    ));
+                }
+                t.destination = shape.clone();
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

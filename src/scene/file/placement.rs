@@ -256,6 +256,16 @@ pub(super) struct Placer {
     stack: Vec<PathBuf>,
     /// Objects placed so far (numbers unnamed objects).
     count: usize,
+    /// Teleporting surfaces, to be linked to their destinations once every object is placed.
+    pub(super) links: Vec<Link>,
+}
+
+/// A teleporting object (its name; it may have named parts) and the name of its destination,
+/// with the place in its file where the link is given, for errors.
+pub(super) struct Link {
+    pub origin: String,
+    pub destination: String,
+    pub at: SceneFileError,
 }
 
 impl Placer {
@@ -263,6 +273,7 @@ impl Placer {
         Placer {
             stack: vec![top.canonicalize().unwrap_or_else(|_| top.to_path_buf())],
             count: 0,
+            links: Vec::new(),
         }
     }
 
@@ -342,6 +353,13 @@ impl Placer {
                 source.error(Some(shape_span.clone()), format!("object '{name}': {e}"))
             })?;
         let surface_span = o.surface.span();
+        if let Some(destination) = o.surface.get_ref().destination() {
+            self.links.push(Link {
+                origin: name.clone(),
+                destination: destination.to_string(),
+                at: source.error(Some(surface_span.clone()), String::new()),
+            });
+        }
         let surface = o.surface.into_inner().build().map_err(|e| {
             source.error(Some(surface_span.clone()), format!("object '{name}': {e}"))
         })?;

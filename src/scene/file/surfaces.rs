@@ -2,9 +2,21 @@
 
 use serde::Deserialize;
 
-use super::values::{Coefficient, Finite, InnerRadius, LensDistance, Positive, Rgb};
+use glam::{DMat3, DVec2, DVec3};
+
+use super::values::{
+    Coefficient, Finite, InnerRadius, LensDistance, MetricTensor, NonNegative, NonZero, Positive,
+    Rgb, Vector, Vector2,
+};
+use crate::geometry::Shape;
+use crate::math::LorentzTransform;
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
-use crate::surfaces::{Chequerboard, Colour, Coloured, Mirror, Refractive, Surface, Transparent};
+use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis, Telescopelets};
+use crate::surfaces::{
+    Chequerboard, Colour, Coloured, ConfocalLensletArrays, LorentzWindow, MetricInterface, Mirror,
+    PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive, Surface, Teleporting,
+    Transparent,
+};
 
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -72,6 +84,128 @@ pub(super) enum SurfaceSection {
         #[serde(flatten)]
         options: LensOptions,
     },
+    #[serde(rename = "metric-interface", alias = "metric_interface")]
+    MetricInterface {
+        inside: Option<MetricTensor>,
+        outside: Option<MetricTensor>,
+        basis: Option<BasisName>,
+        refraction: Option<RefractionName>,
+        allow_imaginary: Option<bool>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(
+        rename = "confocal-lenslet-arrays",
+        alias = "confocal_lenslet_arrays",
+        alias = "gcla"
+    )]
+    ConfocalLensletArrays {
+        a: Vector,
+        u: Vector,
+        basis: Option<BasisName>,
+        eta_u: NonZero,
+        eta_v: NonZero,
+        delta_u: Option<Finite>,
+        delta_v: Option<Finite>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(rename = "ray-rotating", alias = "ray_rotating")]
+    RayRotating {
+        angle_deg: Option<Finite>,
+        axis: Option<Vector>,
+        basis: Option<BasisName>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(rename = "ray-flipping", alias = "ray_flipping")]
+    RayFlipping {
+        flip_axis_angle_deg: Option<Finite>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(rename = "phase-hologram", alias = "phase_hologram")]
+    PhaseHologram {
+        phase: PhaseSection,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(rename = "phase-conjugating", alias = "phase_conjugating")]
+    PhaseConjugating {
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
+    },
+    #[serde(rename = "lorentz-window", alias = "lorentz_window")]
+    LorentzWindow {
+        beta: Vector,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    Teleporting {
+        destination: String,
+        positional_error: Option<NonNegative>,
+        angular_error_deg: Option<NonNegative>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum BasisName {
+    Global,
+    Local,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum RefractionName {
+    Positive,
+    Negative,
+}
+
+/// A phase hologram's phase function.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub(super) enum PhaseSection {
+    Linear {
+        gradient: Vector2,
+    },
+    Quadratic {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+    },
+    Cylindrical {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+        axis_angle_deg: Option<Finite>,
+    },
+}
+
+fn basis(b: Option<BasisName>) -> Basis {
+    match b {
+        None | Some(BasisName::Global) => Basis::Global,
+        Some(BasisName::Local) => Basis::Local,
+    }
+}
+
+fn coefficient(c: Option<Coefficient>) -> f64 {
+    c.map_or(1.0, |c| c.0)
+}
+
+/// TIM's default rotation angle of a ray-rotating window, in degrees.
+pub(super) const DEFAULT_ROTATION_DEG: f64 = 60.0;
+
+/// The (u, v, w) components of h whose tangential part h₁₁h₂₂ − h₁₂² must not vanish.
+fn check_tangential(name: &str, h: &DMat3) -> Result<(), String> {
+    let det2 = h.x_axis.x * h.y_axis.y - h.y_axis.x * h.y_axis.x;
+    let scale = h.x_axis.x.abs().max(h.y_axis.y.abs()).max(h.y_axis.x.abs());
+    if det2.abs() <= 1e-12 * scale * scale {
+        return Err(format!(
+            "metric-interface: in the local basis, the {name} tensor's tangential part has g11 g22 - g12^2 = 0, so Eqs 27-28 have no unique solution"
+        ));
+    }
+    Ok(())
 }
 
 /// How a Luneburg, Eaton or Maxwell-fisheye lens is rendered.
@@ -131,6 +265,9 @@ impl SurfaceSection {
                 surfaces,
             } => {
                 let [a, b] = *surfaces;
+                if a.destination().is_some() || b.destination().is_some() {
+                    return Err("a teleporting surface cannot be a chequerboard tile".into());
+                }
                 Surface::Chequerboard(Chequerboard {
                     tile_width: tile_width.map_or(1.0, |w| w.0),
                     surfaces: Box::new([a.build()?, b.build()?]),
@@ -186,6 +323,168 @@ impl SurfaceSection {
                     profile: IndexProfile::Table(table),
                 }))
             }
+            SurfaceSection::MetricInterface {
+                inside,
+                outside,
+                basis: b,
+                refraction,
+                allow_imaginary,
+                transmission_coefficient,
+            } => {
+                let euclidean = MetricTensor(DMat3::IDENTITY);
+                let (g, h) = (inside.unwrap_or(euclidean).0, outside.unwrap_or(euclidean).0);
+                if basis(b) == Basis::Local {
+                    check_tangential("inside", &g)?;
+                    check_tangential("outside", &h)?;
+                }
+                Surface::MetricInterface(MetricInterface {
+                    inside: g,
+                    outside: h,
+                    basis: basis(b),
+                    refraction: match refraction {
+                        None | Some(RefractionName::Positive) => Refraction::Positive,
+                        Some(RefractionName::Negative) => Refraction::Negative,
+                    },
+                    allow_imaginary: allow_imaginary.unwrap_or(false),
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
+            SurfaceSection::ConfocalLensletArrays {
+                a,
+                u,
+                basis: b,
+                eta_u,
+                eta_v,
+                delta_u,
+                delta_v,
+                transmission_coefficient,
+            } => {
+                let eta = DVec2::new(eta_u.0, eta_v.0);
+                let delta = DVec2::new(delta_u.map_or(0.0, |d| d.0), delta_v.map_or(0.0, |d| d.0));
+                if Telescopelets::new(a.0, u.0, eta, delta).is_none() {
+                    return Err(format!(
+                        "confocal-lenslet-arrays: a = {} must be non-zero and u = {} not parallel to it",
+                        a.0, u.0
+                    ));
+                }
+                Surface::ConfocalLensletArrays(ConfocalLensletArrays {
+                    a: a.0,
+                    u: u.0,
+                    basis: basis(b),
+                    eta,
+                    delta,
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
+            SurfaceSection::RayRotating {
+                angle_deg,
+                axis,
+                basis: b,
+                transmission_coefficient,
+            } => {
+                let axis = match (axis, b) {
+                    (None, None) => RotationAxis::Normal,
+                    (None, Some(_)) => {
+                        return Err("ray-rotating: basis applies to an axis, but none is given".into());
+                    }
+                    (Some(a), _) if a.0 == DVec3::ZERO => {
+                        return Err("ray-rotating: the axis must not be zero".into());
+                    }
+                    (Some(a), b) => RotationAxis::Direction(a.0, basis(b)),
+                };
+                Surface::RayRotating(RayRotating {
+                    angle: angle_deg.map_or(DEFAULT_ROTATION_DEG, |a| a.0).to_radians(),
+                    axis,
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
+            SurfaceSection::RayFlipping {
+                flip_axis_angle_deg,
+                transmission_coefficient,
+            } => Surface::RayFlipping(RayFlipping {
+                flip_axis_angle: flip_axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
+                transmission_coefficient: coefficient(transmission_coefficient),
+            }),
+            SurfaceSection::PhaseHologram {
+                phase,
+                transmission_coefficient,
+            } => {
+                let centre = |c: Option<Vector2>| c.map_or(DVec2::ZERO, |c| c.0);
+                Surface::PhaseHologram(PhaseHologram {
+                    phase: match phase {
+                        PhaseSection::Linear { gradient } => Phase::Linear {
+                            gradient: gradient.0,
+                        },
+                        PhaseSection::Quadratic {
+                            focal_length,
+                            centre: c,
+                        } => Phase::Quadratic {
+                            focal_length: focal_length.0,
+                            centre: centre(c),
+                        },
+                        PhaseSection::Cylindrical {
+                            focal_length,
+                            centre: c,
+                            axis_angle_deg,
+                        } => Phase::Cylindrical {
+                            focal_length: focal_length.0,
+                            centre: centre(c),
+                            axis_angle: axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
+                        },
+                    },
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
+            SurfaceSection::PhaseConjugating {
+                reflection_coefficient,
+            } => Surface::PhaseConjugating(PhaseConjugating {
+                reflection_coefficient: coefficient(reflection_coefficient),
+            }),
+            SurfaceSection::LorentzWindow {
+                beta,
+                transmission_coefficient,
+            } => Surface::LorentzWindow(LorentzWindow {
+                boost: LorentzTransform::new(beta.0).ok_or_else(|| {
+                    format!(
+                        "lorentz-window: beta = {} must have magnitude below 1 (the speed of light)",
+                        beta.0
+                    )
+                })?,
+                transmission_coefficient: coefficient(transmission_coefficient),
+            }),
+            SurfaceSection::Teleporting {
+                destination: _,
+                positional_error,
+                angular_error_deg,
+                transmission_coefficient,
+            } => {
+                let angular_error = angular_error_deg.map_or(0.0, |a| a.0);
+                if angular_error > 180.0 {
+                    return Err(format!(
+                        "teleporting: angular_error_deg = {angular_error} is more than 180"
+                    ));
+                }
+                Surface::Teleporting(Teleporting {
+                    // Linked to the named object once every object is placed.
+                    destination: unlinked(),
+                    positional_error: positional_error.map_or(0.0, |e| e.0),
+                    angular_error: angular_error.to_radians(),
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
         })
     }
+
+    /// The name of the object a teleporting surface leads to.
+    pub(super) fn destination(&self) -> Option<&str> {
+        match self {
+            SurfaceSection::Teleporting { destination, .. } => Some(destination),
+            _ => None,
+        }
+    }
+}
+
+/// The destination of a teleporting surface before it is linked: a point-sized sphere.
+fn unlinked() -> Shape {
+    Shape::Sphere(crate::geometry::Sphere::new(DVec3::ZERO, f64::MIN_POSITIVE).expect("valid"))
 }

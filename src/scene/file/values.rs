@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Deserializer, de};
 
-use glam::DVec3;
+use glam::{DMat3, DVec2, DVec3};
 
 use crate::surfaces::Colour;
 
@@ -121,5 +121,80 @@ impl<'de> Deserialize<'de> for InnerRadius {
                 "expected a radius in units of the lens radius, at least 0 and less than 1, got {x}"
             )))
         }
+    }
+}
+
+/// A finite, non-zero number (a focal length, a focal-length ratio η).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct NonZero(pub f64);
+
+impl<'de> Deserialize<'de> for NonZero {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = Finite::deserialize(d)?.0;
+        if x != 0.0 {
+            Ok(NonZero(x))
+        } else {
+            Err(de::Error::custom("expected a non-zero number, got 0"))
+        }
+    }
+}
+
+/// A non-negative number of at most [`MAX_MAGNITUDE`].
+#[derive(Debug, Clone, Copy)]
+pub(super) struct NonNegative(pub f64);
+
+impl<'de> Deserialize<'de> for NonNegative {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = Finite::deserialize(d)?.0;
+        if x >= 0.0 {
+            Ok(NonNegative(x))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a non-negative number, got {x}"
+            )))
+        }
+    }
+}
+
+/// Two finite numbers: surface coordinates or a tangential vector.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Vector2(pub DVec2);
+
+impl<'de> Deserialize<'de> for Vector2 {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let [x, y] = <[Finite; 2]>::deserialize(d)?;
+        Ok(Vector2(DVec2::new(x.0, y.0)))
+    }
+}
+
+/// A metric tensor (Eq 18): a symmetric, non-singular 3×3 matrix, given row by row.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct MetricTensor(pub DMat3);
+
+impl<'de> Deserialize<'de> for MetricTensor {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let rows = <[[Finite; 3]; 3]>::deserialize(d)?;
+        let g = |i: usize, j: usize| rows[i][j].0;
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            if g(i, j) != g(j, i) {
+                return Err(de::Error::custom(format!(
+                    "a metric tensor must be symmetric, but g{}{} = {} and g{}{} = {}",
+                    i + 1,
+                    j + 1,
+                    g(i, j),
+                    j + 1,
+                    i + 1,
+                    g(j, i)
+                )));
+            }
+        }
+        let m = DMat3::from_cols_array_2d(&rows.map(|r| r.map(|x| x.0)));
+        let scale = m.to_cols_array().iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        if m.determinant().abs() <= 1e-12 * scale.powi(3) {
+            return Err(de::Error::custom(
+                "the metric tensor is singular (determinant 0), so refraction into it is undefined (Eq 30: a = 0)",
+            ));
+        }
+        Ok(MetricTensor(m))
     }
 }
