@@ -748,6 +748,18 @@ fn every_example_scene_checks_and_renders() {
         "fig11b-multifocal-lens.toml",
         "fig12-index-ratio.toml",
         "gradient-index-table.toml",
+        "metatoy-window.toml",
+        "fig14a-metric-interface-n10.toml",
+        "fig14b-veselago-lens.toml",
+        "fig14c-sheared-space.toml",
+        "fig15a-metric-bubble.toml",
+        "fig15b-minkowski-bubble.toml",
+        "gcla-window-eta-minus-1.toml",
+        "gcla-window-eta-u-minus-half.toml",
+        "phase-hologram-window.toml",
+        "ray-flipping-window.toml",
+        "lorentz-window.toml",
+        "teleporting-window.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

@@ -50,7 +50,11 @@ impl Sphere {
         if !(0.0..=std::f64::consts::PI).contains(&theta) || !phi.is_finite() {
             return None;
         }
-        let d = DVec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos());
+        let d = DVec3::new(
+            theta.sin() * phi.sin(),
+            theta.cos(),
+            theta.sin() * phi.cos(),
+        );
         Some(self.centre + self.radius * d)
     }
 

@@ -31,3 +31,14 @@ pub fn differing(a: &Image, b: &Image) -> usize {
         .filter(|(p, q)| p != q)
         .count()
 }
+
+/// Pixels whose 8-bit colours differ by more than `levels` in some channel (shading that moves
+/// by a rounding step is not a different picture).
+pub fn differing_by_more_than(a: &Image, b: &Image, levels: u8) -> usize {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    to_rgb8(a)
+        .pixels()
+        .zip(to_rgb8(b).pixels())
+        .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > levels))
+        .count()
+}

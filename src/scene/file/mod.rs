@@ -374,8 +374,10 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         a
     }));
     for link in links.into_iter().chain(placer.links) {
-        link_teleporter(&mut scene, &link.origin, &link.destination)
-            .map_err(|m| link.at.with_message(format!("object '{}': {m}", link.origin)))?;
+        link_teleporter(&mut scene, &link.origin, &link.destination).map_err(|m| {
+            link.at
+                .with_message(format!("object '{}': {m}", link.origin))
+        })?;
     }
     Ok(scene)
 }
@@ -392,7 +394,9 @@ fn link_teleporter(
         .collect();
     let &[target] = named.as_slice() else {
         return Err(if named.is_empty() {
-            format!("teleporting: no object is named '{destination}' (the destination is named in full, with its group names, as `timbre check` lists it)")
+            format!(
+                "teleporting: no object is named '{destination}' (the destination is named in full, with its group names, as `timbre check` lists it)"
+            )
         } else {
             format!(
                 "teleporting: {} objects are named '{destination}'; give the destination a unique name",
@@ -414,15 +418,15 @@ fn link_teleporter(
     let (shape, frame) = (target.shape.clone(), target.frame);
     let part = format!("{origin}/");
     for o in &mut scene.objects {
-        if o.name == origin || o.name.starts_with(&part) {
-            if let Surface::Teleporting(t) = &mut o.surface {
-                if o.frame != frame {
-                    return Err(format!(
-                        "teleporting: the destination '{destination}' is at rest in another frame"
-                    ));
-                }
-                t.destination = shape.clone();
+        if (o.name == origin || o.name.starts_with(&part))
+            && let Surface::Teleporting(t) = &mut o.surface
+        {
+            if o.frame != frame {
+                return Err(format!(
+                    "teleporting: the destination '{destination}' is at rest in another frame"
+                ));
             }
+            t.destination = shape.clone();
         }
     }
     Ok(())

@@ -74,7 +74,7 @@ impl Telescopelets {
             (-self.a_hat, 1.0 / self.eta, self.delta / self.eta)
         };
         let da = d.dot(a_hat);
-        if !(da > 0.0) {
+        if da <= 0.0 || da.is_nan() {
             return None;
         }
         let slopes = (DVec2::new(d.dot(self.u_hat), d.dot(self.v_hat)) / da - delta) / eta;

@@ -106,7 +106,7 @@ fn solve(c: DVec2, h: &DMat3, side: f64, norm: f64) -> Option<DVec3> {
         return None;
     }
     let ez2 = -c0 / a;
-    if !(ez2 >= 0.0) {
+    if ez2 < 0.0 || ez2.is_nan() {
         return None;
     }
     // Eq 32, on the far side.
@@ -165,7 +165,10 @@ mod tests {
         .unwrap();
         assert!((e.dot(isotropic(1.5) * e) - 1.0).abs() < 1e-15);
         let e = e.normalize();
-        assert!((e.x - 1.0 / 3.0).abs() < 1e-15 && e.z > 0.0 && e.y == 0.0, "{e}");
+        assert!(
+            (e.x - 1.0 / 3.0).abs() < 1e-15 && e.z > 0.0 && e.y == 0.0,
+            "{e}"
+        );
     }
 
     #[test]
@@ -194,7 +197,11 @@ mod tests {
     #[test]
     fn a_tangential_null_plane_reflects_instead_of_giving_nan() {
         // An indefinite metric (det h = −1) whose tangential part h₁₁h₂₂ − h₁₂² vanishes.
-        let h = DMat3::from_cols(DVec3::new(0.0, 0.0, 1.0), DVec3::Y, DVec3::new(1.0, 0.0, 1.0));
+        let h = DMat3::from_cols(
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::Y,
+            DVec3::new(1.0, 0.0, 1.0),
+        );
         let d = DVec3::new(0.1, 0.2, 1.0);
         assert_eq!(
             metric_refracted_direction(d, &isotropic(1.0), &h, Refraction::Positive, true),

@@ -51,7 +51,10 @@ mod tests {
         let frame = Frame::from_normal_and_u(DVec3::Z, DVec3::X);
         let d = DVec3::new(0.3, 0.4, 0.866);
         let out = flipped(d, flip.flipped_tangent(&frame));
-        assert!((out - DVec3::new(0.3, -0.4, 0.866)).length() < 1e-15, "{out}");
+        assert!(
+            (out - DVec3::new(0.3, -0.4, 0.866)).length() < 1e-15,
+            "{out}"
+        );
         assert!((flipped(out, DVec3::Y) - d).length() < 1e-15);
     }
 }

@@ -1,0 +1,503 @@
+//! The METATOY surfaces (§4–6) in scene files and rendered pictures: every surface type and its
+//! errors, the built-in "metatoy-window" studio, and picture-level facts: the n = 10 metric
+//! window's total-internal-reflection circle, laws that undo each other, equivalent laws that
+//! must look the same, and no NaN pixels in any example. (The laws themselves are checked ray by
+//! ray in tests/metatoys.rs.)
+
+mod common;
+
+use std::path::Path;
+
+use glam::{DMat3, DVec2, DVec3};
+use timbre::geometry::Shape;
+use timbre::render::Image;
+use timbre::scene::{SceneDescription, file};
+use timbre::surfaces::Surface;
+use timbre::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
+
+use common::images::{differing, differing_by_more_than, parse, render_description, render_text};
+
+/// The METATOY-window studio at a small size, with `window` as the pane's surface.
+fn window_scene(window: &str, extra: &str) -> String {
+    format!(
+        "studio = \"metatoy-window\"\n[render]\nwidth = 160\nheight = 120\n[window]\nsurface = {window}\n{extra}"
+    )
+}
+
+fn object<'a>(d: &'a SceneDescription, name: &str) -> &'a timbre::scene::SceneObject {
+    d.objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no object '{name}'"))
+}
+
+fn error(text: &str) -> String {
+    file::parse(text, "s.toml").unwrap_err().to_string()
+}
+
+fn assert_finite(image: &Image, what: &str) {
+    let bad = image.pixels.iter().filter(|c| !c.is_finite()).count();
+    assert_eq!(bad, 0, "{what}: {bad} pixels are not finite");
+}
+
+#[test]
+fn the_metatoy_window_studio_is_tims_scene() {
+    let d = parse("studio = \"metatoy-window\"\n");
+    let pane = object(&d, "window");
+    let Shape::Parallelogram(p) = &pane.shape else {
+        panic!("{:?}", pane.shape)
+    };
+    assert_eq!(
+        (p.corner(), p.span_u(), p.span_v()),
+        (
+            DVec3::new(-1.5, -0.98, 10.0),
+            DVec3::X * 3.0,
+            DVec3::Y * 2.0
+        )
+    );
+    assert_eq!(p.frame().w, DVec3::Z, "outward normal +z");
+    assert!(!pane.shadow_throwing);
+    let Surface::RayRotating(r) = &pane.surface else {
+        panic!("{:?}", pane.surface)
+    };
+    assert!((r.angle - 60f64.to_radians()).abs() < 1e-15);
+    assert_eq!(
+        (r.axis, r.transmission_coefficient),
+        (RotationAxis::Normal, 0.96)
+    );
+
+    let frame: Vec<_> = d
+        .objects
+        .iter()
+        .filter(|o| o.name.starts_with("window frame"))
+        .collect();
+    assert_eq!(frame.len(), 8);
+    for o in &frame {
+        assert!(o.shadow_throwing, "{}", o.name);
+        let Surface::Coloured(c) = &o.surface else {
+            panic!("{:?}", o.surface)
+        };
+        assert_eq!((c.diffuse, c.specular), (DVec3::splat(0.5), DVec3::ONE));
+        match &o.shape {
+            Shape::Cylinder(c) => assert_eq!(c.radius(), 0.025),
+            Shape::Sphere(s) => {
+                assert_eq!(s.radius(), 0.025);
+                let c = s.centre();
+                assert!(c.x.abs() == 1.5 && (c.y == -0.98 || c.y == 1.02) && c.z == 10.0);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    // The lattice: 16 red cylinders along z from 11 to 38, blue along x and green along y
+    // from −0.98 to 0.98, on the grid {−0.98, −0.32667, 0.32667, 0.98}.
+    let grid = [-0.98, -0.98 / 3.0, 0.98 / 3.0, 0.98];
+    let cylinders: Vec<_> = d
+        .objects
+        .iter()
+        .filter_map(|o| match (&o.shape, &o.surface) {
+            (Shape::Cylinder(c), Surface::Coloured(s)) if c.radius() == 0.02 => {
+                Some((c.start(), c.end(), s.diffuse))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(cylinders.len(), 48);
+    for (start, end, colour) in cylinders {
+        let along = (end - start).normalize();
+        let expected = if colour.x > 0.0 {
+            DVec3::Z
+        } else if colour.y > 0.0 {
+            DVec3::Y
+        } else {
+            DVec3::X
+        };
+        assert_eq!(along, expected, "{start} {end}");
+        let on_grid = |x: f64| grid.iter().any(|g| (g - x).abs() < 1e-12);
+        for p in [start, end] {
+            assert!(on_grid(p.x) && on_grid(p.y) && [11.0, 20.0, 29.0, 38.0].contains(&p.z));
+        }
+    }
+}
+
+#[test]
+fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
+    let pane = |surface: &str| parse(&window_scene(surface, "")).objects.clone();
+    let surface_of = |surface: &str| {
+        let objects = pane(surface);
+        objects
+            .into_iter()
+            .find(|o| o.name == "window")
+            .unwrap()
+            .surface
+    };
+
+    let Surface::MetricInterface(m) =
+        surface_of(r#"{ type = "metric-interface", inside = [[4, 0, 0], [0, 4, 0], [0, 0, 4]] }"#)
+    else {
+        panic!()
+    };
+    assert_eq!(m.inside, DMat3::from_diagonal(DVec3::splat(4.0)));
+    assert_eq!(m.outside, DMat3::IDENTITY, "Euclidean by default");
+    assert_eq!(
+        (m.basis, m.refraction, m.allow_imaginary),
+        (Basis::Global, Refraction::Positive, false)
+    );
+    let Surface::MetricInterface(m) = surface_of(
+        r#"{ type = "metric-interface", outside = [[1, 0.2, 0], [0.2, 1.2, -0.5], [0, -0.5, 0.5]], basis = "local", refraction = "negative", allow_imaginary = true, transmission = 0.5 }"#,
+    ) else {
+        panic!()
+    };
+    assert_eq!(m.outside.y_axis, DVec3::new(0.2, 1.2, -0.5));
+    assert_eq!(
+        (
+            m.basis,
+            m.refraction,
+            m.allow_imaginary,
+            m.transmission_coefficient
+        ),
+        (Basis::Local, Refraction::Negative, true, 0.5)
+    );
+
+    let Surface::ConfocalLensletArrays(g) = surface_of(
+        r#"{ type = "gcla", a = [0, 0, 2], u = [1, 0, 0], eta_u = -0.5, eta_v = -1, delta_u = 0.1 }"#,
+    ) else {
+        panic!()
+    };
+    assert_eq!(
+        (g.eta, g.delta),
+        (DVec2::new(-0.5, -1.0), DVec2::new(0.1, 0.0))
+    );
+
+    let Surface::RayRotating(r) = surface_of(r#"{ type = "ray-rotating" }"#) else {
+        panic!()
+    };
+    assert!(
+        (r.angle - 60f64.to_radians()).abs() < 1e-15,
+        "TIM's default"
+    );
+    let Surface::RayRotating(r) = surface_of(
+        r#"{ type = "ray-rotating", angle_deg = 30, axis = [1, 0, 1], basis = "local" }"#,
+    ) else {
+        panic!()
+    };
+    assert_eq!(
+        r.axis,
+        RotationAxis::Direction(DVec3::new(1.0, 0.0, 1.0), Basis::Local)
+    );
+
+    let Surface::PhaseHologram(h) = surface_of(
+        r#"{ type = "phase-hologram", phase = { type = "cylindrical", focal_length = -2, centre = [1, 1], axis_angle_deg = 90 } }"#,
+    ) else {
+        panic!()
+    };
+    let Phase::Cylindrical {
+        focal_length,
+        centre,
+        axis_angle,
+    } = h.phase
+    else {
+        panic!("{:?}", h.phase)
+    };
+    assert_eq!((focal_length, centre), (-2.0, DVec2::ONE));
+    assert!((axis_angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+
+    assert!(matches!(
+        surface_of(r#"{ type = "phase-conjugating", reflection = 0.5 }"#),
+        Surface::PhaseConjugating(p) if p.reflection_coefficient == 0.5
+    ));
+    let Surface::LorentzWindow(l) =
+        surface_of(r#"{ type = "lorentz-window", beta = [0, 0, 0.6] }"#)
+    else {
+        panic!()
+    };
+    assert!((l.boost.gamma() - 1.25).abs() < 1e-15);
+
+    // A teleporter gets its destination's shape, wherever that object is defined.
+    let d = parse(&window_scene(
+        r#"{ type = "teleporting", destination = "exit", positional_error = 0.01, angular_error_deg = 1 }"#,
+        "[[object]]\nname = \"exit\"\nshape = { type = \"disc\", centre = [0, 0, 20], normal = [0, 0, 1], radius = 1 }\nsurface = { type = \"transparent\" }\n",
+    ));
+    let Surface::Teleporting(t) = &object(&d, "window").surface else {
+        panic!()
+    };
+    assert_eq!(t.destination, object(&d, "exit").shape);
+    assert_eq!(t.positional_error, 0.01);
+    assert!((t.angular_error - 1f64.to_radians()).abs() < 1e-15);
+}
+
+#[test]
+fn bad_metatoy_surfaces_are_errors_at_their_line() {
+    let on_line_6 = |surface: &str, message: &str| {
+        let e = error(&window_scene(surface, ""));
+        assert!(e.starts_with("s.toml:6:"), "{surface}: {e}");
+        assert!(
+            e.contains(message),
+            "{surface}: expected '{message}' in: {e}"
+        );
+    };
+    on_line_6(
+        r#"{ type = "metric-interface", inside = [[1, 0.2, 0], [0.3, 1, 0], [0, 0, 1]] }"#,
+        "must be symmetric, but g12 = 0.2 and g21 = 0.3",
+    );
+    on_line_6(
+        r#"{ type = "metric-interface", inside = [[1, 1, 0], [1, 1, 0], [0, 0, 1]] }"#,
+        "singular",
+    );
+    on_line_6(
+        r#"{ type = "metric-interface", inside = [[1, 0, 0], [0, nan, 0], [0, 0, 1]] }"#,
+        "finite",
+    );
+    on_line_6(
+        r#"{ type = "metric-interface", inside = [[0, 0, 1], [0, 1, 0], [1, 0, 1]], basis = "local" }"#,
+        "g11 g22 - g12^2 = 0",
+    );
+    on_line_6(
+        r#"{ type = "metric-interface", refraction = "sideways" }"#,
+        "unknown variant `sideways`",
+    );
+    on_line_6(
+        r#"{ type = "gcla", a = [0, 0, 1], u = [0, 0, 3], eta_u = 1, eta_v = 1 }"#,
+        "not parallel",
+    );
+    on_line_6(
+        r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = 0, eta_v = 1 }"#,
+        "non-zero",
+    );
+    on_line_6(
+        r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
+        "axis must not be zero",
+    );
+    on_line_6(
+        r#"{ type = "ray-rotating", basis = "local" }"#,
+        "none is given",
+    );
+    on_line_6(
+        r#"{ type = "lorentz-window", beta = [0, 0, 1] }"#,
+        "magnitude below 1",
+    );
+    on_line_6(
+        r#"{ type = "phase-hologram", phase = { type = "quadratic", focal_length = 0 } }"#,
+        "non-zero",
+    );
+    on_line_6(
+        r#"{ type = "teleporting", destination = "nowhere" }"#,
+        "no object is named 'nowhere'",
+    );
+    on_line_6(
+        r#"{ type = "teleporting", destination = "red cylinder 0,0", angular_error_deg = 200 }"#,
+        "more than 180",
+    );
+
+    let two = "[[object]]\nname = \"exit\"\nshape = { type = \"sphere\", centre = [0, 0, 20], radius = 1 }\nsurface = { type = \"transparent\" }\n";
+    let e = error(&window_scene(
+        r#"{ type = "teleporting", destination = "exit" }"#,
+        &format!("{two}{two}"),
+    ));
+    assert!(
+        e.starts_with("s.toml:6:") && e.contains("2 objects are named 'exit'"),
+        "{e}"
+    );
+    let arrayed = format!("{two}array = {{ vectors = [[3, 0, 0]], counts = [2] }}\n");
+    let e = error(&window_scene(
+        r#"{ type = "teleporting", destination = "exit" }"#,
+        &arrayed,
+    ));
+    assert!(e.contains("repeated in an array"), "{e}");
+
+    let e = error(
+        "studio = \"lattice\"\n[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\nsurface = { type = \"phase-hologram\", phase = { type = \"linear\", gradient = [0.1, 0] } }\n",
+    );
+    assert!(
+        e.starts_with("s.toml:4:") && e.contains("needs a flat shape"),
+        "{e}"
+    );
+    let e = error("studio = \"lattice\"\n[window]\nsurface = { type = \"mirror\" }\n");
+    assert!(
+        e.starts_with("s.toml:2:") && e.contains("metatoy-window"),
+        "{e}"
+    );
+    let e = error(
+        "studio = \"lattice\"\n[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\nsurface = { type = \"chequerboard\", surfaces = [{ type = \"teleporting\", destination = \"x\" }, { type = \"mirror\" }] }\n",
+    );
+    assert!(e.contains("cannot be a chequerboard tile"), "{e}");
+}
+
+/// Fig. 14(a): behind the n = 10 metric window, rays from the camera transmit only within
+/// asin(1/10) = 5.74° of the window normal; outside that circle they are totally internally
+/// reflected. A magenta wall behind the camera and a green one behind the window tell the two
+/// apart: window pixels must be magenta exactly outside the circle (up to a pixel's width at the
+/// boundary) and green inside it.
+#[test]
+fn the_n10_metric_window_shows_the_tir_circle() {
+    let plane = |name: &str, z: f64, normal: f64, colour: &str| {
+        format!(
+            "[[object]]\nname = \"{name}\"\nshape = {{ type = \"plane\", point = [0, 0, {z}], normal = [0, 0, {normal}], u_direction = [1, 0, 0] }}\nsurface = {{ type = \"constant_colour\", colour = {colour} }}\n"
+        )
+    };
+    let text = format!(
+        "studio = \"none\"\n[render]\nwidth = 400\nheight = 300\n[[object]]\nname = \"n = 10 window\"\nshape = {{ type = \"parallelogram\", corner = [-1.5, -0.98, 10], span_u = [3, 0, 0], span_v = [0, 2, 0] }}\nsurface = {{ type = \"metric-interface\", inside = [[100, 0, 0], [0, 100, 0], [0, 0, 100]] }}\n{}{}",
+        plane("wall behind the camera", -5.0, 1.0, "[1, 0, 1]"),
+        plane("wall behind the window", 30.0, -1.0, "[0, 1, 0]"),
+    );
+    let d = parse(&text);
+    let image = render_description(&d);
+    let critical = (0.1f64).asin();
+    let pixel = 20f64.to_radians() / 400.0;
+    let (mut inside, mut outside, mut wrong) = (0, 0, Vec::new());
+    for y in 0..300 {
+        for x in 0..400 {
+            let (_, dir) = d.camera.chief_ray(400, 300, x as f64, y as f64);
+            let dir = dir.normalize();
+            // Only pixels that see the pane well inside its frame.
+            let at = dir * (10.0 / dir.z);
+            if !(at.x.abs() < 1.4 && at.y > -0.9 && at.y < 0.94) {
+                continue;
+            }
+            let angle = dir.z.acos();
+            let c = image.pixel(x, y);
+            let red = c == DVec3::new(1.0, 0.0, 1.0);
+            assert!(red || c == DVec3::Y, "({x}, {y}) sees {c}");
+            if (angle - critical).abs() < 1.5 * pixel {
+                continue;
+            }
+            if angle > critical {
+                outside += 1;
+            } else {
+                inside += 1;
+            }
+            if red != (angle > critical) {
+                wrong.push((x, y, angle.to_degrees(), c));
+            }
+        }
+    }
+    assert!(inside > 10_000 && outside > 10_000, "{inside} {outside}");
+    assert!(
+        wrong.is_empty(),
+        "{} pixels on the wrong side of the 5.74° circle, e.g. {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(5)]
+    );
+}
+
+/// Two windows that undo each other look like one clear window: rotation by 60° then by −60°
+/// (a second pane 1e-4 behind the first, so the ray's offset between them is invisible), and a
+/// teleporter whose destination is the window itself.
+#[test]
+fn laws_that_undo_each_other_leave_the_view_unchanged() {
+    let second = |surface: &str| {
+        format!(
+            "[[object]]\nname = \"second pane\"\nshadow_throwing = false\nshape = {{ type = \"parallelogram\", corner = [-1.5, -0.98, 10.0001], span_u = [3, 0, 0], span_v = [0, 2, 0] }}\nsurface = {surface}\n"
+        )
+    };
+    let clear = render_text(&window_scene(
+        r#"{ type = "transparent" }"#,
+        &second(r#"{ type = "transparent" }"#),
+    ));
+    let rotated = render_text(&window_scene(
+        r#"{ type = "ray-rotating", angle_deg = 60 }"#,
+        &second(r#"{ type = "ray-rotating", angle_deg = -60 }"#),
+    ));
+    // The ray crosses the 1e-4 gap rotated, which moves a few silhouette pixels.
+    let moved = differing_by_more_than(&clear, &rotated, 2);
+    assert!(moved <= 10, "{moved}");
+    let once = render_text(&window_scene(
+        r#"{ type = "ray-rotating", angle_deg = 60 }"#,
+        &second(r#"{ type = "transparent" }"#),
+    ));
+    assert!(differing(&clear, &once) > 2000, "the rotation shows");
+
+    let teleported = render_text(&window_scene(
+        r#"{ type = "teleporting", destination = "window" }"#,
+        "",
+    ));
+    let plain = render_text(&window_scene(r#"{ type = "transparent" }"#, ""));
+    assert!(
+        differing(&plain, &teleported) <= 2,
+        "{}",
+        differing(&plain, &teleported)
+    );
+}
+
+/// Different laws with the same effect render the same: gCLAs with η = −1 and the Veselago
+/// metric interface both reverse the tangential direction; a Lorentz window at rest and a
+/// metric interface between equal metrics change nothing.
+#[test]
+fn equivalent_laws_render_the_same() {
+    let gcla = render_text(&window_scene(
+        r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = -1, eta_v = -1 }"#,
+        "",
+    ));
+    let veselago = render_text(&window_scene(
+        r#"{ type = "metric-interface", refraction = "negative" }"#,
+        "",
+    ));
+    let plain = render_text(&window_scene(r#"{ type = "transparent" }"#, ""));
+    assert!(differing(&gcla, &veselago) <= 2);
+    assert!(differing(&gcla, &plain) > 2000, "the flip shows");
+    for same in [
+        r#"{ type = "lorentz-window", beta = [0, 0, 0] }"#,
+        r#"{ type = "metric-interface", inside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]], outside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]] }"#,
+        r#"{ type = "phase-hologram", phase = { type = "linear", gradient = [0, 0] } }"#,
+    ] {
+        let image = render_text(&window_scene(same, ""));
+        assert!(differing(&image, &plain) <= 2, "{same}");
+    }
+}
+
+#[test]
+fn metatoy_example_scenes_render_without_nan() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for name in [
+        "metatoy-window",
+        "fig14a-metric-interface-n10",
+        "fig14b-veselago-lens",
+        "fig14c-sheared-space",
+        "fig15a-metric-bubble",
+        "fig15b-minkowski-bubble",
+        "gcla-window-eta-minus-1",
+        "gcla-window-eta-u-minus-half",
+        "phase-hologram-window",
+        "ray-flipping-window",
+        "lorentz-window",
+        "teleporting-window",
+    ] {
+        let mut d = file::load(&dir.join(format!("{name}.toml"))).unwrap();
+        d.render.width = 160;
+        d.render.height = 120;
+        d.render.spp = 1;
+        assert_finite(&render_description(&d), name);
+    }
+}
+
+/// §4.2: with the same indefinite metric diag(1, 1, −1) on both sides of the window, every ray
+/// from the camera (close to the z axis) has dᵀ g d < 0. Allowing the imaginary-optical-path
+/// solution passes it straight through (Eq 34 with h = g gives e ∝ d), so the window is clear;
+/// refusing it reflects every ray.
+#[test]
+fn the_imaginary_solution_is_used_only_when_allowed() {
+    let minkowski = |allow: bool| {
+        render_text(&window_scene(
+            &format!(
+                "{{ type = \"metric-interface\", inside = [[1, 0, 0], [0, 1, 0], [0, 0, -1]], outside = [[1, 0, 0], [0, 1, 0], [0, 0, -1]], allow_imaginary = {allow} }}"
+            ),
+            "",
+        ))
+    };
+    let plain = render_text(&window_scene(r#"{ type = "transparent" }"#, ""));
+    let mirror = render_text(&window_scene(r#"{ type = "mirror" }"#, ""));
+    let (allowed, refused) = (minkowski(true), minkowski(false));
+    assert_finite(&allowed, "allowed");
+    assert_finite(&refused, "refused");
+    assert!(
+        differing(&allowed, &plain) <= 2,
+        "{}",
+        differing(&allowed, &plain)
+    );
+    assert!(
+        differing(&refused, &mirror) <= 2,
+        "{}",
+        differing(&refused, &mirror)
+    );
+    assert!(differing(&allowed, &refused) > 5000);
+}
