@@ -81,10 +81,12 @@ impl PhaseHologram {
         let frame = at.frame();
         let lambda = jacobian(&frame);
         let d = at.ray.direction;
-        let out = at
-            .plane_coordinates()
-            .and_then(|r| hologram_direction(lambda.transpose() * d, self.phase.gradient(r)))
-            .map(|e| lambda * e);
+        // Only flat shapes have the coordinates (checked when scenes are read).
+        let Some(r) = at.plane_coordinates() else {
+            return Colour::ZERO;
+        };
+        let out =
+            hologram_direction(lambda.transpose() * d, self.phase.gradient(r)).map(|e| lambda * e);
         self.transmission_coefficient * tracer.trace_from(at, or_reflected(out, d, frame.w))
     }
 }
