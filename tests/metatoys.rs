@@ -183,7 +183,6 @@ fn optical_path(a: DVec3, p: DVec3, b: DVec3, g: &DMat3, h: &DMat3, sign: f64) -
 
 /// Numerical derivatives of the optical path length as P moves from `p0` along the tangents
 /// `t1` and `t2` of the interface (central differences).
-#[allow(clippy::too_many_arguments)]
 fn path_gradient(
     a: DVec3,
     b: DVec3,
