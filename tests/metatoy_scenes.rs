@@ -236,58 +236,62 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "{surface}: expected '{message}' in: {e}"
         );
     };
-    on_line_6(
-        r#"{ type = "metric-interface", inside = [[1, 0.2, 0], [0.3, 1, 0], [0, 0, 1]] }"#,
-        "must be symmetric, but g12 = 0.2 and g21 = 0.3",
-    );
-    on_line_6(
-        r#"{ type = "metric-interface", inside = [[1, 1, 0], [1, 1, 0], [0, 0, 1]] }"#,
-        "singular",
-    );
-    on_line_6(
-        r#"{ type = "metric-interface", inside = [[1, 0, 0], [0, nan, 0], [0, 0, 1]] }"#,
-        "finite",
-    );
-    on_line_6(
-        r#"{ type = "metric-interface", inside = [[0, 0, 1], [0, 1, 0], [1, 0, 1]], basis = "local" }"#,
-        "g11 g22 - g12^2 = 0",
-    );
-    on_line_6(
-        r#"{ type = "metric-interface", refraction = "sideways" }"#,
-        "unknown variant `sideways`",
-    );
-    on_line_6(
-        r#"{ type = "gcla", a = [0, 0, 1], u = [0, 0, 3], eta_u = 1, eta_v = 1 }"#,
-        "not parallel",
-    );
-    on_line_6(
-        r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = 0, eta_v = 1 }"#,
-        "non-zero",
-    );
-    on_line_6(
-        r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
-        "axis must not be zero",
-    );
-    on_line_6(
-        r#"{ type = "ray-rotating", basis = "local" }"#,
-        "none is given",
-    );
-    on_line_6(
-        r#"{ type = "lorentz-window", beta = [0, 0, 1] }"#,
-        "magnitude below 1",
-    );
-    on_line_6(
-        r#"{ type = "phase-hologram", phase = { type = "quadratic", focal_length = 0 } }"#,
-        "non-zero",
-    );
-    on_line_6(
-        r#"{ type = "teleporting", destination = "nowhere" }"#,
-        "no object is named 'nowhere'",
-    );
-    on_line_6(
-        r#"{ type = "teleporting", destination = "red cylinder 0,0", angular_error_deg = 200 }"#,
-        "more than 180",
-    );
+    for (surface, message) in [
+        (
+            r#"{ type = "metric-interface", inside = [[1, 0.2, 0], [0.3, 1, 0], [0, 0, 1]] }"#,
+            "must be symmetric, but g12 = 0.2 and g21 = 0.3",
+        ),
+        (
+            r#"{ type = "metric-interface", inside = [[1, 1, 0], [1, 1, 0], [0, 0, 1]] }"#,
+            "singular",
+        ),
+        (
+            r#"{ type = "metric-interface", inside = [[1, 0, 0], [0, nan, 0], [0, 0, 1]] }"#,
+            "finite",
+        ),
+        (
+            r#"{ type = "metric-interface", inside = [[0, 0, 1], [0, 1, 0], [1, 0, 1]], basis = "local" }"#,
+            "g11 g22 - g12^2 = 0",
+        ),
+        (
+            r#"{ type = "metric-interface", refraction = "sideways" }"#,
+            "unknown variant `sideways`",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [0, 0, 3], eta_u = 1, eta_v = 1 }"#,
+            "not parallel",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = 0, eta_v = 1 }"#,
+            "non-zero",
+        ),
+        (
+            r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
+            "axis must not be zero",
+        ),
+        (
+            r#"{ type = "ray-rotating", basis = "local" }"#,
+            "none is given",
+        ),
+        (
+            r#"{ type = "lorentz-window", beta = [0, 0, 1] }"#,
+            "magnitude below 1",
+        ),
+        (
+            r#"{ type = "phase-hologram", phase = { type = "quadratic", focal_length = 0 } }"#,
+            "non-zero",
+        ),
+        (
+            r#"{ type = "teleporting", destination = "nowhere" }"#,
+            "no object is named 'nowhere'",
+        ),
+        (
+            r#"{ type = "teleporting", destination = "red cylinder 0,0", angular_error_deg = 200 }"#,
+            "more than 180",
+        ),
+    ] {
+        on_line_6(surface, message);
+    }
 
     let two = "[[object]]\nname = \"exit\"\nshape = { type = \"sphere\", centre = [0, 0, 20], radius = 1 }\nsurface = { type = \"transparent\" }\n";
     let e = error(&window_scene(
