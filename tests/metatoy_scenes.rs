@@ -183,7 +183,7 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     };
     assert_eq!(
         r.axis,
-        RotationAxis::Direction(DVec3::new(1.0, 0.0, 1.0), Basis::Local)
+        RotationAxis::Direction(DVec3::new(1.0, 0.0, 1.0).normalize(), Basis::Local)
     );
 
     let Surface::PhaseHologram(h) = surface_of(
@@ -259,7 +259,7 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
         ),
         (
             r#"{ type = "gcla", a = [0, 0, 1], u = [0, 0, 3], eta_u = 1, eta_v = 1 }"#,
-            "not parallel",
+            "must not be parallel",
         ),
         (
             r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = 0, eta_v = 1 }"#,
@@ -267,7 +267,7 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
         ),
         (
             r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
-            "axis must not be zero",
+            "expected a direction, got the zero vector",
         ),
         (
             r#"{ type = "ray-rotating", basis = "local" }"#,
@@ -300,6 +300,21 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
     ));
     assert!(
         e.starts_with("s.toml:6:") && e.contains("2 objects are named 'exit'"),
+        "{e}"
+    );
+    // Two teleporting objects of one name cannot be told apart.
+    let teleporter = |to: &str| {
+        format!(
+            "[[object]]\nname = \"tp\"\nshape = {{ type = \"disc\", centre = [0, 0, 5], normal = [0, 0, 1], radius = 1 }}\nsurface = {{ type = \"teleporting\", destination = \"{to}\" }}\n"
+        )
+    };
+    let e = error(&format!(
+        "{}{}{two}",
+        teleporter("exit"),
+        teleporter("exit")
+    ));
+    assert!(
+        e.contains("another teleporting object is also named 'tp'"),
         "{e}"
     );
     let arrayed = format!("{two}array = {{ vectors = [[3, 0, 0]], counts = [2] }}\n");
@@ -504,4 +519,42 @@ fn the_imaginary_solution_is_used_only_when_allowed() {
         differing(&refused, &mirror)
     );
     assert!(differing(&allowed, &refused) > 5000);
+}
+
+/// A phase-conjugating mirror sends every ray back the way it came, through the camera's
+/// pinhole to the opposite side behind it; a plain mirror keeps the ray on its side. With a
+/// magenta wall behind the camera on the left (x < 0) and a green one on the right, the right
+/// half of a phase-conjugating pane shows magenta and of a mirror pane green.
+#[test]
+fn a_phase_conjugating_pane_returns_rays_through_the_camera() {
+    let view = |surface: &str| {
+        let wall = |x0: f64, colour: &str| {
+            format!(
+                "[[object]]\nshape = {{ type = \"parallelogram\", corner = [{x0}, -100, -5], span_u = [100, 0, 0], span_v = [0, 200, 0] }}\nsurface = {{ type = \"constant_colour\", colour = {colour} }}\n"
+            )
+        };
+        let text = format!(
+            "studio = \"none\"\n[render]\nwidth = 80\nheight = 60\n[[object]]\nname = \"pane\"\nshape = {{ type = \"parallelogram\", corner = [-1.5, -0.98, 10], span_u = [3, 0, 0], span_v = [0, 2, 0] }}\nsurface = {surface}\n{}{}",
+            wall(-100.0, "[1, 0, 1]"),
+            wall(0.0, "[0, 1, 0]"),
+        );
+        render_text(&text)
+    };
+    let magenta = DVec3::new(1.0, 0.0, 1.0);
+    for (surface, right, left) in [
+        (r#"{ type = "phase-conjugating" }"#, magenta, DVec3::Y),
+        (r#"{ type = "mirror" }"#, DVec3::Y, magenta),
+    ] {
+        let image = view(surface);
+        // Columns well inside the pane on either side of the centre, the middle row.
+        for x in [12, 20, 35] {
+            assert_eq!(image.pixel(x, 30), left, "{surface} at column {x}");
+            assert_eq!(
+                image.pixel(79 - x, 30),
+                right,
+                "{surface} at column {}",
+                79 - x
+            );
+        }
+    }
 }

@@ -173,7 +173,7 @@ pub fn window_pane(surface: Surface) -> SceneObject {
 /// The window's default surface: TIM's "Rotating", 60° about the normal, transmission 0.96.
 pub fn default_window_surface() -> Surface {
     Surface::RayRotating(RayRotating {
-        angle: 60f64.to_radians(),
+        angle: RayRotating::DEFAULT_ANGLE_DEG.to_radians(),
         axis: RotationAxis::Normal,
         transmission_coefficient: 0.96,
     })

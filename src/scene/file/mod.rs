@@ -373,8 +373,9 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
         a
     }));
+    let mut linked = vec![false; scene.objects.len()];
     for link in links.into_iter().chain(placer.links) {
-        link_teleporter(&mut scene, &link.origin, &link.destination).map_err(|m| {
+        link_teleporter(&mut scene, &mut linked, &link.origin, &link.destination).map_err(|m| {
             link.at
                 .with_message(format!("object '{}': {m}", link.origin))
         })?;
@@ -382,10 +383,13 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
     Ok(scene)
 }
 
-/// Gives the teleporting surfaces of object `origin` (and its parts) the shape of the object
-/// named `destination`, which must be a single analytic shape at rest in the same frame.
+/// Gives the teleporting surfaces of object `origin` (and, for a mesh file, its parts) the
+/// shape of the object named `destination`, which must be a single analytic shape at rest in
+/// the same frame. `linked` marks the objects linked so far: an object two links name is an
+/// error, since teleporting objects are told apart by their names.
 fn link_teleporter(
     scene: &mut SceneDescription,
+    linked: &mut [bool],
     origin: &str,
     destination: &str,
 ) -> Result<(), String> {
@@ -417,16 +421,24 @@ fn link_teleporter(
     }
     let (shape, frame) = (target.shape.clone(), target.frame);
     let part = format!("{origin}/");
-    for o in &mut scene.objects {
-        if (o.name == origin || o.name.starts_with(&part))
+    for (o, done) in scene.objects.iter_mut().zip(linked) {
+        let mesh_part = o.name.starts_with(&part) && matches!(o.shape, Shape::TriangleMesh(_));
+        if (o.name == origin || mesh_part)
             && let Surface::Teleporting(t) = &mut o.surface
         {
+            if *done {
+                return Err(format!(
+                    "teleporting: another teleporting object is also named '{}'; teleporting objects need unique names",
+                    o.name
+                ));
+            }
             if o.frame != frame {
                 return Err(format!(
                     "teleporting: the destination '{destination}' is at rest in another frame"
                 ));
             }
             t.destination = shape.clone();
+            *done = true;
         }
     }
     Ok(())

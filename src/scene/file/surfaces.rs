@@ -5,13 +5,13 @@ use serde::Deserialize;
 use glam::{DMat3, DVec2, DVec3};
 
 use super::values::{
-    Coefficient, Finite, InnerRadius, LensDistance, MetricTensor, NonNegative, NonZero, Positive,
-    Rgb, Vector, Vector2,
+    Coefficient, Direction, Finite, InnerRadius, LensDistance, MetricTensor, NonNegative, NonZero,
+    Positive, Rgb, Vector, Vector2,
 };
 use crate::geometry::Shape;
 use crate::math::LorentzTransform;
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
-use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis, Telescopelets};
+use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
 use crate::surfaces::{
     Chequerboard, Colour, Coloured, ConfocalLensletArrays, LorentzWindow, MetricInterface, Mirror,
     PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive, Surface, Teleporting,
@@ -100,8 +100,8 @@ pub(super) enum SurfaceSection {
         alias = "gcla"
     )]
     ConfocalLensletArrays {
-        a: Vector,
-        u: Vector,
+        a: Direction,
+        u: Direction,
         basis: Option<BasisName>,
         eta_u: NonZero,
         eta_v: NonZero,
@@ -113,7 +113,7 @@ pub(super) enum SurfaceSection {
     #[serde(rename = "ray-rotating", alias = "ray_rotating")]
     RayRotating {
         angle_deg: Option<Finite>,
-        axis: Option<Vector>,
+        axis: Option<Direction>,
         basis: Option<BasisName>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
@@ -192,9 +192,6 @@ fn basis(b: Option<BasisName>) -> Basis {
 fn coefficient(c: Option<Coefficient>) -> f64 {
     c.map_or(1.0, |c| c.0)
 }
-
-/// TIM's default rotation angle of a ray-rotating window, in degrees.
-pub(super) const DEFAULT_ROTATION_DEG: f64 = 60.0;
 
 /// The (u, v, w) components of h whose tangential part h₁₁h₂₂ − h₁₂² must not vanish.
 fn check_tangential(name: &str, h: &DMat3) -> Result<(), String> {
@@ -361,10 +358,11 @@ impl SurfaceSection {
             } => {
                 let eta = DVec2::new(eta_u.0, eta_v.0);
                 let delta = DVec2::new(delta_u.map_or(0.0, |d| d.0), delta_v.map_or(0.0, |d| d.0));
-                if Telescopelets::new(a.0, u.0, eta, delta).is_none() {
+                // Directions are unit vectors: a sine below 1e-9 is parallel.
+                if a.0.cross(u.0).length() < 1e-9 {
                     return Err(format!(
-                        "confocal-lenslet-arrays: a = {} must be non-zero and u = {} not parallel to it",
-                        a.0, u.0
+                        "confocal-lenslet-arrays: u = {} must not be parallel to a = {}",
+                        u.0, a.0
                     ));
                 }
                 Surface::ConfocalLensletArrays(ConfocalLensletArrays {
@@ -387,13 +385,10 @@ impl SurfaceSection {
                     (None, Some(_)) => {
                         return Err("ray-rotating: basis applies to an axis, but none is given".into());
                     }
-                    (Some(a), _) if a.0 == DVec3::ZERO => {
-                        return Err("ray-rotating: the axis must not be zero".into());
-                    }
                     (Some(a), b) => RotationAxis::Direction(a.0, basis(b)),
                 };
                 Surface::RayRotating(RayRotating {
-                    angle: angle_deg.map_or(DEFAULT_ROTATION_DEG, |a| a.0).to_radians(),
+                    angle: angle_deg.map_or(RayRotating::DEFAULT_ANGLE_DEG, |a| a.0).to_radians(),
                     axis,
                     transmission_coefficient: coefficient(transmission_coefficient),
                 })

@@ -189,12 +189,31 @@ impl<'de> Deserialize<'de> for MetricTensor {
             }
         }
         let m = DMat3::from_cols_array_2d(&rows.map(|r| r.map(|x| x.0)));
+        // Scaled to a largest element of 1 so that the test neither underflows nor overflows.
         let scale = m.to_cols_array().iter().fold(0.0f64, |s, x| s.max(x.abs()));
-        if m.determinant().abs() <= 1e-12 * scale.powi(3) {
+        if scale == 0.0 || (m * (1.0 / scale)).determinant().abs() <= 1e-12 {
             return Err(de::Error::custom(
-                "the metric tensor is singular (determinant 0), so refraction into it is undefined (Eq 30: a = 0)",
+                "the metric tensor is singular or ill-conditioned (determinant 0 relative to its largest element), so refraction into it is undefined (Eq 30: a = 0)",
             ));
         }
         Ok(MetricTensor(m))
+    }
+}
+
+/// A direction: three finite numbers, not all zero, normalised (after scaling by the largest
+/// component, so tiny but non-zero vectors keep their direction).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Direction(pub DVec3);
+
+impl<'de> Deserialize<'de> for Direction {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vector::deserialize(d)?.0;
+        let largest = v.abs().max_element();
+        if largest == 0.0 {
+            return Err(de::Error::custom(
+                "expected a direction, got the zero vector",
+            ));
+        }
+        Ok(Direction((v / largest).normalize()))
     }
 }

@@ -9,6 +9,8 @@
 //! it is applied to rays arriving from either side, and the ray continues in the new direction
 //! whichever side of the window that points to.
 
+use glam::DVec3;
+
 use crate::math::LorentzTransform;
 use crate::render::{Interaction, Tracer};
 use crate::surfaces::Colour;
@@ -22,8 +24,47 @@ pub struct LorentzWindow {
 }
 
 impl LorentzWindow {
+    /// The unit direction a traced ray with direction `d` leaves in.
+    pub fn direction(&self, d: DVec3) -> DVec3 {
+        self.boost.backwards_direction(d).normalize()
+    }
+
     pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let out = self.boost.backwards_direction(at.ray.direction);
-        self.transmission_coefficient * tracer.trace_from(at, out)
+        self.transmission_coefficient * tracer.trace_from(at, self.direction(at.ray.direction))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The aberration formula: light reaching an observer moving with speed β along z from the
+    /// angle θ′ to its motion came, in the frame it left, from θ with
+    /// cos θ = (cos θ′ − β)/(1 − β cos θ′); the azimuth is unchanged. Traced rays point
+    /// towards where the light came from.
+    #[test]
+    fn traced_directions_follow_the_aberration_formula() {
+        let beta = 0.8;
+        let window = LorentzWindow {
+            boost: LorentzTransform::new(DVec3::new(0.0, 0.0, beta)).unwrap(),
+            transmission_coefficient: 1.0,
+        };
+        for k in 0..50 {
+            let (theta, azimuth) = (0.06 * k as f64, 0.4 * k as f64);
+            let d = DVec3::new(
+                theta.sin() * azimuth.cos(),
+                theta.sin() * azimuth.sin(),
+                theta.cos(),
+            );
+            let out = window.direction(d);
+            let cos_expected = (theta.cos() - beta) / (1.0 - beta * theta.cos());
+            assert!((out.z - cos_expected).abs() < 1e-14, "θ′ = {theta}: {out}");
+            if k > 0 {
+                assert!((out.y.atan2(out.x) - azimuth.sin().atan2(azimuth.cos())).abs() < 1e-12);
+            }
+        }
+        // Looking forwards, the view widens: a ray 10° off the motion was traced from farther.
+        let d = DVec3::new(10f64.to_radians().sin(), 0.0, 10f64.to_radians().cos());
+        assert!(window.direction(d).z < d.z);
     }
 }

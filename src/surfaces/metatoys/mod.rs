@@ -5,10 +5,11 @@
 //! direction-change function that works in the surface's local frame or on global vectors.
 //!
 //! The tracer follows rays backwards from the camera and applies each law to the traced ray.
-//! For the reciprocal laws (metric refraction, gCLAs with the reverse-order rule, rotation about
-//! the direction of crossing, flipping, phase holograms, phase conjugation) this is exactly what
-//! light does, since a law that maps d to d′ then maps −d′ to −d. The non-reciprocal Lorentz
-//! window and teleporter are defined by what the camera sees through them.
+//! For the transmitted rays of the reciprocal laws (metric refraction, gCLAs with the
+//! reverse-order rule, rotation about the direction of crossing, flipping, phase holograms,
+//! phase conjugation) this is exactly what light does, since a law that maps d to d′ then maps
+//! −d′ to −d; the mirror fallback below is not reciprocal in general. The non-reciprocal
+//! Lorentz window and teleporter are defined by what the camera sees through them.
 //!
 //! Where a law has no transmitted ray (the "impossible" or evanescent cases), the ray is
 //! reflected, as TIM does when refraction fails (total internal reflection, §4.1).

@@ -11,6 +11,7 @@
 use glam::{DQuat, DVec3};
 
 use super::{Basis, crosses, or_reflected};
+use crate::math::Frame;
 use crate::render::{Interaction, Tracer};
 use crate::surfaces::Colour;
 
@@ -41,14 +42,21 @@ pub fn rotated(d: DVec3, axis: DVec3, angle: f64, n: DVec3) -> Option<DVec3> {
 }
 
 impl RayRotating {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let frame = at.frame();
+    /// The rotation angle of TIM's "Rotating" window, in degrees.
+    pub const DEFAULT_ANGLE_DEG: f64 = 60.0;
+
+    /// The unit direction a ray with direction `d` leaves in where the surface frame is
+    /// `frame`.
+    pub fn direction(&self, d: DVec3, frame: &Frame) -> DVec3 {
         let axis = match self.axis {
             RotationAxis::Normal => frame.w,
-            RotationAxis::Direction(a, basis) => basis.to_global(a, &frame).normalize(),
+            RotationAxis::Direction(a, basis) => basis.to_global(a, frame).normalize(),
         };
-        let d = at.ray.direction;
-        let out = or_reflected(rotated(d, axis, self.angle, frame.w), d, frame.w);
+        or_reflected(rotated(d, axis, self.angle, frame.w), d, frame.w)
+    }
+
+    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+        let out = self.direction(at.ray.direction, &at.frame());
         self.transmission_coefficient * tracer.trace_from(at, out)
     }
 }
@@ -73,5 +81,30 @@ mod tests {
         let d = DVec3::new(0.0, 0.0, 1.0);
         assert_eq!(rotated(d, DVec3::X, 120f64.to_radians(), DVec3::Z), None);
         assert!(rotated(d, DVec3::X, 60f64.to_radians(), DVec3::Z).is_some());
+    }
+
+    #[test]
+    fn an_axis_in_the_local_basis_is_read_along_the_surface_frame() {
+        // A tilted frame: w along (0, 1, 1), u along x.
+        let frame = Frame::from_normal_and_u(DVec3::new(0.0, 1.0, 1.0), DVec3::X);
+        let local = DVec3::new(0.3, -0.2, 0.9);
+        let global = local.x * frame.u + local.y * frame.v + local.z * frame.w;
+        let rotating = |axis| RayRotating {
+            angle: 0.7,
+            axis,
+            transmission_coefficient: 1.0,
+        };
+        let d = DVec3::new(0.1, 0.5, 0.8).normalize();
+        let by_local = rotating(RotationAxis::Direction(local, Basis::Local)).direction(d, &frame);
+        let by_global =
+            rotating(RotationAxis::Direction(global, Basis::Global)).direction(d, &frame);
+        assert!(
+            (by_local - by_global).length() < 1e-15,
+            "{by_local} {by_global}"
+        );
+        // Reading the local components as global ones would be another rotation.
+        let wrong = rotating(RotationAxis::Direction(local, Basis::Global)).direction(d, &frame);
+        assert!((wrong - by_global).length() > 1e-3);
+        assert!((by_global.dot(global.normalize()) - d.dot(global.normalize())).abs() < 1e-15);
     }
 }

@@ -36,7 +36,7 @@ pub struct Teleporting {
 
 impl Teleporting {
     /// Where and in which direction a ray leaves the destination, having hit the origin at
-    /// surface coordinates `c` with direction `d` where the origin's frame is `frame`;
+    /// surface coordinates `c` with unit direction `d` where the origin's frame is `frame`;
     /// `noise` gives four uniform numbers in [0, 1) for the errors. `None` if the destination
     /// has no point with those coordinates.
     pub fn teleport(
@@ -94,5 +94,58 @@ impl Teleporting {
             path: 0.0,
         };
         self.transmission_coefficient * tracer.trace_emerging(at, exit)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Parallelogram;
+
+    /// The angular error is uniform over the cone's solid angle: every angle is within σ, and
+    /// cos α is uniform on [cos σ, 1] (mean 1 − (1 − cos σ)/2, a quarter of them within σ/2
+    /// for small σ).
+    #[test]
+    fn angular_errors_fill_the_cone_uniformly() {
+        let sigma = 5f64.to_radians();
+        let window = Teleporting {
+            destination: Shape::Parallelogram(
+                Parallelogram::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap(),
+            ),
+            positional_error: 0.0,
+            angular_error: sigma,
+            transmission_coefficient: 1.0,
+        };
+        let frame = Frame::from_normal_and_u(DVec3::Z, DVec3::X);
+        let d = DVec3::new(0.2, -0.1, 0.9).normalize();
+        let n = 20_000;
+        let mut cosines = Vec::with_capacity(n);
+        let mut azimuths = DVec3::ZERO;
+        for i in 0..n {
+            let key = [i as u64];
+            let (p, out) = window
+                .teleport(DVec2::new(0.5, 0.5), d, &frame, |k| uniform_keyed(&key, k))
+                .unwrap();
+            assert_eq!(p, DVec3::new(0.5, 0.5, 0.0));
+            assert!((out.length() - 1.0).abs() < 1e-12);
+            cosines.push(out.dot(d));
+            azimuths += (out - d).normalize();
+        }
+        assert!(cosines.iter().all(|&c| c >= sigma.cos() - 1e-12));
+        let mean = cosines.iter().sum::<f64>() / n as f64;
+        let expected = 1.0 - (1.0 - sigma.cos()) / 2.0;
+        assert!(
+            (mean - expected).abs() < 0.02 * (1.0 - sigma.cos()),
+            "{mean} {expected}"
+        );
+        let half = cosines
+            .iter()
+            .filter(|&&c| c >= (sigma / 2.0).cos())
+            .count();
+        assert!((half as f64 / n as f64 - 0.25).abs() < 0.02, "{half}");
+        assert!(
+            azimuths.length() / (n as f64) < 0.05,
+            "errors have no preferred direction"
+        );
     }
 }
