@@ -189,6 +189,7 @@ fn basis(b: Option<BasisName>) -> Basis {
     }
 }
 
+/// A coefficient, 1 (all the light) when not given.
 fn coefficient(c: Option<Coefficient>) -> f64 {
     c.map_or(1.0, |c| c.0)
 }
@@ -231,7 +232,7 @@ impl LensOptions {
             law,
             invisible_radius: self.invisible_radius.map_or(0.0, |r| r.0),
             index_ratio: self.index_ratio.map_or(1.0, |n| n.0),
-            transmission_coefficient: self.transmission_coefficient.map_or(1.0, |c| c.0),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
         })
     }
 }
@@ -273,19 +274,19 @@ impl SurfaceSection {
             SurfaceSection::Mirror {
                 reflection_coefficient,
             } => Surface::Mirror(Mirror {
-                reflection_coefficient: reflection_coefficient.map_or(1.0, |c| c.0),
+                reflection_coefficient: coefficient(reflection_coefficient),
             }),
             SurfaceSection::Refractive {
                 index_ratio,
                 transmission_coefficient,
             } => Surface::Refractive(Refractive {
                 index_ratio: index_ratio.0,
-                transmission_coefficient: transmission_coefficient.map_or(1.0, |c| c.0),
+                transmission_coefficient: coefficient(transmission_coefficient),
             }),
             SurfaceSection::Transparent {
                 transmission_coefficient,
             } => Surface::Transparent(Transparent {
-                transmission_coefficient: transmission_coefficient.map_or(1.0, |c| c.0),
+                transmission_coefficient: coefficient(transmission_coefficient),
             }),
             SurfaceSection::LuneburgLens { method, options } => options.lens(
                 method
