@@ -4,14 +4,16 @@
 //!
 //! Run with `cargo bench --bench lenses`; see docs/PERFORMANCE.md for figures.
 
+mod common;
+
 use std::hint::black_box;
 
+use common::bench_frame;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use timbre::embree::Device;
 use timbre::geometry::Sphere;
-use timbre::render::render;
-use timbre::scene::{Scene, file};
+use timbre::scene::file;
 use timbre::surfaces::lenses::{GradientIndex, IndexProfile, LensLaw};
 
 /// 64 rays along +z entering the unit lens at the origin, impact parameters across (0, 1).
@@ -71,14 +73,7 @@ fn fig6(c: &mut Criterion) {
         let mut d = file::load_with(path.as_ref(), &overrides).expect("Fig. 6 scene");
         d.render.spp = 1;
         d.render.threads = Some(2);
-        let scene = Scene::build(&device, &d).expect("scene");
-        let rays = render(&scene, &d.camera, &d.render, &|_| {})
-            .expect("render")
-            .rays;
-        group.throughput(Throughput::Elements(rays));
-        group.bench_function(format!("{method}_2_threads"), |b| {
-            b.iter(|| render(&scene, &d.camera, &d.render, &|_| {}))
-        });
+        bench_frame(&mut group, &device, &format!("{method}_2_threads"), &d);
     }
     group.finish();
 }

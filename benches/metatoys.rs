@@ -3,13 +3,15 @@
 //!
 //! Run with `cargo bench --bench metatoys`; see docs/PERFORMANCE.md for figures.
 
+mod common;
+
 use std::hint::black_box;
 
+use common::bench_frame;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{DMat3, DVec2, DVec3};
 use timbre::embree::Device;
-use timbre::render::render;
-use timbre::scene::{Scene, file};
+use timbre::scene::file;
 use timbre::surfaces::metatoys::{
     Refraction, Telescopelets, hologram_direction, metric_refracted_direction, rotated,
 };
@@ -91,14 +93,7 @@ fn window(c: &mut Criterion) {
         let text = format!("studio = \"metatoy-window\"\n[window]\nsurface = {surface}\n");
         let mut d = file::parse(&text, "bench.toml").expect("window scene");
         d.render.threads = Some(2);
-        let scene = Scene::build(&device, &d).expect("scene");
-        let rays = render(&scene, &d.camera, &d.render, &|_| {})
-            .expect("render")
-            .rays;
-        group.throughput(Throughput::Elements(rays));
-        group.bench_function(format!("{name}_2_threads"), |b| {
-            b.iter(|| render(&scene, &d.camera, &d.render, &|_| {}))
-        });
+        bench_frame(&mut group, &device, &format!("{name}_2_threads"), &d);
     }
     group.finish();
 }
