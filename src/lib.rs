@@ -14,3 +14,4 @@ pub mod render;
 pub mod scene;
 pub mod stereo;
 pub mod surfaces;
+pub mod trajectories;

@@ -16,6 +16,7 @@ use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
 use timbre::scene::{ReferenceFrame, Scene, SceneDescription};
 use timbre::stereo::{Stereo, render_stereo};
+use timbre::trajectories::{self, Trajectory};
 
 /// `println!` that ignores a closed standard output (`timbre check s.toml | head -1`) instead
 /// of panicking.
@@ -45,6 +46,17 @@ enum Command {
     Check {
         /// The TOML scene file.
         scene: PathBuf,
+        /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<Override>,
+    },
+    /// Trace a scene file's ray trajectories and print the points they pass through.
+    Trace {
+        /// The TOML scene file, with [[ray_trajectory]] tables.
+        scene: PathBuf,
+        /// Print JSON (for analysis outside timbre) instead of a table.
+        #[arg(long)]
+        json: bool,
         /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<Override>,
@@ -331,6 +343,17 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
         None => out!("  bounding box: none ({} unbounded objects)", s.unbounded),
     }
     out!("  point lights: {}", description.lights.points.len());
+    if !description.trajectories.is_empty() {
+        let rays: usize = description
+            .trajectories
+            .iter()
+            .map(|t| t.rays().len())
+            .sum();
+        out!(
+            "  trajectories: {} ({rays} rays)",
+            description.trajectories.len()
+        );
+    }
     out!("  camera:       {}", camera_summary(&description));
     out!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
     Ok(())
@@ -381,6 +404,77 @@ fn camera_summary(d: &SceneDescription) -> String {
         parts.push(format!("stereo {}", d.stereo.name()));
     }
     parts.join("; ")
+}
+
+fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> {
+    let description = load(Some(scene), set)?;
+    for w in description.warnings() {
+        eprintln!("timbre: warning: {w}");
+    }
+    if description.trajectories.is_empty() {
+        return Err(bad_input(format!(
+            "{}: no [[ray_trajectory]] to trace",
+            scene.display()
+        )));
+    }
+    let device = Device::new("").map_err(internal)?;
+    let traced = trajectories::trace(&device, &description).map_err(internal)?;
+    let names = |t: &Trajectory| &description.trajectories[t.source].name;
+    let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
+    if json {
+        let list: Vec<serde_json::Value> = traced
+            .iter()
+            .map(|t| {
+                let points: Vec<serde_json::Value> = t
+                    .points
+                    .iter()
+                    .map(|p| {
+                        serde_json::json!({
+                            "position": p.position.to_array(),
+                            "arrival": p.arrival.name(),
+                            "object": object(p.object),
+                        })
+                    })
+                    .collect();
+                serde_json::json!({
+                    "trajectory": names(t),
+                    "ray": t.ray,
+                    "end": t.end.name(),
+                    "direction": t.direction.to_array(),
+                    "points": points,
+                })
+            })
+            .collect();
+        let document = serde_json::json!({
+            "scene": scene.display().to_string(),
+            "rays": list,
+        });
+        out!("{document:#}");
+        return Ok(());
+    }
+    for t in &traced {
+        out!(
+            "{} ray {}: {} points, {}; direction [{}, {}, {}]",
+            names(t),
+            t.ray,
+            t.points.len(),
+            t.end.name(),
+            t.direction.x,
+            t.direction.y,
+            t.direction.z
+        );
+        for p in &t.points {
+            out!(
+                "  {:<10} [{}, {}, {}] {}",
+                p.arrival.name(),
+                p.position.x,
+                p.position.y,
+                p.position.z,
+                object(p.object).unwrap_or("")
+            );
+        }
+    }
+    Ok(())
 }
 
 fn run_generate_mesh(
@@ -447,6 +541,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => run_render(args),
         Command::Check { scene, set } => run_check(&scene, &set),
+        Command::Trace { scene, json, set } => run_trace(&scene, json, &set),
         Command::GenerateMesh {
             output,
             triangles,

@@ -78,6 +78,19 @@ impl DormandPrince {
         h0: f64,
         event: impl Fn(&[f64; N], &[f64; N]) -> (f64, f64),
     ) -> Option<[f64; N]> {
+        self.integrate_observed(f, y0, h0, event, |_| {})
+    }
+
+    /// [`Self::integrate_until`], showing `accepted` the state after each accepted step before
+    /// the event (not the start, nor the state at the crossing).
+    pub fn integrate_observed<const N: usize>(
+        &self,
+        f: impl Fn(&[f64; N]) -> [f64; N],
+        y0: [f64; N],
+        h0: f64,
+        event: impl Fn(&[f64; N], &[f64; N]) -> (f64, f64),
+        mut accepted: impl FnMut(&[f64; N]),
+    ) -> Option<[f64; N]> {
         let (mut y, mut k1, mut h) = (y0, f(&y0), h0);
         for _ in 0..self.max_steps {
             let s = self.step(&f, &y, &k1, h);
@@ -90,6 +103,7 @@ impl DormandPrince {
                     return Some(self.locate(&f, &y, &k1, h, &event));
                 }
                 (y, k1) = (s.y, s.f);
+                accepted(&y);
             }
             // Standard step-size control: safety 0.9, growth limited to [0.2, 5].
             h *= (0.9 * s.error.powf(-0.2)).clamp(0.2, 5.0);

@@ -62,6 +62,27 @@ impl Interaction<'_> {
         self.self_hit_margin_at(self.point())
     }
 
+    /// The ray leaving the interaction point in `direction`, and the distance it must travel
+    /// before it may hit anything.
+    pub fn leaving(&self, direction: DVec3) -> (Ray, f64) {
+        (
+            self.ray.continued(self.hit.t, direction),
+            self.self_hit_margin(),
+        )
+    }
+
+    /// The ray leaving the interaction's object where `exit` says (a lens's exit, a
+    /// teleporter's destination), and the distance it must travel before it may hit anything.
+    /// It left `exit.path` earlier than it arrived.
+    pub fn emerging(&self, exit: Exit) -> (Ray, f64) {
+        let ray = Ray::new(
+            exit.point,
+            exit.direction,
+            self.ray.time - self.hit.t - exit.path,
+        );
+        (ray, self.self_hit_margin_at(exit.point))
+    }
+
     /// [`Self::self_hit_margin`] for a ray leaving the same object at another point `p`.
     fn self_hit_margin_at(&self, p: DVec3) -> f64 {
         let scale = 1.0 + p.abs().max_element();
@@ -242,25 +263,16 @@ impl<'a> Tracer<'a> {
     /// The colour seen along the ray that leaves the interaction point in `direction`, one trace
     /// level down, in the interaction's frame.
     pub fn trace_from(&self, at: &Interaction, direction: DVec3) -> Colour {
-        let ray = at.ray.continued(at.hit.t, direction);
-        self.trace(&ray, at.self_hit_margin(), at.level - 1, at.frame)
+        let (ray, margin) = at.leaving(direction);
+        self.trace(&ray, margin, at.level - 1, at.frame)
     }
 
     /// The colour seen along the ray that leaves the interaction's object where `exit` says,
     /// one trace level down, in the interaction's frame: for laws that move the ray through the
-    /// object (§3's lenses). The ray left `exit.path` earlier than it arrived.
+    /// object (§3's lenses) or elsewhere (teleporting).
     pub fn trace_emerging(&self, at: &Interaction, exit: Exit) -> Colour {
-        let ray = Ray::new(
-            exit.point,
-            exit.direction,
-            at.ray.time - at.hit.t - exit.path,
-        );
-        self.trace(
-            &ray,
-            at.self_hit_margin_at(exit.point),
-            at.level - 1,
-            at.frame,
-        )
+        let (ray, margin) = at.emerging(exit);
+        self.trace(&ray, margin, at.level - 1, at.frame)
     }
 
     /// Whether a shadow-throwing object at rest in the interaction's frame hides a light at

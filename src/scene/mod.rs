@@ -13,6 +13,7 @@ use crate::geometry::{ObjectArray, SceneGeometry, Shape};
 use crate::render::RenderSettings;
 use crate::stereo::Stereo;
 use crate::surfaces::Surface;
+use crate::trajectories::{self, RayTrajectory};
 use lights::Lights;
 
 /// The inertial frame an object is at rest in (§2.1).
@@ -50,6 +51,8 @@ pub struct SceneDescription {
     /// A single view, or a stereo output of two views.
     pub stereo: Stereo,
     pub render: RenderSettings,
+    /// Rays whose paths are traced and drawn into the scene before it is rendered.
+    pub trajectories: Vec<RayTrajectory>,
 }
 
 /// What `timbre check` reports about a scene.
@@ -132,12 +135,25 @@ impl SceneDescription {
                     .map(|e| format!("object '{}': {e}; it renders black", o.name))
             }))
             .chain(seam)
+            .chain(self.trajectories_miss_camera_frame())
             .chain(self.lenses_around_camera().map(|name| {
                 format!(
                     "camera: inside lens '{name}', whose surface rays from inside pass unchanged"
                 )
             }))
             .collect()
+    }
+
+    /// A warning that trajectories do not meet the camera-frame objects, if there are both.
+    fn trajectories_miss_camera_frame(&self) -> Option<String> {
+        let moving = self
+            .objects
+            .iter()
+            .filter(|o| o.frame == ReferenceFrame::Camera)
+            .count();
+        (moving > 0 && !self.trajectories.is_empty()).then(|| {
+            format!("ray trajectories are traced through the scene-frame objects only; they do not meet the {moving} objects moving with the camera")
+        })
     }
 
     /// Names of the lenses (§3) whose sphere, or one of whose array copies, contains the
@@ -191,8 +207,18 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Builds the BVHs for the objects of a description.
+    /// Builds the BVHs for the objects of a description, with its ray trajectories traced
+    /// and drawn in.
     pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, EmbreeError> {
+        if !description.trajectories.is_empty() {
+            let traced = trajectories::trace(device, description)?;
+            let mut drawn = description.clone();
+            drawn
+                .objects
+                .extend(trajectories::tubes(&description.trajectories, &traced));
+            drawn.trajectories.clear();
+            return Scene::build(device, &drawn);
+        }
         let world = |frame| World::build(device, description, frame);
         let camera_frame = if description
             .objects
@@ -234,7 +260,7 @@ impl Scene {
 impl World {
     /// The objects of `description` at rest in `frame`, in their order. Each array is
     /// restricted to its members in this frame, which stay contiguous.
-    fn build(
+    pub(crate) fn build(
         device: &Device,
         description: &SceneDescription,
         frame: ReferenceFrame,

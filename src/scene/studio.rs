@@ -237,6 +237,7 @@ impl Studio {
             focus_surface: Vec::new(),
             stereo: Stereo::default(),
             render: RenderSettings::default(),
+            trajectories: Vec::new(),
         }
     }
 }

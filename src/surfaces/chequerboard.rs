@@ -1,7 +1,7 @@
 //! Chequerboard: two surfaces alternating on square tiles of the shape's surface coordinates.
 
-use super::{Colour, Surface};
-use crate::render::{Interaction, Tracer};
+use super::Surface;
+use crate::render::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chequerboard {
@@ -19,15 +19,17 @@ impl Chequerboard {
         &self.surfaces[(tile(u).wrapping_add(tile(v)) & 1) as usize]
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    /// The surface of the tile the ray meets.
+    pub fn tile_at(&self, at: &Interaction) -> &Surface {
         let uv = at.coordinates();
-        self.tile(uv.x, uv.y).colour(tracer, at)
+        self.tile(uv.x, uv.y)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surfaces::Colour;
 
     #[test]
     fn tiles_alternate_across_every_boundary() {

@@ -1,6 +1,6 @@
 //! Surface properties: what happens to light where a ray meets a surface. One law per file;
-//! each gives the colour seen along the incoming ray, tracing further rays where the law
-//! redirects light.
+//! each says where the ray goes on ([`Redirection`]), which the renderer traces further and ray
+//! trajectories record, or gives the surface's own colour.
 
 mod chequerboard;
 mod coloured;
@@ -21,11 +21,31 @@ pub use reflective::{Mirror, reflect};
 pub use refractive::{Refractive, refract};
 pub use transparent::Transparent;
 
+use glam::DVec3;
+
 use crate::geometry::Shape;
 use crate::render::{Interaction, Tracer};
+use lenses::Exit;
 
 /// Linear RGB radiance, unbounded (clamped only when written to PNG).
 pub type Colour = glam::DVec3;
+
+/// What a surface's law does with a ray that meets it: the one place each law is applied, both
+/// by the renderer and by ray trajectories.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Redirection {
+    /// The ray ends here: the surface has a colour of its own (lit, or emitting).
+    Ends,
+    /// No light comes back along the ray: a ray trapped in a lens, or teleported beyond the
+    /// destination's edge.
+    Lost,
+    /// The ray leaves the hit point in unit `direction`, carrying `factor` of the light.
+    Leaves { direction: DVec3, factor: f64 },
+    /// The ray crosses the object and leaves where `exit` says (§3's lenses).
+    Crosses { exit: Exit, factor: f64 },
+    /// The ray leaves from another surface, without travelling between (teleporting).
+    Jumps { exit: Exit, factor: f64 },
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Surface {
@@ -58,19 +78,37 @@ impl Surface {
         match self {
             Surface::Coloured(s) => s.colour(tracer, at),
             Surface::ConstantColour(c) => *c,
-            Surface::Chequerboard(s) => s.colour(tracer, at),
-            Surface::Mirror(s) => s.colour(tracer, at),
-            Surface::Refractive(s) => s.colour(tracer, at),
-            Surface::Transparent(s) => s.colour(tracer, at),
-            Surface::Lens(s) => s.colour(tracer, at),
-            Surface::MetricInterface(s) => s.colour(tracer, at),
-            Surface::ConfocalLensletArrays(s) => s.colour(tracer, at),
-            Surface::RayRotating(s) => s.colour(tracer, at),
-            Surface::RayFlipping(s) => s.colour(tracer, at),
-            Surface::PhaseHologram(s) => s.colour(tracer, at),
-            Surface::PhaseConjugating(s) => s.colour(tracer, at),
-            Surface::LorentzWindow(s) => s.colour(tracer, at),
-            Surface::Teleporting(s) => s.colour(tracer, at),
+            Surface::Chequerboard(s) => s.tile_at(at).colour(tracer, at),
+            _ => match self.redirect(at, &mut |_| {}) {
+                Redirection::Ends | Redirection::Lost => Colour::ZERO,
+                Redirection::Leaves { direction, factor } => {
+                    factor * tracer.trace_from(at, direction)
+                }
+                Redirection::Crosses { exit, factor } | Redirection::Jumps { exit, factor } => {
+                    factor * tracer.trace_emerging(at, exit)
+                }
+            },
+        }
+    }
+
+    /// Where the ray `at.ray` goes on from this surface. `inside` is shown the points of the
+    /// curved path of a ray integrated through a gradient-index lens, between entry and exit.
+    pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection {
+        match self {
+            Surface::Coloured(_) | Surface::ConstantColour(_) => Redirection::Ends,
+            Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            Surface::Mirror(s) => s.redirect(at),
+            Surface::Refractive(s) => s.redirect(at),
+            Surface::Transparent(s) => s.redirect(at),
+            Surface::Lens(s) => s.redirect(at, inside),
+            Surface::MetricInterface(s) => s.redirect(at),
+            Surface::ConfocalLensletArrays(s) => s.redirect(at),
+            Surface::RayRotating(s) => s.redirect(at),
+            Surface::RayFlipping(s) => s.redirect(at),
+            Surface::PhaseHologram(s) => s.redirect(at),
+            Surface::PhaseConjugating(s) => s.redirect(at),
+            Surface::LorentzWindow(s) => s.redirect(at),
+            Surface::Teleporting(s) => s.redirect(at),
         }
     }
 

@@ -2,8 +2,8 @@
 
 use glam::DVec3;
 
-use super::Colour;
-use crate::render::{Interaction, Tracer};
+use super::Redirection;
+use crate::render::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {
@@ -17,9 +17,11 @@ pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 }
 
 impl Mirror {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let r = reflect(at.ray.direction, at.frame().w);
-        self.reflection_coefficient * tracer.trace_from(at, r)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: reflect(at.ray.direction, at.frame().w),
+            factor: self.reflection_coefficient,
+        }
     }
 }
 

@@ -6,9 +6,9 @@
 
 use glam::DVec3;
 
-use super::Colour;
+use super::Redirection;
 use super::reflective::reflect;
-use crate::render::{Interaction, Tracer};
+use crate::render::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {
@@ -40,11 +40,13 @@ pub fn refract(d: DVec3, n: DVec3, index_ratio: f64) -> Option<DVec3> {
 }
 
 impl Refractive {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
         let d = at.ray.direction;
         let n = at.frame().w;
-        let out = refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n));
-        self.transmission_coefficient * tracer.trace_from(at, out)
+        Redirection::Leaves {
+            direction: refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n)),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

@@ -1,7 +1,7 @@
 //! Transparent pass-through: the ray continues undeviated, scaled by a transmission coefficient.
 
-use super::Colour;
-use crate::render::{Interaction, Tracer};
+use super::Redirection;
+use crate::render::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {
@@ -10,7 +10,10 @@ pub struct Transparent {
 }
 
 impl Transparent {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        self.transmission_coefficient * tracer.trace_from(at, at.ray.direction)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: at.ray.direction,
+            factor: self.transmission_coefficient,
+        }
     }
 }

@@ -10,6 +10,7 @@ mod overrides;
 mod placement;
 mod shapes;
 mod surfaces;
+mod trajectories;
 mod values;
 
 use std::num::NonZeroU32;
@@ -30,6 +31,7 @@ pub use overrides::Override;
 pub use placement::MAX_ARRAY_ELEMENTS;
 use placement::{GroupSection, IncludeSection, Items, Link, ObjectSection, Placer};
 use surfaces::SurfaceSection;
+use trajectories::TrajectorySection;
 use values::{Positive, Rgb, Vector};
 
 /// A scene file that could not be read or understood.
@@ -157,6 +159,8 @@ struct File {
     #[serde(default)]
     include: Vec<IncludeSection>,
     window: Option<Spanned<WindowSection>>,
+    #[serde(default)]
+    ray_trajectory: Vec<Spanned<TrajectorySection>>,
 }
 
 /// The METATOY window's pane (studio "metatoy-window").
@@ -281,6 +285,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
             focus_surface: Vec::new(),
             stereo: Default::default(),
             render: Default::default(),
+            trajectories: Vec::new(),
         },
     };
 
@@ -325,6 +330,12 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
             }
         }
         scene.lights = lights;
+    }
+
+    for (k, t) in file.ray_trajectory.into_iter().enumerate() {
+        let span = t.span();
+        let trajectory = t.into_inner().build(source, span, k + 1)?;
+        scene.trajectories.push(trajectory);
     }
 
     let mut links = Vec::new();

@@ -52,6 +52,19 @@ impl GradientIndex {
     /// `p` with direction `d`. The path length is ∫n ds in the profile's own n. `None` if the
     /// ray does not leave within the integrator's step limit (a trapped ray).
     pub fn transmit(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+        self.transmit_observed(lens, p, d, &mut |_| {})
+    }
+
+    /// [`Self::transmit`], showing `inside` the points of the curved path between entry and
+    /// exit, in order (the integrator's accepted steps; none for the straight grazing and
+    /// radial cases).
+    pub fn transmit_observed(
+        &self,
+        lens: &Sphere,
+        p: DVec3,
+        d: DVec3,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Option<Exit> {
         let (centre, radius) = (lens.centre(), lens.radius());
         let d = d.normalize();
         let x0 = ((p - centre) / radius).normalize();
@@ -84,7 +97,8 @@ impl GradientIndex {
         };
         // The first step covers a quarter of the straight chord (|dr/dτ| = n), so the ray is
         // well inside before the event is looked for.
-        let y = SOLVER.integrate_until(f, start, 0.25 * chord / (n0 * n0), event)?;
+        let step = |y: &[f64; 7]| inside(centre + radius * DVec3::new(y[0], y[1], y[2]));
+        let y = SOLVER.integrate_observed(f, start, 0.25 * chord / (n0 * n0), event, step)?;
         let x = DVec3::new(y[0], y[1], y[2]).normalize();
         let direction = DVec3::new(y[3], y[4], y[5]).normalize();
         Some(Exit {

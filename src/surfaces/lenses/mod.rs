@@ -22,9 +22,9 @@ pub use profile::{IndexProfile, TableProfile};
 
 use glam::DVec3;
 
-use super::{Colour, reflect, refract};
+use super::{Redirection, reflect, refract};
 use crate::geometry::{Shape, Sphere};
-use crate::render::{Interaction, Tracer};
+use crate::render::Interaction;
 
 /// Where and how a ray leaves a lens.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,12 +70,24 @@ impl LensLaw {
     /// The ray leaving `lens` after entering at `p` with direction `d` (inside the lens
     /// material); `None` for an integrated ray that never leaves.
     pub fn transmit(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+        self.transmit_observed(lens, p, d, &mut |_| {})
+    }
+
+    /// [`Self::transmit`], showing `inside` the points of an integrated ray's curved path
+    /// (see [`GradientIndex::transmit_observed`]); the closed forms have none.
+    pub fn transmit_observed(
+        &self,
+        lens: &Sphere,
+        p: DVec3,
+        d: DVec3,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Option<Exit> {
         match self {
             LensLaw::Luneburg => Some(luneburg(lens, p, d)),
             LensLaw::Eaton => Some(eaton(lens, p, d)),
             LensLaw::MaxwellFisheye => Some(maxwell_fisheye(lens, p, d)),
             LensLaw::Ggrin(g) => Some(g.transmit(lens, p, d)),
-            LensLaw::GradientIndex(g) => g.transmit(lens, p, d),
+            LensLaw::GradientIndex(g) => g.transmit_observed(lens, p, d, inside),
         }
     }
 
@@ -136,21 +148,33 @@ impl Lens {
     /// refracted to on the way in, below the critical angle; a ray that rounding puts beyond it
     /// (near grazing incidence) leaves along the tangent.
     pub fn emerge(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+        self.emerge_observed(lens, p, d, &mut |_| {})
+    }
+
+    /// [`Self::emerge`], showing `inside` the points of an integrated ray's curved path
+    /// between entry and exit (see [`LensLaw::transmit_observed`]).
+    pub fn emerge_observed(
+        &self,
+        lens: &Sphere,
+        p: DVec3,
+        d: DVec3,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Option<Exit> {
         let (centre, radius) = (lens.centre(), lens.radius());
         let n_surface = self.surface_index();
         // A matched surface (ratio exactly 1) leaves directions exactly as they are.
         if n_surface == 1.0 {
-            return self.cross(lens, p, d);
+            return self.cross(lens, p, d, inside);
         }
         let n = (p - centre) / radius;
-        let Some(inside) = refract(d, n, n_surface) else {
+        let Some(refracted) = refract(d, n, n_surface) else {
             return Some(Exit {
                 point: p,
                 direction: reflect(d, n),
                 path: 0.0,
             });
         };
-        let exit = self.cross(lens, p, inside)?;
+        let exit = self.cross(lens, p, refracted, inside)?;
         let n = (exit.point - centre) / radius;
         let direction = refract(exit.direction, n, n_surface)
             .unwrap_or_else(|| exit.direction.reject_from_normalized(n).normalize());
@@ -158,13 +182,19 @@ impl Lens {
     }
 
     /// One passage from `p` in direction `d` inside the lens to the surface.
-    fn cross(&self, lens: &Sphere, p: DVec3, d: DVec3) -> Option<Exit> {
+    fn cross(
+        &self,
+        lens: &Sphere,
+        p: DVec3,
+        d: DVec3,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Option<Exit> {
         let x = p - lens.centre();
         let along = x.dot(d);
         if (x - along * d).length() < self.invisible_radius * lens.radius() {
             return Some(Exit::chord(p, p - 2.0 * along * d, d));
         }
-        let exit = self.law.transmit(lens, p, d)?;
+        let exit = self.law.transmit_observed(lens, p, d, inside)?;
         Some(match self.law {
             LensLaw::GradientIndex(_) => Exit {
                 path: self.index_ratio * exit.path,
@@ -174,24 +204,33 @@ impl Lens {
         })
     }
 
-    /// The colour seen along a ray meeting the lens. A ray that meets it from inside (a camera
-    /// or light path starting within the sphere) passes the surface as if it were transparent;
-    /// an integrated ray that never leaves is black.
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    /// Where a ray meeting the lens goes on. A ray that meets it from inside (a camera or
+    /// light path starting within the sphere) passes the surface as if it were transparent; a
+    /// ray reflected off the surface (§3.3) leaves from the hit point; an integrated ray that
+    /// never leaves is lost. `inside` is shown an integrated ray's curved path.
+    pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection {
         let d = at.ray.direction;
+        let factor = self.transmission_coefficient;
         let Shape::Sphere(sphere) = &at.geometry.shapes()[at.hit.object] else {
-            return Colour::ZERO;
+            return Redirection::Lost;
         };
         let offset = at.geometry.offset(at.hit.object, at.hit.element);
         let lens = Sphere::new(sphere.centre() + offset, sphere.radius())
             .expect("a sphere's translated copy is a sphere");
         let p = at.point();
         if d.dot(p - lens.centre()) >= 0.0 {
-            return self.transmission_coefficient * tracer.trace_from(at, d);
+            return Redirection::Leaves {
+                direction: d,
+                factor,
+            };
         }
-        match self.emerge(&lens, p, d) {
-            Some(exit) => self.transmission_coefficient * tracer.trace_emerging(at, exit),
-            None => Colour::ZERO,
+        match self.emerge_observed(&lens, p, d, inside) {
+            Some(exit) if exit.point == p => Redirection::Leaves {
+                direction: exit.direction,
+                factor,
+            },
+            Some(exit) => Redirection::Crosses { exit, factor },
+            None => Redirection::Lost,
         }
     }
 }

@@ -21,8 +21,8 @@
 use glam::{DVec2, DVec3};
 
 use super::{Basis, crosses, or_reflected};
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
 #[derive(Debug, Clone, PartialEq)]
@@ -84,7 +84,7 @@ impl Telescopelets {
 }
 
 impl ConfocalLensletArrays {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
         let frame = at.frame();
         let d = at.ray.direction;
         let out = Telescopelets::new(
@@ -94,7 +94,10 @@ impl ConfocalLensletArrays {
             self.delta,
         )
         .and_then(|t| t.refract(d, frame.w));
-        self.transmission_coefficient * tracer.trace_from(at, or_reflected(out, d, frame.w))
+        Redirection::Leaves {
+            direction: or_reflected(out, d, frame.w),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

@@ -12,8 +12,8 @@
 use glam::DVec3;
 
 use crate::math::LorentzTransform;
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LorentzWindow {
@@ -29,8 +29,11 @@ impl LorentzWindow {
         self.boost.backwards_direction(d).normalize()
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        self.transmission_coefficient * tracer.trace_from(at, self.direction(at.ray.direction))
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: self.direction(at.ray.direction),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

@@ -24,8 +24,8 @@
 use glam::{DMat3, DVec2, DVec3};
 
 use super::{Basis, jacobian};
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::{Colour, reflect};
+use crate::render::Interaction;
+use crate::surfaces::{Redirection, reflect};
 
 /// Whether the optical path lengths on the two sides have the same sign (positive refraction)
 /// or opposite signs (negative refraction, e.g. n = −1 against n = +1).
@@ -137,9 +137,11 @@ impl MetricInterface {
         (*lambda * e).normalize()
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let out = self.direction(at.ray.direction, &jacobian(&at.frame()));
-        self.transmission_coefficient * tracer.trace_from(at, out)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: self.direction(at.ray.direction, &jacobian(&at.frame())),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

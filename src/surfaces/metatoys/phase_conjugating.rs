@@ -2,8 +2,8 @@
 //! retraces its path whatever the angle of incidence (the surface reflects the wave with its
 //! phase conjugated, which reverses the wave vector).
 
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhaseConjugating {
@@ -12,7 +12,10 @@ pub struct PhaseConjugating {
 }
 
 impl PhaseConjugating {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        self.reflection_coefficient * tracer.trace_from(at, -at.ray.direction)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: -at.ray.direction,
+            factor: self.reflection_coefficient,
+        }
     }
 }

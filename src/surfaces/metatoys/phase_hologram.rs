@@ -20,8 +20,8 @@
 use glam::{DVec2, DVec3};
 
 use super::{jacobian, or_reflected};
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 /// The hologram's phase φ(u, v), as an optical path length.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,17 +77,20 @@ pub fn hologram_direction(d: DVec3, kick: DVec2) -> Option<DVec3> {
 }
 
 impl PhaseHologram {
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
         let frame = at.frame();
         let lambda = jacobian(&frame);
         let d = at.ray.direction;
         // Only flat shapes have the coordinates (checked when scenes are read).
         let Some(r) = at.plane_coordinates() else {
-            return Colour::ZERO;
+            return Redirection::Lost;
         };
         let out =
             hologram_direction(lambda.transpose() * d, self.phase.gradient(r)).map(|e| lambda * e);
-        self.transmission_coefficient * tracer.trace_from(at, or_reflected(out, d, frame.w))
+        Redirection::Leaves {
+            direction: or_reflected(out, d, frame.w),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

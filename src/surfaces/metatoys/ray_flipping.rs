@@ -9,8 +9,8 @@
 use glam::DVec3;
 
 use crate::math::Frame;
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RayFlipping {
@@ -32,9 +32,11 @@ impl RayFlipping {
         -s * frame.u + c * frame.v
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let out = flipped(at.ray.direction, self.flipped_tangent(&at.frame()));
-        self.transmission_coefficient * tracer.trace_from(at, out)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: flipped(at.ray.direction, self.flipped_tangent(&at.frame())),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

@@ -12,8 +12,8 @@ use glam::{DQuat, DVec3};
 
 use super::{Basis, crosses, or_reflected};
 use crate::math::Frame;
-use crate::render::{Interaction, Tracer};
-use crate::surfaces::Colour;
+use crate::render::Interaction;
+use crate::surfaces::Redirection;
 
 /// The axis rays are rotated about.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,9 +55,11 @@ impl RayRotating {
         or_reflected(rotated(d, axis, self.angle, frame.w), d, frame.w)
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        let out = self.direction(at.ray.direction, &at.frame());
-        self.transmission_coefficient * tracer.trace_from(at, out)
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
+        Redirection::Leaves {
+            direction: self.direction(at.ray.direction, &at.frame()),
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

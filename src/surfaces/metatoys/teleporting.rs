@@ -17,8 +17,8 @@ use glam::{DQuat, DVec2, DVec3};
 
 use crate::geometry::Shape;
 use crate::math::Frame;
-use crate::render::{Interaction, Tracer, uniform_keyed};
-use crate::surfaces::Colour;
+use crate::render::{Interaction, uniform_keyed};
+use crate::surfaces::Redirection;
 use crate::surfaces::lenses::Exit;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -72,7 +72,7 @@ impl Teleporting {
         Some((p, out))
     }
 
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
+    pub fn redirect(&self, at: &Interaction) -> Redirection {
         let d = at.ray.direction;
         let p = at.point();
         let key = [
@@ -86,14 +86,17 @@ impl Teleporting {
         let Some((point, direction)) =
             self.teleport(at.coordinates(), d, &at.frame(), |i| uniform_keyed(&key, i))
         else {
-            return Colour::ZERO;
+            return Redirection::Lost;
         };
         let exit = Exit {
             point,
             direction: direction.normalize(),
             path: 0.0,
         };
-        self.transmission_coefficient * tracer.trace_emerging(at, exit)
+        Redirection::Jumps {
+            exit,
+            factor: self.transmission_coefficient,
+        }
     }
 }
 

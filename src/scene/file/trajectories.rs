@@ -1,0 +1,107 @@
+//! The `[[ray_trajectory]]` tables: rays traced through the scene and drawn into it.
+
+use std::num::NonZeroU32;
+use std::ops::Range;
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use super::values::{Direction, Positive, Rgb, Vector};
+use super::{SceneFileError, Source};
+use crate::surfaces::Colour;
+use crate::trajectories::{RayTrajectory, Spread};
+
+/// Most rays one source may start, and most surfaces one ray may meet: far more than a
+/// picture can show, few enough that the cylinders fit in memory.
+const MAX_COUNT: u32 = 10_000;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct TrajectorySection {
+    name: Option<String>,
+    start: Vector,
+    direction: Direction,
+    cone_half_angle_deg: Option<Spanned<Positive>>,
+    bundle_radius: Option<Spanned<Positive>>,
+    rays: Option<Spanned<NonZeroU32>>,
+    radius: Option<Positive>,
+    colour: Option<Rgb>,
+    max_interactions: Option<Spanned<NonZeroU32>>,
+    joints: Option<bool>,
+}
+
+impl TrajectorySection {
+    /// The source, the `number`th (from 1) in the file, whose table is at `span`.
+    pub(super) fn build(
+        self,
+        source: &Source,
+        span: Range<usize>,
+        number: usize,
+    ) -> Result<RayTrajectory, SceneFileError> {
+        let at = |s: Option<Range<usize>>, m: String| {
+            source.error(
+                Some(s.unwrap_or(span.clone())),
+                format!("ray_trajectory: {m}"),
+            )
+        };
+        let count = |n: &Option<Spanned<NonZeroU32>>, key: &str| match n {
+            Some(n) if n.get_ref().get() > MAX_COUNT => Err(at(
+                Some(n.span()),
+                format!("{key} must be at most {MAX_COUNT}, got {}", n.get_ref()),
+            )),
+            Some(n) => Ok(n.get_ref().get()),
+            None => Ok(1),
+        };
+        let rays = count(&self.rays, "rays")?;
+        let max_interactions = match self.max_interactions {
+            None => 100,
+            some => count(&some, "max_interactions")?,
+        };
+        let spread = match (self.cone_half_angle_deg, self.bundle_radius) {
+            (Some(a), Some(_)) => {
+                return Err(at(
+                    Some(a.span()),
+                    "give cone_half_angle_deg (a cone of rays) or bundle_radius (parallel rays), not both".into(),
+                ));
+            }
+            (Some(a), None) if a.get_ref().0 >= 180.0 => {
+                return Err(at(
+                    Some(a.span()),
+                    format!(
+                        "cone_half_angle_deg must be below 180, got {}",
+                        a.get_ref().0
+                    ),
+                ));
+            }
+            (Some(a), None) => Spread::Cone {
+                half_angle: a.get_ref().0.to_radians(),
+                rays,
+            },
+            (None, Some(r)) => Spread::Bundle {
+                radius: r.get_ref().0,
+                rays,
+            },
+            (None, None) if rays > 1 => {
+                return Err(at(
+                    self.rays.map(|r| r.span()),
+                    format!(
+                        "rays = {rays} needs cone_half_angle_deg or bundle_radius to spread them"
+                    ),
+                ));
+            }
+            (None, None) => Spread::Single,
+        };
+        Ok(RayTrajectory {
+            name: self
+                .name
+                .unwrap_or_else(|| format!("ray_trajectory {number}")),
+            start: self.start.0,
+            direction: self.direction.0,
+            spread,
+            radius: self.radius.map_or(0.005, |r| r.0),
+            colour: self.colour.map_or(Colour::new(1.0, 0.0, 0.0), |c| c.0),
+            max_interactions,
+            joints: self.joints.unwrap_or(true),
+        })
+    }
+}
