@@ -760,6 +760,9 @@ fn every_example_scene_checks_and_renders() {
         "ray-flipping-window.toml",
         "lorentz-window.toml",
         "teleporting-window.toml",
+        "trajectories-glass-ball.toml",
+        "trajectories-metatoy-window.toml",
+        "trajectories-luneburg-focus.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),
@@ -795,6 +798,15 @@ fn every_example_scene_checks_and_renders() {
             "{}",
             file.display()
         );
+        if std::fs::read_to_string(file)
+            .unwrap()
+            .contains("[[ray_trajectory]]")
+        {
+            let run = timbre(dir.path(), &["trace", "--json", path_str(file)]);
+            run.assert_success();
+            let json: serde_json::Value = serde_json::from_str(&run.stdout).unwrap();
+            assert!(!json["rays"].as_array().unwrap().is_empty());
+        }
     }
 }
 

@@ -31,7 +31,8 @@ pub fn tubes(sources: &[RayTrajectory], trajectories: &[Trajectory]) -> Vec<Scen
             .collect();
         for (k, segment) in segments.iter().enumerate() {
             if let Some(c) = segment {
-                objects.push(object(Shape::Cylinder(c.clone())));
+                let pieces = pieces(c, source.radius);
+                objects.extend(pieces.into_iter().map(|p| object(Shape::Cylinder(p))));
             }
             let joint = segment.is_some() && segments.get(k + 1).is_some_and(Option::is_some);
             if source.joints && joint {
@@ -43,4 +44,25 @@ pub fn tubes(sources: &[RayTrajectory], trajectories: &[Trajectory]) -> Vec<Scen
         }
     }
     objects
+}
+
+/// `c` cut into pieces whose lengths double from 64 radii at its start, so that each piece's
+/// bounding box is not much larger than the piece: a long thin diagonal cylinder (a ray drawn
+/// to the sky) would otherwise have a box most camera rays pass through.
+fn pieces(c: &Cylinder, radius: f64) -> Vec<Cylinder> {
+    let (start, end) = (c.start(), c.end());
+    let length = start.distance(end);
+    let mut cuts = vec![0.0];
+    let mut next = 64.0 * radius;
+    while next < 0.75 * length {
+        cuts.push(next);
+        next *= 2.0;
+    }
+    cuts.push(length);
+    cuts.windows(2)
+        .filter_map(|w| {
+            let at = |d: f64| start.lerp(end, d / length);
+            Cylinder::new(at(w[0]), at(w[1]), radius).ok()
+        })
+        .collect()
 }

@@ -1,9 +1,8 @@
 //! The `[[ray_trajectory]]` tables: rays traced through the scene and drawn into it.
 
-use std::num::NonZeroU32;
 use std::ops::Range;
 
-use serde::Deserialize;
+use serde::{Deserialize, Deserializer, de};
 use toml::Spanned;
 
 use super::values::{Direction, Positive, Rgb, Vector};
@@ -15,6 +14,22 @@ use crate::trajectories::{RayTrajectory, Spread};
 /// picture can show, few enough that the cylinders fit in memory.
 const MAX_COUNT: u32 = 10_000;
 
+/// A number of rays or interactions: a whole number from 1 to [`MAX_COUNT`].
+#[derive(Debug, Clone, Copy)]
+struct Count(u32);
+
+impl<'de> Deserialize<'de> for Count {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let n = i64::deserialize(d)?;
+        match u32::try_from(n) {
+            Ok(n) if (1..=MAX_COUNT).contains(&n) => Ok(Count(n)),
+            _ => Err(de::Error::custom(format!(
+                "expected a whole number from 1 to {MAX_COUNT}, got {n}"
+            ))),
+        }
+    }
+}
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TrajectorySection {
@@ -23,10 +38,10 @@ pub(super) struct TrajectorySection {
     direction: Direction,
     cone_half_angle_deg: Option<Spanned<Positive>>,
     bundle_radius: Option<Spanned<Positive>>,
-    rays: Option<Spanned<NonZeroU32>>,
+    rays: Option<Spanned<Count>>,
     radius: Option<Positive>,
     colour: Option<Rgb>,
-    max_interactions: Option<Spanned<NonZeroU32>>,
+    max_interactions: Option<Count>,
     joints: Option<bool>,
 }
 
@@ -44,19 +59,7 @@ impl TrajectorySection {
                 format!("ray_trajectory: {m}"),
             )
         };
-        let count = |n: &Option<Spanned<NonZeroU32>>, key: &str| match n {
-            Some(n) if n.get_ref().get() > MAX_COUNT => Err(at(
-                Some(n.span()),
-                format!("{key} must be at most {MAX_COUNT}, got {}", n.get_ref()),
-            )),
-            Some(n) => Ok(n.get_ref().get()),
-            None => Ok(1),
-        };
-        let rays = count(&self.rays, "rays")?;
-        let max_interactions = match self.max_interactions {
-            None => 100,
-            some => count(&some, "max_interactions")?,
-        };
+        let rays = self.rays.as_ref().map_or(1, |r| r.get_ref().0);
         let spread = match (self.cone_half_angle_deg, self.bundle_radius) {
             (Some(a), Some(_)) => {
                 return Err(at(
@@ -100,7 +103,7 @@ impl TrajectorySection {
             spread,
             radius: self.radius.map_or(0.005, |r| r.0),
             colour: self.colour.map_or(Colour::new(1.0, 0.0, 0.0), |c| c.0),
-            max_interactions,
+            max_interactions: self.max_interactions.map_or(100, |m| m.0),
             joints: self.joints.unwrap_or(true),
         })
     }
