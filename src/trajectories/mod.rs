@@ -203,6 +203,22 @@ mod tests {
     }
 
     #[test]
+    fn azimuths_start_from_the_x_axis_or_from_y_for_rays_along_x() {
+        let first = |direction: DVec3| {
+            let mut s = source(Spread::Cone {
+                half_angle: 0.5,
+                rays: 3,
+            });
+            s.direction = direction.normalize();
+            s.rays()[0].direction - s.direction * 0.5f64.cos()
+        };
+        let across = first(DVec3::new(0.0, 1.0, 1.0));
+        assert!((across.normalize() - DVec3::X).length() < 1e-12, "{across}");
+        let across = first(DVec3::NEG_X);
+        assert!((across.normalize() - DVec3::Y).length() < 1e-12, "{across}");
+    }
+
+    #[test]
     fn bundle_rays_are_parallel_and_fill_the_disc_evenly() {
         let rays = source(Spread::Bundle {
             radius: 2.0,

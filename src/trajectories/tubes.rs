@@ -66,3 +66,114 @@ fn pieces(c: &Cylinder, radius: f64) -> Vec<Cylinder> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::surfaces::Colour;
+    use crate::trajectories::{End, Point, Spread};
+
+    fn source(joints: bool) -> RayTrajectory {
+        RayTrajectory {
+            name: "t".into(),
+            start: DVec3::ZERO,
+            direction: DVec3::Z,
+            spread: Spread::Single,
+            radius: 0.01,
+            colour: Colour::Y,
+            max_interactions: 10,
+            joints,
+        }
+    }
+
+    /// Points at `positions`, arriving as `arrivals` say (the first is the start).
+    fn path(positions: &[DVec3], arrivals: &[Arrival]) -> Trajectory {
+        Trajectory {
+            source: 0,
+            ray: 0,
+            points: positions
+                .iter()
+                .zip(arrivals)
+                .map(|(&position, &arrival)| Point {
+                    position,
+                    arrival,
+                    object: None,
+                })
+                .collect(),
+            end: End::Absorbed,
+            direction: DVec3::Z,
+        }
+    }
+
+    fn shapes(objects: &[SceneObject]) -> (Vec<Cylinder>, Vec<Sphere>) {
+        let mut cylinders = Vec::new();
+        let mut spheres = Vec::new();
+        for o in objects {
+            assert_eq!(o.surface, Surface::ConstantColour(Colour::Y));
+            assert!(!o.shadow_throwing);
+            match &o.shape {
+                Shape::Cylinder(c) => cylinders.push(c.clone()),
+                Shape::Sphere(s) => spheres.push(s.clone()),
+                s => panic!("unexpected {s:?}"),
+            }
+        }
+        (cylinders, spheres)
+    }
+
+    #[test]
+    fn a_bent_path_is_two_cylinders_with_a_sphere_at_the_joint() {
+        let corner = DVec3::new(0.0, 0.0, 0.5);
+        let t = path(
+            &[DVec3::ZERO, corner, DVec3::new(0.5, 0.0, 0.5)],
+            &[Arrival::Start, Arrival::Straight, Arrival::Straight],
+        );
+        let (cylinders, spheres) = shapes(&tubes(&[source(true)], std::slice::from_ref(&t)));
+        assert_eq!(cylinders.len(), 2);
+        assert_eq!(
+            (cylinders[0].start(), cylinders[0].end()),
+            (DVec3::ZERO, corner)
+        );
+        assert_eq!(spheres.len(), 1);
+        assert_eq!((spheres[0].centre(), spheres[0].radius()), (corner, 0.01));
+        let (_, spheres) = shapes(&tubes(&[source(false)], &[t]));
+        assert!(spheres.is_empty(), "joints = false");
+    }
+
+    #[test]
+    fn nothing_is_drawn_into_a_teleported_point() {
+        let t = path(
+            &[
+                DVec3::ZERO,
+                DVec3::Z * 0.5,
+                DVec3::new(5.0, 0.0, 0.0),
+                DVec3::X * 5.5,
+            ],
+            &[
+                Arrival::Start,
+                Arrival::Straight,
+                Arrival::Teleported,
+                Arrival::Straight,
+            ],
+        );
+        let (cylinders, spheres) = shapes(&tubes(&[source(true)], &[t]));
+        assert_eq!(cylinders.len(), 2, "before and after the jump only");
+        assert!(spheres.is_empty(), "no joint at either end of the jump");
+    }
+
+    #[test]
+    fn long_segments_are_cut_into_doubling_pieces_end_to_end() {
+        let end = DVec3::new(1e4, 0.0, 1e4);
+        let c = Cylinder::new(DVec3::ZERO, end, 0.01).unwrap();
+        let p = pieces(&c, 0.01);
+        assert!(p.len() > 10 && p.len() < 30, "{} pieces", p.len());
+        assert_eq!(p[0].start(), DVec3::ZERO);
+        assert!(p.last().unwrap().end().distance(end) < 1e-9);
+        for w in p.windows(2) {
+            assert_eq!(w[0].end(), w[1].start());
+        }
+        let short = Cylinder::new(DVec3::ZERO, DVec3::Z * 0.5, 0.01).unwrap();
+        assert_eq!(pieces(&short, 0.01).len(), 1);
+    }
+}
