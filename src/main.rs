@@ -14,7 +14,7 @@ use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
-use timbre::scene::{ReferenceFrame, Scene, SceneDescription};
+use timbre::scene::{BuildError, ReferenceFrame, Scene, SceneDescription};
 use timbre::stereo::{Stereo, render_stereo};
 use timbre::trajectories::{self, Trajectory};
 
@@ -167,6 +167,15 @@ fn in_file(scene: Option<&Path>, message: String) -> String {
     }
 }
 
+/// A scene that could not be built: Embree's failures are ours, too many trajectory points the
+/// file's.
+fn unbuildable(scene: Option<&Path>, e: BuildError) -> Failure {
+    match e {
+        BuildError::Embree(e) => internal(e),
+        e => bad_input(in_file(scene, e.to_string())),
+    }
+}
+
 /// A spinner saying what is going on (loading meshes, building the BVH can take seconds), on a
 /// terminal only.
 fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
@@ -246,7 +255,8 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     .map_err(internal)?;
     let building = Instant::now();
     let waiting = spinner(args.quiet, "building the BVH");
-    let scene = Scene::build(&device, &description).map_err(internal)?;
+    let scene =
+        Scene::build(&device, &description).map_err(|e| unbuildable(args.scene.as_deref(), e))?;
     waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
 
@@ -418,7 +428,8 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
         )));
     }
     let device = Device::new("").map_err(internal)?;
-    let traced = trajectories::trace(&device, &description).map_err(internal)?;
+    let traced =
+        trajectories::trace(&device, &description).map_err(|e| unbuildable(Some(scene), e))?;
     let names = |t: &Trajectory| &description.trajectories[t.source].name;
     let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
     if json {

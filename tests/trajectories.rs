@@ -1818,3 +1818,160 @@ fn trace_json_lists_the_same_paths_as_the_library() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Edge cases of the laws and limits
+// ---------------------------------------------------------------------------------------------
+
+/// The b → 0 limit of an integrated Eaton lens: a ray aimed at the singular centre runs into the
+/// centre and straight back out of the point where it entered (a crossing, not a reflection).
+#[test]
+fn a_ray_aimed_at_an_integrated_eaton_centre_goes_there_and_back() {
+    let text = r#"studio = "none"
+[[object]]
+name = "lens"
+shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
+surface = { type = "eaton-lens", method = "integration" }
+[[ray_trajectory]]
+start = [0, 0, 2]
+direction = [0, 0, 1]
+"#;
+    let (d, traced) = trace_text(text);
+    let lens = index_of(&d, "lens");
+    let p = &traced[0].points;
+    assert_eq!(p.len(), 5, "{p:?}");
+    assert_eq!(
+        (p[1].position, p[1].object),
+        (DVec3::new(0.0, 0.0, 4.0), Some(lens))
+    );
+    assert_eq!(
+        (p[2].position, p[2].arrival),
+        (DVec3::new(0.0, 0.0, 5.0), Arrival::Curved)
+    );
+    assert_eq!((p[3].arrival, p[3].object), (Arrival::Curved, Some(lens)));
+    assert!(close_vec(p[3].position, p[1].position, 1e-12));
+    assert_eq!(traced[0].direction, DVec3::NEG_Z);
+    assert_eq!(traced[0].end, End::Escaped);
+}
+
+/// A lens whose surface index is below the surroundings' reflects rays beyond the critical
+/// angle off its surface, at a point: no crossing.
+#[test]
+fn a_lens_surface_beyond_the_critical_angle_reflects_at_a_point() {
+    let text = r#"studio = "none"
+[[object]]
+name = "lens"
+shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
+surface = { type = "luneburg-lens", index_ratio = 0.5 }
+[[ray_trajectory]]
+start = [0.95, 0, 0]
+direction = [0, 0, 1]
+"#;
+    let (d, traced) = trace_text(text);
+    let t = &traced[0];
+    assert_eq!(t.points.len(), 3, "{:?}", t.points);
+    let hit = t.points[1].position;
+    assert_eq!(
+        (t.points[1].arrival, t.points[1].object),
+        (Arrival::Straight, Some(index_of(&d, "lens")))
+    );
+    // sin θ = 0.95 > 0.5: totally reflected, the mirror image in the surface.
+    let n = (hit - DVec3::new(0.0, 0.0, 5.0)).normalize();
+    assert!(
+        close_vec(t.direction, reflect(DVec3::Z, n), 1e-12),
+        "{}",
+        t.direction
+    );
+    assert_eq!(t.points[2].arrival, Arrival::Straight);
+}
+
+/// Meshes redirect trajectories like analytic shapes: a 45° mirror made of two triangles.
+#[test]
+fn a_mesh_mirror_at_45_degrees_turns_the_ray_by_a_right_angle() {
+    let text = r#"studio = "none"
+[[object]]
+name = "mesh mirror"
+shape = { type = "triangle_mesh", vertices = [[-1, -1, 4], [1, -1, 4], [1, 1, 6], [-1, 1, 6]], triangles = [[0, 1, 2], [0, 2, 3]] }
+surface = { type = "mirror" }
+[[ray_trajectory]]
+start = [0.2, 0.1, 0]
+direction = [0, 0, 1]
+"#;
+    let (d, traced) = trace_text(text);
+    let t = &traced[0];
+    assert_eq!(t.points[1].object, Some(index_of(&d, "mesh mirror")));
+    assert!(close_vec(
+        t.points[1].position,
+        DVec3::new(0.2, 0.1, 5.1),
+        1e-6
+    ));
+    assert!(close_vec(t.direction, DVec3::Y, 1e-6), "{}", t.direction);
+}
+
+/// A mirror that reflects nothing ends the trajectory there: no light goes on.
+#[test]
+fn a_coefficient_of_zero_loses_the_ray() {
+    let mirror = |r: &str| {
+        format!(
+            "studio = \"none\"\n[[object]]\nshape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 1, -1] }}\nsurface = {{ type = \"mirror\", reflection = {r} }}\n[[ray_trajectory]]\nstart = [0, 0, 0]\ndirection = [0, 0, 1]\n"
+        )
+    };
+    let (_, traced) = trace_text(&mirror("0"));
+    assert_eq!((traced[0].end, traced[0].points.len()), (End::Lost, 2));
+    let (_, traced) = trace_text(&mirror("0.01"));
+    assert_eq!((traced[0].end, traced[0].points.len()), (End::Escaped, 3));
+}
+
+#[test]
+fn too_many_points_in_all_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = r#"studio = "none"
+[[object]]
+shape = { type = "plane", point = [0, 0, 0], normal = [0, 0, 1] }
+surface = { type = "mirror" }
+[[object]]
+shape = { type = "plane", point = [0, 0, 1], normal = [0, 0, -1] }
+surface = { type = "mirror" }
+[[ray_trajectory]]
+start = [0, 0, 0.5]
+direction = [0.1, 0, 1]
+bundle_radius = 0.1
+rays = 100
+max_interactions = 10000
+"#;
+    let path = write(dir.path(), "mirrors.toml", text);
+    for command in ["trace", "render"] {
+        timbre(dir.path(), &[command, path_str(&path)]).assert_bad_input(&[
+            "mirrors.toml",
+            "more than 500000 points",
+            "max_interactions",
+        ]);
+    }
+    let fewer = text.replace("rays = 100", "rays = 40");
+    let path = write(dir.path(), "fewer.toml", fewer);
+    timbre(dir.path(), &["trace", path_str(&path)]).assert_success();
+}
+
+#[test]
+fn a_trajectory_starting_inside_a_lens_is_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = r#"studio = "none"
+[[object]]
+name = "ball lens"
+shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
+surface = { type = "luneburg-lens" }
+[[ray_trajectory]]
+name = "inner ray"
+start = [0, 0.5, 5]
+direction = [0, 0, 1]
+"#;
+    let path = write(dir.path(), "inside.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_success();
+    assert!(
+        run.stderr
+            .contains("ray trajectory 'inner ray': starts inside lens 'ball lens'"),
+        "{}",
+        run.stderr
+    );
+}

@@ -6,6 +6,7 @@ pub mod lights;
 pub mod studio;
 
 use glam::DVec3;
+use thiserror::Error;
 
 use crate::cameras::{Camera, Focus, Shutter};
 use crate::embree::{Device, EmbreeError};
@@ -15,6 +16,18 @@ use crate::stereo::Stereo;
 use crate::surfaces::Surface;
 use crate::trajectories::{self, RayTrajectory};
 use lights::Lights;
+
+/// Why a scene could not be built.
+#[derive(Debug, Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Embree(#[from] EmbreeError),
+    #[error(
+        "the ray trajectories have more than {} points in all; give fewer rays or a smaller max_interactions",
+        trajectories::MAX_POINTS
+    )]
+    TooManyTrajectoryPoints,
+}
 
 /// The inertial frame an object is at rest in (§2.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -136,10 +149,18 @@ impl SceneDescription {
             }))
             .chain(seam)
             .chain(self.trajectories_miss_camera_frame())
-            .chain(self.lenses_around_camera().map(|name| {
+            .chain(self.lenses_around(self.camera.position()).map(|name| {
                 format!(
                     "camera: inside lens '{name}', whose surface rays from inside pass unchanged"
                 )
+            }))
+            .chain(self.trajectories.iter().flat_map(|t| {
+                self.lenses_around(t.start).map(|name| {
+                    format!(
+                        "ray trajectory '{}': starts inside lens '{name}', whose surface rays from inside pass unchanged",
+                        t.name
+                    )
+                })
             }))
             .collect()
     }
@@ -152,14 +173,12 @@ impl SceneDescription {
             .filter(|o| o.frame == ReferenceFrame::Camera)
             .count();
         (moving > 0 && !self.trajectories.is_empty()).then(|| {
-            format!("ray trajectories are traced through the scene-frame objects only; they do not meet the {moving} objects moving with the camera")
+            format!("ray trajectories are traced through the scene-frame objects only; they do not meet the objects moving with the camera ({moving})")
         })
     }
 
-    /// Names of the lenses (§3) whose sphere, or one of whose array copies, contains the
-    /// camera.
-    fn lenses_around_camera(&self) -> impl Iterator<Item = &str> {
-        let camera = self.camera.position();
+    /// Names of the lenses (§3) whose sphere, or one of whose array copies, contains `point`.
+    fn lenses_around(&self, point: DVec3) -> impl Iterator<Item = &str> {
         self.objects.iter().enumerate().filter_map(move |(i, o)| {
             let (Surface::Lens(_), Shape::Sphere(s)) = (&o.surface, &o.shape) else {
                 return None;
@@ -171,7 +190,7 @@ impl SceneDescription {
                 .map_or(&[DVec3::ZERO][..], |a| &a.offsets);
             offsets
                 .iter()
-                .any(|&offset| camera.distance(s.centre() + offset) < s.radius())
+                .any(|&offset| point.distance(s.centre() + offset) < s.radius())
                 .then_some(o.name.as_str())
         })
     }
@@ -209,7 +228,7 @@ pub struct Scene {
 impl Scene {
     /// Builds the BVHs for the objects of a description, with its ray trajectories traced
     /// and drawn in.
-    pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, EmbreeError> {
+    pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, BuildError> {
         if !description.trajectories.is_empty() {
             let traced = trajectories::trace(device, description)?;
             let mut drawn = description.clone();

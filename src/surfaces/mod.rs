@@ -36,8 +36,9 @@ pub type Colour = glam::DVec3;
 pub enum Redirection {
     /// The ray ends here: the surface has a colour of its own (lit, or emitting).
     Ends,
-    /// No light comes back along the ray: a ray trapped in a lens, or teleported beyond the
-    /// destination's edge.
+    /// No light comes back along the ray: a ray trapped in a lens, teleported beyond the
+    /// destination's edge, or meeting a law on a shape it does not work on (a lens that is not
+    /// a sphere, a hologram that is not flat; `timbre check` warns of these).
     Lost,
     /// The ray leaves the hit point in unit `direction`, carrying `factor` of the light.
     Leaves { direction: DVec3, factor: f64 },

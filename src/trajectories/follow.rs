@@ -2,44 +2,46 @@
 
 use glam::DVec3;
 
-use super::{Arrival, End, Point, Trajectory};
-use crate::embree::{Device, EmbreeError};
+use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory};
+use crate::embree::Device;
 use crate::math::Ray;
 use crate::render::Interaction;
-use crate::scene::{ReferenceFrame, SceneDescription, World};
+use crate::scene::{BuildError, ReferenceFrame, SceneDescription, World};
 use crate::surfaces::Redirection;
 
 /// Follows every ray of every trajectory source of `description` through its scene-frame
-/// objects, in order of the sources and their rays.
+/// objects, in order of the sources and their rays. All of them together may have at most
+/// [`MAX_POINTS`] points.
 pub fn trace(
     device: &Device,
     description: &SceneDescription,
-) -> Result<Vec<Trajectory>, EmbreeError> {
+) -> Result<Vec<Trajectory>, BuildError> {
     let world = World::build(device, description, ReferenceFrame::Scene)?;
     let bounds = description.summary().bounds;
-    Ok(description
-        .trajectories
-        .iter()
-        .enumerate()
-        .flat_map(|(s, source)| {
-            let world = &world;
-            source.rays().into_iter().enumerate().map(move |(k, ray)| {
-                let mut t = follow(world, ray, source.max_interactions, bounds);
-                (t.source, t.ray) = (s, k);
-                t
-            })
-        })
-        .collect())
+    let mut budget = MAX_POINTS;
+    let mut traced = Vec::new();
+    for (s, source) in description.trajectories.iter().enumerate() {
+        for (k, ray) in source.rays().into_iter().enumerate() {
+            let mut t = follow(&world, ray, source.max_interactions, bounds);
+            budget = budget
+                .checked_sub(t.points.len())
+                .ok_or(BuildError::TooManyTrajectoryPoints)?;
+            (t.source, t.ray) = (s, k);
+            traced.push(t);
+        }
+    }
+    Ok(traced)
 }
 
 /// The path of `ray` through `world` (its source and index set to 0), until it is absorbed or
 /// lost, meets nothing more, or has met `max_interactions` surfaces. Every surface applies its
 /// law exactly as the renderer does to a ray arriving the same way; for the reciprocal laws
-/// that is the path light takes.
+/// that is the path light takes. A law that passes on none of the light (a coefficient of 0)
+/// loses the ray.
 ///
 /// A ray that meets nothing is drawn on to beyond the farthest corner of `bounds` (the bounding
 /// box of the scene's bounded objects) from its last point, and at least a distance of 1.
-pub fn follow(
+fn follow(
     world: &World,
     ray: Ray,
     max_interactions: u32,
@@ -83,13 +85,19 @@ pub fn follow(
             arrival: Arrival::Straight,
             object: Some(object.id),
         });
-        let mut inside = Vec::new();
+        let mut inside = Thinned::default();
         let redirection = object.surface.redirect(&at, &mut |p| inside.push(p));
         (ray, t_min) = match redirection {
             Redirection::Ends => return finish(points, End::Absorbed, ray.direction),
             Redirection::Lost => return finish(points, End::Lost, ray.direction),
+            Redirection::Leaves { factor: 0.0, .. }
+            | Redirection::Crosses { factor: 0.0, .. }
+            | Redirection::Jumps { factor: 0.0, .. } => {
+                return finish(points, End::Lost, ray.direction);
+            }
             Redirection::Leaves { direction, .. } => at.leaving(direction),
             Redirection::Crosses { exit, .. } => {
+                let inside = inside.points;
                 let arrival = if inside.is_empty() {
                     Arrival::Chord
                 } else {
@@ -118,6 +126,42 @@ pub fn follow(
         };
     }
     finish(points, End::MaxInteractions, ray.direction)
+}
+
+/// The points of a curved path, evenly thinned to at most [`MAX_CURVED_POINTS`]: every
+/// `stride`th point shown is kept, and when the list fills, every other one is dropped and the
+/// stride doubles.
+struct Thinned {
+    points: Vec<DVec3>,
+    stride: usize,
+    shown: usize,
+}
+
+impl Default for Thinned {
+    fn default() -> Thinned {
+        Thinned {
+            points: Vec::new(),
+            stride: 1,
+            shown: 0,
+        }
+    }
+}
+
+impl Thinned {
+    fn push(&mut self, p: DVec3) {
+        if self.shown % self.stride == 0 {
+            self.points.push(p);
+            if self.points.len() == MAX_CURVED_POINTS {
+                let mut k = 0;
+                self.points.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                self.stride *= 2;
+            }
+        }
+        self.shown += 1;
+    }
 }
 
 /// How far to draw a ray that meets nothing from `p`: beyond the farthest corner of `bounds`,

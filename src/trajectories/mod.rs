@@ -10,13 +10,21 @@
 mod follow;
 mod tubes;
 
-pub use follow::{follow, trace};
+pub use follow::trace;
 pub use tubes::tubes;
 
 use glam::DVec3;
 
 use crate::math::{Frame, Ray};
 use crate::surfaces::Colour;
+
+/// Most points the trajectories of one scene may have in all (some 25 MB of points and, drawn,
+/// about a gigabyte of cylinders at worst).
+pub const MAX_POINTS: usize = 500_000;
+
+/// Most points kept of a curved path through one lens, evenly spaced along the integrator's
+/// steps (a typical crossing takes about a hundred).
+pub const MAX_CURVED_POINTS: usize = 256;
 
 /// A source of ray trajectories in a scene (`[[ray_trajectory]]`).
 #[derive(Debug, Clone, PartialEq)]
@@ -48,7 +56,8 @@ pub enum Spread {
     Cone { half_angle: f64, rays: u32 },
     /// `rays` rays parallel to the direction through the disc of radius `radius` centred on the
     /// start and perpendicular to the direction, spread evenly over its area (Vogel's sunflower
-    /// pattern: ray k at distance radius·√((k + ½)/rays) from the centre, k golden angles round).
+    /// pattern: ray k at distance radius·√((k + ½)/rays) from the centre, k golden angles round);
+    /// a bundle of one ray is the central ray.
     Bundle { radius: f64, rays: u32 },
 }
 
@@ -64,7 +73,7 @@ impl RayTrajectory {
         let f = Frame::from_normal_and_u(d, reference);
         let across = |angle: f64| angle.cos() * f.u + angle.sin() * f.v;
         match self.spread {
-            Spread::Single => vec![Ray::new(self.start, d, 0.0)],
+            Spread::Single | Spread::Bundle { rays: 1, .. } => vec![Ray::new(self.start, d, 0.0)],
             Spread::Cone { half_angle, rays } => (0..rays)
                 .map(|k| {
                     let azimuth = std::f64::consts::TAU * k as f64 / rays as f64;
@@ -97,8 +106,8 @@ pub struct Trajectory {
     /// paths inside gradient-index lenses), in order.
     pub points: Vec<Point>,
     pub end: End,
-    /// The unit direction the ray travels in after its last point (for an absorbed ray, the
-    /// direction it arrived in).
+    /// The unit direction the ray travels in after its last point (for an absorbed or lost ray,
+    /// the direction it arrived in).
     pub direction: DVec3,
 }
 

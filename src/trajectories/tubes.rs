@@ -46,24 +46,27 @@ pub fn tubes(sources: &[RayTrajectory], trajectories: &[Trajectory]) -> Vec<Scen
     objects
 }
 
-/// `c` cut into pieces whose lengths double from 64 radii at its start, so that each piece's
-/// bounding box is not much larger than the piece: a long thin diagonal cylinder (a ray drawn
-/// to the sky) would otherwise have a box most camera rays pass through.
+/// `c` cut into pieces whose lengths double from each end towards the middle, starting at 64
+/// radii (or 2⁻²⁰ of the length, so there are at most 41 pieces), so that each piece's bounding
+/// box is not much larger than the piece: a long thin diagonal cylinder (a ray drawn to the
+/// sky) would otherwise have a box that most camera rays pass through.
 fn pieces(c: &Cylinder, radius: f64) -> Vec<Cylinder> {
     let (start, end) = (c.start(), c.end());
     let length = start.distance(end);
-    let mut cuts = vec![0.0];
-    let mut next = 64.0 * radius;
-    while next < 0.75 * length {
-        cuts.push(next);
+    let mut from_start = Vec::new();
+    let mut next = (64.0 * radius).max(length / 1048576.0);
+    while next < 0.5 * length {
+        from_start.push(next);
         next *= 2.0;
     }
-    cuts.push(length);
+    let cuts: Vec<f64> = std::iter::once(0.0)
+        .chain(from_start.iter().copied())
+        .chain(from_start.iter().rev().map(|d| length - d))
+        .chain(std::iter::once(length))
+        .collect();
+    let at = |d: f64| start.lerp(end, d / length);
     cuts.windows(2)
-        .filter_map(|w| {
-            let at = |d: f64| start.lerp(end, d / length);
-            Cylinder::new(at(w[0]), at(w[1]), radius).ok()
-        })
+        .filter_map(|w| Cylinder::new(at(w[0]), at(w[1]), radius).ok())
         .collect()
 }
 
@@ -167,12 +170,20 @@ mod tests {
         let end = DVec3::new(1e4, 0.0, 1e4);
         let c = Cylinder::new(DVec3::ZERO, end, 0.01).unwrap();
         let p = pieces(&c, 0.01);
-        assert!(p.len() > 10 && p.len() < 30, "{} pieces", p.len());
+        assert!(p.len() > 20 && p.len() <= 41, "{} pieces", p.len());
         assert_eq!(p[0].start(), DVec3::ZERO);
         assert!(p.last().unwrap().end().distance(end) < 1e-9);
         for w in p.windows(2) {
             assert_eq!(w[0].end(), w[1].start());
         }
+        let length = |c: &Cylinder| c.start().distance(c.end());
+        let (first, last) = (length(&p[0]), length(p.last().unwrap()));
+        assert!(
+            (first - last).abs() < 1e-9 && (first - 0.64).abs() < 1e-12,
+            "{first}"
+        );
+        let thin = Cylinder::new(DVec3::ZERO, end, 1e-300).unwrap();
+        assert!(pieces(&thin, 1e-300).len() <= 41);
         let short = Cylinder::new(DVec3::ZERO, DVec3::Z * 0.5, 0.01).unwrap();
         assert_eq!(pieces(&short, 0.01).len(), 1);
     }

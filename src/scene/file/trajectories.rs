@@ -11,7 +11,8 @@ use crate::surfaces::Colour;
 use crate::trajectories::{RayTrajectory, Spread};
 
 /// Most rays one source may start, and most surfaces one ray may meet: far more than a
-/// picture can show, few enough that the cylinders fit in memory.
+/// picture can show. The points of all trajectories together are limited by
+/// [`crate::trajectories::MAX_POINTS`] when they are traced.
 const MAX_COUNT: u32 = 10_000;
 
 /// A number of rays or interactions: a whole number from 1 to [`MAX_COUNT`].

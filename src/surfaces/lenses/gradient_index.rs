@@ -56,8 +56,8 @@ impl GradientIndex {
     }
 
     /// [`Self::transmit`], showing `inside` the points of the curved path between entry and
-    /// exit, in order (the integrator's accepted steps; none for the straight grazing and
-    /// radial cases).
+    /// exit, in order: the integrator's accepted steps; the centre for a ray aimed at a
+    /// singular centre; none for a grazing ray, which crosses straight.
     pub fn transmit_observed(
         &self,
         lens: &Sphere,
@@ -76,6 +76,8 @@ impl GradientIndex {
             && x0.cross(d).length() < RADIAL
         {
             let across = x0 - x0.dot(d) * d;
+            // The limiting orbit runs into the centre and back out.
+            inside(centre);
             return Some(Exit {
                 point: p - 2.0 * radius * across,
                 direction: -d,

@@ -205,9 +205,11 @@ impl Lens {
     }
 
     /// Where a ray meeting the lens goes on. A ray that meets it from inside (a camera or
-    /// light path starting within the sphere) passes the surface as if it were transparent; a
-    /// ray reflected off the surface (§3.3) leaves from the hit point; an integrated ray that
-    /// never leaves is lost. `inside` is shown an integrated ray's curved path.
+    /// light path starting within the sphere) passes the surface as if it were transparent. A
+    /// ray that leaves where it arrived after no time (reflected off the surface, §3.3, or
+    /// aimed exactly at the centre of a closed-form Eaton lens) leaves from the hit point; an
+    /// integrated ray that never leaves is lost. `inside` is shown an integrated ray's curved
+    /// path.
     pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection {
         let d = at.ray.direction;
         let factor = self.transmission_coefficient;
@@ -225,7 +227,7 @@ impl Lens {
             };
         }
         match self.emerge_observed(&lens, p, d, inside) {
-            Some(exit) if exit.point == p => Redirection::Leaves {
+            Some(exit) if exit.point == p && exit.path == 0.0 => Redirection::Leaves {
                 direction: exit.direction,
                 factor,
             },
