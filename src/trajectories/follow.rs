@@ -149,7 +149,7 @@ impl Default for Thinned {
 
 impl Thinned {
     fn push(&mut self, p: DVec3) {
-        if self.shown % self.stride == 0 {
+        if self.shown.is_multiple_of(self.stride) {
             self.points.push(p);
             if self.points.len() == MAX_CURVED_POINTS {
                 let mut k = 0;
@@ -170,4 +170,32 @@ fn escape_length(bounds: Option<(DVec3, DVec3)>, p: DVec3) -> f64 {
     bounds
         .map_or(0.0, |(lo, hi)| (p - lo).abs().max((p - hi).abs()).length())
         .max(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_curved_paths_are_thinned_evenly_in_order() {
+        for shown in [10, 255, 256, 1000, 100_000] {
+            let mut path = Thinned::default();
+            for k in 0..shown {
+                path.push(DVec3::new(k as f64, 0.0, 0.0));
+            }
+            let kept: Vec<f64> = path.points.iter().map(|p| p.x).collect();
+            assert!(kept.len() < MAX_CURVED_POINTS, "{shown}: {}", kept.len());
+            assert!(kept.len() >= (MAX_CURVED_POINTS / 2).min(shown), "{shown}");
+            assert_eq!(kept[0], 0.0);
+            let stride = kept.get(1).map_or(1.0, |x| x - kept[0]);
+            assert!(
+                kept.windows(2).all(|w| w[1] - w[0] == stride),
+                "{shown}: uneven {kept:?}"
+            );
+            assert!(
+                shown as f64 - kept.last().unwrap() <= stride,
+                "{shown}: tail"
+            );
+        }
+    }
 }
