@@ -1975,3 +1975,35 @@ direction = [0, 0, 1]
         run.stderr
     );
 }
+
+/// Trajectories are traced before any is drawn: a ray crossing another's path passes its
+/// cylinder, both in the recorded points and in the scene that is rendered.
+#[test]
+fn trajectories_do_not_meet_each_others_cylinders() {
+    let text = r#"studio = "none"
+[[ray_trajectory]]
+name = "across"
+start = [-3, 0, 5]
+direction = [1, 0, 0]
+radius = 0.2
+[[ray_trajectory]]
+name = "along"
+start = [0, 0, 0]
+direction = [0, 0, 1]
+"#;
+    let (d, traced) = trace_text(text);
+    for t in &traced {
+        assert_eq!((t.end, t.points.len()), (End::Escaped, 2), "{t:?}");
+    }
+    let scene = timbre::scene::Scene::build(common::rays::device(), &d).unwrap();
+    let drawn = &scene.scene_frame;
+    assert!(drawn.objects.iter().any(|o| o.name == "across"));
+    let hit = drawn
+        .geometry
+        .nearest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY)
+        .expect("the drawn scene has the cylinders");
+    assert_eq!(
+        drawn.objects[hit.object].name, "along",
+        "its own cylinder first"
+    );
+}
