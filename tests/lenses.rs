@@ -49,16 +49,16 @@ type ClosedForm = fn(&Sphere, DVec3, DVec3) -> Exit;
 /// The largest error seen by a test, checked against its tolerance at the end (NaN counts as
 /// infinitely wrong).
 struct Worst {
-    what: &'static str,
+    what: String,
     tolerance: f64,
     value: f64,
     case: String,
 }
 
 impl Worst {
-    fn new(what: &'static str, tolerance: f64) -> Worst {
+    fn new(what: impl Into<String>, tolerance: f64) -> Worst {
         Worst {
-            what,
+            what: what.into(),
             tolerance,
             value: 0.0,
             case: String::new(),
@@ -83,6 +83,49 @@ impl Worst {
             self.case
         );
     }
+}
+
+/// The worst errors of closed-form and integrated exits against the expected exit point (in
+/// units of R) and direction.
+struct Exits {
+    closed: [Worst; 2],
+    integrated: [Worst; 2],
+}
+
+impl Exits {
+    /// Trackers named after what is compared: closed forms within 1e-12 R of the point and
+    /// `closed_direction` of the direction, integrated rays within 1e-6 of both.
+    fn new(point: &str, direction: &str, closed_direction: f64) -> Exits {
+        Exits {
+            closed: [
+                Worst::new(format!("closed form: {point}"), 1e-12),
+                Worst::new(format!("closed form: {direction}"), closed_direction),
+            ],
+            integrated: [
+                Worst::new(format!("integrated: {point}"), 1e-6),
+                Worst::new(format!("integrated: {direction}"), 1e-6),
+            ],
+        }
+    }
+
+    fn check(self) {
+        check_all(self.closed);
+        check_all(self.integrated);
+    }
+}
+
+/// Records how far `exit` leaves from `point` (relative to the lens radius) and in what
+/// direction from `direction`.
+fn see_exit(
+    worst: &mut [Worst; 2],
+    exit: &Exit,
+    lens: &Sphere,
+    point: DVec3,
+    direction: DVec3,
+    case: impl Fn() -> String,
+) {
+    worst[0].see(exit.point.distance(point) / lens.radius(), &case);
+    worst[1].see(exit.direction.distance(direction), case);
 }
 
 /// Checks every tracker.
@@ -253,10 +296,7 @@ fn table_1_ggrin_parameters_give_luneburg_eaton_and_maxwell_fisheye() {
 fn luneburg_focuses_a_parallel_bundle_onto_the_far_surface() {
     let mut rng = Rng(2);
     let law = integrated(IndexProfile::Luneburg);
-    let mut closed_point = Worst::new("closed form: distance from C + R d / R", 1e-12);
-    let mut closed_direction = Worst::new("closed form: direction vs C - P", 1e-12);
-    let mut integrated_point = Worst::new("integrated: distance from C + R d / R", 1e-6);
-    let mut integrated_direction = Worst::new("integrated: direction vs C - P", 1e-6);
+    let mut errors = Exits::new("distance from C + R d / R", "direction vs C - P", 1e-12);
     for _ in 0..4 {
         let lens = random_lens(&mut rng);
         let d = rng.unit();
@@ -265,31 +305,21 @@ fn luneburg_focuses_a_parallel_bundle_onto_the_far_surface() {
             // Leaving the focus, each ray heads back along the line it came in on the far side
             // of the centre (Fig. 7(a)).
             let towards = (lens.centre() - p).normalize();
-            let c = luneburg(&lens, p, d);
             let case = || format!("lens {lens:?}, p {p}, d {d}");
-            closed_point.see(c.point.distance(focus) / lens.radius(), case);
-            closed_direction.see(c.direction.distance(towards), case);
+            let c = luneburg(&lens, p, d);
+            see_exit(&mut errors.closed, &c, &lens, focus, towards, case);
             let i = law.transmit(&lens, p, d).expect("the ray leaves");
-            integrated_point.see(i.point.distance(focus) / lens.radius(), case);
-            integrated_direction.see(i.direction.distance(towards), case);
+            see_exit(&mut errors.integrated, &i, &lens, focus, towards, case);
         }
     }
-    check_all([
-        closed_point,
-        closed_direction,
-        integrated_point,
-        integrated_direction,
-    ]);
+    errors.check();
 }
 
 #[test]
 fn eaton_lens_retro_reflects() {
     let mut rng = Rng(3);
     let law = integrated(IndexProfile::Eaton);
-    let mut closed_point = Worst::new("closed form: exit point vs mirrored entry / R", 1e-12);
-    let mut closed_direction = Worst::new("closed form: direction vs -d", 1e-15);
-    let mut integrated_point = Worst::new("integrated: exit point vs mirrored entry / R", 1e-6);
-    let mut integrated_direction = Worst::new("integrated: direction vs -d", 1e-6);
+    let mut errors = Exits::new("exit point vs mirrored entry / R", "direction vs -d", 1e-15);
     for k in 0..400 {
         let lens = random_lens(&mut rng);
         let (p, d) = random_entry(&mut rng, &lens);
@@ -299,30 +329,20 @@ fn eaton_lens_retro_reflects() {
         let mirrored = lens.centre() + 2.0 * x.dot(d) * d - x;
         let case = || format!("lens {lens:?}, p {p}, d {d}");
         let c = eaton(&lens, p, d);
-        closed_point.see(c.point.distance(mirrored) / lens.radius(), case);
-        closed_direction.see(c.direction.distance(-d), case);
+        see_exit(&mut errors.closed, &c, &lens, mirrored, -d, case);
         if k % 2 == 0 {
             let i = law.transmit(&lens, p, d).expect("the ray leaves");
-            integrated_point.see(i.point.distance(mirrored) / lens.radius(), case);
-            integrated_direction.see(i.direction.distance(-d), case);
+            see_exit(&mut errors.integrated, &i, &lens, mirrored, -d, case);
         }
     }
-    check_all([
-        closed_point,
-        closed_direction,
-        integrated_point,
-        integrated_direction,
-    ]);
+    errors.check();
 }
 
 #[test]
 fn maxwell_fisheye_lens_images_every_surface_point_onto_its_antipode() {
     let mut rng = Rng(4);
     let law = integrated(IndexProfile::MaxwellFisheye);
-    let mut closed_point = Worst::new("closed form: distance from antipode / R", 1e-12);
-    let mut closed_direction = Worst::new("closed form: direction vs Eq 10", 1e-12);
-    let mut integrated_point = Worst::new("integrated: distance from antipode / R", 1e-6);
-    let mut integrated_direction = Worst::new("integrated: direction vs Eq 10", 1e-6);
+    let mut errors = Exits::new("distance from antipode / R", "direction vs Eq 10", 1e-12);
     for _ in 0..6 {
         let lens = random_lens(&mut rng);
         let u = rng.unit();
@@ -337,19 +357,12 @@ fn maxwell_fisheye_lens_images_every_surface_point_onto_its_antipode() {
             let expected = (2.0 * d.dot(-u) * (-u) - d).normalize();
             let case = || format!("lens {lens:?}, p {p}, d {d}");
             let c = maxwell_fisheye(&lens, p, d);
-            closed_point.see(c.point.distance(antipode) / lens.radius(), case);
-            closed_direction.see(c.direction.distance(expected), case);
+            see_exit(&mut errors.closed, &c, &lens, antipode, expected, case);
             let i = law.transmit(&lens, p, d).expect("the ray leaves");
-            integrated_point.see(i.point.distance(antipode) / lens.radius(), case);
-            integrated_direction.see(i.direction.distance(expected), case);
+            see_exit(&mut errors.integrated, &i, &lens, antipode, expected, case);
         }
     }
-    check_all([
-        closed_point,
-        closed_direction,
-        integrated_point,
-        integrated_direction,
-    ]);
+    errors.check();
 }
 
 // ---------------------------------------------------------------------------------------------
