@@ -11,7 +11,8 @@ use glam::DVec3;
 use timbre::embree::Device;
 use timbre::geometry::{ObjectArray, SceneGeometry, Shape, Sphere};
 use timbre::mesh::{self, PlyEncoding, generate};
-use timbre::render::{RenderSettings, render};
+use timbre::render::render;
+use timbre::scene::RenderSettings;
 use timbre::scene::Scene;
 use timbre::scene::file::parse;
 

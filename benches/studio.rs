@@ -10,7 +10,8 @@ use glam::DVec3;
 use timbre::cameras::{Camera, Focus};
 use timbre::embree::Device;
 use timbre::math::LorentzTransform;
-use timbre::render::{RenderSettings, render};
+use timbre::render::render;
+use timbre::scene::RenderSettings;
 use timbre::scene::Scene;
 use timbre::scene::studio::Studio;
 

@@ -11,12 +11,13 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use timbre::cameras::{Focus, Projection};
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
+use timbre::math::ReferenceFrame;
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
-use timbre::scene::{BuildError, ReferenceFrame, Scene, SceneDescription};
-use timbre::stereo::{Stereo, render_stereo};
-use timbre::trajectories::{self, Trajectory};
+use timbre::scene::{Scene, SceneDescription, Stereo};
+use timbre::stereo::{self, render_stereo};
+use timbre::trajectories::{self, Trajectory, TrajectoryError};
 
 /// `println!` that ignores a closed standard output (`timbre check s.toml | head -1`) instead
 /// of panicking.
@@ -167,11 +168,11 @@ fn in_file(scene: Option<&Path>, message: String) -> String {
     }
 }
 
-/// A scene that could not be built: Embree's failures are ours, too many trajectory points the
+/// Trajectories that could not be traced: Embree's failures are ours, too many points the
 /// file's.
-fn unbuildable(scene: Option<&Path>, e: BuildError) -> Failure {
+fn untraceable(scene: Option<&Path>, e: TrajectoryError) -> Failure {
     match e {
-        BuildError::Embree(e) => internal(e),
+        TrajectoryError::Embree(e) => internal(e),
         e => bad_input(in_file(scene, e.to_string())),
     }
 }
@@ -224,8 +225,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         );
     }
     let stereo = &description.stereo;
-    stereo
-        .validate(settings.width, settings.height)
+    stereo::validate(stereo, settings.width, settings.height)
         .map_err(|m| bad_input(in_file(args.scene.as_deref(), m)))?;
     if settings.aovs && *stereo != Stereo::Mono {
         return Err(bad_input(
@@ -255,8 +255,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     .map_err(internal)?;
     let building = Instant::now();
     let waiting = spinner(args.quiet, "building the BVH");
-    let scene =
-        Scene::build(&device, &description).map_err(|e| unbuildable(args.scene.as_deref(), e))?;
+    let drawn = trajectories::draw(&device, &description)
+        .map_err(|e| untraceable(args.scene.as_deref(), e))?;
+    let scene = Scene::build(&device, &drawn).map_err(internal)?;
     waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
 
@@ -323,9 +324,7 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
         eprintln!("timbre: warning: {w}");
     }
     let r = &description.render;
-    description
-        .stereo
-        .validate(r.width, r.height)
+    stereo::validate(&description.stereo, r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
     let s = description.summary();
     out!("{}: OK", scene.display());
@@ -429,7 +428,7 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
     }
     let device = Device::new("").map_err(internal)?;
     let traced =
-        trajectories::trace(&device, &description).map_err(|e| unbuildable(Some(scene), e))?;
+        trajectories::trace(&device, &description).map_err(|e| untraceable(Some(scene), e))?;
     let names = |t: &Trajectory| &description.trajectories[t.source].name;
     let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
     if json {

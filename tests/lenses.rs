@@ -35,11 +35,17 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use glam::DVec3;
 
 use common::rng::Rng;
+use timbre::geometry::Exit;
 use timbre::geometry::Sphere;
-use timbre::surfaces::lenses::{
-    Exit, Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile, eaton, luneburg,
-    maxwell_fisheye,
-};
+use timbre::surfaces::lenses::Ggrin;
+use timbre::surfaces::lenses::GradientIndex;
+use timbre::surfaces::lenses::IndexProfile;
+use timbre::surfaces::lenses::Lens;
+use timbre::surfaces::lenses::LensLaw;
+use timbre::surfaces::lenses::TableProfile;
+use timbre::surfaces::lenses::eaton;
+use timbre::surfaces::lenses::luneburg;
+use timbre::surfaces::lenses::maxwell_fisheye;
 
 const INF: f64 = f64::INFINITY;
 

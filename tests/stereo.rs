@@ -7,10 +7,14 @@ use common::cli::{decode_png, location, path_str, timbre, write};
 use glam::DVec3;
 use tempfile::TempDir;
 use timbre::embree::Device;
+use timbre::math::Colour;
 use timbre::render::{Image, render};
+use timbre::scene::Packing;
+use timbre::scene::Stereo;
 use timbre::scene::{Scene, SceneDescription, file};
-use timbre::stereo::{Packing, Stereo, anaglyph, pack, render_stereo};
-use timbre::surfaces::Colour;
+use timbre::stereo::pack;
+use timbre::stereo::render_stereo;
+use timbre::stereo::{anaglyph, autostereogram};
 
 fn image(width: u32, height: u32, f: impl Fn(u32, u32) -> Colour) -> Image {
     Image {
@@ -147,7 +151,7 @@ fn an_autostereogram_repeats_with_the_separation_of_each_depth() {
         [[object]]\nshape = { type = \"plane\", point = [0, 0, 20], normal = [0, 0, -1] }\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n\
         [[object]]\nshape = { type = \"sphere\", centre = [0, 0, 10], radius = 1 }\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n";
     let d = file::parse(text, "a.toml").unwrap();
-    let options = d.stereo.autostereogram(300, 3).unwrap();
+    let options = autostereogram(&d.stereo, 300, 3).unwrap();
     let device = Device::new("").unwrap();
     let scene = Scene::build(&device, &d).unwrap();
     let image = render_stereo(&scene, &d.camera, &d.render, &d.stereo, &|_| {}).unwrap();
@@ -422,7 +426,7 @@ fn objects_and_groups_can_move_with_the_camera() {
         "f.toml",
     )
     .unwrap();
-    use timbre::scene::ReferenceFrame::{Camera, Scene as SceneFrame};
+    use timbre::math::ReferenceFrame::{Camera, Scene as SceneFrame};
     let frames: Vec<_> = d
         .objects
         .iter()

@@ -7,7 +7,9 @@
 use glam::DVec3;
 use timbre::embree::Device;
 use timbre::io::to_rgb8;
-use timbre::render::{Image, RenderSettings, render};
+use timbre::render::Image;
+use timbre::render::render;
+use timbre::scene::RenderSettings;
 use timbre::scene::Scene;
 use timbre::scene::studio::Studio;
 

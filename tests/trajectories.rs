@@ -1995,7 +1995,17 @@ direction = [0, 0, 1]
     for t in &traced {
         assert_eq!((t.end, t.points.len()), (End::Escaped, 2), "{t:?}");
     }
-    let scene = timbre::scene::Scene::build(common::rays::device(), &d).unwrap();
+    let device = common::rays::device();
+    assert!(
+        matches!(
+            timbre::scene::Scene::build(device, &d),
+            Err(timbre::scene::BuildError::UndrawnTrajectories)
+        ),
+        "a scene is not built with its trajectories left out"
+    );
+    let drawn = trajectories::draw(device, &d).unwrap();
+    assert!(drawn.trajectories.is_empty());
+    let scene = timbre::scene::Scene::build(device, &drawn).unwrap();
     let drawn = &scene.scene_frame;
     assert!(drawn.objects.iter().any(|o| o.name == "across"));
     let hit = drawn

@@ -5,6 +5,7 @@ use criterion::{BenchmarkGroup, Throughput};
 use timbre::embree::Device;
 use timbre::render::render;
 use timbre::scene::{Scene, SceneDescription};
+use timbre::trajectories;
 
 /// Benchmarks rendering `d` with its own settings as `name` in `group`, with the frame's rays
 /// (counted by one render first) as the throughput.
@@ -14,7 +15,8 @@ pub fn bench_frame(
     name: &str,
     d: &SceneDescription,
 ) {
-    let scene = Scene::build(device, d).expect("scene");
+    let drawn = trajectories::draw(device, d).expect("trajectories");
+    let scene = Scene::build(device, &drawn).expect("scene");
     let rays = render(&scene, &d.camera, &d.render, &|_| {})
         .expect("render")
         .rays;

@@ -9,6 +9,16 @@
 
 use glam::DVec3;
 
+/// The inertial frame an object is at rest in (§2.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReferenceFrame {
+    /// At rest in the scene (everything, usually).
+    Scene,
+    /// Moving with the camera: the camera-frame scene, which rays meet before they are
+    /// Lorentz-transformed into the scene frame.
+    Camera,
+}
+
 /// A boost by velocity β (|β| < 1): the scene-frame description of camera-frame events.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LorentzTransform {

@@ -1,13 +1,18 @@
-//! f64 geometry shared by the whole renderer: rays, surface frames, quadratic roots, Lorentz
-//! transformations, and the ODE integrator of the gradient-index lenses.
+//! f64 geometry shared by the whole renderer: rays, surface frames, colours, quadratic roots,
+//! Lorentz transformations and reference frames, keyed random numbers, and the ODE integrator
+//! of the gradient-index lenses. The bottom layer: it imports nothing else of timbre.
 
 mod dormand_prince;
 mod lorentz;
+pub mod random;
 
 pub use dormand_prince::DormandPrince;
-pub use lorentz::LorentzTransform;
+pub use lorentz::{LorentzTransform, ReferenceFrame};
 
 use glam::DVec3;
+
+/// Linear RGB radiance, unbounded (clamped only when written to PNG).
+pub type Colour = glam::DVec3;
 
 /// A light ray traced backwards from the camera. `time` is the time (c = 1) at which the ray
 /// passes through `origin`; tracing backwards, the time decreases by the distance travelled.

@@ -1,35 +1,6 @@
-//! Deterministic sample positions: each (seed, pixel, sample) has its own random stream, so an
-//! image does not depend on the order in which pixels are rendered or the number of threads.
+//! Sample positions within a pixel.
 
-/// SplitMix64's finaliser: a bijective 64-bit mix with good avalanche.
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-/// Uniform number in [0, 1) for dimension `dim` of sample `sample` of pixel (x, y).
-pub fn uniform(seed: u64, x: u32, y: u32, sample: u32, dim: u32) -> f64 {
-    let key = [
-        ((x as u64) << 32) | y as u64,
-        ((sample as u64) << 32) | dim as u64,
-    ];
-    unit(seed, &key)
-}
-
-/// Uniform number in [0, 1) for dimension `dim` determined by `key` alone: reproducible noise
-/// for surface laws with random errors, keyed by the ray.
-pub fn uniform_keyed(key: &[u64], dim: u32) -> f64 {
-    unit(dim as u64, key)
-}
-
-/// `seed` and `key` hashed to [0, 1).
-fn unit(seed: u64, key: &[u64]) -> f64 {
-    let h = key
-        .iter()
-        .fold(mix(seed ^ 0x9e37_79b9_7f4a_7c15), |h, &k| mix(h ^ mix(k)));
-    (h >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-}
+use crate::math::random::uniform;
 
 /// Offset of a sample from its pixel centre, in pixels. A single sample per pixel goes
 /// through the centre (as in TIM); more samples are jittered uniformly over the pixel.
@@ -46,16 +17,6 @@ pub fn pixel_offset(seed: u64, x: u32, y: u32, sample: u32, spp: u32) -> (f64, f
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn streams_are_uniform_and_distinct() {
-        let n = 100_000;
-        let mean: f64 = (0..n).map(|s| uniform(7, 3, 4, s, 0)).sum::<f64>() / n as f64;
-        assert!((mean - 0.5).abs() < 0.005, "{mean}");
-        assert_ne!(uniform(7, 3, 4, 0, 0), uniform(7, 4, 3, 0, 0));
-        assert_ne!(uniform(7, 3, 4, 0, 0), uniform(8, 3, 4, 0, 0));
-        assert_eq!(uniform(7, 3, 4, 9, 1), uniform(7, 3, 4, 9, 1));
-    }
 
     #[test]
     fn offsets_stay_inside_the_pixel() {

@@ -2,26 +2,13 @@
 
 use std::cell::Cell;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
 use crate::cameras::Camera;
-use crate::geometry::{Hit, SceneGeometry, Shape};
-use crate::math::{Frame, Ray};
-use crate::scene::{ReferenceFrame, Scene, World, lights::Lights};
-use crate::surfaces::{Colour, lenses::Exit};
-
-/// Where a ray meets a surface, with everything a surface law needs.
-pub struct Interaction<'a> {
-    /// The incoming ray, in the frame of the object it meets.
-    pub ray: Ray,
-    /// The object, array element, primitive and distance along the ray.
-    pub hit: Hit,
-    pub geometry: &'a SceneGeometry,
-    /// The frame the object is at rest in; rays leaving it are traced on in that frame.
-    pub frame: ReferenceFrame,
-    /// Remaining trace levels of the incoming ray.
-    pub level: u32,
-}
+use crate::geometry::{Hit, Interaction};
+use crate::math::{Colour, Ray, ReferenceFrame};
+use crate::scene::{Scene, World};
+use crate::surfaces::Redirection;
 
 /// The first surface a ray meets, in whichever frame it is at rest.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,74 +19,13 @@ pub struct Found {
     pub hit: Hit,
 }
 
-impl Interaction<'_> {
-    pub fn point(&self) -> DVec3 {
-        self.ray.at(self.hit.t)
-    }
-
-    /// The surface frame at the hit (w the outward normal), of the array element that was hit,
-    /// as seen by this ray (see [`SceneGeometry::frame_along`]); computed on demand, since some
-    /// surfaces (constant colour) never need it.
-    pub fn frame(&self) -> Frame {
-        self.geometry
-            .frame_along(&self.hit, self.point(), self.ray.direction)
-    }
-
-    /// The element's surface coordinates at the hit.
-    pub fn coordinates(&self) -> DVec2 {
-        self.geometry.coordinates(&self.hit, self.point())
-    }
-
-    /// Cartesian coordinates of the hit on a flat surface (see [`Shape::plane_coordinates`]).
-    pub fn plane_coordinates(&self) -> Option<DVec2> {
-        self.geometry.plane_coordinates(&self.hit, self.point())
-    }
-
-    /// Smallest distance a ray leaving this point must travel before it may hit anything, so
-    /// it does not re-hit its own surface through rounding. Analytic shapes are intersected
-    /// exactly in f64; Embree tests triangles in f32, hence the larger margin.
-    pub fn self_hit_margin(&self) -> f64 {
-        self.self_hit_margin_at(self.point())
-    }
-
-    /// The ray leaving the interaction point in `direction`, and the distance it must travel
-    /// before it may hit anything.
-    pub fn leaving(&self, direction: DVec3) -> (Ray, f64) {
-        (
-            self.ray.continued(self.hit.t, direction),
-            self.self_hit_margin(),
-        )
-    }
-
-    /// The ray leaving the interaction's object where `exit` says (a lens's exit, a
-    /// teleporter's destination), and the distance it must travel before it may hit anything.
-    /// It left `exit.path` earlier than it arrived.
-    pub fn emerging(&self, exit: Exit) -> (Ray, f64) {
-        let ray = Ray::new(
-            exit.point,
-            exit.direction,
-            self.ray.time - self.hit.t - exit.path,
-        );
-        (ray, self.self_hit_margin_at(exit.point))
-    }
-
-    /// [`Self::self_hit_margin`] for a ray leaving the same object at another point `p`.
-    fn self_hit_margin_at(&self, p: DVec3) -> f64 {
-        let scale = 1.0 + p.abs().max_element();
-        match self.geometry.shapes()[self.hit.object] {
-            Shape::TriangleMesh(_) => 1e-5 * scale,
-            _ => 1e-9 * scale,
-        }
-    }
-}
-
 /// Traces rays through one scene; one per worker (it counts the rays it traces).
 ///
 /// Rays start in the camera frame. They meet the camera-frame objects first; a ray that leaves
 /// the last of them (or misses them all) is Lorentz-transformed into the scene frame there
 /// (§2.1) and traced on through the scene-frame objects, never returning to the camera frame.
 pub struct Tracer<'a> {
-    scene: &'a Scene,
+    pub(super) scene: &'a Scene,
     camera: &'a Camera,
     shadows: bool,
     rays: Cell<u64>,
@@ -118,10 +44,6 @@ impl<'a> Tracer<'a> {
     /// Rays (nearest-hit and shadow) traced so far.
     pub fn rays_traced(&self) -> u64 {
         self.rays.get()
-    }
-
-    pub fn lights(&self) -> &Lights {
-        &self.scene.lights
     }
 
     /// The colour seen along `ray`, in `frame` (hits closer than `t_min` are ignored), with
@@ -237,17 +159,27 @@ impl<'a> Tracer<'a> {
             .expect("rays meet only objects that exist")
     }
 
-    /// The colour of the surface found, seen along its ray.
+    /// The colour of the surface found, seen along its ray: the surface's law says where the
+    /// ray goes on ([`Redirection`]), and the continued ray is traced one level down in the
+    /// frame of the object it leaves.
     pub fn shade(&self, found: &Found, level: u32) -> Colour {
         let world = self.world(found.frame);
         let at = Interaction {
             ray: found.ray,
             hit: found.hit,
             geometry: &world.geometry,
-            frame: found.frame,
-            level,
         };
-        world.objects[found.hit.object].surface.colour(self, &at)
+        let surface = &world.objects[found.hit.object].surface;
+        let on = |(ray, margin)| self.trace(&ray, margin, level - 1, found.frame);
+        match surface.redirect(&at, &mut |_| {}) {
+            Redirection::Lit(coloured) => self.lit(coloured, &at),
+            Redirection::Emits(colour) => colour,
+            Redirection::Lost => Colour::ZERO,
+            Redirection::Leaves { direction, factor } => factor * on(at.leaving(direction)),
+            Redirection::Crosses { exit, factor } | Redirection::Jumps { exit, factor } => {
+                factor * on(at.emerging(exit))
+            }
+        }
     }
 
     /// The description index and outward normal of the surface found.
@@ -260,25 +192,10 @@ impl<'a> Tracer<'a> {
         (world.objects[found.hit.object].id, normal)
     }
 
-    /// The colour seen along the ray that leaves the interaction point in `direction`, one trace
-    /// level down, in the interaction's frame.
-    pub fn trace_from(&self, at: &Interaction, direction: DVec3) -> Colour {
-        let (ray, margin) = at.leaving(direction);
-        self.trace(&ray, margin, at.level - 1, at.frame)
-    }
-
-    /// The colour seen along the ray that leaves the interaction's object where `exit` says,
-    /// one trace level down, in the interaction's frame: for laws that move the ray through the
-    /// object (§3's lenses) or elsewhere (teleporting).
-    pub fn trace_emerging(&self, at: &Interaction, exit: Exit) -> Colour {
-        let (ray, margin) = at.emerging(exit);
-        self.trace(&ray, margin, at.level - 1, at.frame)
-    }
-
     /// Whether a shadow-throwing object at rest in the interaction's frame hides a light at
     /// `distance` in unit direction `l` from the interaction point (always false with shadows
     /// switched off).
-    pub fn shadowed(&self, at: &Interaction, l: DVec3, distance: f64) -> bool {
+    pub(super) fn shadowed(&self, at: &Interaction, l: DVec3, distance: f64) -> bool {
         if !self.shadows {
             return false;
         }

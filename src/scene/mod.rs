@@ -1,20 +1,26 @@
-//! Scenes: objects (shape + surface), lights, camera and render settings; the standard studio;
-//! the TOML scene-file format.
+//! Scenes as data: objects (shape + surface), lights, camera, render settings, stereo output
+//! and ray-trajectory sources; the standard studios; the TOML scene-file format; and the
+//! built scene ([`Scene`]: the objects in Embree's BVHs), which `render` traces.
 
 pub mod file;
 pub mod lights;
+mod ray_trajectory;
+pub mod settings;
+mod stereo;
 pub mod studio;
 
 use glam::DVec3;
 use thiserror::Error;
 
+pub use ray_trajectory::{RayTrajectory, Spread};
+pub use settings::RenderSettings;
+pub use stereo::{Packing, Stereo};
+
 use crate::cameras::{Camera, Focus, Shutter};
 use crate::embree::{Device, EmbreeError};
 use crate::geometry::{ObjectArray, SceneGeometry, Shape};
-use crate::render::RenderSettings;
-use crate::stereo::Stereo;
+use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
-use crate::trajectories::{self, RayTrajectory};
 use lights::Lights;
 
 /// Why a scene could not be built.
@@ -22,21 +28,12 @@ use lights::Lights;
 pub enum BuildError {
     #[error(transparent)]
     Embree(#[from] EmbreeError),
+    /// [`Scene::build`] takes objects only; `trajectories::draw` turns trajectories into
+    /// objects first.
     #[error(
-        "the ray trajectories have more than {} points in all; give fewer rays or a smaller max_interactions",
-        trajectories::MAX_POINTS
+        "the scene has ray trajectories that were not drawn (trajectories::draw) before it was built"
     )]
-    TooManyTrajectoryPoints,
-}
-
-/// The inertial frame an object is at rest in (§2.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ReferenceFrame {
-    /// At rest in the scene (everything, usually).
-    Scene,
-    /// Moving with the camera: the camera-frame scene, which rays meet before they are
-    /// Lorentz-transformed into the scene frame.
-    Camera,
+    UndrawnTrajectories,
 }
 
 /// A named shape with a surface property.
@@ -226,17 +223,11 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Builds the BVHs for the objects of a description, with its ray trajectories traced
-    /// and drawn in.
+    /// Builds the BVHs for the objects of a description. Ray trajectories must have been
+    /// drawn into it as objects first (`trajectories::draw`).
     pub fn build(device: &Device, description: &SceneDescription) -> Result<Scene, BuildError> {
         if !description.trajectories.is_empty() {
-            let traced = trajectories::trace(device, description)?;
-            let mut drawn = description.clone();
-            drawn
-                .objects
-                .extend(trajectories::tubes(&description.trajectories, &traced));
-            drawn.trajectories.clear();
-            return Scene::build(device, &drawn);
+            return Err(BuildError::UndrawnTrajectories);
         }
         let world = |frame| World::build(device, description, frame);
         let camera_frame = if description
@@ -279,7 +270,7 @@ impl Scene {
 impl World {
     /// The objects of `description` at rest in `frame`, in their order. Each array is
     /// restricted to its members in this frame, which stay contiguous.
-    pub(crate) fn build(
+    pub fn build(
         device: &Device,
         description: &SceneDescription,
         frame: ReferenceFrame,

@@ -4,13 +4,12 @@
 use glam::DVec3;
 
 use super::lights::{Lights, PointLight};
-use super::{ReferenceFrame, SceneDescription, SceneObject};
+use super::{RenderSettings, SceneDescription, SceneObject, Stereo};
 use crate::cameras::Camera;
 use crate::geometry::{Cylinder, Parallelogram, Plane, Shape, Sphere};
-use crate::render::RenderSettings;
-use crate::stereo::Stereo;
+use crate::math::{Colour, ReferenceFrame};
 use crate::surfaces::metatoys::RotationAxis;
-use crate::surfaces::{Chequerboard, Colour, Coloured, RayRotating, Surface};
+use crate::surfaces::{Chequerboard, Coloured, RayRotating, Surface};
 
 /// The backdrop a scene starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

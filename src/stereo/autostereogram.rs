@@ -38,8 +38,8 @@
 
 use rayon::prelude::*;
 
-use crate::render::uniform;
-use crate::surfaces::Colour;
+use crate::math::Colour;
+use crate::math::random::uniform;
 
 /// Options of a random-dot autostereogram.
 #[derive(Debug, Clone, PartialEq)]

@@ -12,129 +12,60 @@ use glam::DVec3;
 pub use autostereogram::Autostereogram;
 
 use crate::cameras::Camera;
-use crate::render::{Image, RenderError, RenderSettings, render};
-use crate::scene::Scene;
-use crate::surfaces::Colour;
+use crate::math::Colour;
+use crate::render::{Image, RenderError, render};
+use crate::scene::{Packing, RenderSettings, Scene, Stereo};
 
 /// Relative luminance of linear RGB (ITU-R BT.709).
 pub const LUMINANCE: Colour = Colour::new(0.2126, 0.7152, 0.0722);
 
-/// How the two views are put side by side or on top of each other in one image (HDMI 1.4a).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Packing {
-    /// Left view on the left, right view on the right.
-    SideBySide,
-    /// Left view on top, right view below.
-    TopBottom,
+/// Checks the output against the image size; the message says what is wrong.
+pub fn validate(stereo: &Stereo, width: u32, height: u32) -> Result<(), String> {
+    match stereo {
+        Stereo::FramePacking {
+            packing: Packing::SideBySide,
+            half: true,
+            ..
+        } if width % 2 == 1 => Err(format!(
+            "half-resolution side-by-side frame packing needs an even width, got {width}"
+        )),
+        Stereo::FramePacking {
+            packing: Packing::TopBottom,
+            half: true,
+            ..
+        } if height % 2 == 1 => Err(format!(
+            "half-resolution top-bottom frame packing needs an even height, got {height}"
+        )),
+        Stereo::Autostereogram {
+            eye_separation_px: None,
+            ..
+        } if width < 6 => Err(format!(
+            "an autostereogram needs an image at least 6 pixels wide, got {width}"
+        )),
+        Stereo::Autostereogram { .. } => autostereogram(stereo, width, 0)
+            .expect("an autostereogram")
+            .validate(width)
+            .map_err(|m| format!("autostereogram (eye_separation_px): {m}")),
+        _ => Ok(()),
+    }
 }
 
-/// What image to make of the scene.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub enum Stereo {
-    /// One view: the camera's.
-    #[default]
-    Mono,
-    /// Red-blue anaglyph: the left eye's luminance in red, the right eye's in blue. With
-    /// `colour`, a red-cyan colour anaglyph: red from the left eye, green and blue from the
-    /// right.
-    Anaglyph { eye_separation: DVec3, colour: bool },
-    /// Both views in one image. Full resolution doubles the width (side by side) or the height
-    /// (top and bottom); half resolution keeps the image size, each view squeezed to half by
-    /// averaging pairs of columns or rows of a full-resolution render.
-    FramePacking {
-        eye_separation: DVec3,
-        packing: Packing,
-        half: bool,
-    },
-    /// A random-dot autostereogram of the depth of the surfaces seen through the pixel
-    /// centres (see [`autostereogram`]). Depths (distances along the view direction) from
-    /// `near` to `far` span the depth range; nearer ones count as near, farther ones and misses
-    /// as far. Without `near` and `far`, the nearest depth seen and the median depth are used.
-    Autostereogram {
-        /// Eye separation in pixels; by default 2.5 inches at 72 dpi (180), at most a third
-        /// of the width.
-        eye_separation_px: Option<u32>,
-        depth_of_field: f64,
-        colour: bool,
-        near: Option<f64>,
-        far: Option<f64>,
-    },
-}
-
-impl Stereo {
-    /// The number of views rendered (for progress reports).
-    pub fn views(&self) -> u32 {
-        match self {
-            Stereo::Mono | Stereo::Autostereogram { .. } => 1,
-            Stereo::Anaglyph { .. } | Stereo::FramePacking { .. } => 2,
-        }
-    }
-
-    /// The scene-file name of the output (`camera.stereo`).
-    pub fn name(&self) -> &'static str {
-        match self {
-            Stereo::Mono => "none",
-            Stereo::Anaglyph { colour: false, .. } => "anaglyph",
-            Stereo::Anaglyph { colour: true, .. } => "colour-anaglyph",
-            Stereo::FramePacking { packing, half, .. } => match (packing, half) {
-                (Packing::SideBySide, false) => "side-by-side",
-                (Packing::SideBySide, true) => "side-by-side-half",
-                (Packing::TopBottom, false) => "top-bottom",
-                (Packing::TopBottom, true) => "top-bottom-half",
-            },
-            Stereo::Autostereogram { .. } => "autostereogram",
-        }
-    }
-
-    /// Checks the output against the image size; the message says what is wrong.
-    pub fn validate(&self, width: u32, height: u32) -> Result<(), String> {
-        match self {
-            Stereo::FramePacking {
-                packing: Packing::SideBySide,
-                half: true,
-                ..
-            } if width % 2 == 1 => Err(format!(
-                "half-resolution side-by-side frame packing needs an even width, got {width}"
-            )),
-            Stereo::FramePacking {
-                packing: Packing::TopBottom,
-                half: true,
-                ..
-            } if height % 2 == 1 => Err(format!(
-                "half-resolution top-bottom frame packing needs an even height, got {height}"
-            )),
-            Stereo::Autostereogram {
-                eye_separation_px: None,
-                ..
-            } if width < 6 => Err(format!(
-                "an autostereogram needs an image at least 6 pixels wide, got {width}"
-            )),
-            Stereo::Autostereogram { .. } => self
-                .autostereogram(width, 0)
-                .expect("an autostereogram")
-                .validate(width)
-                .map_err(|m| format!("autostereogram (eye_separation_px): {m}")),
-            _ => Ok(()),
-        }
-    }
-
-    /// The autostereogram options for an image `width` pixels wide, with random dots from
-    /// `seed`; `None` unless this is an autostereogram.
-    pub fn autostereogram(&self, width: u32, seed: u64) -> Option<Autostereogram> {
-        match *self {
-            Stereo::Autostereogram {
-                eye_separation_px,
-                depth_of_field,
-                colour,
-                ..
-            } => Some(Autostereogram {
-                eye_separation: eye_separation_px.unwrap_or(180.min(width / 3)),
-                depth_of_field,
-                seed,
-                colour,
-            }),
-            _ => None,
-        }
+/// The autostereogram options for an image `width` pixels wide, with random dots from
+/// `seed`; `None` unless this is an autostereogram.
+pub fn autostereogram(stereo: &Stereo, width: u32, seed: u64) -> Option<Autostereogram> {
+    match *stereo {
+        Stereo::Autostereogram {
+            eye_separation_px,
+            depth_of_field,
+            colour,
+            ..
+        } => Some(Autostereogram {
+            eye_separation: eye_separation_px.unwrap_or(180.min(width / 3)),
+            depth_of_field,
+            seed,
+            colour,
+        }),
+        _ => None,
     }
 }
 
@@ -179,9 +110,8 @@ pub fn render_stereo(
             };
             let image = render(scene, camera, &with_depth, progress)?;
             let depth = depth_map(&image, camera, *near, *far);
-            let options = stereo
-                .autostereogram(image.width, settings.seed)
-                .expect("an autostereogram");
+            let options =
+                autostereogram(stereo, image.width, settings.seed).expect("an autostereogram");
             Ok(Image {
                 pixels: options.render(&depth, image.width, image.height),
                 aovs: None,

@@ -1,7 +1,7 @@
 //! Chequerboard: two surfaces alternating on square tiles of the shape's surface coordinates.
 
 use super::Surface;
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chequerboard {
@@ -29,7 +29,7 @@ impl Chequerboard {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surfaces::Colour;
+    use crate::math::Colour;
 
     #[test]
     fn tiles_alternate_across_every_boundary() {

@@ -1,8 +1,7 @@
 //! Coloured surface, lit by the scene's lights: ambient × diffuse colour plus, for each point
-//! light, a two-sided Lambert term and a Phong specular term (see `scene::lights`).
+//! light, a two-sided Lambert term and a Phong specular term (shaded by `render::shading`).
 
-use super::Colour;
-use crate::render::{Interaction, Tracer};
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Coloured {
@@ -25,9 +24,5 @@ impl Coloured {
             diffuse,
             specular: Colour::ZERO,
         }
-    }
-
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        tracer.lights().illuminate(self, tracer, at)
     }
 }

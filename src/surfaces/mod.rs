@@ -1,6 +1,7 @@
 //! Surface properties: what happens to light where a ray meets a surface. One law per file;
-//! each says where the ray goes on ([`Redirection`]), which the renderer traces further and ray
-//! trajectories record, or gives the surface's own colour.
+//! each is a pure function from the incoming ray and the surface at the hit to where the ray
+//! goes on ([`Redirection`]), which the renderer traces further and ray trajectories record.
+//! Nothing here traces rays or shades: that is `render`'s.
 
 mod chequerboard;
 mod coloured;
@@ -23,19 +24,17 @@ pub use transparent::Transparent;
 
 use glam::DVec3;
 
-use crate::geometry::Shape;
-use crate::render::{Interaction, Tracer};
-use lenses::Exit;
-
-/// Linear RGB radiance, unbounded (clamped only when written to PNG).
-pub type Colour = glam::DVec3;
+use crate::geometry::{Exit, Interaction, Shape};
+use crate::math::Colour;
 
 /// What a surface's law does with a ray that meets it: the one place each law is applied, both
 /// by the renderer and by ray trajectories.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Redirection {
-    /// The ray ends here: the surface has a colour of its own (lit, or emitting).
-    Ends,
+pub enum Redirection<'a> {
+    /// The ray ends on a surface lit by the scene's lights, which the renderer shades.
+    Lit(&'a Coloured),
+    /// The ray ends on a surface that emits this colour whatever the lighting (TIM's sky).
+    Emits(Colour),
     /// No light comes back along the ray: a ray trapped in a lens, teleported beyond the
     /// destination's edge, or meeting a law on a shape it does not work on (a lens that is not
     /// a sphere, a hologram that is not flat; `timbre check` warns of these).
@@ -74,29 +73,12 @@ pub enum Surface {
 }
 
 impl Surface {
-    /// The colour seen along `at.ray` where it meets this surface.
-    pub fn colour(&self, tracer: &Tracer, at: &Interaction) -> Colour {
-        match self {
-            Surface::Coloured(s) => s.colour(tracer, at),
-            Surface::ConstantColour(c) => *c,
-            Surface::Chequerboard(s) => s.tile_at(at).colour(tracer, at),
-            _ => match self.redirect(at, &mut |_| {}) {
-                Redirection::Ends | Redirection::Lost => Colour::ZERO,
-                Redirection::Leaves { direction, factor } => {
-                    factor * tracer.trace_from(at, direction)
-                }
-                Redirection::Crosses { exit, factor } | Redirection::Jumps { exit, factor } => {
-                    factor * tracer.trace_emerging(at, exit)
-                }
-            },
-        }
-    }
-
     /// Where the ray `at.ray` goes on from this surface. `inside` is shown the points of the
     /// curved path of a ray integrated through a gradient-index lens, between entry and exit.
-    pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection {
+    pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection<'_> {
         match self {
-            Surface::Coloured(_) | Surface::ConstantColour(_) => Redirection::Ends,
+            Surface::Coloured(s) => Redirection::Lit(s),
+            Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
             Surface::Mirror(s) => s.redirect(at),
             Surface::Refractive(s) => s.redirect(at),

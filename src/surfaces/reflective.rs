@@ -3,7 +3,7 @@
 use glam::DVec3;
 
 use super::Redirection;
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {
@@ -17,7 +17,7 @@ pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 }
 
 impl Mirror {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: reflect(at.ray.direction, at.frame().w),
             factor: self.reflection_coefficient,

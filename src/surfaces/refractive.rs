@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::Redirection;
 use super::reflective::reflect;
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {
@@ -40,7 +40,7 @@ pub fn refract(d: DVec3, n: DVec3, index_ratio: f64) -> Option<DVec3> {
 }
 
 impl Refractive {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let d = at.ray.direction;
         let n = at.frame().w;
         Redirection::Leaves {

@@ -1,7 +1,7 @@
 //! Transparent pass-through: the ray continues undeviated, scaled by a transmission coefficient.
 
 use super::Redirection;
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {
@@ -10,7 +10,7 @@ pub struct Transparent {
 }
 
 impl Transparent {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: at.ray.direction,
             factor: self.transmission_coefficient,

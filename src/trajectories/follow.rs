@@ -2,11 +2,11 @@
 
 use glam::DVec3;
 
-use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory};
+use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory, TrajectoryError};
 use crate::embree::Device;
-use crate::math::Ray;
-use crate::render::Interaction;
-use crate::scene::{BuildError, ReferenceFrame, SceneDescription, World};
+use crate::geometry::Interaction;
+use crate::math::{Ray, ReferenceFrame};
+use crate::scene::{SceneDescription, World};
 use crate::surfaces::Redirection;
 
 /// Follows every ray of every trajectory source of `description` through its scene-frame
@@ -15,7 +15,7 @@ use crate::surfaces::Redirection;
 pub fn trace(
     device: &Device,
     description: &SceneDescription,
-) -> Result<Vec<Trajectory>, BuildError> {
+) -> Result<Vec<Trajectory>, TrajectoryError> {
     let world = World::build(device, description, ReferenceFrame::Scene)?;
     let bounds = description.summary().bounds;
     let mut budget = MAX_POINTS;
@@ -25,7 +25,7 @@ pub fn trace(
             let mut t = follow(&world, ray, source.max_interactions, bounds);
             budget = budget
                 .checked_sub(t.points.len())
-                .ok_or(BuildError::TooManyTrajectoryPoints)?;
+                .ok_or(TrajectoryError::TooManyPoints)?;
             (t.source, t.ray) = (s, k);
             traced.push(t);
         }
@@ -60,7 +60,7 @@ fn follow(
         direction,
     };
     let (mut ray, mut t_min) = (ray, 0.0);
-    for level in (1..=max_interactions).rev() {
+    for _ in 0..max_interactions {
         let Some(hit) = world
             .geometry
             .nearest(ray.origin, ray.direction, t_min, f64::INFINITY)
@@ -77,8 +77,6 @@ fn follow(
             ray,
             hit,
             geometry: &world.geometry,
-            frame: ReferenceFrame::Scene,
-            level,
         };
         points.push(Point {
             position: at.point(),
@@ -88,7 +86,9 @@ fn follow(
         let mut inside = Thinned::default();
         let redirection = object.surface.redirect(&at, &mut |p| inside.push(p));
         (ray, t_min) = match redirection {
-            Redirection::Ends => return finish(points, End::Absorbed, ray.direction),
+            Redirection::Lit(_) | Redirection::Emits(_) => {
+                return finish(points, End::Absorbed, ray.direction);
+            }
             Redirection::Lost => return finish(points, End::Lost, ray.direction),
             Redirection::Leaves { factor: 0.0, .. }
             | Redirection::Crosses { factor: 0.0, .. }

@@ -1,8 +1,9 @@
 //! Drawing trajectories: chains of thin capped cylinders, with spheres at the joints.
 
-use super::{Arrival, RayTrajectory, Trajectory};
+use super::{Arrival, Trajectory};
 use crate::geometry::{Cylinder, Shape, Sphere};
-use crate::scene::{ReferenceFrame, SceneObject};
+use crate::math::ReferenceFrame;
+use crate::scene::{RayTrajectory, SceneObject};
 use crate::surfaces::Surface;
 
 /// The objects that draw `trajectories` (traced from `sources`): a cylinder of the source's
@@ -75,8 +76,10 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::surfaces::Colour;
-    use crate::trajectories::{End, Point, Spread};
+    use crate::math::Colour;
+    use crate::scene::Spread;
+    use crate::trajectories::End;
+    use crate::trajectories::Point;
 
     fn source(joints: bool) -> RayTrajectory {
         RayTrajectory {

@@ -4,16 +4,19 @@ use timbre::embree::Device;
 use timbre::io::to_rgb8;
 use timbre::render::{Image, render};
 use timbre::scene::{Scene, SceneDescription, file};
+use timbre::trajectories;
 
 /// The scene of `text` (named "test.toml"), panicking with the error if it is rejected.
 pub fn parse(text: &str) -> SceneDescription {
     file::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}\nin:\n{text}"))
 }
 
-/// The picture of a scene description, with its own render settings.
+/// The picture of a scene description (its ray trajectories drawn in), with its own render
+/// settings.
 pub fn render_description(d: &SceneDescription) -> Image {
     let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, d).unwrap();
+    let drawn = trajectories::draw(&device, d).unwrap();
+    let scene = Scene::build(&device, &drawn).unwrap();
     render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
 }
 

@@ -14,7 +14,7 @@ use crate::cameras::{Camera, DEFAULT_FOCUS_DISTANCE, Focus, Projection, Shutter}
 use crate::geometry::Shape;
 use crate::math::LorentzTransform;
 use crate::scene::studio;
-use crate::stereo::{Packing, Stereo};
+use crate::scene::{Packing, Stereo};
 
 /// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
 /// file without a `[camera]`).

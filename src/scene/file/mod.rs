@@ -21,10 +21,11 @@ use serde::Deserialize;
 use thiserror::Error;
 use toml::Spanned;
 
+use super::SceneDescription;
 use super::lights::{Lights, PointLight};
 use super::studio::{self, Studio};
-use super::{ReferenceFrame, SceneDescription};
 use crate::geometry::{Shape, Transform};
+use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
 use camera::CameraSection;
 pub use overrides::Override;
@@ -458,7 +459,9 @@ fn link_teleporter(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surfaces::{Colour, Refractive, Surface};
+    use crate::math::Colour;
+    use crate::surfaces::Refractive;
+    use crate::surfaces::Surface;
 
     fn error(text: &str) -> String {
         parse(text, "s.toml").unwrap_err().to_string()

@@ -19,7 +19,8 @@ use super::surfaces::SurfaceSection;
 use super::values::{Finite, Vector};
 use super::{SceneFileError, Source};
 use crate::geometry::{ObjectArray, Transform};
-use crate::scene::{ReferenceFrame, SceneObject};
+use crate::math::ReferenceFrame;
+use crate::scene::SceneObject;
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.

@@ -9,11 +9,11 @@ use super::values::{
     Positive, Rgb, Vector, Vector2,
 };
 use crate::geometry::Shape;
-use crate::math::LorentzTransform;
+use crate::math::{Colour, LorentzTransform};
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
 use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
 use crate::surfaces::{
-    Chequerboard, Colour, Coloured, ConfocalLensletArrays, LorentzWindow, MetricInterface, Mirror,
+    Chequerboard, Coloured, ConfocalLensletArrays, LorentzWindow, MetricInterface, Mirror,
     PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive, Surface, Teleporting,
     Transparent,
 };

@@ -7,8 +7,8 @@ use toml::Spanned;
 
 use super::values::{Direction, Positive, Rgb, Vector};
 use super::{SceneFileError, Source};
-use crate::surfaces::Colour;
-use crate::trajectories::{RayTrajectory, Spread};
+use crate::math::Colour;
+use crate::scene::{RayTrajectory, Spread};
 
 /// Most rays one source may start, and most surfaces one ray may meet: far more than a
 /// picture can show. The points of all trajectories together are limited by

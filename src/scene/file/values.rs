@@ -5,7 +5,7 @@ use serde::{Deserialize, Deserializer, de};
 
 use glam::{DMat3, DVec2, DVec3};
 
-use crate::surfaces::Colour;
+use crate::math::Colour;
 
 /// Largest magnitude of any length or coordinate: far beyond any scene's scale, and small enough
 /// that products of a few such numbers (cross products, squared lengths) stay finite.

@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 
-use super::Exit;
+use crate::geometry::Exit;
 use crate::geometry::Sphere;
 
 #[derive(Debug, Clone, PartialEq)]

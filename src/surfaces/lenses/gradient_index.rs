@@ -11,7 +11,8 @@
 
 use glam::DVec3;
 
-use super::{Exit, IndexProfile};
+use super::IndexProfile;
+use crate::geometry::Exit;
 use crate::geometry::Sphere;
 use crate::math::DormandPrince;
 

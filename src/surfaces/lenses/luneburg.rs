@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::Exit;
+use crate::geometry::Exit;
 use crate::geometry::Sphere;
 
 /// The ray leaving the Luneburg lens `lens` after entering at `p` with direction `d`.

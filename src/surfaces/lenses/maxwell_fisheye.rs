@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::Exit;
+use crate::geometry::Exit;
 use crate::geometry::Sphere;
 
 /// The ray leaving the Maxwell-fisheye lens `lens` after entering at `p` with direction `d`.

@@ -23,33 +23,7 @@ pub use profile::{IndexProfile, TableProfile};
 use glam::DVec3;
 
 use super::{Redirection, reflect, refract};
-use crate::geometry::{Shape, Sphere};
-use crate::render::Interaction;
-
-/// Where and how a ray leaves a lens.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Exit {
-    /// On the lens surface.
-    pub point: DVec3,
-    /// Unit vector.
-    pub direction: DVec3,
-    /// The time the passage takes (c = 1): the optical path length ∫n ds for integrated
-    /// rays; for closed-form laws, which say nothing about the path inside, the straight
-    /// distance from entry to exit (TIM's equivalent length of vacuum).
-    pub path: f64,
-}
-
-impl Exit {
-    /// Leaving from `exit` in `direction` (normalised here) after entering at `entry`, timed
-    /// by the straight distance.
-    pub fn chord(entry: DVec3, exit: DVec3, direction: DVec3) -> Exit {
-        Exit {
-            point: exit,
-            direction: direction.normalize(),
-            path: entry.distance(exit),
-        }
-    }
-}
+use crate::geometry::{Exit, Interaction, Shape, Sphere};
 
 /// What a lens does between entry and exit.
 #[derive(Debug, Clone, PartialEq)]
@@ -210,7 +184,11 @@ impl Lens {
     /// aimed exactly at the centre of a closed-form Eaton lens) leaves from the hit point; an
     /// integrated ray that never leaves is lost. `inside` is shown an integrated ray's curved
     /// path.
-    pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection {
+    pub fn redirect(
+        &self,
+        at: &Interaction,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Redirection<'static> {
         let d = at.ray.direction;
         let factor = self.transmission_coefficient;
         let Shape::Sphere(sphere) = &at.geometry.shapes()[at.hit.object] else {

@@ -21,7 +21,7 @@
 use glam::{DVec2, DVec3};
 
 use super::{Basis, crosses, or_reflected};
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
@@ -84,7 +84,7 @@ impl Telescopelets {
 }
 
 impl ConfocalLensletArrays {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let frame = at.frame();
         let d = at.ray.direction;
         let out = Telescopelets::new(

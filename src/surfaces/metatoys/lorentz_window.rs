@@ -11,8 +11,8 @@
 
 use glam::DVec3;
 
+use crate::geometry::Interaction;
 use crate::math::LorentzTransform;
-use crate::render::Interaction;
 use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -29,7 +29,7 @@ impl LorentzWindow {
         self.boost.backwards_direction(d).normalize()
     }
 
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: self.direction(at.ray.direction),
             factor: self.transmission_coefficient,

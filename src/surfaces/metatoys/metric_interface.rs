@@ -24,7 +24,7 @@
 use glam::{DMat3, DVec2, DVec3};
 
 use super::{Basis, jacobian};
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 use crate::surfaces::{Redirection, reflect};
 
 /// Whether the optical path lengths on the two sides have the same sign (positive refraction)
@@ -137,7 +137,7 @@ impl MetricInterface {
         (*lambda * e).normalize()
     }
 
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: self.direction(at.ray.direction, &jacobian(&at.frame())),
             factor: self.transmission_coefficient,

@@ -2,7 +2,7 @@
 //! retraces its path whatever the angle of incidence (the surface reflects the wave with its
 //! phase conjugated, which reverses the wave vector).
 
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -12,7 +12,7 @@ pub struct PhaseConjugating {
 }
 
 impl PhaseConjugating {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: -at.ray.direction,
             factor: self.reflection_coefficient,

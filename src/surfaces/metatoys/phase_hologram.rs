@@ -20,7 +20,7 @@
 use glam::{DVec2, DVec3};
 
 use super::{jacobian, or_reflected};
-use crate::render::Interaction;
+use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
 /// The hologram's phase φ(u, v), as an optical path length.
@@ -77,7 +77,7 @@ pub fn hologram_direction(d: DVec3, kick: DVec2) -> Option<DVec3> {
 }
 
 impl PhaseHologram {
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let frame = at.frame();
         let lambda = jacobian(&frame);
         let d = at.ray.direction;

@@ -8,8 +8,8 @@
 
 use glam::DVec3;
 
+use crate::geometry::Interaction;
 use crate::math::Frame;
-use crate::render::Interaction;
 use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -32,7 +32,7 @@ impl RayFlipping {
         -s * frame.u + c * frame.v
     }
 
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: flipped(at.ray.direction, self.flipped_tangent(&at.frame())),
             factor: self.transmission_coefficient,

@@ -11,8 +11,8 @@
 use glam::{DQuat, DVec3};
 
 use super::{Basis, crosses, or_reflected};
+use crate::geometry::Interaction;
 use crate::math::Frame;
-use crate::render::Interaction;
 use crate::surfaces::Redirection;
 
 /// The axis rays are rotated about.
@@ -55,7 +55,7 @@ impl RayRotating {
         or_reflected(rotated(d, axis, self.angle, frame.w), d, frame.w)
     }
 
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: self.direction(at.ray.direction, &at.frame()),
             factor: self.transmission_coefficient,

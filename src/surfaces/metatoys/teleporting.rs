@@ -15,11 +15,12 @@
 
 use glam::{DQuat, DVec2, DVec3};
 
+use crate::geometry::Exit;
+use crate::geometry::Interaction;
 use crate::geometry::Shape;
 use crate::math::Frame;
-use crate::render::{Interaction, uniform_keyed};
+use crate::math::random::uniform_keyed;
 use crate::surfaces::Redirection;
-use crate::surfaces::lenses::Exit;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Teleporting {
@@ -72,7 +73,7 @@ impl Teleporting {
         Some((p, out))
     }
 
-    pub fn redirect(&self, at: &Interaction) -> Redirection {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let d = at.ray.direction;
         let p = at.point();
         let key = [

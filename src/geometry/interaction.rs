@@ -1,0 +1,102 @@
+//! Where a ray meets a surface: what a surface law is given, and the rays that leave.
+
+use glam::{DVec2, DVec3};
+
+use super::{Hit, SceneGeometry, Shape};
+use crate::math::{Frame, Ray};
+
+/// Where a ray meets a surface, with everything a surface law needs.
+pub struct Interaction<'a> {
+    /// The incoming ray, in the frame of the object it meets.
+    pub ray: Ray,
+    /// The object, array element, primitive and distance along the ray.
+    pub hit: Hit,
+    pub geometry: &'a SceneGeometry,
+}
+
+/// Where and how a ray leaves an object at another point than it met it: a lens's exit, a
+/// teleporter's destination.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Exit {
+    /// On the object's (or the destination's) surface.
+    pub point: DVec3,
+    /// Unit vector.
+    pub direction: DVec3,
+    /// The time the passage takes (c = 1): the optical path length ∫n ds for rays integrated
+    /// through a lens; for closed-form laws, which say nothing about the path inside, the
+    /// straight distance from entry to exit (TIM's equivalent length of vacuum).
+    pub path: f64,
+}
+
+impl Exit {
+    /// Leaving from `exit` in `direction` (normalised here) after entering at `entry`, timed
+    /// by the straight distance.
+    pub fn chord(entry: DVec3, exit: DVec3, direction: DVec3) -> Exit {
+        Exit {
+            point: exit,
+            direction: direction.normalize(),
+            path: entry.distance(exit),
+        }
+    }
+}
+
+impl Interaction<'_> {
+    pub fn point(&self) -> DVec3 {
+        self.ray.at(self.hit.t)
+    }
+
+    /// The surface frame at the hit (w the outward normal), of the array element that was hit,
+    /// as seen by this ray (see [`SceneGeometry::frame_along`]); computed on demand, since some
+    /// surfaces (constant colour) never need it.
+    pub fn frame(&self) -> Frame {
+        self.geometry
+            .frame_along(&self.hit, self.point(), self.ray.direction)
+    }
+
+    /// The element's surface coordinates at the hit.
+    pub fn coordinates(&self) -> DVec2 {
+        self.geometry.coordinates(&self.hit, self.point())
+    }
+
+    /// Cartesian coordinates of the hit on a flat surface (see [`Shape::plane_coordinates`]).
+    pub fn plane_coordinates(&self) -> Option<DVec2> {
+        self.geometry.plane_coordinates(&self.hit, self.point())
+    }
+
+    /// Smallest distance a ray leaving this point must travel before it may hit anything, so
+    /// it does not re-hit its own surface through rounding. Analytic shapes are intersected
+    /// exactly in f64; Embree tests triangles in f32, hence the larger margin.
+    pub fn self_hit_margin(&self) -> f64 {
+        self.self_hit_margin_at(self.point())
+    }
+
+    /// The ray leaving the interaction point in `direction`, and the distance it must travel
+    /// before it may hit anything.
+    pub fn leaving(&self, direction: DVec3) -> (Ray, f64) {
+        (
+            self.ray.continued(self.hit.t, direction),
+            self.self_hit_margin(),
+        )
+    }
+
+    /// The ray leaving the interaction's object where `exit` says (a lens's exit, a
+    /// teleporter's destination), and the distance it must travel before it may hit anything.
+    /// It left `exit.path` earlier than it arrived.
+    pub fn emerging(&self, exit: Exit) -> (Ray, f64) {
+        let ray = Ray::new(
+            exit.point,
+            exit.direction,
+            self.ray.time - self.hit.t - exit.path,
+        );
+        (ray, self.self_hit_margin_at(exit.point))
+    }
+
+    /// [`Self::self_hit_margin`] for a ray leaving the same object at another point `p`.
+    fn self_hit_margin_at(&self, p: DVec3) -> f64 {
+        let scale = 1.0 + p.abs().max_element();
+        match self.geometry.shapes()[self.hit.object] {
+            Shape::TriangleMesh(_) => 1e-5 * scale,
+            _ => 1e-9 * scale,
+        }
+    }
+}
