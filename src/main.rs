@@ -7,11 +7,10 @@ use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
+use serde::Serialize;
 
-use timbre::cameras::{Focus, Projection};
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
-use timbre::math::ReferenceFrame;
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
@@ -326,93 +325,33 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     let r = &description.render;
     stereo::validate(&description.stereo, r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
-    let s = description.summary();
     out!("{}: OK", scene.display());
-    out!("  objects:      {}", s.objects);
-    out!("  triangles:    {}", s.triangles);
-    out!(
-        "  instances:    {} (in {} arrays)",
-        s.instances,
-        description.arrays.len()
-    );
-    match s.bounds {
-        Some((lo, hi)) => out!(
-            "  bounding box: [{}, {}, {}] to [{}, {}, {}]{}",
-            lo.x,
-            lo.y,
-            lo.z,
-            hi.x,
-            hi.y,
-            hi.z,
-            match s.unbounded {
-                0 => String::new(),
-                n => format!(" (and {n} unbounded)"),
-            }
-        ),
-        None => out!("  bounding box: none ({} unbounded objects)", s.unbounded),
-    }
-    out!("  point lights: {}", description.lights.points.len());
-    if !description.trajectories.is_empty() {
-        let rays: usize = description
-            .trajectories
-            .iter()
-            .map(|t| t.rays().len())
-            .sum();
-        out!(
-            "  trajectories: {} ({rays} rays)",
-            description.trajectories.len()
-        );
-    }
-    out!("  camera:       {}", camera_summary(&description));
-    out!("  render:       {}x{} at {} spp", r.width, r.height, r.spp);
+    out!("{}", description.report());
     Ok(())
 }
 
-/// The camera in words: projection, aperture and focus, velocity and shutter, stereo output.
-fn camera_summary(d: &SceneDescription) -> String {
-    let c = &d.camera;
-    // Degrees to 9 decimals (20° comes back from radians as 19.999999999999996).
-    let degrees = |a: f64| (a.to_degrees() * 1e9).round() / 1e9;
-    let mut parts = vec![match c.projection() {
-        Projection::Orthographic { view_width } => format!("orthographic, {view_width} wide"),
-        Projection::Perspective {
-            horizontal_view_angle: a,
-        } => match c.aperture_radius() {
-            0.0 => format!("pinhole, {}°", degrees(a)),
-            r => format!("finite aperture (radius {r}), {}°", degrees(a)),
-        },
-    }];
-    let boost = c.boost();
-    if c.aperture_radius() > 0.0 || !boost.is_identity() {
-        parts.push(match c.focus() {
-            Focus::Plane { distance } => format!("focused at {distance}"),
-            Focus::Surface => format!("focused on {} shapes", d.focus_surface.len()),
-        });
-    }
-    if !boost.is_identity() {
-        let (shutter, time) = c.shutter();
-        let b = boost.beta();
-        parts.push(format!(
-            "moving at beta = ({}, {}, {}) (gamma = {:.4}), {} shutter at t = {time}",
-            b.x,
-            b.y,
-            b.z,
-            boost.gamma(),
-            shutter.name()
-        ));
-    }
-    let camera_frame = d
-        .objects
-        .iter()
-        .filter(|o| o.frame == ReferenceFrame::Camera)
-        .count();
-    if camera_frame > 0 {
-        parts.push(format!("{camera_frame} objects moving with it"));
-    }
-    if d.stereo != Stereo::Mono {
-        parts.push(format!("stereo {}", d.stereo.name()));
-    }
-    parts.join("; ")
+/// `timbre trace --json`: the traced rays of a scene file. Fields are in alphabetical order,
+/// as JSON tools print them.
+#[derive(Serialize)]
+struct TraceDocument<'a> {
+    rays: Vec<TracedRay<'a>>,
+    scene: String,
+}
+
+#[derive(Serialize)]
+struct TracedRay<'a> {
+    direction: [f64; 3],
+    end: &'static str,
+    points: Vec<TracedPoint<'a>>,
+    ray: usize,
+    trajectory: &'a str,
+}
+
+#[derive(Serialize)]
+struct TracedPoint<'a> {
+    arrival: &'static str,
+    object: Option<&'a str>,
+    position: [f64; 3],
 }
 
 fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> {
@@ -432,34 +371,30 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
     let names = |t: &Trajectory| &description.trajectories[t.source].name;
     let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
     if json {
-        let list: Vec<serde_json::Value> = traced
+        let rays = traced
             .iter()
-            .map(|t| {
-                let points: Vec<serde_json::Value> = t
+            .map(|t| TracedRay {
+                direction: t.direction.to_array(),
+                end: t.end.name(),
+                points: t
                     .points
                     .iter()
-                    .map(|p| {
-                        serde_json::json!({
-                            "position": p.position.to_array(),
-                            "arrival": p.arrival.name(),
-                            "object": object(p.object),
-                        })
+                    .map(|p| TracedPoint {
+                        arrival: p.arrival.name(),
+                        object: object(p.object),
+                        position: p.position.to_array(),
                     })
-                    .collect();
-                serde_json::json!({
-                    "trajectory": names(t),
-                    "ray": t.ray,
-                    "end": t.end.name(),
-                    "direction": t.direction.to_array(),
-                    "points": points,
-                })
+                    .collect(),
+                ray: t.ray,
+                trajectory: names(t),
             })
             .collect();
-        let document = serde_json::json!({
-            "scene": scene.display().to_string(),
-            "rays": list,
-        });
-        out!("{document:#}");
+        let document = TraceDocument {
+            rays,
+            scene: scene.display().to_string(),
+        };
+        let text = serde_json::to_string_pretty(&document).map_err(internal)?;
+        out!("{text}");
         return Ok(());
     }
     for t in &traced {

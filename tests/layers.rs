@@ -160,7 +160,10 @@ fn no_module_refers_to_a_layer_above_or_beside_its_own() {
             }
         }
     }
-    assert!(checked > 100, "only {checked} references found: is the parser broken?");
+    assert!(
+        checked > 100,
+        "only {checked} references found: is the parser broken?"
+    );
     assert!(violations.is_empty(), "{}", violations.join("\n"));
 }
 

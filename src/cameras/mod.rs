@@ -10,6 +10,8 @@ mod shutter;
 
 pub use shutter::{Shutter, ShutterGeometry};
 
+use std::fmt;
+
 use glam::DVec3;
 
 use crate::math::{LorentzTransform, Ray};
@@ -283,5 +285,52 @@ impl Camera {
             self.boost.backwards_direction(ray.direction),
             t,
         )
+    }
+}
+
+/// The camera in words, as `timbre check` prints it: projection, aperture and focus (for a
+/// finite aperture or a moving camera), velocity and shutter.
+impl fmt::Display for Camera {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // Degrees to 9 decimals (20° comes back from radians as 19.999999999999996).
+        let degrees = |a: f64| (a.to_degrees() * 1e9).round() / 1e9;
+        match (self.projection(), self.aperture_radius()) {
+            (Projection::Orthographic { view_width }, _) => {
+                write!(f, "orthographic, {view_width} wide")?
+            }
+            (
+                Projection::Perspective {
+                    horizontal_view_angle: a,
+                },
+                0.0,
+            ) => write!(f, "pinhole, {}°", degrees(a))?,
+            (
+                Projection::Perspective {
+                    horizontal_view_angle: a,
+                },
+                r,
+            ) => write!(f, "finite aperture (radius {r}), {}°", degrees(a))?,
+        }
+        let boost = self.boost();
+        if self.aperture_radius() > 0.0 || !boost.is_identity() {
+            match self.focus() {
+                Focus::Plane { distance } => write!(f, "; focused at {distance}")?,
+                Focus::Surface => write!(f, "; focused on the focus surface")?,
+            }
+        }
+        if !boost.is_identity() {
+            let (shutter, time) = self.shutter();
+            let b = boost.beta();
+            write!(
+                f,
+                "; moving at beta = ({}, {}, {}) (gamma = {:.4}), {} shutter at t = {time}",
+                b.x,
+                b.y,
+                b.z,
+                boost.gamma(),
+                shutter.name()
+            )?;
+        }
+        Ok(())
     }
 }

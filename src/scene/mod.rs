@@ -8,6 +8,7 @@ mod ray_trajectory;
 pub mod settings;
 mod stereo;
 pub mod studio;
+mod summary;
 
 use glam::DVec3;
 use thiserror::Error;
@@ -15,6 +16,7 @@ use thiserror::Error;
 pub use ray_trajectory::{RayTrajectory, Spread};
 pub use settings::RenderSettings;
 pub use stereo::{Packing, Stereo};
+pub use summary::{Report, SceneSummary};
 
 use crate::cameras::{Camera, Focus, Shutter};
 use crate::embree::{Device, EmbreeError};
@@ -65,58 +67,7 @@ pub struct SceneDescription {
     pub trajectories: Vec<RayTrajectory>,
 }
 
-/// What `timbre check` reports about a scene.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneSummary {
-    pub objects: usize,
-    /// Triangles of all meshes, counting every copy in arrays.
-    pub triangles: u64,
-    /// Copies of objects placed by arrays (Embree instances).
-    pub instances: u64,
-    /// Bounding box of all bounded objects and their copies, if there are any.
-    pub bounds: Option<(DVec3, DVec3)>,
-    /// Objects without bounds (planes).
-    pub unbounded: usize,
-}
-
 impl SceneDescription {
-    /// Counts and bounds of the scene's geometry.
-    pub fn summary(&self) -> SceneSummary {
-        let mut copies = vec![(1u64, DVec3::ZERO, DVec3::ZERO); self.objects.len()];
-        let mut instances = 0;
-        for a in &self.arrays {
-            let lo = a.offsets.iter().fold(DVec3::INFINITY, |m, &o| m.min(o));
-            let hi = a.offsets.iter().fold(DVec3::NEG_INFINITY, |m, &o| m.max(o));
-            for c in &mut copies[a.objects.clone()] {
-                *c = (a.offsets.len() as u64, lo, hi);
-            }
-            instances += a.offsets.len() as u64;
-        }
-        let mut summary = SceneSummary {
-            objects: self.objects.len(),
-            triangles: 0,
-            instances,
-            bounds: None,
-            unbounded: 0,
-        };
-        for (o, &(n, lo, hi)) in self.objects.iter().zip(&copies) {
-            if let Shape::TriangleMesh(m) = &o.shape {
-                summary.triangles += n * m.triangles().len() as u64;
-            }
-            match o.shape.bounds() {
-                Some(_) if n == 0 => {}
-                Some((a, b)) => {
-                    let (l, h) = summary
-                        .bounds
-                        .unwrap_or((DVec3::INFINITY, DVec3::NEG_INFINITY));
-                    summary.bounds = Some((l.min(a + lo), h.max(b + hi)));
-                }
-                None => summary.unbounded += 1,
-            }
-        }
-        summary
-    }
-
     /// Things worth telling the user that are not errors: zero-area triangles left out of
     /// meshes; a moving camera with the focus-surface shutter focused on shapes (pixels that
     /// miss them start their rays at a different time, see [`crate::cameras::Shutter`]).

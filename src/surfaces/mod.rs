@@ -7,7 +7,7 @@ mod chequerboard;
 mod coloured;
 pub mod lenses;
 pub mod metatoys;
-mod reflective;
+mod mirror;
 mod refractive;
 mod transparent;
 
@@ -18,7 +18,7 @@ pub use metatoys::{
     ConfocalLensletArrays, LorentzWindow, MetricInterface, PhaseConjugating, PhaseHologram,
     RayFlipping, RayRotating, Teleporting,
 };
-pub use reflective::{Mirror, reflect};
+pub use mirror::{Mirror, reflect};
 pub use refractive::{Refractive, refract};
 pub use transparent::Transparent;
 

@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use super::Redirection;
-use super::reflective::reflect;
+use super::mirror::reflect;
 use crate::geometry::Interaction;
 
 #[derive(Debug, Clone, PartialEq)]

@@ -113,6 +113,9 @@ pub(super) struct CameraSetup {
     pub stereo: Stereo,
 }
 
+/// Makes the error of a camera key: at the key's span, or the table's.
+type At<'a> = &'a dyn Fn(Option<Range<usize>>, &str) -> SceneFileError;
+
 impl CameraSection {
     /// The camera, its focus surface and the stereo output; `span` is the table's.
     pub(super) fn build(
@@ -134,97 +137,17 @@ impl CameraSection {
             Some((_, r)) if r > 0.0 => CameraKind::FiniteAperture,
             _ => CameraKind::Pinhole,
         });
-
-        let projection = if kind == CameraKind::Orthographic {
-            if let Some(a) = &self.horizontal_view_angle_deg {
-                return Err(at(
-                    Some(a.span()),
-                    "an orthographic camera has a view_width, not a view angle",
-                ));
-            }
-            let w = self
-                .view_width
-                .as_ref()
-                .ok_or_else(|| at(None, "an orthographic camera needs view_width"))?;
-            Projection::Orthographic {
-                view_width: w.get_ref().0,
-            }
-        } else {
-            if let Some(w) = &self.view_width {
-                return Err(at(
-                    Some(w.span()),
-                    "view_width is for orthographic cameras (type = \"orthographic\")",
-                ));
-            }
-            let angle = self
-                .horizontal_view_angle_deg
-                .as_ref()
-                .map_or(studio::CAMERA_VIEW_ANGLE_DEG, |a| a.get_ref().0);
-            if angle >= 180.0 {
-                let s = self.horizontal_view_angle_deg.as_ref().map(Spanned::span);
-                return Err(at(s, "horizontal_view_angle_deg must be below 180"));
-            }
-            Projection::Perspective {
-                horizontal_view_angle: angle.to_radians(),
-            }
-        };
-        let camera = Camera::new(position, view, up, projection).ok_or_else(|| {
-            at(
-                None,
-                "camera view_direction and up must be non-zero and not parallel",
-            )
-        })?;
-
-        let radius = match (kind, aperture) {
-            (CameraKind::FiniteAperture, Some((_, r))) if r > 0.0 => r,
-            (CameraKind::FiniteAperture, a) => {
-                return Err(at(
-                    a.map(|a| a.0),
-                    "a finite-aperture camera needs aperture_radius > 0",
-                ));
-            }
-            (_, Some((s, r))) if r > 0.0 => {
-                return Err(at(
-                    Some(s),
-                    "only a finite-aperture camera (type = \"finite-aperture\") has an aperture_radius",
-                ));
-            }
-            _ => 0.0,
-        };
-        let focus = match (&self.focus_distance, &self.focus_surface) {
-            (Some(_), Some(s)) => {
-                return Err(at(
-                    Some(s.span()),
-                    "give focus_distance or focus_surface, not both",
-                ));
-            }
-            (Some(d), None) => Focus::Plane {
-                distance: d.get_ref().0,
-            },
-            (None, Some(_)) => Focus::Surface,
-            (None, None) => Focus::Plane {
-                distance: DEFAULT_FOCUS_DISTANCE,
-            },
-        };
-        let mut focus_surface = Vec::new();
-        if let Some(shapes) = self.focus_surface {
-            if shapes.get_ref().is_empty() {
-                return Err(at(
-                    Some(shapes.span()),
-                    "focus_surface needs at least one shape",
-                ));
-            }
-            for shape in shapes.into_inner() {
-                let span = shape.span();
-                let parts = shape
-                    .into_inner()
-                    .build(source.dir())
-                    .map_err(|e| at(Some(span.clone()), &format!("focus_surface: {e}")))?;
-                focus_surface.extend(parts.into_iter().map(|(_, s)| s));
-            }
-        }
-
-        let boost = match self.beta {
+        let camera =
+            Camera::new(position, view, up, self.projection(kind, &at)?).ok_or_else(|| {
+                at(
+                    None,
+                    "camera view_direction and up must be non-zero and not parallel",
+                )
+            })?;
+        let radius = aperture_radius(kind, aperture, &at)?;
+        let focus = self.focus(&at)?;
+        let focus_surface = focus_surface(self.focus_surface, source, &at)?;
+        let boost = match &self.beta {
             Some(b) => LorentzTransform::new(b.get_ref().0).ok_or_else(|| {
                 at(
                     Some(b.span()),
@@ -249,103 +172,223 @@ impl CameraSection {
                 self.detector_distance.map_or(1.0, |d| d.0),
             )
             .with_velocity(boost);
-
-        let (right, _) = camera.right_up();
-        let eye_span = self.eye_separation.as_ref().map(Spanned::span);
-        let eye_separation = self
-            .eye_separation
-            .as_ref()
-            .map_or(0.4 * right, |e| e.get_ref().0);
-        let stereo_name = self.stereo.unwrap_or(StereoName::None);
-        let two_eyes = !matches!(stereo_name, StereoName::None | StereoName::Autostereogram);
-        if two_eyes && eye_separation == DVec3::ZERO {
-            return Err(at(eye_span, "eye_separation must not be zero"));
-        }
-        let along = eye_separation.dot(camera.view_direction());
-        if along.abs() > 1e-9 * eye_separation.length() {
-            return Err(at(
-                eye_span,
-                &format!(
-                    "eye_separation must be perpendicular to the view direction (the eyes lie in the pupil plane); its component along it is {along}"
-                ),
-            ));
-        }
-        if let Some(a) = &self.autostereogram
-            && stereo_name != StereoName::Autostereogram
-        {
-            return Err(at(
-                Some(a.span()),
-                "[camera.autostereogram] needs stereo = \"autostereogram\"",
-            ));
-        }
-        let packing = |packing, half| Stereo::FramePacking {
-            eye_separation,
-            packing,
-            half,
-        };
-        let stereo = match stereo_name {
-            StereoName::None => Stereo::Mono,
-            StereoName::Anaglyph => Stereo::Anaglyph {
-                eye_separation,
-                colour: false,
-            },
-            StereoName::ColourAnaglyph => Stereo::Anaglyph {
-                eye_separation,
-                colour: true,
-            },
-            StereoName::SideBySide => packing(Packing::SideBySide, false),
-            StereoName::SideBySideHalf => packing(Packing::SideBySide, true),
-            StereoName::TopBottom => packing(Packing::TopBottom, false),
-            StereoName::TopBottomHalf => packing(Packing::TopBottom, true),
-            StereoName::Autostereogram => {
-                let (a, a_span) = match self.autostereogram {
-                    Some(a) => {
-                        let span = a.span();
-                        (a.into_inner(), Some(span))
-                    }
-                    None => (
-                        AutostereogramSection {
-                            eye_separation_px: None,
-                            depth_of_field: None,
-                            near: None,
-                            far: None,
-                            colour: true,
-                        },
-                        None,
-                    ),
-                };
-                let near = a.near.map(|n| n.0);
-                let far = a.far.map(|f| f.0);
-                if let (Some(n), Some(f)) = (near, far)
-                    && n >= f
-                {
-                    return Err(at(
-                        a_span,
-                        &format!("autostereogram near ({n}) must be less than far ({f})"),
-                    ));
-                }
-                let depth_of_field = a.depth_of_field.unwrap_or(1.0 / 3.0);
-                if !(depth_of_field > 0.0 && depth_of_field < 1.0) {
-                    return Err(at(
-                        a_span,
-                        &format!(
-                            "autostereogram depth_of_field must be between 0 and 1, got {depth_of_field}"
-                        ),
-                    ));
-                }
-                Stereo::Autostereogram {
-                    eye_separation_px: a.eye_separation_px,
-                    depth_of_field,
-                    colour: a.colour,
-                    near,
-                    far,
-                }
-            }
-        };
+        let stereo = stereo(
+            &camera,
+            self.stereo.unwrap_or(StereoName::None),
+            self.eye_separation,
+            self.autostereogram,
+            &at,
+        )?;
         Ok(CameraSetup {
             camera,
             focus_surface,
             stereo,
         })
     }
+
+    /// The projection of a camera of `kind`: a view angle, or an orthographic view width.
+    fn projection(&self, kind: CameraKind, at: At) -> Result<Projection, SceneFileError> {
+        if kind == CameraKind::Orthographic {
+            if let Some(a) = &self.horizontal_view_angle_deg {
+                return Err(at(
+                    Some(a.span()),
+                    "an orthographic camera has a view_width, not a view angle",
+                ));
+            }
+            let w = self
+                .view_width
+                .as_ref()
+                .ok_or_else(|| at(None, "an orthographic camera needs view_width"))?;
+            return Ok(Projection::Orthographic {
+                view_width: w.get_ref().0,
+            });
+        }
+        if let Some(w) = &self.view_width {
+            return Err(at(
+                Some(w.span()),
+                "view_width is for orthographic cameras (type = \"orthographic\")",
+            ));
+        }
+        let angle = self
+            .horizontal_view_angle_deg
+            .as_ref()
+            .map_or(studio::CAMERA_VIEW_ANGLE_DEG, |a| a.get_ref().0);
+        if angle >= 180.0 {
+            let s = self.horizontal_view_angle_deg.as_ref().map(Spanned::span);
+            return Err(at(s, "horizontal_view_angle_deg must be below 180"));
+        }
+        Ok(Projection::Perspective {
+            horizontal_view_angle: angle.to_radians(),
+        })
+    }
+
+    /// A focus plane at a distance, or the focus surface's shapes.
+    fn focus(&self, at: At) -> Result<Focus, SceneFileError> {
+        Ok(match (&self.focus_distance, &self.focus_surface) {
+            (Some(_), Some(s)) => {
+                return Err(at(
+                    Some(s.span()),
+                    "give focus_distance or focus_surface, not both",
+                ));
+            }
+            (Some(d), None) => Focus::Plane {
+                distance: d.get_ref().0,
+            },
+            (None, Some(_)) => Focus::Surface,
+            (None, None) => Focus::Plane {
+                distance: DEFAULT_FOCUS_DISTANCE,
+            },
+        })
+    }
+}
+
+/// The aperture radius of a camera of `kind`: only finite-aperture cameras have one (> 0).
+fn aperture_radius(
+    kind: CameraKind,
+    aperture: Option<(Range<usize>, f64)>,
+    at: At,
+) -> Result<f64, SceneFileError> {
+    match (kind, aperture) {
+        (CameraKind::FiniteAperture, Some((_, r))) if r > 0.0 => Ok(r),
+        (CameraKind::FiniteAperture, a) => Err(at(
+            a.map(|a| a.0),
+            "a finite-aperture camera needs aperture_radius > 0",
+        )),
+        (_, Some((s, r))) if r > 0.0 => Err(at(
+            Some(s),
+            "only a finite-aperture camera (type = \"finite-aperture\") has an aperture_radius",
+        )),
+        _ => Ok(0.0),
+    }
+}
+
+/// The shapes of `focus_surface` (mesh files relative to the scene file).
+fn focus_surface(
+    shapes: Option<Spanned<Vec<Spanned<ShapeSection>>>>,
+    source: &Source,
+    at: At,
+) -> Result<Vec<Shape>, SceneFileError> {
+    let mut focus_surface = Vec::new();
+    if let Some(shapes) = shapes {
+        if shapes.get_ref().is_empty() {
+            return Err(at(
+                Some(shapes.span()),
+                "focus_surface needs at least one shape",
+            ));
+        }
+        for shape in shapes.into_inner() {
+            let span = shape.span();
+            let parts = shape
+                .into_inner()
+                .build(source.dir())
+                .map_err(|e| at(Some(span.clone()), &format!("focus_surface: {e}")))?;
+            focus_surface.extend(parts.into_iter().map(|(_, s)| s));
+        }
+    }
+    Ok(focus_surface)
+}
+
+/// The stereo output `name` of `camera`, with its eye separation (by default 0.4 to the
+/// camera's right) or autostereogram options.
+fn stereo(
+    camera: &Camera,
+    name: StereoName,
+    eye_separation: Option<Spanned<Vector>>,
+    autostereogram_section: Option<Spanned<AutostereogramSection>>,
+    at: At,
+) -> Result<Stereo, SceneFileError> {
+    let (right, _) = camera.right_up();
+    let eye_span = eye_separation.as_ref().map(Spanned::span);
+    let eye_separation = eye_separation
+        .as_ref()
+        .map_or(0.4 * right, |e| e.get_ref().0);
+    let two_eyes = !matches!(name, StereoName::None | StereoName::Autostereogram);
+    if two_eyes && eye_separation == DVec3::ZERO {
+        return Err(at(eye_span, "eye_separation must not be zero"));
+    }
+    let along = eye_separation.dot(camera.view_direction());
+    if along.abs() > 1e-9 * eye_separation.length() {
+        return Err(at(
+            eye_span,
+            &format!(
+                "eye_separation must be perpendicular to the view direction (the eyes lie in the pupil plane); its component along it is {along}"
+            ),
+        ));
+    }
+    if let Some(a) = &autostereogram_section
+        && name != StereoName::Autostereogram
+    {
+        return Err(at(
+            Some(a.span()),
+            "[camera.autostereogram] needs stereo = \"autostereogram\"",
+        ));
+    }
+    let packing = |packing, half| Stereo::FramePacking {
+        eye_separation,
+        packing,
+        half,
+    };
+    Ok(match name {
+        StereoName::None => Stereo::Mono,
+        StereoName::Anaglyph => Stereo::Anaglyph {
+            eye_separation,
+            colour: false,
+        },
+        StereoName::ColourAnaglyph => Stereo::Anaglyph {
+            eye_separation,
+            colour: true,
+        },
+        StereoName::SideBySide => packing(Packing::SideBySide, false),
+        StereoName::SideBySideHalf => packing(Packing::SideBySide, true),
+        StereoName::TopBottom => packing(Packing::TopBottom, false),
+        StereoName::TopBottomHalf => packing(Packing::TopBottom, true),
+        StereoName::Autostereogram => autostereogram(autostereogram_section, at)?,
+    })
+}
+
+/// The autostereogram options of `[camera.autostereogram]`, if given.
+fn autostereogram(
+    section: Option<Spanned<AutostereogramSection>>,
+    at: At,
+) -> Result<Stereo, SceneFileError> {
+    let (a, a_span) = match section {
+        Some(a) => {
+            let span = a.span();
+            (a.into_inner(), Some(span))
+        }
+        None => (
+            AutostereogramSection {
+                eye_separation_px: None,
+                depth_of_field: None,
+                near: None,
+                far: None,
+                colour: true,
+            },
+            None,
+        ),
+    };
+    let near = a.near.map(|n| n.0);
+    let far = a.far.map(|f| f.0);
+    if let (Some(n), Some(f)) = (near, far)
+        && n >= f
+    {
+        return Err(at(
+            a_span,
+            &format!("autostereogram near ({n}) must be less than far ({f})"),
+        ));
+    }
+    let depth_of_field = a.depth_of_field.unwrap_or(1.0 / 3.0);
+    if !(depth_of_field > 0.0 && depth_of_field < 1.0) {
+        return Err(at(
+            a_span,
+            &format!("autostereogram depth_of_field must be between 0 and 1, got {depth_of_field}"),
+        ));
+    }
+    Ok(Stereo::Autostereogram {
+        eye_separation_px: a.eye_separation_px,
+        depth_of_field,
+        colour: a.colour,
+        near,
+        far,
+    })
 }

@@ -182,14 +182,14 @@ impl File {
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "kebab-case")]
 enum StudioName {
     /// Sky, floor, lights and camera of TIM's standard studio.
     Empty,
     /// The empty studio plus TIM's cylinder lattice.
     Lattice,
     /// TIM's "METATOY science" scene: a lattice behind a framed METATOY window.
-    #[serde(rename = "metatoy-window", alias = "metatoy_window")]
+    #[serde(alias = "metatoy_window")]
     MetatoyWindow,
     /// Nothing at all: no sky, no floor, no lights.
     None,
@@ -207,7 +207,7 @@ struct RenderSection {
 }
 
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 enum LightSection {
     Ambient {
         colour: Rgb,

@@ -69,7 +69,7 @@ pub(super) struct IncludeSection {
 
 /// The frame an object, group or include is at rest in; members inherit their group's.
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "kebab-case")]
 enum FrameName {
     Scene,
     Camera,

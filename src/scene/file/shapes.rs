@@ -11,7 +11,7 @@ use crate::geometry::{
 use crate::mesh;
 
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub(super) enum ShapeSection {
     Sphere {
         centre: Vector,
@@ -37,6 +37,7 @@ pub(super) enum ShapeSection {
         span_u: Vector,
         span_v: Vector,
     },
+    #[serde(alias = "triangle_mesh")]
     TriangleMesh {
         vertices: Vec<Vector>,
         triangles: Vec<[u32; 3]>,

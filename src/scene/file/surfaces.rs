@@ -19,7 +19,7 @@ use crate::surfaces::{
 };
 
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub(super) enum SurfaceSection {
     Coloured {
         diffuse: Rgb,
@@ -31,6 +31,7 @@ pub(super) enum SurfaceSection {
     Matt {
         colour: Rgb,
     },
+    #[serde(alias = "constant_colour")]
     ConstantColour {
         colour: Rgb,
     },
@@ -51,25 +52,25 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "luneburg-lens", alias = "luneburg_lens")]
+    #[serde(alias = "luneburg_lens")]
     LuneburgLens {
         method: Option<Method>,
         #[serde(flatten)]
         options: LensOptions,
     },
-    #[serde(rename = "eaton-lens", alias = "eaton_lens")]
+    #[serde(alias = "eaton_lens")]
     EatonLens {
         method: Option<Method>,
         #[serde(flatten)]
         options: LensOptions,
     },
-    #[serde(rename = "maxwell-fisheye-lens", alias = "maxwell_fisheye_lens")]
+    #[serde(alias = "maxwell_fisheye_lens")]
     MaxwellFisheyeLens {
         method: Option<Method>,
         #[serde(flatten)]
         options: LensOptions,
     },
-    #[serde(rename = "ggrin-lens", alias = "ggrin_lens")]
+    #[serde(alias = "ggrin_lens")]
     GgrinLens {
         r: LensDistance,
         r_prime: LensDistance,
@@ -77,14 +78,14 @@ pub(super) enum SurfaceSection {
         #[serde(flatten)]
         options: LensOptions,
     },
-    #[serde(rename = "gradient-index-lens", alias = "gradient_index_lens")]
+    #[serde(alias = "gradient_index_lens")]
     GradientIndexLens {
         rho: Vec<Finite>,
         n: Vec<Finite>,
         #[serde(flatten)]
         options: LensOptions,
     },
-    #[serde(rename = "metric-interface", alias = "metric_interface")]
+    #[serde(alias = "metric_interface")]
     MetricInterface {
         inside: Option<MetricTensor>,
         outside: Option<MetricTensor>,
@@ -94,11 +95,7 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(
-        rename = "confocal-lenslet-arrays",
-        alias = "confocal_lenslet_arrays",
-        alias = "gcla"
-    )]
+    #[serde(alias = "confocal_lenslet_arrays", alias = "gcla")]
     ConfocalLensletArrays {
         a: Direction,
         u: Direction,
@@ -110,7 +107,7 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "ray-rotating", alias = "ray_rotating")]
+    #[serde(alias = "ray_rotating")]
     RayRotating {
         angle_deg: Option<Finite>,
         axis: Option<Direction>,
@@ -118,24 +115,24 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "ray-flipping", alias = "ray_flipping")]
+    #[serde(alias = "ray_flipping")]
     RayFlipping {
         flip_axis_angle_deg: Option<Finite>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "phase-hologram", alias = "phase_hologram")]
+    #[serde(alias = "phase_hologram")]
     PhaseHologram {
         phase: PhaseSection,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "phase-conjugating", alias = "phase_conjugating")]
+    #[serde(alias = "phase_conjugating")]
     PhaseConjugating {
         #[serde(alias = "reflection")]
         reflection_coefficient: Option<Coefficient>,
     },
-    #[serde(rename = "lorentz-window", alias = "lorentz_window")]
+    #[serde(alias = "lorentz_window")]
     LorentzWindow {
         beta: Vector,
         #[serde(alias = "transmission")]
@@ -151,14 +148,14 @@ pub(super) enum SurfaceSection {
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "kebab-case")]
 pub(super) enum BasisName {
     Global,
     Local,
 }
 
 #[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "kebab-case")]
 pub(super) enum RefractionName {
     Positive,
     Negative,
@@ -166,7 +163,7 @@ pub(super) enum RefractionName {
 
 /// A phase hologram's phase function.
 #[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 pub(super) enum PhaseSection {
     Linear {
         gradient: Vector2,
