@@ -4,34 +4,14 @@
 //!
 //! # What may differ from the brute force, and how that is decided
 //!
-//! The rules are those of `tests/embree_vs_reference.rs`, applied to every *element primitive*
-//! (object, element, primitive): element k of an object is its shape moved by `offsets[k]`,
-//! and its exact answer is the shape's own f64 answer for the ray moved by −`offsets[k]`.
-//!
-//! * **Marginal primitives.** An element primitive's answer is *robust* unless
-//!   * (triangles, decided by Embree in f32 in the instance's space) it changes when the ray
-//!     origin moves by ±δ along x, y or z, δ = `PERTURB` × (1 + |origin| + |offset| + t): Embree
-//!     rounds both the origin and the instance translation to f32, so the scale includes both;
-//!   * (analytic shapes, decided exactly in f64 by the callback on the exact ray moved by the
-//!     exact offset) it changes when t_min or t_max move by two f32 roundings, or (for a hit)
-//!     one of those six moved rays misses the element's bounding box, so that Embree's f32
-//!     traversal of the instance might not reach it.
-//!
-//!   A non-robust primitive may be found or missed. Robustness is only evaluated (lazily) for
-//!   the few primitives a verdict depends on, which keeps scenes of hundreds of elements cheap.
-//! * **Ties.** Two element primitives at the same exact distance (to the tolerances below; e.g.
-//!   overlapping coplanar copies of a disc, or coplanar triangles of one mesh) may be reported
-//!   either way. When a triangle is involved, distances within `TIE` × (1 + t) count as a tie
-//!   too (Embree keeps triangle distances in f32); between analytic shapes, whose callbacks
-//!   compare exact f64 distances, they do not.
-//!
-//! Everything else must match: the reported (object, element, prim) must be hit exactly at the
-//! reported t (to `ANALYTIC_T` relative for analytic shapes, whose t in an instance is computed
-//! on the exact f64 ray and offset, and `MESH_T` for triangles, recomputed in f64 from Embree's
-//! f32 hit), no robust primitive may be hit nearer, a robust hit may not be missed, and t must
-//! lie in (t_min, t_max). `excuses_are_rare_with_arrays` shows, on a deterministic sample, that
-//! the excuses are seldom needed and that hits on many different elements (and on meshes inside
-//! instances) occur, so the property is not vacuous.
+//! By the rules of `common::verdict`, shared with `tests/embree_vs_reference.rs`, applied to
+//! every *element primitive* (object, element, primitive): element k of an object is its shape
+//! moved by `offsets[k]`, and its exact answer is the shape's own f64 answer for the ray moved by
+//! −`offsets[k]`. Marginal primitives (whose answer changes when the ray moves by a few f32
+//! roundings, the instance translation included) and ties may go either way; everything else
+//! must match. `excuses_are_rare_with_arrays` shows, on a deterministic sample, that the excuses
+//! are seldom needed and that hits on many different elements (and on meshes inside instances)
+//! occur, so the property is not vacuous.
 //!
 //! The other tests check exact, hand-computed answers: element frames and offsets
 //! (`sphere_elements_have_their_own_frames`), a 1000 × 1000 array
@@ -42,34 +22,21 @@
 
 mod common;
 
-use std::cell::Cell;
-
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
-use common::rays::{
-    Query, box_interval, check_packet, close, device, interval_ends_do_not_matter, same_hit,
-    sample_point, self_hit_margin, surface_point,
-};
+use common::rays::{Query, close, device, same_hit, sample_point, self_hit_margin, surface_point};
 use common::rng::Rng;
+use common::verdict::{self, ANALYTIC_T, Element, check_queries, elements};
 use common::{
-    AXES, config, cylinder_shape, disc_shape, log_uniform, mesh_parts, normal_vector,
+    config, cylinder_shape, disc_shape, log_uniform, mesh_parts, normal_vector,
     parallelogram_shape, point_in, sphere_shape, unit_vector,
 };
 use timbre::geometry::{
     Cylinder, Hit, ObjectArray, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
 };
-
-/// Relative size of the ray perturbation that decides robustness (see the module comment).
-const PERTURB: f64 = 1e-6;
-/// Relative distance within which two element primitives' hits are a tie.
-const TIE: f64 = 1e-5;
-/// Relative agreement of t for analytic shapes (exact f64 ray and offset in the callback).
-const ANALYTIC_T: f64 = 1e-12;
-/// Relative agreement of t for triangles (Embree's f32 hit recomputed in f64).
-const MESH_T: f64 = 1e-9;
 
 fn sphere(c: DVec3, r: f64) -> Shape {
     Shape::Sphere(Sphere::new(c, r).unwrap())
@@ -190,34 +157,6 @@ fn case(planes_in_arrays: bool) -> impl Strategy<Value = Case> {
         })
 }
 
-/// One copy of one object.
-#[derive(Debug, Clone, Copy)]
-struct Element {
-    object: usize,
-    element: u32,
-    offset: DVec3,
-}
-
-/// Every (object, element) of a scene, with its offset.
-fn elements(objects: &[(Shape, bool)], arrays: &[ObjectArray]) -> Vec<Element> {
-    let mut out = Vec::new();
-    for object in 0..objects.len() {
-        match arrays.iter().find(|a| a.objects.contains(&object)) {
-            Some(a) => out.extend(a.offsets.iter().enumerate().map(|(k, &offset)| Element {
-                object,
-                element: k as u32,
-                offset,
-            })),
-            None => out.push(Element {
-                object,
-                element: 0,
-                offset: DVec3::ZERO,
-            }),
-        }
-    }
-    out
-}
-
 /// Draws rays for a scene: 15% random, 70% aimed at a point of a random element (an object
 /// chosen uniformly, then one of its elements), 15% leaving the surface of a random element
 /// with the tracer's self-hit margin (1e-9 × scale, 1e-5 × scale for meshes) as t_min.
@@ -305,272 +244,27 @@ impl<'a> RaySource<'a> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The reference and the acceptance rules
+// The checks (the rules are those of `common::verdict`)
 // ---------------------------------------------------------------------------------------------
 
-/// One element primitive's exact answer for a query; its robustness is worked out on demand.
-#[derive(Debug)]
-struct Answer {
-    object: usize,
-    element: u32,
-    prim: u32,
-    offset: DVec3,
-    /// The exact distance, if the primitive is hit in (t_min, t_max).
-    t: Option<f64>,
-    shadow_throwing: bool,
-    robust: Cell<Option<bool>>,
-}
-
-/// The exact answers of every element primitive of a scene for one query.
-struct Answers<'a> {
-    objects: &'a [(Shape, bool)],
-    q: Query,
-    all: Vec<Answer>,
-}
-
-impl<'a> Answers<'a> {
-    fn new(objects: &'a [(Shape, bool)], elements: &[Element], q: Query) -> Answers<'a> {
-        let mut all = Vec::new();
-        for e in elements {
-            let (shape, shadow_throwing) = &objects[e.object];
-            let prims = match shape {
-                Shape::TriangleMesh(m) => m.triangles().len() as u32,
-                _ => 1,
-            };
-            let origin = q.origin - e.offset;
-            for prim in 0..prims {
-                all.push(Answer {
-                    object: e.object,
-                    element: e.element,
-                    prim,
-                    offset: e.offset,
-                    t: shape.intersect_primitive(prim, origin, q.direction, q.t_min, q.t_max),
-                    shadow_throwing: *shadow_throwing,
-                    robust: Cell::new(None),
-                });
-            }
-        }
-        Answers { objects, q, all }
-    }
-
-    fn find(&self, object: usize, element: u32, prim: u32) -> Option<&Answer> {
-        self.all
-            .iter()
-            .find(|a| a.object == object && a.element == element && a.prim == prim)
-    }
-
-    fn is_mesh(&self, object: usize) -> bool {
-        matches!(self.objects[object].0, Shape::TriangleMesh(_))
-    }
-
-    /// Relative tolerance on t for hits on `object`.
-    fn tolerance(&self, object: usize) -> f64 {
-        if self.is_mesh(object) {
-            MESH_T
-        } else {
-            ANALYTIC_T
-        }
-    }
-
-    /// Relative distance within which hits on objects `a` and `b` are a tie.
-    fn tie(&self, a: usize, b: usize) -> f64 {
-        if self.is_mesh(a) || self.is_mesh(b) {
-            TIE
-        } else {
-            ANALYTIC_T
-        }
-    }
-
-    /// Whether the answer is robust (see the module comment).
-    fn robust(&self, a: &Answer) -> bool {
-        if let Some(r) = a.robust.get() {
-            return r;
-        }
-        let q = &self.q;
-        let shape = &self.objects[a.object].0;
-        let origin = q.origin - a.offset;
-        let hit_from =
-            |o: DVec3| shape.intersect_primitive(a.prim, o, q.direction, q.t_min, q.t_max);
-        let distance = a.t.map_or_else(
-            || {
-                shape
-                    .bounds()
-                    .map_or(0.0, |(lo, hi)| (0.5 * (lo + hi) - origin).length())
-            },
-            f64::abs,
-        );
-        let delta = PERTURB
-            * (1.0 + q.origin.abs().max_element() + a.offset.abs().max_element() + distance);
-        let shifts = AXES.map(|e| delta * e);
-        let robust = match shape {
-            Shape::TriangleMesh(_) => shifts
-                .iter()
-                .all(|&s| hit_from(origin + s).is_some() == a.t.is_some()),
-            _ => {
-                let box_reached = match (a.t, shape.bounds()) {
-                    (Some(_), Some((lo, hi))) => shifts.iter().all(|&s| {
-                        box_interval(origin + s, q.direction, lo, hi)
-                            .is_some_and(|(t0, t1)| t0 < q.t_max && t1 > q.t_min)
-                    }),
-                    _ => true,
-                };
-                box_reached && interval_ends_do_not_matter(shape, origin, q)
-            }
-        };
-        a.robust.set(Some(robust));
-        robust
-    }
-}
-
-/// How an answer was accepted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Verdict {
-    /// Same (object, element, prim) and t as the brute force, or both miss.
-    Same,
-    /// A different element primitive at the brute force's distance (within the tolerances).
-    EqualTie,
-    /// A different element primitive, one of them a triangle, within `TIE` of the brute force.
-    NearTie,
-    /// The difference is due to a non-robust element primitive.
-    Marginal,
-}
-
-/// Checks a nearest-hit answer against the element primitives' answers and the brute force.
-fn check_nearest(
-    answers: &Answers,
-    brute: Option<Hit>,
-    got: Option<Hit>,
-) -> Result<Verdict, String> {
-    let q = &answers.q;
-    // The brute force is the nearest of the element primitives' own answers.
-    let nearest = answers
-        .all
-        .iter()
-        .filter_map(|a| a.t)
-        .min_by(f64::total_cmp);
-    let consistent = brute.map(|b| b.t) == nearest
-        && brute.is_none_or(|b| {
-            answers
-                .find(b.object, b.element, b.prim)
-                .is_some_and(|a| a.t == Some(b.t))
-        });
-    if !consistent {
-        return Err(format!(
-            "brute force {brute:?} is not the nearest element primitive ({nearest:?})"
-        ));
-    }
-    let Some(h) = got else {
-        return match answers
-            .all
-            .iter()
-            .find(|a| a.t.is_some() && answers.robust(a))
-        {
-            Some(a) => Err(format!("missed a robust hit {a:?} (brute force {brute:?})")),
-            None if brute.is_none() => Ok(Verdict::Same),
-            None => Ok(Verdict::Marginal),
-        };
-    };
-    if !(h.t > q.t_min && h.t < q.t_max) {
-        return Err(format!("hit {h:?} outside ({}, {})", q.t_min, q.t_max));
-    }
-    // The reported element primitive really is hit at the reported distance, or is marginal.
-    let Some(own) = answers.find(h.object, h.element, h.prim) else {
-        return Err(format!("hit {h:?} names no element primitive"));
-    };
-    let tolerance = answers.tolerance(h.object);
-    let exact = own.t.is_some_and(|t| close(t, h.t, tolerance));
-    if !exact && answers.robust(own) {
-        return Err(format!(
-            "hit {h:?}, but the element primitive's exact answer is {own:?} (brute force {brute:?})"
-        ));
-    }
-    if let Some(a) = answers.all.iter().find(|a| {
-        a.t.is_some_and(|t| t < h.t && !close(t, h.t, answers.tie(a.object, h.object)))
-            && answers.robust(a)
-    }) {
-        return Err(format!("hit {h:?} behind a robust hit {a:?}"));
-    }
-    let b = brute.expect("a robust miss of everything was excluded above");
-    let same_primitive = (b.object, b.element, b.prim) == (h.object, h.element, h.prim);
-    let equal = tolerance.max(answers.tolerance(b.object));
-    Ok(if same_primitive && close(b.t, h.t, tolerance) {
-        Verdict::Same
-    } else if close(b.t, h.t, equal) {
-        Verdict::EqualTie
-    } else if close(b.t, h.t, answers.tie(b.object, h.object)) {
-        Verdict::NearTie
-    } else if !exact
-        || answers
-            .find(b.object, b.element, b.prim)
-            .is_some_and(|a| !answers.robust(a))
-    {
-        Verdict::Marginal
-    } else {
-        return Err(format!("hit {h:?} but brute force {b:?}"));
-    })
-}
-
-/// Checks a shadow query: true exactly when an element of a shadow-throwing object lies on the
-/// ray, except that non-robust element primitives of shadow-throwing objects may go either way.
-fn check_shadowed(answers: &Answers, got: bool) -> Result<Verdict, String> {
-    let throwers = || answers.all.iter().filter(|a| a.shadow_throwing);
-    let robust_hit = throwers().any(|a| a.t.is_some() && answers.robust(a));
-    if robust_hit {
-        return if got {
-            Ok(Verdict::Same)
-        } else {
-            let a = throwers().find(|a| a.t.is_some() && answers.robust(a));
-            Err(format!(
-                "an element of a shadow-throwing object robustly on the ray ({a:?}), but not \
-                 shadowed"
-            ))
-        };
-    }
-    let any_hit = throwers().any(|a| a.t.is_some());
-    if got == any_hit {
-        return Ok(Verdict::Same);
-    }
-    if throwers().any(|a| !answers.robust(a)) {
-        Ok(Verdict::Marginal)
-    } else if got {
-        Err("shadowed, but no element of a shadow-throwing object is on the ray".into())
-    } else {
-        unreachable!("a hit of a thrower that is not robust is marginal")
-    }
-}
-
-/// Tally of verdicts over a run.
+/// Tally of verdicts over a run, and where the hits were.
 #[derive(Debug, Default)]
 struct Tally {
-    nearest: [usize; 4],
-    shadowed: [usize; 4],
-    packet: [usize; 4],
-    /// Packet lanes that differ from the single-ray answer.
-    packet_differs: usize,
-    hits: usize,
+    verdicts: verdict::Tally,
     /// Hits on an element of an array with index > 0.
     later_elements: usize,
     /// Hits on meshes inside arrays (native triangles in an instance).
     array_meshes: usize,
     /// Hits on objects in no array.
     plain: usize,
-    /// Shadow rays that were shadowed.
-    shadowed_rays: usize,
 }
 
 impl Tally {
     fn add(&mut self, t: &Tally) {
-        for k in 0..4 {
-            self.nearest[k] += t.nearest[k];
-            self.shadowed[k] += t.shadowed[k];
-            self.packet[k] += t.packet[k];
-        }
-        self.packet_differs += t.packet_differs;
-        self.hits += t.hits;
+        self.verdicts.add(&t.verdicts);
         self.later_elements += t.later_elements;
         self.array_meshes += t.array_meshes;
         self.plain += t.plain;
-        self.shadowed_rays += t.shadowed_rays;
     }
 }
 
@@ -587,40 +281,29 @@ fn check_scene(
     let elements = elements(objects, arrays);
     let source = RaySource::new(objects, &elements);
     let in_array = |object: usize| arrays.iter().any(|a| a.objects.contains(&object));
-    let mut rng = Rng(seed);
-    let mut tally = Tally::default();
-    for _ in 0..rays {
-        let q = source.query(&mut rng);
-        let answers = Answers::new(objects, &elements, q);
-        let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
-        let got = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
-        let v = check_nearest(&answers, brute, got).map_err(|e| format!("nearest: {e}\n{q:?}"))?;
-        tally.nearest[v as usize] += 1;
-        if let Some(h) = got {
-            tally.hits += 1;
-            tally.later_elements += usize::from(h.element > 0);
-            tally.array_meshes += usize::from(in_array(h.object) && answers.is_mesh(h.object));
-            tally.plain += usize::from(!in_array(h.object));
-        }
-        let shadowed = scene.shadowed(q.origin, q.direction, q.t_min, q.t_max);
-        tally.shadowed_rays += usize::from(shadowed);
-        let v = check_shadowed(&answers, shadowed)
-            .map_err(|e| format!("shadowed ({shadowed}): {e}\n{q:?}"))?;
-        tally.shadowed[v as usize] += 1;
-    }
-    for _ in 0..packets {
-        // A packet from one origin: coherent (around an aim point) or scattered.
-        let base = source.query(&mut rng);
-        tally.packet_differs += check_packet(&scene, base, &mut rng, |q, lane, single| {
-            let answers = Answers::new(objects, &elements, q);
-            let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
-            let v = check_nearest(&answers, brute, lane)
-                .map_err(|e| format!("nearest8 lane (single ray: {single:?}): {e}\n{q:?}"))?;
-            tally.packet[v as usize] += 1;
-            Ok(())
-        })?;
-    }
-    Ok(tally)
+    let (mut later_elements, mut array_meshes, mut plain) = (0, 0, 0);
+    let verdicts = check_queries(
+        &scene,
+        objects,
+        &elements,
+        &mut Rng(seed),
+        rays,
+        packets,
+        |rng| source.query(rng),
+        |answers, got| {
+            if let Some(h) = got {
+                later_elements += usize::from(h.element > 0);
+                array_meshes += usize::from(in_array(h.object) && answers.is_mesh(h.object));
+                plain += usize::from(!in_array(h.object));
+            }
+        },
+    )?;
+    Ok(Tally {
+        verdicts,
+        later_elements,
+        array_meshes,
+        plain,
+    })
 }
 
 proptest! {
@@ -658,31 +341,32 @@ fn excuses_are_rare_with_arrays() {
         total.add(&t);
     }
     println!("verdicts [same, equal tie, near tie, marginal]: {total:?}");
-    let rays: usize = total.nearest.iter().sum();
-    let lanes: usize = total.packet.iter().sum();
+    let rays: usize = total.verdicts.nearest.iter().sum();
+    let lanes: usize = total.verdicts.packet.iter().sum();
     assert!(
-        total.hits > rays / 3 && total.hits < rays * 19 / 20,
+        total.verdicts.hits > rays / 3 && total.verdicts.hits < rays * 19 / 20,
         "{total:?}"
     );
     // Equal distances on different element primitives come from overlapping coplanar copies
     // and coplanar triangles of the random meshes; near ties and marginal primitives are rare.
-    assert!(total.nearest[1] <= rays / 50, "{total:?}");
-    assert!(total.packet[1] <= lanes / 50, "{total:?}");
+    assert!(total.verdicts.nearest[1] <= rays / 50, "{total:?}");
+    assert!(total.verdicts.packet[1] <= lanes / 50, "{total:?}");
     assert!(
-        total.nearest[2] + total.nearest[3] <= rays / 500,
+        total.verdicts.nearest[2] + total.verdicts.nearest[3] <= rays / 500,
         "{total:?}"
     );
     assert!(
-        total.packet[2] + total.packet[3] <= lanes / 500,
+        total.verdicts.packet[2] + total.verdicts.packet[3] <= lanes / 500,
         "{total:?}"
     );
-    assert!(total.shadowed[3] <= rays / 200, "{total:?}");
-    assert!(total.packet_differs <= lanes / 50, "{total:?}");
-    assert!(total.later_elements > total.hits / 3, "{total:?}");
-    assert!(total.array_meshes > total.hits / 50, "{total:?}");
-    assert!(total.plain > total.hits / 50, "{total:?}");
+    assert!(total.verdicts.shadowed[3] <= rays / 200, "{total:?}");
+    assert!(total.verdicts.packet_differs <= lanes / 50, "{total:?}");
+    assert!(total.later_elements > total.verdicts.hits / 3, "{total:?}");
+    assert!(total.array_meshes > total.verdicts.hits / 50, "{total:?}");
+    assert!(total.plain > total.verdicts.hits / 50, "{total:?}");
     assert!(
-        total.shadowed_rays > rays / 5 && total.shadowed_rays < total.hits,
+        total.verdicts.shadowed_rays > rays / 5
+            && total.verdicts.shadowed_rays < total.verdicts.hits,
         "{total:?}"
     );
 }
@@ -983,8 +667,8 @@ fn planes_in_an_array_are_intersected_per_element() {
     // Random rays: everything here is analytic (exact in f64); only a ray grazing a bounding box
     // could need an excuse, and none of this sample does.
     let t = check_scene(&objects, &arrays, 11, 2000, 100).unwrap();
-    assert_eq!(t.nearest[1..], [0, 0, 0], "{t:?}");
-    assert_eq!(t.packet[1..], [0, 0, 0], "{t:?}");
+    assert_eq!(t.verdicts.nearest[1..], [0, 0, 0], "{t:?}");
+    assert_eq!(t.verdicts.packet[1..], [0, 0, 0], "{t:?}");
 }
 
 /// Members whose copies reach beyond Embree's range (extent over 1e18) are intersected directly
@@ -1249,7 +933,7 @@ fn an_array_element_and_a_plain_copy_are_told_apart() {
     }
     // Random rays: every rule of the property test.
     let t = check_scene(&objects, &arrays, 3, 2000, 100).unwrap();
-    assert!(t.nearest[2] + t.nearest[3] <= 10, "{t:?}");
+    assert!(t.verdicts.nearest[2] + t.verdicts.nearest[3] <= 10, "{t:?}");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -28,6 +28,28 @@ struct Summary {
     output: String,
 }
 
+/// The printed rate is the printed number of rays over the time, in millions a second: the
+/// time is printed to 3 decimals and the rate to 2, so the rate must lie between
+/// rays / (T + 0.0005) / 1e6 − 0.005 and rays / (T − 0.0005) / 1e6 + 0.005 (no upper bound when
+/// T is printed as 0.000).
+#[track_caller]
+fn assert_rate_is_rays_over_seconds(s: &Summary, stdout: &str) {
+    let rays = s.rays as f64;
+    let lowest = rays / (s.seconds + 0.0005) / 1e6 - 0.005;
+    let highest = if s.seconds > 0.0005 {
+        rays / (s.seconds - 0.0005) / 1e6 + 0.005
+    } else {
+        f64::INFINITY
+    };
+    assert!(
+        s.mrays_per_second >= lowest && s.mrays_per_second <= highest,
+        "{} Mrays/s is not {} rays in {} s (between {lowest} and {highest}): {stdout}",
+        s.mrays_per_second,
+        s.rays,
+        s.seconds
+    );
+}
+
 #[track_caller]
 fn summary(stdout: &str) -> Summary {
     let line = stdout
@@ -136,11 +158,7 @@ fn render_without_a_scene_writes_the_studio_and_a_summary() {
         "at least one primary ray per pixel: {}",
         run.stdout
     );
-    assert!(
-        s.seconds >= 0.0 && s.mrays_per_second > 0.0,
-        "{}",
-        run.stdout
-    );
+    assert_rate_is_rays_over_seconds(&s, &run.stdout);
     assert!(
         run.stderr.is_empty(),
         "no progress bar without a terminal: {}",
@@ -170,7 +188,9 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     );
     let s = summary(&run.stdout);
     assert_eq!((s.size.as_str(), s.spp), ("40x30", 2));
-    assert!(s.rays >= 40 * 30 * 2);
+    // A constant-colour surface and no light: every sample is one primary ray and nothing more.
+    assert_eq!(s.rays, 40 * 30 * 2, "{}", run.stdout);
+    assert_rate_is_rays_over_seconds(&s, &run.stdout);
 
     // --width and --height override the file; its spp stays.
     let run = timbre(
@@ -193,6 +213,7 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     );
     let s = summary(&run.stdout);
     assert_eq!((s.size.as_str(), s.spp), ("80x60", 2));
+    assert_eq!(s.rays, 80 * 60 * 2, "{}", run.stdout);
 
     // --spp overrides the file too.
     let run = timbre(
@@ -215,7 +236,21 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     );
     let s = summary(&run.stdout);
     assert_eq!((s.size.as_str(), s.spp), ("40x10", 3));
-    assert!(s.rays >= 40 * 10 * 3);
+    assert_eq!(s.rays, 40 * 10 * 3, "{}", run.stdout);
+
+    // A matt inside of the ball lit by a point light at its centre: every sample is a primary
+    // ray and one shadow ray towards the light (nothing is in the way, and the matt surface
+    // sends no further rays).
+    let lit = UNIFORM_SCENE.replace("constant_colour", "matt").replace(
+        "[[object]]",
+        "[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\ncolour = [1, 1, 1]\n\n[[object]]",
+    );
+    let scene = write(&dir, "lit.toml", &lit);
+    let run = timbre(dir.path(), &["render", path_str(&scene), "-o", "lit.png"]);
+    run.assert_success();
+    let s = summary(&run.stdout);
+    assert_eq!(s.rays, 2 * 40 * 30 * 2, "{}", run.stdout);
+    assert_rate_is_rays_over_seconds(&s, &run.stdout);
 }
 
 #[test]

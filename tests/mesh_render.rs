@@ -4,19 +4,13 @@
 
 use std::f64::consts::PI;
 
+mod common;
+
 use glam::DVec3;
 use timbre::embree::Device;
-use timbre::render::{Image, render};
-use timbre::scene::Scene;
-use timbre::scene::file::parse;
+use timbre::render::Image;
 
-fn render_text(toml: &str, dir: &std::path::Path) -> Image {
-    let path = dir.join("scene.toml");
-    let d = parse(toml, path.to_str().unwrap()).unwrap();
-    let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, &d).unwrap();
-    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
-}
+use common::images::render_text_in;
 
 /// The cube [0,1]³ as an OBJ file with quad faces, wound counter-clockwise from outside.
 const CUBE_OBJ: &str = "\
@@ -100,11 +94,11 @@ fn a_cube_mesh_renders_like_six_parallelograms() {
     ] {
         let (mesh, faces) = scenes(surface);
         let (a, b) = (
-            render_text(&mesh, dir.path()),
-            render_text(&faces, dir.path()),
+            render_text_in(&mesh, dir.path()),
+            render_text_in(&faces, dir.path()),
         );
         // The cube covers a good part of the picture, so the comparison means something.
-        let empty = render_text(
+        let empty = render_text_in(
             "studio = \"lattice\"\n[render]\nwidth = 96\nheight = 72\n",
             dir.path(),
         );

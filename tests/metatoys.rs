@@ -6,8 +6,9 @@
 //!   line h⁻¹ (cₓ, c_y, s), s chosen so that eᵀ h e = ±1) rather than Eqs 27–32, by numerically
 //!   differentiating the optical path length A → P → B along the interface (Fermat's
 //!   principle), by reciprocity (−e goes back to −d) and by the change of basis of Eq 37.
-//! - Generalised confocal lenslet arrays (§5, Eq 39): against a literal evaluation of Eq 39
-//!   with the reverse-order rule of §5.2, the known special cases (η = −1 flips, η = 1 shifts
+//! - Generalised confocal lenslet arrays (§5, Eq 39): against the two lenslets of a
+//!   telescopelet traced lens by lens as ideal thin lenses (Fig. 16), in the order the ray
+//!   meets them, rather than against Eq 39; the known special cases (η = −1 flips, η = 1 shifts
 //!   slopes by δ), reciprocity and the change of basis.
 //! - Ray rotation, flipping, phase holograms and teleporting (§6): the defining geometric
 //!   facts (inverse rotation, kick = phase gradient, focusing by a quadratic phase, surface
@@ -15,8 +16,11 @@
 //!
 //! Rays come from a small deterministic generator, many per test, so failures reproduce.
 
+mod common;
+
 use std::f64::consts::{FRAC_1_SQRT_2, PI, TAU};
 
+use common::rng::Rng;
 use glam::{DMat3, DQuat, DVec2, DVec3};
 use timbre::geometry::{Parallelogram, Shape};
 use timbre::math::Frame;
@@ -31,45 +35,25 @@ const RAYS: usize = 2000;
 // ---------------------------------------------------------------------------------------------
 // Random numbers, vectors and tensors.
 
-/// SplitMix64.
-struct Rng(u64);
+/// The draws these tests need beyond the common generator's.
+trait Draws {
+    fn sign(&mut self) -> f64;
+    fn cube(&mut self) -> DVec3;
+    fn cone(&mut self, axis: DVec3, min: f64, max: f64) -> DVec3;
+    fn incident(&mut self) -> DVec3;
+    fn rotation(&mut self) -> DMat3;
+    fn positive_definite(&mut self) -> DMat3;
+    fn indefinite(&mut self) -> DMat3;
+}
 
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.uniform()
-    }
-
+impl Draws for Rng {
     fn sign(&mut self) -> f64 {
-        if self.uniform() < 0.5 { -1.0 } else { 1.0 }
+        if self.f() < 0.5 { -1.0 } else { 1.0 }
     }
 
+    /// A point in the cube [−1, 1]³.
     fn cube(&mut self) -> DVec3 {
-        DVec3::new(
-            self.range(-1.0, 1.0),
-            self.range(-1.0, 1.0),
-            self.range(-1.0, 1.0),
-        )
-    }
-
-    /// Uniform on the unit sphere.
-    fn unit(&mut self) -> DVec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, TAU);
-        let s = (1.0 - z * z).sqrt();
-        DVec3::new(s * phi.cos(), s * phi.sin(), z)
+        self.point(1.0)
     }
 
     /// A unit vector at an angle between `min` and `max` from the unit vector `axis`.
@@ -223,32 +207,75 @@ fn gcla_basis(a: DVec3, u: DVec3) -> (DVec3, DVec3, DVec3) {
     (a_hat, u_hat, a_hat.cross(u_hat))
 }
 
-/// Eq 39 written out, in the basis (â, û, v̂).
-fn eq39(d: DVec3, (a_hat, u_hat, v_hat): (DVec3, DVec3, DVec3), eta: DVec2, delta: DVec2) -> DVec3 {
-    let da = d.dot(a_hat);
-    (d.dot(u_hat) / da - delta.x) / eta.x * u_hat
-        + (d.dot(v_hat) / da - delta.y) / eta.y * v_hat
-        + a_hat
+/// One lenslet of a telescopelet, as crossed cylindrical thin lenses: focal lengths along û and
+/// v̂, and where its optical axis crosses the transverse (û, v̂) plane.
+#[derive(Debug, Clone, Copy)]
+struct Lenslet {
+    focal_length: DVec2,
+    axis: DVec2,
 }
 
-/// Eq 39 with the reverse-order rule of §5.2 for a sheet with normal `n`: if a and d point to
-/// different sides, â → −â, η → 1/η, δ → δ/η. `None` if d·â ≤ 0 or d′ does not cross.
-///
-/// û and v̂ stay the spatial directions the lenslet offsets are measured along: seen from
-/// lenslet 2, lenslet 1 is offset by −o, and −o/f₂ = δ/η along the same û and v̂. (Recomputing
-/// v̂ = (−â) × û would reverse the δ_v term and break reciprocity.)
-fn eq39_ordered(d: DVec3, a: DVec3, u: DVec3, eta: DVec2, delta: DVec2, n: DVec3) -> Option<DVec3> {
-    let (a_hat, u_hat, v_hat) = gcla_basis(a, u);
-    let (a_hat, eta, delta) = if a.dot(n) * d.dot(n) > 0.0 {
-        (a_hat, eta, delta)
-    } else {
-        (-a_hat, DVec2::ONE / eta, delta / eta)
+/// Traces a ray lens by lens (Fig. 16) through `lenslets` spaced `separation` apart along the
+/// direction of travel t̂. The ray has transverse slopes `slopes` (û and v̂ components per unit
+/// of t̂) and meets the first lens at transverse position `at`. An ideal thin lens of focal
+/// length f sends the ray to where the parallel ray through its centre meets its focal plane,
+/// f × slope off the axis, so at height h off the axis the slope becomes slope − h/f (in û and
+/// v̂ separately, the lenses being cylindrical); between lenses the ray moves on by
+/// separation × slope. Returns the slopes after the last lens.
+fn trace_lenslets(
+    mut slopes: DVec2,
+    mut at: DVec2,
+    lenslets: &[Lenslet],
+    separation: f64,
+) -> DVec2 {
+    for (k, lens) in lenslets.iter().enumerate() {
+        if k > 0 {
+            at += separation * slopes;
+        }
+        slopes -= (at - lens.axis) / lens.focal_length;
+    }
+    slopes
+}
+
+/// The direction in which a gCLA telescopelet sends a ray of direction `d` that meets it at
+/// transverse position `at`, worked out from its lenses rather than from Eq 39: lenslet 1 of
+/// focal lengths f₁ on the axis, lenslet 2 of focal lengths f₂ = −η f₁ with its axis offset by
+/// δ f₁ (the definitions of η and δ in §5.1), confocal so f₁ + f₂ = L for both u and v (here
+/// L = 1; η ≠ 1). â points from lenslet array 1 to array 2, so a ray crossing the sheet (normal
+/// `n`) towards the side â points to meets lenslet 1 first and travels along â, otherwise it
+/// meets lenslet 2 first and travels along −â. `None` if the ray cannot travel from the first
+/// lens to the second (d against the direction of travel) or its exit direction does not leave
+/// through the far side of the sheet.
+fn telescopelet_exit(
+    d: DVec3,
+    (a_hat, u_hat, v_hat): (DVec3, DVec3, DVec3),
+    eta: DVec2,
+    delta: DVec2,
+    n: DVec3,
+    at: DVec2,
+) -> Option<DVec3> {
+    let separation = 1.0;
+    let f1 = DVec2::splat(separation) / (DVec2::ONE - eta);
+    let lenslet_1 = Lenslet {
+        focal_length: f1,
+        axis: DVec2::ZERO,
     };
-    if d.dot(a_hat) <= 0.0 {
+    let lenslet_2 = Lenslet {
+        focal_length: -eta * f1,
+        axis: delta * f1,
+    };
+    let (travel, lenslets) = if a_hat.dot(n) * d.dot(n) > 0.0 {
+        (a_hat, [lenslet_1, lenslet_2])
+    } else {
+        (-a_hat, [lenslet_2, lenslet_1])
+    };
+    if d.dot(travel) <= 0.0 {
         return None;
     }
-    let out = eq39(d, (a_hat, u_hat, v_hat), eta, delta);
-    (out.dot(n) * d.dot(n) > 0.0).then_some(out)
+    let slopes = DVec2::new(d.dot(u_hat), d.dot(v_hat)) / d.dot(travel);
+    let out = trace_lenslets(slopes, at, &lenslets, separation);
+    let exit = out.x * u_hat + out.y * v_hat + travel;
+    (exit.dot(n) * d.dot(n) > 0.0).then_some(exit)
 }
 
 fn random_gcla(rng: &mut Rng, n: DVec3) -> (DVec3, DVec3, DVec2, DVec2) {
@@ -625,10 +652,9 @@ fn gcla_with_eta_minus_one_along_the_normal_flips_both_tangential_components() {
 }
 
 #[test]
-fn gcla_follows_eq_39() {
-    // With η = 1 the slopes (d′·û)/(d′·â) are the incident slopes minus δ; in general the
-    // basis is that of §5.2 and d′ is Eq 39 (with the reverse-order rule when a and d point to
-    // different sides of the sheet).
+fn gcla_with_eta_one_shifts_the_slopes_by_delta() {
+    // With η = 1 (f₂ = −f₁: lenses of opposite power, their axes δ f₁ apart) the slopes
+    // (d′·û)/(d′·â) are the incident slopes minus δ, wherever the ray enters.
     let mut rng = Rng(8);
     let mut shifted = 0;
     for _ in 0..RAYS {
@@ -651,25 +677,38 @@ fn gcla_follows_eq_39() {
         shifted += 1;
     }
     assert!(shifted > RAYS / 2, "only {shifted} passed");
+}
 
+#[test]
+fn gcla_bends_rays_like_confocal_lenslets_traced_lens_by_lens() {
+    // The basis is that of §5.2, and d′ is the direction the two lenslets of a telescopelet give
+    // the ray, traced through them in the order the ray meets them; that direction does not
+    // depend on where the ray enters (the telescope property, checked on the oracle too).
+    let mut rng = Rng(12);
     let mut passed = 0;
     for _ in 0..RAYS {
         let n = rng.unit();
         let (a, u, eta, delta) = random_gcla(&mut rng, n);
         let t = Telescopelets::new(a, u, eta, delta).unwrap();
-        let (a_hat, u_hat, v_hat) = gcla_basis(a, u);
+        let basis = gcla_basis(a, u);
+        let (a_hat, u_hat, v_hat) = basis;
         assert_close(t.a_hat, a_hat, 1e-15, "â");
         assert_close(t.u_hat, u_hat, 1e-14, "û");
         assert_close(t.v_hat, v_hat, 1e-14, "v̂");
         let d = rng.sign() * rng.cone(n, 0.0, 75f64.to_radians());
-        let got = t.refract(d, n);
-        match (got, eq39_ordered(d, a, u, eta, delta, n)) {
-            (Some(out), Some(want)) => {
-                assert_close(out, want, 1e-12 * want.length(), &format!("a {a}, d {d}"));
+        let entry = |rng: &mut Rng| DVec2::new(rng.range(-0.5, 0.5), rng.range(-0.5, 0.5));
+        let want = telescopelet_exit(d, basis, eta, delta, n, entry(&mut rng));
+        let elsewhere = telescopelet_exit(d, basis, eta, delta, n, entry(&mut rng));
+        let what = || format!("a {a}, u {u}, η {eta}, δ {delta}, d {d}");
+        match (t.refract(d, n), want, elsewhere) {
+            (Some(out), Some(want), Some(elsewhere)) => {
+                let want = want.normalize();
+                assert_close(elsewhere.normalize(), want, 1e-9, &what());
+                assert_close(out.normalize(), want, 1e-9, &what());
                 passed += 1;
             }
-            (None, None) => {}
-            (got, want) => panic!("a {a}, u {u}, η {eta}, δ {delta}, d {d}: {got:?} vs {want:?}"),
+            (None, None, None) => {}
+            other => panic!("{}: {other:?}", what()),
         }
     }
     assert!(passed > RAYS / 4, "only {passed} passed");
@@ -842,7 +881,7 @@ fn quadratic_phase_hologram_focuses_a_parallel_bundle() {
             let mut rng = Rng(14);
             (0..RAYS)
                 .map(|_| {
-                    let offset = rho * rng.uniform().sqrt();
+                    let offset = rho * rng.f().sqrt();
                     let phi = rng.range(0.0, TAU);
                     let r = centre + offset * DVec2::new(phi.cos(), phi.sin());
                     let e = hologram_direction(DVec3::Z, phase.gradient(r)).unwrap();
@@ -960,7 +999,7 @@ fn imperfect_teleporting_spreads_exit_points_within_the_positional_error() {
         let (centre, _) = perfect.teleport(c, d, &frame, |_| 0.5).unwrap();
         let offsets: Vec<DVec3> = (0..RAYS)
             .map(|_| {
-                let noise = [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()];
+                let noise = [rng.f(), rng.f(), rng.f(), rng.f()];
                 let (p, direction) = noisy.teleport(c, d, &frame, |i| noise[i as usize]).unwrap();
                 assert_close(direction, rotation * d, 1e-12, "direction");
                 p - centre

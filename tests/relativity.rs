@@ -10,34 +10,40 @@ use timbre::io::to_rgb8;
 use timbre::math::LorentzTransform;
 use timbre::render::Image;
 
-use common::images::{differing, parse, render_description, render_text};
+use common::images::{
+    REFERENCE_FRACTION, REFERENCE_LEVELS, compare_with_reference, differing, parse,
+    render_description, render_text, rgb8_differing_by_more_than, studio_reference,
+};
 
 const LATTICE: &str = "studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n";
 
 #[test]
-fn beta_zero_renders_exactly_the_non_relativistic_reference() {
-    // The reference was rendered before cameras could move; every shutter model and opening
-    // time must give exactly it at rest (the scene does not change with time).
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/reference/studio-160x120.png"
-    );
-    let reference = image::open(path).unwrap().to_rgb8();
+fn beta_zero_renders_the_camera_at_rest() {
+    // Every shutter model and opening time gives exactly the picture of the camera without a
+    // velocity (the scene does not change with time); both are rendered here by the same build,
+    // so they must agree to the bit.
+    let at_rest = to_rgb8(&render_text(LATTICE));
     for shutter in ["entrance-pupil", "detector-plane", "focus-surface"] {
         let text = format!(
             "{LATTICE}[camera]\nbeta = [0, 0, 0]\nshutter = \"{shutter}\"\nshutter_time = -7.5\n"
         );
         let got = to_rgb8(&render_text(&text));
-        assert!(
-            got == reference,
-            "{shutter}: differs from the reference at rest"
-        );
+        assert!(got == at_rest, "{shutter}: differs from the camera at rest");
     }
-    // A moving camera sees something else.
+    // The camera at rest is the non-relativistic studio reference (rendered before cameras
+    // could move, possibly on another machine: compared within the stated tolerance).
+    compare_with_reference(&at_rest, &studio_reference())
+        .unwrap_or_else(|e| panic!("at rest: {e}"));
+    // A moving camera sees something else, by far more than the tolerance allows.
     let moving = to_rgb8(&render_text(&format!(
         "{LATTICE}[camera]\nbeta = [0, 0, 0.5]\n"
     )));
-    assert!(moving != reference);
+    let changed = rgb8_differing_by_more_than(&moving, &at_rest, REFERENCE_LEVELS);
+    assert!(
+        changed > 4 * (160 * 120) / REFERENCE_FRACTION,
+        "{changed} pixels changed"
+    );
+    assert!(compare_with_reference(&moving, &studio_reference()).is_err());
 }
 
 #[test]

@@ -12,9 +12,7 @@ use timbre::render::{Image, render};
 use timbre::scene::Packing;
 use timbre::scene::Stereo;
 use timbre::scene::{Scene, SceneDescription, file};
-use timbre::stereo::pack;
-use timbre::stereo::render_stereo;
-use timbre::stereo::{anaglyph, autostereogram};
+use timbre::stereo::{Autostereogram, anaglyph, autostereogram, pack, render_stereo};
 
 fn image(width: u32, height: u32, f: impl Fn(u32, u32) -> Colour) -> Image {
     Image {
@@ -141,6 +139,167 @@ fn the_eyes_converge_on_the_focus_plane() {
     }
 }
 
+/// The viewing geometry of Thimbleby, Inglis & Witten (IEEE Computer, 1994), written out here
+/// from the paper: the eyes are `e` pixels apart at distance D from the screen, the far plane
+/// is D behind the screen and depth z ∈ [0, 1] puts a point μzD in front of it, straight behind
+/// its pixel. Measured from the eyes in units of D, the screen is at 1, the far plane at 2, the
+/// near plane at 2 − μ and a point of depth z at 2 − μz.
+struct Viewing {
+    e: f64,
+    mu: f64,
+}
+
+impl Viewing {
+    /// Distance from the eyes (in D) of a point of depth z.
+    fn distance(&self, z: f64) -> f64 {
+        2.0 - self.mu * z
+    }
+
+    /// Where the lines of sight from a point of depth z to the eyes (±e/2 to the side of it)
+    /// cross the screen: by similar triangles, e/2 × (1 − 1/distance) to either side, so
+    /// s(z) = (1 − μz)e/(2 − μz) apart.
+    fn separation(&self, z: f64) -> f64 {
+        self.e * (1.0 - 1.0 / self.distance(z))
+    }
+
+    /// The two pixels of a row that show the point at pixel x and depth z (the paper's
+    /// placement: s rounded, the left one ⌊s/2⌋ left of x), if both are in a row `width` long.
+    fn pair(&self, x: usize, z: f64, width: usize) -> Option<(usize, usize)> {
+        let s = self.separation(z).round() as usize;
+        let left = x.checked_sub(s / 2)?;
+        (left + s < width).then_some((left, left + s))
+    }
+
+    /// Whether the line of sight from the point at pixel x of `row` (its depth) to the eye on
+    /// side `side` (−1 left, +1 right) passes in front of every other pixel's surface: at t
+    /// pixels to that side the line is at distance (1 − 2t/e) × distance(z) from the eyes, and
+    /// the surface there, at distance(row[x ± t]), blocks it if it is no farther. Past the near
+    /// plane nothing can block; beyond the row's ends there is nothing.
+    fn seen_by(&self, row: &[f64], x: usize, side: isize) -> bool {
+        let from = self.distance(row[x]);
+        (1..)
+            .map(|t: usize| (t, from * (1.0 - 2.0 * t as f64 / self.e)))
+            .take_while(|&(_, line)| line >= self.distance(1.0))
+            .all(|(t, line)| {
+                let column = x as isize + side * t as isize;
+                usize::try_from(column)
+                    .ok()
+                    .and_then(|c| row.get(c))
+                    .is_none_or(|&z| self.distance(z) > line)
+            })
+    }
+
+    fn seen_by_both_eyes(&self, row: &[f64], x: usize) -> bool {
+        self.seen_by(row, x, -1) && self.seen_by(row, x, 1)
+    }
+}
+
+/// Pixels of `row` seen by both eyes whose two image pixels are in the row: every such pair of
+/// `image` (the row's colours) must share its colour. Returns their number; panics at the
+/// first pair that differs.
+fn check_pairs(viewing: &Viewing, row: &[f64], image: &[Colour], what: &str) -> usize {
+    let mut pairs = 0;
+    for x in 0..row.len() {
+        let Some((left, right)) = viewing.pair(x, row[x], row.len()) else {
+            continue;
+        };
+        if viewing.seen_by_both_eyes(row, x) {
+            assert_eq!(image[left], image[right], "{what}: x = {x}, z = {}", row[x]);
+            pairs += 1;
+        }
+    }
+    pairs
+}
+
+#[test]
+fn an_autostereogram_shows_each_point_seen_by_both_eyes_in_one_colour() {
+    // Depth maps with steps, slopes and waves, decoded by the viewing geometry worked out here
+    // (not by the library's own separation or visibility).
+    let (width, height) = (400usize, 40usize);
+    let a = Autostereogram {
+        eye_separation: 90,
+        depth_of_field: 1.0 / 3.0,
+        seed: 9,
+        colour: true,
+    };
+    let viewing = Viewing {
+        e: 90.0,
+        mu: 1.0 / 3.0,
+    };
+    // s(0) = E/2, s(1) = (2/3)·90/(5/3) = 36.
+    assert_eq!(viewing.separation(0.0), 45.0);
+    assert!((viewing.separation(1.0) - 36.0).abs() < 1e-12);
+    let map = |f: &dyn Fn(usize, usize) -> f64| -> Vec<f64> {
+        (0..width * height)
+            .map(|i| f(i % width, i / width))
+            .collect()
+    };
+    let maps: [(&str, Vec<f64>); 4] = [
+        (
+            "steps",
+            map(&|x, y| match (x, y) {
+                (170..240, 10..30) => 1.0,
+                (100..300, _) => 0.6,
+                _ => 0.0,
+            }),
+        ),
+        ("ramp up", map(&|x, _| x as f64 / 399.0)),
+        ("ramp down", map(&|x, _| 1.0 - x as f64 / 399.0)),
+        (
+            "wave",
+            map(&|x, y| 0.5 + 0.5 * (x as f64 / 15.0 + y as f64).sin()),
+        ),
+    ];
+    for (what, depth) in maps {
+        let image = a.render(&depth, width as u32, height as u32);
+        let pairs: usize = depth
+            .chunks(width)
+            .zip(image.chunks(width))
+            .map(|(row, colours)| check_pairs(&viewing, row, colours, what))
+            .sum();
+        assert!(pairs > 300 * height, "{what}: only {pairs} pairs");
+    }
+}
+
+#[test]
+fn points_beside_a_near_plateau_hidden_from_one_eye_get_free_dots() {
+    // A plateau on the near plane (z = 1) over columns 150..250, the far plane (z = 0) around
+    // it, E = 90, μ = 1/3. From a far point the line of sight to an eye is at distance
+    // 2 (1 − 2t/90) t pixels to the side, in front of the plateau (at 2 − 1/3) only while
+    // t ≥ 7.5: the 7 far pixels on either side of the plateau (143..=149 and 250..=256) are
+    // hidden from one eye, every other point is seen by both.
+    let width = 400;
+    let mut row = vec![0.0; width];
+    row[150..250].fill(1.0);
+    let viewing = Viewing {
+        e: 90.0,
+        mu: 1.0 / 3.0,
+    };
+    let hidden: Vec<usize> = (0..width)
+        .filter(|&x| !viewing.seen_by_both_eyes(&row, x))
+        .collect();
+    let by_hand: Vec<usize> = (143..=149).chain(250..=256).collect();
+    assert_eq!(hidden, by_hand);
+    let a = Autostereogram {
+        eye_separation: 90,
+        depth_of_field: 1.0 / 3.0,
+        seed: 5,
+        colour: true,
+    };
+    let image = a.render(&row, width as u32, 1);
+    assert!(check_pairs(&viewing, &row, &image, "plateau") > 300);
+    // The pairs of the hidden points are not tied together: random dots differ.
+    for x in by_hand {
+        let (left, right) = viewing.pair(x, 0.0, width).unwrap();
+        assert_ne!(image[left], image[right], "x = {x}");
+    }
+    // The plateau repeats at its own separation (36), not at the far plane's (45): pixel x
+    // matches x − 36 where the point between them, x − 18, is on the plateau.
+    let at = |s: usize| (170..260).filter(|&x| image[x - s] == image[x]).count();
+    assert_eq!(at(36), 90);
+    assert!(at(45) < 5, "{}", at(45));
+}
+
 #[test]
 fn an_autostereogram_repeats_with_the_separation_of_each_depth() {
     // A wall 20 ahead (the far plane) with a ball in front, its front 9 ahead (the near plane).
@@ -152,6 +311,8 @@ fn an_autostereogram_repeats_with_the_separation_of_each_depth() {
         [[object]]\nshape = { type = \"sphere\", centre = [0, 0, 10], radius = 1 }\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n";
     let d = file::parse(text, "a.toml").unwrap();
     let options = autostereogram(&d.stereo, 300, 3).unwrap();
+    assert_eq!((options.eye_separation, options.depth_of_field), (80, 0.5));
+    let viewing = Viewing { e: 80.0, mu: 0.5 };
     let device = Device::new("").unwrap();
     let scene = Scene::build(&device, &d).unwrap();
     let image = render_stereo(&scene, &d.camera, &d.render, &d.stereo, &|_| {}).unwrap();
@@ -163,7 +324,7 @@ fn an_autostereogram_repeats_with_the_separation_of_each_depth() {
     // Far wall: z = 0, s = E/2 = 40. Ball front: z = 1, s = (1 − μ)E/(2 − μ) = 26.7, rounded
     // 27. The ball spans rows 9 to 91 and columns 109 to 191 (5.7° of the ±20° across).
     // Check the top row (wall only) and the middle row's centre (ball).
-    let far_s = options.separation(0.0).round() as u32;
+    let far_s = viewing.separation(0.0).round() as u32;
     assert_eq!(far_s, 40);
     assert_eq!(
         matches(2, 40..300, far_s),
@@ -171,7 +332,7 @@ fn an_autostereogram_repeats_with_the_separation_of_each_depth() {
         "the wall's row repeats every 40 pixels"
     );
     assert!(matches(2, 40..300, 27) < 30);
-    let near_s = options.separation(1.0).round() as u32;
+    let near_s = viewing.separation(1.0).round() as u32;
     assert_eq!(near_s, 27);
     assert!(
         matches(50, 140..160, near_s) >= 18,

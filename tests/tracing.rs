@@ -1,18 +1,12 @@
 //! The tracer end to end: surface laws seen through the camera, and runaway recursion.
 
+mod common;
+
 use glam::DVec3;
 use timbre::embree::Device;
 use timbre::geometry::{SceneGeometry, Shape, Sphere};
-use timbre::render::{Image, render};
-use timbre::scene::file::parse;
-use timbre::scene::{Scene, SceneDescription};
 
-fn render_text(toml: &str) -> Image {
-    let d: SceneDescription = parse(toml, "test.toml").unwrap();
-    let device = Device::new("").unwrap();
-    let scene = Scene::build(&device, &d).unwrap();
-    render(&scene, &d.camera, &d.render, &|_| {}).unwrap()
-}
+use common::images::render_text;
 
 const SKY: DVec3 = DVec3::new(0.5, 0.5, 1.0);
 

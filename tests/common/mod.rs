@@ -1,13 +1,14 @@
 //! Helpers shared by the integration tests: random inputs for the property tests (here),
 //! deterministic random numbers ([`rng`]), ray queries and exact reference answers ([`rays`]),
-//! rendering scene text and comparing pictures ([`images`]), and running the `timbre` command
-//! ([`cli`]).
+//! the rules by which Embree's answers are judged against them ([`verdict`]), rendering scene
+//! text and comparing pictures ([`images`]), and running the `timbre` command ([`cli`]).
 #![allow(dead_code)] // each test crate uses its own subset
 
 pub mod cli;
 pub mod images;
 pub mod rays;
 pub mod rng;
+pub mod verdict;
 
 use std::f64::consts::TAU;
 use std::ops::Range;
