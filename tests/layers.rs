@@ -95,8 +95,15 @@ fn referenced(module: &[String], code: &str) -> Vec<String> {
             rest = r;
         }
         // A file's own module counts as one level (`super` of surfaces/lenses/mod.rs is
-        // surfaces); inline `mod tests` blocks add one more, so `super` there is the file.
-        if depth >= module.len() {
+        // surfaces); each inline module opened before (`mod tests {`) adds one more.
+        let inline = code[..i]
+            .lines()
+            .filter(|l| {
+                let l = l.trim_start();
+                (l.starts_with("mod ") || l.starts_with("pub mod ")) && l.ends_with('{')
+            })
+            .count();
+        if depth >= module.len() + inline {
             found.push(word(rest));
         }
     }
@@ -172,11 +179,12 @@ fn the_reference_finder_sees_crate_and_super_paths() {
     let module = vec!["surfaces".to_string(), "lenses".to_string()];
     let text = code(
         "use crate::geometry::Shape;\nuse super::super::render::Tracer; // crate::scene\n\
-         fn f() { crate::math::Ray::new(); super::Redirection::Lost }",
+         fn f() { crate::math::Ray::new(); super::Redirection::Lost }\n\
+         mod tests {\n    use super::super::*;\n    use super::super::super::io::X;\n}",
     );
     assert_eq!(
         referenced(&module, &text),
-        ["geometry", "math", "render"],
+        ["geometry", "math", "render", "io"],
         "crate:: paths, and super:: only where it climbs out of the crate's top module"
     );
 }
