@@ -12,9 +12,10 @@
 //! Embree calls back into Rust: a user geometry's [`UserGeometry::bounds`] while a scene is
 //! committed (possibly on Embree's own build threads), its [`UserGeometry::intersect`] during
 //! every query (on the querying thread), and the device's error callback from any Embree call.
-//! A panic must not unwind through Embree's C frames: that is undefined behaviour, and Rust
-//! aborts the process when a panic reaches an `extern "C"` function. So every callback runs its
-//! Rust code inside [`std::panic::catch_unwind`], and on a panic
+//! A panic must never unwind into Embree's C frames: that would be undefined behaviour, which
+//! Rust prevents by aborting the whole process when a panic reaches the end of an `extern "C"`
+//! function. So every callback runs its Rust code inside [`std::panic::catch_unwind`], and on a
+//! panic
 //!
 //! - `intersect` (nearest-hit and occlusion queries) keeps the first payload in the query's own
 //!   context, reports "no hit", and reports "no hit" without calling Rust for the rest of that
