@@ -5,6 +5,7 @@
 #   libclang-dev   libclang for bindgen (reads the shim's header at build time)
 #   openexr        exrheader, used by the tests to validate written EXR files
 #   gcc            compiles the C shim (normally present with the Rust toolchain)
+# and checks that rustc is at least the rust-version declared in Cargo.toml.
 set -euo pipefail
 
 packages=(libembree-dev libclang-dev openexr gcc)
@@ -22,6 +23,16 @@ if [ ${#missing[@]} -gt 0 ]; then
     $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-for tool in cargo rustfmt cargo-clippy; do
+for tool in rustc cargo rustfmt cargo-clippy; do
     command -v "$tool" >/dev/null || { echo "setup: $tool not found; install the Rust toolchain (rustup) with rustfmt and clippy" >&2; exit 1; }
 done
+
+# The toolchain must be at least Cargo.toml's rust-version, the one statement of the minimum.
+manifest="$(dirname "$0")/../Cargo.toml"
+required="$(sed -n 's/^rust-version *= *"\([0-9.]*\)".*/\1/p' "$manifest")"
+[ -n "$required" ] || { echo "setup: no rust-version in $manifest" >&2; exit 1; }
+have="$(rustc --version | awk '{print $2}')"
+if [ "$(printf '%s\n' "$required" "$have" | sort -V | head -n 1)" != "$required" ]; then
+    echo "setup: rustc $have is older than $required, the rust-version in Cargo.toml; update the toolchain (rustup update stable)" >&2
+    exit 1
+fi
