@@ -110,7 +110,7 @@ pub enum End {
     /// No light comes back along the ray: trapped in a lens, or teleported beyond the
     /// destination's edge (at the last point).
     Lost,
-    /// It met nothing more; the last point is where the drawing of it stops (see [`follow`]).
+    /// It met nothing more; the last point is where the drawing of it stops (see [`trace`]).
     Escaped,
     /// It met `max_interactions` surfaces and would go on from the last point.
     MaxInteractions,
