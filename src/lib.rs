@@ -4,11 +4,9 @@
 //! "Dr TIM: Ray-tracer TIM, with additional specialist scientific capabilities" (Oxburgh, Tyc,
 //! Courtial); equation numbers in doc comments refer to it.
 
-#![deny(unsafe_code)]
-
 pub mod cameras;
-// The one exception to `deny(unsafe_code)`: the Embree binding calls C, and its safe API is the
-// boundary that keeps every other module free of `unsafe`.
+// The one exception to `unsafe_code = "deny"` (Cargo.toml's lints): the Embree binding calls C,
+// and its safe API is the boundary that keeps every other module free of `unsafe`.
 #[allow(unsafe_code)]
 pub mod embree;
 pub mod geometry;

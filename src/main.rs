@@ -14,7 +14,7 @@ use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
-use timbre::scene::{Scene, SceneDescription, Stereo};
+use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo};
 use timbre::trajectories::{self, Trajectory, TrajectoryError};
 
@@ -117,6 +117,19 @@ struct RenderArgs {
     quiet: bool,
 }
 
+impl RenderArgs {
+    /// The command line's values in place of the scene file's.
+    fn apply_to(&self, s: &mut RenderSettings) {
+        s.width = self.width.unwrap_or(s.width);
+        s.height = self.height.unwrap_or(s.height);
+        s.spp = self.spp.unwrap_or(s.spp);
+        s.seed = self.seed.unwrap_or(s.seed);
+        s.max_trace_level = self.max_trace_level.unwrap_or(s.max_trace_level);
+        s.aovs = !self.aov.is_empty();
+        s.threads = self.threads.map(|t| t as usize);
+    }
+}
+
 #[derive(Clone, Copy, PartialEq, ValueEnum)]
 enum Encoding {
     Ascii,
@@ -208,16 +221,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             eprintln!("timbre: warning: {w}");
         }
     }
-    let s = &mut description.render;
-    s.width = args.width.unwrap_or(s.width);
-    s.height = args.height.unwrap_or(s.height);
-    s.spp = args.spp.unwrap_or(s.spp);
-    s.seed = args.seed.unwrap_or(s.seed);
-    s.max_trace_level = args.max_trace_level.unwrap_or(s.max_trace_level);
-    s.aovs = !args.aov.is_empty();
-    s.threads = args.threads.map(|t| t as usize);
-    s.validate().map_err(bad_input)?;
-    let settings = s.clone();
+    args.apply_to(&mut description.render);
+    description.render.validate().map_err(bad_input)?;
+    let settings = description.render.clone();
     if !args.quiet && description.camera.aperture_radius() > 0.0 && settings.spp == 1 {
         eprintln!(
             "timbre: warning: a finite-aperture camera with 1 sample per pixel sees through one random pupil point per pixel (noisy); set --spp or [render] spp"

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use timbre::embree::Device;
 use timbre::scene::Scene;
 use timbre::scene::file;
+use timbre::{stereo, trajectories};
 
 /// One ```` ```toml ```` block: its text, without the fence's indentation, and the line of
 /// the Markdown file it starts on (1-based, the line after the opening fence).
@@ -97,11 +98,9 @@ fn check(device: &Device, doc: &str, block: &Block) -> Result<(), String> {
     let description =
         file::parse(&text, &name.to_string_lossy()).map_err(|e| fail(e.to_string()))?;
     let r = &description.render;
-    description
-        .stereo
-        .validate(r.width, r.height)
-        .map_err(fail)?;
-    Scene::build(device, &description).map_err(|e| fail(e.to_string()))?;
+    stereo::validate(&description.stereo, r.width, r.height).map_err(fail)?;
+    let drawn = trajectories::draw(device, &description).map_err(|e| fail(e.to_string()))?;
+    Scene::build(device, &drawn).map_err(|e| fail(e.to_string()))?;
     Ok(())
 }
 

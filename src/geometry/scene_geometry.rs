@@ -461,6 +461,7 @@ impl SceneGeometry {
     }
 
     /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.
+    #[inline]
     pub fn shadowed(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> bool {
         if !embree_can_trace(origin) {
             return self

@@ -94,9 +94,10 @@ impl<'a> Tracer<'a> {
         if level == 0 || rays.is_empty() {
             return;
         }
-        let mut record = |i: usize, found: Option<Found>| {
+        // Found only when asked for: copying it costs in the hot loop.
+        let mut record = |i: usize, found: &dyn Fn() -> Option<Found>| {
             if let Some(f) = firsts.as_deref_mut() {
-                f[i] = found;
+                f[i] = found();
             }
         };
         let mut transformed = [rays[0]; 8];
@@ -116,7 +117,7 @@ impl<'a> Tracer<'a> {
                 if let Some(f) = &found {
                     colours[i] += self.shade(f, level);
                 }
-                record(i, found);
+                record(i, &|| found);
             }
             return;
         }
@@ -131,16 +132,17 @@ impl<'a> Tracer<'a> {
             0.0,
             f64::INFINITY,
         );
-        for (i, (hit, ray)) in hits.into_iter().zip(scene_rays).enumerate() {
-            let found = hit.map(|hit| Found {
-                frame: ReferenceFrame::Scene,
-                ray: *ray,
-                hit,
-            });
-            if let Some(f) = &found {
-                colours[i] += self.shade(f, level);
+        for (i, (hit, ray)) in hits.iter().zip(scene_rays).enumerate() {
+            if let Some(hit) = hit {
+                colours[i] += self.shade_hit(ReferenceFrame::Scene, ray, hit, level);
             }
-            record(i, found);
+            record(i, &|| {
+                hit.map(|hit| Found {
+                    frame: ReferenceFrame::Scene,
+                    ray: *ray,
+                    hit,
+                })
+            });
         }
     }
 
@@ -163,14 +165,19 @@ impl<'a> Tracer<'a> {
     /// ray goes on ([`Redirection`]), and the continued ray is traced one level down in the
     /// frame of the object it leaves.
     pub fn shade(&self, found: &Found, level: u32) -> Colour {
-        let world = self.world(found.frame);
+        self.shade_hit(found.frame, &found.ray, &found.hit, level)
+    }
+
+    /// [`Self::shade`] of `hit` on `ray`, in `frame`.
+    fn shade_hit(&self, frame: ReferenceFrame, ray: &Ray, hit: &Hit, level: u32) -> Colour {
+        let world = self.world(frame);
         let at = Interaction {
-            ray: found.ray,
-            hit: found.hit,
+            ray: *ray,
+            hit: *hit,
             geometry: &world.geometry,
         };
-        let surface = &world.objects[found.hit.object].surface;
-        let on = |(ray, margin)| self.trace(&ray, margin, level - 1, found.frame);
+        let surface = &world.objects[hit.object].surface;
+        let on = |(ray, margin)| self.trace_on(&ray, margin, level - 1, frame);
         match surface.redirect(&at, &mut |_| {}) {
             Redirection::Lit(coloured) => self.lit(coloured, &at),
             Redirection::Emits(colour) => colour,
@@ -180,6 +187,13 @@ impl<'a> Tracer<'a> {
                 factor * on(at.emerging(exit))
             }
         }
+    }
+
+    /// [`Self::trace`] of a ray continued from a surface, kept out of line so that the
+    /// common surfaces with a colour of their own are shaded without its stack frame.
+    #[inline(never)]
+    fn trace_on(&self, ray: &Ray, t_min: f64, level: u32, frame: ReferenceFrame) -> Colour {
+        self.trace(ray, t_min, level, frame)
     }
 
     /// The description index and outward normal of the surface found.

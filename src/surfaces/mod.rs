@@ -75,11 +75,29 @@ pub enum Surface {
 impl Surface {
     /// Where the ray `at.ray` goes on from this surface. `inside` is shown the points of the
     /// curved path of a ray integrated through a gradient-index lens, between entry and exit.
+    #[inline]
     pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection<'_> {
         match self {
             Surface::Coloured(s) => Redirection::Lit(s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            _ => self.redirect_by_law(at, inside),
+        }
+    }
+
+    /// [`Self::redirect`] of the surfaces that send the ray on, out of line so that the common
+    /// surfaces with a colour of their own are dispatched without its large stack frame.
+    #[inline(never)]
+    fn redirect_by_law(
+        &self,
+        at: &Interaction,
+        inside: &mut dyn FnMut(DVec3),
+    ) -> Redirection<'static> {
+        match self {
+            // Answered by `redirect` itself.
+            Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
+                Redirection::Lost
+            }
             Surface::Mirror(s) => s.redirect(at),
             Surface::Refractive(s) => s.redirect(at),
             Surface::Transparent(s) => s.redirect(at),

@@ -315,22 +315,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     // Lights given in the file replace the studio's lights.
     if !file.light.is_empty() {
-        let mut lights = Lights::none();
-        for light in file.light {
-            match light {
-                LightSection::Ambient { colour } => lights.ambient += colour.0,
-                LightSection::Point {
-                    position,
-                    colour,
-                    phong_exponent,
-                } => lights.points.push(PointLight {
-                    position: position.0,
-                    colour: colour.0,
-                    phong_exponent: phong_exponent.map_or(40.0, |k| k.0),
-                }),
-            }
-        }
-        scene.lights = lights;
+        scene.lights = lights(file.light);
     }
 
     for (k, t) in file.ray_trajectory.into_iter().enumerate() {
@@ -341,29 +326,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     let mut links = Vec::new();
     if let Some(window) = file.window {
-        let span = window.span();
-        let pane = scene
-            .objects
-            .iter_mut()
-            .find(|o| o.name == studio::WINDOW && studio == Some(Studio::MetatoyWindow))
-            .ok_or_else(|| {
-                invalid(
-                    Some(span),
-                    "[window] sets the pane of studio = \"metatoy-window\", which this scene does not use".into(),
-                )
-            })?;
-        let surface_span = window.into_inner().surface;
-        let (span, section) = (surface_span.span(), surface_span.into_inner());
-        let at = |m: String| invalid(Some(span.clone()), format!("window: {m}"));
-        if let Some(destination) = section.destination() {
-            links.push(Link {
-                origin: studio::WINDOW.to_string(),
-                destination: destination.to_string(),
-                at: at(String::new()),
-            });
-        }
-        pane.surface = section.build().map_err(at)?;
-        pane.surface.check_shape(&pane.shape).map_err(at)?;
+        links.extend(set_window(source, &mut scene, studio, window)?);
     }
 
     let studio_objects = scene.objects.len();
@@ -393,6 +356,58 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         })?;
     }
     Ok(scene)
+}
+
+/// The lights of the `[[light]]` tables: ambient colours add up.
+fn lights(sections: Vec<LightSection>) -> Lights {
+    let mut lights = Lights::none();
+    for light in sections {
+        match light {
+            LightSection::Ambient { colour } => lights.ambient += colour.0,
+            LightSection::Point {
+                position,
+                colour,
+                phong_exponent,
+            } => lights.points.push(PointLight {
+                position: position.0,
+                colour: colour.0,
+                phong_exponent: phong_exponent.map_or(40.0, |k| k.0),
+            }),
+        }
+    }
+    lights
+}
+
+/// Gives the pane of the METATOY window studio the `[window]` table's surface; a teleporting
+/// pane's link to its destination is returned, to be made once every object is placed.
+fn set_window(
+    source: &Source,
+    scene: &mut SceneDescription,
+    studio: Option<Studio>,
+    window: Spanned<WindowSection>,
+) -> Result<Option<Link>, SceneFileError> {
+    let span = window.span();
+    let pane = scene
+        .objects
+        .iter_mut()
+        .find(|o| o.name == studio::WINDOW && studio == Some(Studio::MetatoyWindow))
+        .ok_or_else(|| {
+            source.error(
+                Some(span),
+                "[window] sets the pane of studio = \"metatoy-window\", which this scene does not use".into(),
+            )
+        })?;
+    let surface_span = window.into_inner().surface;
+    let (span, section) = (surface_span.span(), surface_span.into_inner());
+    let at = |m: String| source.error(Some(span.clone()), format!("window: {m}"));
+    let link = section.destination().map(|destination| Link {
+        origin: studio::WINDOW.to_string(),
+        destination: destination.to_string(),
+        at: at(String::new()),
+    });
+    pane.surface = section.build().map_err(at)?;
+    pane.surface.check_shape(&pane.shape).map_err(at)?;
+    Ok(link)
 }
 
 /// Gives the teleporting surfaces of object `origin` (and, for a mesh file, its parts) the

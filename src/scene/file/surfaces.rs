@@ -179,6 +179,65 @@ pub(super) enum PhaseSection {
     },
 }
 
+impl PhaseSection {
+    fn build(self) -> Phase {
+        let centre = |c: Option<Vector2>| c.map_or(DVec2::ZERO, |c| c.0);
+        match self {
+            PhaseSection::Linear { gradient } => Phase::Linear {
+                gradient: gradient.0,
+            },
+            PhaseSection::Quadratic {
+                focal_length,
+                centre: c,
+            } => Phase::Quadratic {
+                focal_length: focal_length.0,
+                centre: centre(c),
+            },
+            PhaseSection::Cylindrical {
+                focal_length,
+                centre: c,
+                axis_angle_deg,
+            } => Phase::Cylindrical {
+                focal_length: focal_length.0,
+                centre: centre(c),
+                axis_angle: axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
+            },
+        }
+    }
+}
+
+/// A metric interface between the `inside` and `outside` metrics (Euclidean when not given);
+/// in the local basis their tangential parts must be invertible.
+fn metric_interface(
+    inside: Option<MetricTensor>,
+    outside: Option<MetricTensor>,
+    basis: Basis,
+    refraction: Option<RefractionName>,
+    allow_imaginary: bool,
+    transmission_coefficient: f64,
+) -> Result<Surface, String> {
+    let euclidean = MetricTensor(DMat3::IDENTITY);
+    let (g, h) = (
+        inside.unwrap_or(euclidean).0,
+        outside.unwrap_or(euclidean).0,
+    );
+    if basis == Basis::Local {
+        check_tangential("inside", &g)?;
+        check_tangential("outside", &h)?;
+    }
+    Ok(Surface::MetricInterface(MetricInterface {
+        inside: g,
+        outside: h,
+        basis,
+        refraction: match refraction {
+            None | Some(RefractionName::Positive) => Refraction::Positive,
+            Some(RefractionName::Negative) => Refraction::Negative,
+        },
+        allow_imaginary,
+        transmission_coefficient,
+    }))
+}
+
 fn basis(b: Option<BasisName>) -> Basis {
     match b {
         None | Some(BasisName::Global) => Basis::Global,
@@ -325,25 +384,14 @@ impl SurfaceSection {
                 refraction,
                 allow_imaginary,
                 transmission_coefficient,
-            } => {
-                let euclidean = MetricTensor(DMat3::IDENTITY);
-                let (g, h) = (inside.unwrap_or(euclidean).0, outside.unwrap_or(euclidean).0);
-                if basis(b) == Basis::Local {
-                    check_tangential("inside", &g)?;
-                    check_tangential("outside", &h)?;
-                }
-                Surface::MetricInterface(MetricInterface {
-                    inside: g,
-                    outside: h,
-                    basis: basis(b),
-                    refraction: match refraction {
-                        None | Some(RefractionName::Positive) => Refraction::Positive,
-                        Some(RefractionName::Negative) => Refraction::Negative,
-                    },
-                    allow_imaginary: allow_imaginary.unwrap_or(false),
-                    transmission_coefficient: coefficient(transmission_coefficient),
-                })
-            }
+            } => metric_interface(
+                inside,
+                outside,
+                basis(b),
+                refraction,
+                allow_imaginary.unwrap_or(false),
+                coefficient(transmission_coefficient),
+            )?,
             SurfaceSection::ConfocalLensletArrays {
                 a,
                 u,
@@ -401,33 +449,10 @@ impl SurfaceSection {
             SurfaceSection::PhaseHologram {
                 phase,
                 transmission_coefficient,
-            } => {
-                let centre = |c: Option<Vector2>| c.map_or(DVec2::ZERO, |c| c.0);
-                Surface::PhaseHologram(PhaseHologram {
-                    phase: match phase {
-                        PhaseSection::Linear { gradient } => Phase::Linear {
-                            gradient: gradient.0,
-                        },
-                        PhaseSection::Quadratic {
-                            focal_length,
-                            centre: c,
-                        } => Phase::Quadratic {
-                            focal_length: focal_length.0,
-                            centre: centre(c),
-                        },
-                        PhaseSection::Cylindrical {
-                            focal_length,
-                            centre: c,
-                            axis_angle_deg,
-                        } => Phase::Cylindrical {
-                            focal_length: focal_length.0,
-                            centre: centre(c),
-                            axis_angle: axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
-                        },
-                    },
-                    transmission_coefficient: coefficient(transmission_coefficient),
-                })
-            }
+            } => Surface::PhaseHologram(PhaseHologram {
+                phase: phase.build(),
+                transmission_coefficient: coefficient(transmission_coefficient),
+            }),
             SurfaceSection::PhaseConjugating {
                 reflection_coefficient,
             } => Surface::PhaseConjugating(PhaseConjugating {
