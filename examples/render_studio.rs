@@ -4,11 +4,14 @@
 use timbre::embree::Device;
 use timbre::render::render;
 use timbre::scene::{Scene, studio::Studio};
+use timbre::trajectories;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let description = Studio::Lattice.description();
     let device = Device::new("")?;
-    let scene = Scene::build(&device, &description)?;
+    // Ray trajectories (none in the studio) are drawn into the scene as objects first.
+    let drawn = trajectories::draw(&device, &description)?;
+    let scene = Scene::build(&device, &drawn)?;
     let image = render(&scene, &description.camera, &description.render, &|_| {})?;
     timbre::io::write_png("studio.png".as_ref(), &image)?;
     println!("{} rays -> studio.png", image.rays);
