@@ -35,7 +35,7 @@ use common::{
     parallelogram_shape, point_in, sphere_shape, unit_vector,
 };
 use timbre::geometry::{
-    Cylinder, Hit, ObjectArray, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
+    AnalyticShape, Cylinder, Hit, ObjectArray, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
 };
 
 fn sphere(c: DVec3, r: f64) -> Shape {

@@ -9,7 +9,7 @@ mod common;
 use std::path::Path;
 
 use glam::{DMat3, DVec2, DVec3};
-use timbre::geometry::Shape;
+use timbre::geometry::{AnalyticShape, Shape};
 use timbre::render::Image;
 use timbre::scene::{SceneDescription, file};
 use timbre::surfaces::Surface;
@@ -55,7 +55,7 @@ fn the_metatoy_window_studio_is_tims_scene() {
             DVec3::Y * 2.0
         )
     );
-    assert_eq!(p.frame().w, DVec3::Z, "outward normal +z");
+    assert_eq!(p.frame(p.corner()).w, DVec3::Z, "outward normal +z");
     assert!(!pane.shadow_throwing);
     let Surface::RayRotating(r) = &pane.surface else {
         panic!("{:?}", pane.surface)

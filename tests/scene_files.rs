@@ -14,7 +14,9 @@ use glam::{DMat3, DVec3};
 use tempfile::TempDir;
 
 use common::cli::{TIMBRE, decode_png, files_in, location, path_str, run, timbre, write};
-use timbre::geometry::{Cylinder, ObjectArray, Parallelogram, Shape, Sphere, TriangleMesh};
+use timbre::geometry::{
+    AnalyticShape, Cylinder, ObjectArray, Parallelogram, Shape, Sphere, TriangleMesh,
+};
 use timbre::scene::file::{self, MAX_ARRAY_ELEMENTS, Override};
 use timbre::scene::{SceneDescription, SceneObject};
 
@@ -396,9 +398,9 @@ fn a_reflection_keeps_the_outward_normal_of_parallelograms_and_meshes() {
         let sep = if prefix.ends_with('/') { "" } else { " " };
         let p = parallelogram(&scene, &format!("{prefix}{sep}tile"));
         assert!(
-            (p.frame().w - normal).length() < 1e-9,
+            (p.frame(p.corner()).w - normal).length() < 1e-9,
             "{prefix} tile faces {}, not {normal}",
-            p.frame().w
+            p.frame(p.corner()).w
         );
         let m = mesh(&scene, &format!("{prefix}{sep}tri"));
         assert!(
@@ -411,10 +413,10 @@ fn a_reflection_keeps_the_outward_normal_of_parallelograms_and_meshes() {
     // The mirrored tile covers the mirror image of the tile: the unit square at z = 0 under
     // the x mirror is [-1, 0] × [0, 1].
     let mirrored = parallelogram(&scene, "x mirror tile");
-    let (lo, hi) = mirrored.bounds();
+    let (lo, hi) = mirrored.bounds().unwrap();
     assert_close(lo, v(-1.0, 0.0, 0.0));
     assert_close(hi, v(0.0, 1.0, 0.0));
-    let (lo, hi) = parallelogram(&scene, "group mirror/tile").bounds();
+    let (lo, hi) = parallelogram(&scene, "group mirror/tile").bounds().unwrap();
     assert_close(lo, v(0.0, 0.0, -1.0));
     assert_close(hi, v(1.0, 1.0, -1.0));
 }

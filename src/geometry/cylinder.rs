@@ -8,7 +8,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
+use super::{AnalyticShape, GeometryError};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -57,14 +57,10 @@ impl Cylinder {
     pub fn axis(&self) -> DVec3 {
         self.axis
     }
+}
 
-    pub fn intersect(
-        &self,
-        origin: DVec3,
-        direction: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<f64> {
+impl AnalyticShape for Cylinder {
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
         let a = self.axis;
         let oc = origin - self.start;
         let (oc_axial, d_axial) = (oc.dot(a), direction.dot(a));
@@ -87,7 +83,7 @@ impl Cylinder {
 
     /// Frame at a surface point: on the mantle w is radial, u = axis × w, v = axis; on a cap w
     /// is ∓axis. A point belongs to whichever part it is nearer to.
-    pub fn frame(&self, p: DVec3) -> Frame {
+    fn frame(&self, p: DVec3) -> Frame {
         let s = (p - self.start).dot(self.axis);
         let radial = (p - self.start) - s * self.axis;
         let to_mantle = (radial.length() - self.radius).abs();
@@ -105,7 +101,7 @@ impl Cylinder {
     }
 
     /// (r φ, s): arc length around the axis and distance along it from `start`.
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3) -> DVec2 {
         let f = Frame::from_normal(self.axis);
         let d = p - self.start;
         DVec2::new(self.radius * d.dot(f.v).atan2(d.dot(f.u)), d.dot(self.axis))
@@ -113,7 +109,7 @@ impl Cylinder {
 
     /// The mantle point with surface coordinates `c` (inverse of [`Self::coordinates`]);
     /// `None` beyond the ends.
-    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+    fn point_at(&self, c: DVec2) -> Option<DVec3> {
         let angle = c.x / self.radius;
         if !(0.0..=self.length).contains(&c.y) || !angle.is_finite() {
             return None;
@@ -123,10 +119,10 @@ impl Cylinder {
         Some(self.start + c.y * self.axis + self.radius * (co * f.u + s * f.v))
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
         // Each end disc extends r·sqrt(1 − a_i²) along axis i.
         let a = self.axis;
         let e = self.radius * (DVec3::ONE - a * a).max(DVec3::ZERO).sqrt();
-        (self.start.min(self.end) - e, self.start.max(self.end) + e)
+        Some((self.start.min(self.end) - e, self.start.max(self.end) + e))
     }
 }

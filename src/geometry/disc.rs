@@ -2,8 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
 use super::plane::plane_distance;
+use super::{AnalyticShape, GeometryError};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -26,31 +26,6 @@ impl Disc {
         })
     }
 
-    pub fn intersect(
-        &self,
-        origin: DVec3,
-        direction: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<f64> {
-        let t = plane_distance(self.centre, self.frame.w, origin, direction)?;
-        let inside =
-            (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
-        (t > t_min && t < t_max && inside).then_some(t)
-    }
-
-    /// Cartesian coordinates along u and v from the centre.
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        let d = p - self.centre;
-        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
-    }
-
-    /// The point with coordinates `c`; `None` outside the disc.
-    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
-        (c.length_squared() <= self.radius * self.radius)
-            .then(|| self.centre + c.x * self.frame.u + c.y * self.frame.v)
-    }
-
     pub fn centre(&self) -> DVec3 {
         self.centre
     }
@@ -58,16 +33,42 @@ impl Disc {
     pub fn radius(&self) -> f64 {
         self.radius
     }
+}
+
+impl AnalyticShape for Disc {
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let t = plane_distance(self.centre, self.frame.w, origin, direction)?;
+        let inside =
+            (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
+        (t > t_min && t < t_max && inside).then_some(t)
+    }
+
+    /// Cartesian coordinates along u and v from the centre.
+    fn coordinates(&self, p: DVec3) -> DVec2 {
+        let d = p - self.centre;
+        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
+    }
+
+    /// The point with coordinates `c`; `None` outside the disc.
+    fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        (c.length_squared() <= self.radius * self.radius)
+            .then(|| self.centre + c.x * self.frame.u + c.y * self.frame.v)
+    }
 
     /// w is the unit outward normal; u, v span the disc.
-    pub fn frame(&self) -> Frame {
+    fn frame(&self, _p: DVec3) -> Frame {
         self.frame
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
         // Extent along each axis: r·sqrt(1 − n_i²).
         let n = self.frame.w;
         let e = self.radius * (DVec3::ONE - n * n).max(DVec3::ZERO).sqrt();
-        (self.centre - e, self.centre + e)
+        Some((self.centre - e, self.centre + e))
+    }
+
+    /// The surface coordinates, which are Cartesian.
+    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
+        Some(self.coordinates(p))
     }
 }

@@ -66,6 +66,48 @@ fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryEr
         .ok_or(GeometryError::ZeroVector { what })
 }
 
+/// What every analytic shape gives: exact f64 hits of its one primitive, the surface frame and
+/// coordinates, and bounds. A new shape implements it in its own file and is added to
+/// [`Shape`] and to `dispatch!` below, one line each.
+pub trait AnalyticShape {
+    /// The nearest t in (t_min, t_max) where `origin + t direction` meets the surface.
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64>;
+
+    /// The surface frame at surface point `p` (u, v, w; w the outward normal).
+    fn frame(&self, p: DVec3) -> Frame;
+
+    /// The surface coordinates of surface point `p` (units of length; see each shape).
+    fn coordinates(&self, p: DVec3) -> DVec2;
+
+    /// The point with surface coordinates `c` (the inverse of [`Self::coordinates`]), or
+    /// `None` if no point of the shape has them.
+    fn point_at(&self, c: DVec2) -> Option<DVec3>;
+
+    /// Cartesian coordinates of `p` along the frame's u and v from a flat shape's reference
+    /// point; `None` for curved shapes.
+    fn plane_coordinates(&self, _p: DVec3) -> Option<DVec2> {
+        None
+    }
+
+    /// Axis-aligned bounds, or `None` for unbounded shapes.
+    fn bounds(&self) -> Option<(DVec3, DVec3)>;
+}
+
+/// `$analytic` with `$s` bound to the analytic shape inside a [`Shape`], or `$mesh` with `$m`
+/// bound to its triangle mesh: the one list of the shapes that every `Shape` method uses.
+macro_rules! dispatch {
+    ($shape:expr, $s:ident => $analytic:expr, $m:ident => $mesh:expr) => {
+        match $shape {
+            Shape::Sphere($s) => $analytic,
+            Shape::Plane($s) => $analytic,
+            Shape::Disc($s) => $analytic,
+            Shape::Cylinder($s) => $analytic,
+            Shape::Parallelogram($s) => $analytic,
+            Shape::TriangleMesh($m) => $mesh,
+        }
+    };
+}
+
 /// A geometric shape.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
@@ -87,12 +129,9 @@ impl Shape {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        match self {
-            Shape::TriangleMesh(m) => m.intersect(origin, direction, t_min, t_max),
-            _ => self
-                .intersect_primitive(0, origin, direction, t_min, t_max)
-                .map(|t| (t, 0)),
-        }
+        dispatch!(self,
+            s => s.intersect(origin, direction, t_min, t_max).map(|t| (t, 0)),
+            m => m.intersect(origin, direction, t_min, t_max))
     }
 
     /// Nearest hit of primitive `prim`.
@@ -104,74 +143,36 @@ impl Shape {
         t_min: f64,
         t_max: f64,
     ) -> Option<f64> {
-        match self {
-            Shape::Sphere(s) => s.intersect(origin, direction, t_min, t_max),
-            Shape::Plane(s) => s.intersect(origin, direction, t_min, t_max),
-            Shape::Disc(s) => s.intersect(origin, direction, t_min, t_max),
-            Shape::Cylinder(s) => s.intersect(origin, direction, t_min, t_max),
-            Shape::Parallelogram(s) => s.intersect(origin, direction, t_min, t_max),
-            Shape::TriangleMesh(m) => m.intersect_triangle(prim, origin, direction, t_min, t_max),
-        }
+        dispatch!(self,
+            s => s.intersect(origin, direction, t_min, t_max),
+            m => m.intersect_triangle(prim, origin, direction, t_min, t_max))
     }
 
     /// Surface frame at surface point `p` of primitive `prim`.
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
-        match self {
-            Shape::Sphere(s) => s.frame(p),
-            Shape::Plane(s) => s.frame(),
-            Shape::Disc(s) => s.frame(),
-            Shape::Cylinder(s) => s.frame(p),
-            Shape::Parallelogram(s) => s.frame(),
-            Shape::TriangleMesh(m) => m.frame(p, prim),
-        }
+        dispatch!(self, s => s.frame(p), m => m.frame(p, prim))
     }
 
     /// Surface coordinates of surface point `p` (units of length; see each shape).
     pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        match self {
-            Shape::Sphere(s) => s.coordinates(p),
-            Shape::Plane(s) => s.coordinates(p),
-            Shape::Disc(s) => s.coordinates(p),
-            Shape::Cylinder(s) => s.coordinates(p),
-            Shape::Parallelogram(s) => s.coordinates(p),
-            Shape::TriangleMesh(m) => m.coordinates(p),
-        }
+        dispatch!(self, s => s.coordinates(p), m => m.coordinates(p))
     }
 
     /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]; a cylinder's
     /// mantle), or `None` if no point of the shape has them, or for meshes.
     pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
-        match self {
-            Shape::Sphere(s) => s.point_at(c),
-            Shape::Plane(s) => Some(s.point_at(c)),
-            Shape::Disc(s) => s.point_at(c),
-            Shape::Cylinder(s) => s.point_at(c),
-            Shape::Parallelogram(s) => s.point_at(c),
-            Shape::TriangleMesh(_) => None,
-        }
+        dispatch!(self, s => s.point_at(c), _m => None)
     }
 
     /// Cartesian coordinates of `p` along the frame's u and v, from a flat shape's reference
     /// point (a plane's point, a disc's centre, a parallelogram's corner); `None` for curved
     /// shapes and meshes.
     pub fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
-        match self {
-            Shape::Plane(s) => Some(s.coordinates(p)),
-            Shape::Disc(s) => Some(s.coordinates(p)),
-            Shape::Parallelogram(s) => Some(s.plane_coordinates(p)),
-            _ => None,
-        }
+        dispatch!(self, s => s.plane_coordinates(p), _m => None)
     }
 
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
-        match self {
-            Shape::Sphere(s) => Some(s.bounds()),
-            Shape::Plane(_) => None,
-            Shape::Disc(s) => Some(s.bounds()),
-            Shape::Cylinder(s) => Some(s.bounds()),
-            Shape::Parallelogram(s) => Some(s.bounds()),
-            Shape::TriangleMesh(m) => Some(m.bounds()),
-        }
+        dispatch!(self, s => s.bounds(), m => Some(m.bounds()))
     }
 }

@@ -2,8 +2,8 @@
 
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
 use super::plane::plane_distance;
+use super::{AnalyticShape, GeometryError};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -51,39 +51,6 @@ impl Parallelogram {
         DVec2::new((du * vv - dv * uv) / det, (dv * uu - du * uv) / det)
     }
 
-    pub fn intersect(
-        &self,
-        origin: DVec3,
-        direction: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<f64> {
-        let t = plane_distance(self.corner, self.frame.w, origin, direction)?;
-        if !(t > t_min && t < t_max) {
-            return None;
-        }
-        let ab = self.span_coordinates(origin + t * direction);
-        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y)).then_some(t)
-    }
-
-    /// Coordinates along the span vectors in units of length: (α |span_u|, β |span_v|).
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
-    }
-
-    /// The point with coordinates `c` (inverse of [`Self::coordinates`]); `None` outside.
-    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
-        let ab = c / DVec2::new(self.span_u.length(), self.span_v.length());
-        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y))
-            .then(|| self.corner + ab.x * self.span_u + ab.y * self.span_v)
-    }
-
-    /// Cartesian coordinates along the frame's u and v from the corner.
-    pub fn plane_coordinates(&self, p: DVec3) -> DVec2 {
-        let d = p - self.corner;
-        DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
-    }
-
     pub fn corner(&self) -> DVec3 {
         self.corner
     }
@@ -95,13 +62,42 @@ impl Parallelogram {
     pub fn span_v(&self) -> DVec3 {
         self.span_v
     }
+}
+
+impl AnalyticShape for Parallelogram {
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let t = plane_distance(self.corner, self.frame.w, origin, direction)?;
+        if !(t > t_min && t < t_max) {
+            return None;
+        }
+        let ab = self.span_coordinates(origin + t * direction);
+        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y)).then_some(t)
+    }
+
+    /// Coordinates along the span vectors in units of length: (α |span_u|, β |span_v|).
+    fn coordinates(&self, p: DVec3) -> DVec2 {
+        self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
+    }
+
+    /// The point with coordinates `c` (inverse of [`Self::coordinates`]); `None` outside.
+    fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        let ab = c / DVec2::new(self.span_u.length(), self.span_v.length());
+        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y))
+            .then(|| self.corner + ab.x * self.span_u + ab.y * self.span_v)
+    }
+
+    /// Cartesian coordinates along the frame's u and v from the corner.
+    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
+        let d = p - self.corner;
+        Some(DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v)))
+    }
 
     /// w = span_u × span_v normalised (the outward side), u along span_u.
-    pub fn frame(&self) -> Frame {
+    fn frame(&self, _p: DVec3) -> Frame {
         self.frame
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let corners = [
             self.corner,
             self.corner + self.span_u,
@@ -110,6 +106,6 @@ impl Parallelogram {
         ];
         let lo = corners.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
         let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
-        (lo, hi)
+        Some((lo, hi))
     }
 }

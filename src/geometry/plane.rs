@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
+use super::{AnalyticShape, GeometryError};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -33,33 +33,39 @@ impl Plane {
     pub fn point(&self) -> DVec3 {
         self.point
     }
+}
 
+impl AnalyticShape for Plane {
     /// Surface frame: w is the unit outward normal, u and v the in-plane coordinate axes.
-    pub fn frame(&self) -> Frame {
+    fn frame(&self, _p: DVec3) -> Frame {
         self.frame
     }
 
     /// The t where the line meets the plane, if in (t_min, t_max).
-    pub fn intersect(
-        &self,
-        origin: DVec3,
-        direction: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<f64> {
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
         let t = plane_distance(self.point, self.frame.w, origin, direction)?;
         (t > t_min && t < t_max).then_some(t)
     }
 
     /// In-plane Cartesian coordinates along u and v, measured from `point`.
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3) -> DVec2 {
         let d = p - self.point;
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
     }
 
     /// The point with coordinates `c`.
-    pub fn point_at(&self, c: DVec2) -> DVec3 {
-        self.point + c.x * self.frame.u + c.y * self.frame.v
+    fn point_at(&self, c: DVec2) -> Option<DVec3> {
+        Some(self.point + c.x * self.frame.u + c.y * self.frame.v)
+    }
+
+    /// None: a plane is unbounded.
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        None
+    }
+
+    /// The surface coordinates, which are Cartesian.
+    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
+        Some(self.coordinates(p))
     }
 }
 

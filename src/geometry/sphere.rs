@@ -2,7 +2,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::GeometryError;
+use super::{AnalyticShape, GeometryError};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -18,25 +18,29 @@ impl Sphere {
         Ok(Sphere { centre, radius })
     }
 
+    pub fn centre(&self) -> DVec3 {
+        self.centre
+    }
+
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+}
+
+impl AnalyticShape for Sphere {
     /// Nearest t in (t_min, t_max) with |o + t d − c| = r.
-    pub fn intersect(
-        &self,
-        origin: DVec3,
-        direction: DVec3,
-        t_min: f64,
-        t_max: f64,
-    ) -> Option<f64> {
+    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
         let (t0, t1) = circle_crossings(origin - self.centre, direction, self.radius)?;
         nearest_in([t0, t1], t_min, t_max)
     }
 
-    pub fn frame(&self, p: DVec3) -> Frame {
+    fn frame(&self, p: DVec3) -> Frame {
         let w = p - self.centre;
         Frame::from_normal_and_u(w, DVec3::Y.cross(w))
     }
 
     /// (r φ, r θ): arc lengths along longitude φ (about y) and polar angle θ (from +y).
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3) -> DVec2 {
         let d = (p - self.centre) / self.radius;
         let phi = d.x.atan2(d.z);
         let theta = d.y.clamp(-1.0, 1.0).acos();
@@ -45,7 +49,7 @@ impl Sphere {
 
     /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]); `None` if
     /// the polar angle is outside [0, π].
-    pub fn point_at(&self, c: DVec2) -> Option<DVec3> {
+    fn point_at(&self, c: DVec2) -> Option<DVec3> {
         let (phi, theta) = (c.x / self.radius, c.y / self.radius);
         if !(0.0..=std::f64::consts::PI).contains(&theta) || !phi.is_finite() {
             return None;
@@ -58,18 +62,10 @@ impl Sphere {
         Some(self.centre + self.radius * d)
     }
 
-    pub fn centre(&self) -> DVec3 {
-        self.centre
-    }
-
-    pub fn radius(&self) -> f64 {
-        self.radius
-    }
-
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        (
+    fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        Some((
             self.centre - DVec3::splat(self.radius),
             self.centre + DVec3::splat(self.radius),
-        )
+        ))
     }
 }

@@ -10,8 +10,8 @@
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::{
-    Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, check_direction,
-    check_point,
+    AnalyticShape, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere,
+    check_direction, check_point,
 };
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -130,7 +130,7 @@ impl Transform {
                 let k = similar("disc")?;
                 Shape::Disc(Disc::new(
                     self.point(d.centre()),
-                    self.normal(d.frame().w),
+                    self.normal(d.frame(d.centre()).w),
                     k * d.radius(),
                 )?)
             }
@@ -144,8 +144,8 @@ impl Transform {
             }
             Shape::Plane(p) => Shape::Plane(Plane::new(
                 self.point(p.point()),
-                self.normal(p.frame().w),
-                self.vector(p.frame().u),
+                self.normal(p.frame(p.point()).w),
+                self.vector(p.frame(p.point()).u),
             )?),
             Shape::Parallelogram(p) => {
                 let (corner, u, v) = (
@@ -213,7 +213,7 @@ mod tests {
             unreachable!()
         };
         let expected = DVec3::new(0.5, 1.0, 0.0).normalize();
-        assert!((p.frame().w - expected).length() < 1e-12);
+        assert!((p.frame(p.point()).w - expected).length() < 1e-12);
     }
 
     #[test]
@@ -225,7 +225,7 @@ mod tests {
             unreachable!()
         };
         // The mirror image of a surface facing +z (at z = 0) faces -z.
-        assert!((q.frame().w - DVec3::NEG_Z).length() < 1e-12);
-        assert_eq!(q.bounds(), (DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0)));
+        assert!((q.frame(q.corner()).w - DVec3::NEG_Z).length() < 1e-12);
+        assert_eq!(q.bounds(), Some((DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0))));
     }
 }

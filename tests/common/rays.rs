@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 use timbre::embree::Device;
-use timbre::geometry::{Hit, SceneGeometry, Shape};
+use timbre::geometry::{AnalyticShape, Hit, SceneGeometry, Shape};
 
 use super::rng::Rng;
 
@@ -46,14 +46,16 @@ pub fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
     match shape {
         Shape::Sphere(s) => s.centre() + s.radius() * rng.f().cbrt() * rng.unit(),
         Shape::Plane(p) => {
-            p.point() + rng.range(-5.0, 5.0) * p.frame().u + rng.range(-5.0, 5.0) * p.frame().v
+            let f = p.frame(p.point());
+            p.point() + rng.range(-5.0, 5.0) * f.u + rng.range(-5.0, 5.0) * f.v
         }
         Shape::Disc(d) => {
             let (rho, phi) = (
                 d.radius() * rng.f().sqrt(),
                 rng.range(0.0, std::f64::consts::TAU),
             );
-            d.centre() + rho * (phi.cos() * d.frame().u + phi.sin() * d.frame().v)
+            let f = d.frame(d.centre());
+            d.centre() + rho * (phi.cos() * f.u + phi.sin() * f.v)
         }
         Shape::Cylinder(c) => {
             let radial = rng
