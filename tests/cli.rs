@@ -426,6 +426,26 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
         run.stdout
     );
 
+    // Focused on a surface of two shapes, moving with one object.
+    let surface = write(
+        &dir,
+        "surface.toml",
+        "[camera]
+beta = [0, 0, 0.8]
+focus_surface = [{ type = \"sphere\", centre = [0, 0, 0], radius = 50 }, { type = \"plane\", point = [0, 0, 60], normal = [0, 0, -1] }]
+\
+         [[object]]\nframe = \"camera\"\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\nsurface = { type = \"mirror\" }\n",
+    );
+    let run = timbre(dir.path(), &["check", path_str(&surface)]);
+    run.assert_success();
+    assert!(
+        run.stdout.contains(
+            "camera:       pinhole, 20°; focused on 2 shapes; moving at beta = (0, 0, 0.8) (gamma = 1.6667), entrance-pupil shutter at t = 0; 1 objects moving with it\n"
+        ),
+        "{}",
+        run.stdout
+    );
+
     let bad = write(
         &dir,
         "bad.toml",

@@ -214,8 +214,9 @@ fn excuses_are_rare() {
     let lanes: usize = v.packet.iter().sum();
     assert!(v.hits > rays / 3 && v.hits < rays * 9 / 10, "{total:?}");
     // Equal distances on different primitives come from repeated and coplanar triangles of
-    // the random meshes (either may be reported); the excuses that accept another distance
-    // (near ties, marginal primitives) are rarer still.
+    // the random meshes (either may be reported; before tests/common/verdict.rs these counted
+    // as the same answer and had no bound at all). The excuses that accept another distance
+    // (near ties, marginal primitives) had a shared bound of rays/200 and now have rays/500.
     assert!(v.nearest[1] <= rays / 100, "{total:?}");
     assert!(v.packet[1] <= lanes / 100, "{total:?}");
     assert!(v.nearest[2] + v.nearest[3] <= rays / 500, "{total:?}");

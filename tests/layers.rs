@@ -69,23 +69,91 @@ fn code(text: &str) -> String {
         .join("\n")
 }
 
-/// The top-level modules a file refers to: through `crate::name`, or through `super::`
-/// chains that climb to the crate root.
-fn referenced(module: &[String], code: &str) -> Vec<String> {
-    let mut found = Vec::new();
+/// The names a path continues with after `rest`'s start: one name, or the first name of each
+/// item of a `{...}` group (`crate::{geometry::Shape, math::Ray}`).
+fn first_names(rest: &str) -> Vec<String> {
     let word = |s: &str| -> String {
-        s.chars()
+        s.trim_start()
+            .chars()
             .take_while(|c| c.is_alphanumeric() || *c == '_')
             .collect()
     };
-    for (i, _) in code.match_indices("crate::") {
-        let before = code[..i].chars().next_back();
-        if before.is_none_or(|c| !(c.is_alphanumeric() || c == '_')) {
-            found.push(word(&code[i + "crate::".len()..]));
+    let Some(group) = rest.strip_prefix('{') else {
+        return vec![word(rest)];
+    };
+    let (mut depth, mut items, mut start) = (0, Vec::new(), 0);
+    for (k, c) in group.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' if depth == 0 => {
+                items.push(&group[start..k]);
+                break;
+            }
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&group[start..k]);
+                start = k + 1;
+            }
+            _ => {}
         }
     }
+    items
+        .into_iter()
+        .map(word)
+        .filter(|w| !w.is_empty())
+        .collect()
+}
+
+/// For each byte of `code`, how many inline modules (`mod tests { ... }`) enclose it.
+fn inline_depths(code: &str) -> Vec<usize> {
+    let mut depths = Vec::with_capacity(code.len());
+    let (mut braces, mut open): (usize, Vec<usize>) = (0, Vec::new());
+    let mut pending = false;
+    for (k, c) in code.char_indices() {
+        if c == 'm' && code[k..].starts_with("mod ") {
+            let before = code[..k].chars().next_back();
+            pending = before.is_none_or(|b| !(b.is_alphanumeric() || b == '_'));
+        }
+        match c {
+            ';' => pending = false,
+            '{' => {
+                braces += 1;
+                if pending {
+                    open.push(braces);
+                    pending = false;
+                }
+            }
+            '}' => {
+                if open.last() == Some(&braces) {
+                    open.pop();
+                }
+                braces = braces.saturating_sub(1);
+            }
+            _ => {}
+        }
+        depths.extend(std::iter::repeat_n(open.len(), c.len_utf8()));
+    }
+    depths
+}
+
+/// The top-level modules a file refers to: through `crate::name` (or a `crate::{...}`
+/// group), or through `super::` chains that climb to the crate root.
+fn referenced(module: &[String], code: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    let starts_word = |i: usize| {
+        code[..i]
+            .chars()
+            .next_back()
+            .is_none_or(|c| !(c.is_alphanumeric() || c == '_'))
+    };
+    for (i, _) in code.match_indices("crate::") {
+        if starts_word(i) {
+            found.extend(first_names(&code[i + "crate::".len()..]));
+        }
+    }
+    let inline = inline_depths(code);
     for (i, _) in code.match_indices("super::") {
-        if code[..i].ends_with("super::") {
+        if !starts_word(i) || code[..i].ends_with("super::") {
             continue;
         }
         let mut rest = &code[i..];
@@ -95,16 +163,9 @@ fn referenced(module: &[String], code: &str) -> Vec<String> {
             rest = r;
         }
         // A file's own module counts as one level (`super` of surfaces/lenses/mod.rs is
-        // surfaces); each inline module opened before (`mod tests {`) adds one more.
-        let inline = code[..i]
-            .lines()
-            .filter(|l| {
-                let l = l.trim_start();
-                (l.starts_with("mod ") || l.starts_with("pub mod ")) && l.ends_with('{')
-            })
-            .count();
-        if depth >= module.len() + inline {
-            found.push(word(rest));
+        // surfaces); each inline module around the path (`mod tests { ... }`) adds one more.
+        if depth >= module.len() + inline[i] {
+            found.extend(first_names(rest));
         }
     }
     found
@@ -124,7 +185,11 @@ fn no_module_refers_to_a_layer_above_or_beside_its_own() {
     let lib = std::fs::read_to_string(Path::new(ROOT).join("src/lib.rs")).unwrap();
     let declared: Vec<String> = code(&lib)
         .lines()
-        .filter_map(|l| l.trim().strip_prefix("pub mod "))
+        .filter_map(|l| {
+            let l = l.trim();
+            l.strip_prefix("pub mod ")
+                .or_else(|| l.strip_prefix("mod "))
+        })
         .map(|m| m.trim_end_matches(';').to_string())
         .collect();
     assert!(declared.len() >= 10, "modules of src/lib.rs: {declared:?}");
@@ -144,7 +209,13 @@ fn no_module_refers_to_a_layer_above_or_beside_its_own() {
         if own == "lib" {
             continue;
         }
-        let own_rank = rank[own];
+        let Some(&own_rank) = rank.get(own) else {
+            violations.push(format!(
+                "{} is in module {own}, which is in no layer",
+                relative.display()
+            ));
+            continue;
+        };
         let text = code(&std::fs::read_to_string(&file).unwrap());
         for target in referenced(&module, &text) {
             checked += 1;
@@ -186,5 +257,97 @@ fn the_reference_finder_sees_crate_and_super_paths() {
         referenced(&module, &text),
         ["geometry", "math", "render", "io"],
         "crate:: paths, and super:: only where it climbs out of the crate's top module"
+    );
+    // After an inline module closes, super:: counts from the file's module again.
+    let embree = vec!["embree".to_string()];
+    let text = code("mod ffi {\n    fn g() {}\n}\nuse super::math::Ray;\n");
+    assert_eq!(referenced(&embree, &text), ["math"]);
+    // Groups name each of their modules.
+    let text = code("use crate::{geometry::{Hit, Shape}, math::Ray};\n");
+    assert_eq!(referenced(&embree, &text), ["geometry", "math"]);
+}
+
+/// `code` with the contents of string literals (plain and raw) blanked out.
+fn without_strings(code: &str) -> String {
+    let mut out = String::with_capacity(code.len());
+    let mut chars = code.chars().peekable();
+    while let Some(c) = chars.next() {
+        out.push(c);
+        match c {
+            '\'' if chars.peek() == Some(&'"') => out.extend(chars.next()),
+            'r' if matches!(chars.peek(), Some('#' | '"')) => {
+                let mut hashes = 0;
+                while chars.peek() == Some(&'#') {
+                    chars.next();
+                    hashes += 1;
+                }
+                if chars.peek() != Some(&'"') {
+                    continue;
+                }
+                chars.next();
+                let close = format!("\"{}", "#".repeat(hashes));
+                let mut body = String::new();
+                for c in chars.by_ref() {
+                    body.push(c);
+                    if body.ends_with(&close) {
+                        break;
+                    }
+                }
+                out.push('"');
+            }
+            '"' => {
+                let mut escaped = false;
+                for c in chars.by_ref() {
+                    if c == '"' && !escaped {
+                        out.push('"');
+                        break;
+                    }
+                    escaped = c == '\\' && !escaped;
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// `unsafe` appears in code only under src/embree, and `unsafe_code` is allowed nowhere but on
+/// the embree module (Cargo.toml denies it for every target).
+#[test]
+fn unsafe_code_lives_only_in_the_embree_module() {
+    let manifest = std::fs::read_to_string(Path::new(ROOT).join("Cargo.toml")).unwrap();
+    assert!(
+        manifest.contains("[lints.rust]\nunsafe_code = \"deny\""),
+        "Cargo.toml denies unsafe code"
+    );
+    let mut unsafe_files = Vec::new();
+    for dir in ["src", "tests", "benches", "examples"] {
+        for file in sources(&Path::new(ROOT).join(dir)) {
+            let relative = file.strip_prefix(ROOT).unwrap().to_path_buf();
+            let text = without_strings(&code(&std::fs::read_to_string(&file).unwrap()));
+            let allows = text.matches("allow(unsafe_code)").count();
+            if relative == Path::new("src/lib.rs") {
+                assert_eq!(allows, 1, "one allow, on the embree module");
+                assert!(text.contains("#[allow(unsafe_code)]\npub mod embree;"));
+            } else {
+                assert_eq!(allows, 0, "{} allows unsafe code", relative.display());
+            }
+            let ident = |c: char| c.is_alphanumeric() || c == '_';
+            let uses_unsafe = text.match_indices("unsafe").any(|(i, w)| {
+                !text[..i].ends_with(ident) && !text[i + w.len()..].starts_with(ident)
+            });
+            if uses_unsafe {
+                unsafe_files.push(relative);
+            }
+        }
+    }
+    assert!(
+        unsafe_files.iter().all(|f| f.starts_with("src/embree")),
+        "unsafe outside src/embree: {unsafe_files:?}"
+    );
+    assert!(!unsafe_files.is_empty(), "the embree module is found");
+    assert_eq!(
+        without_strings("a \"x \\\" unsafe\" b r#\"unsafe \"# c '\"' unsafe"),
+        "a \"\" b r\" c '\"' unsafe"
     );
 }

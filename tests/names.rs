@@ -1,58 +1,133 @@
-//! One naming scheme: kebab-case values in scene files, with the older snake_case spellings
-//! still accepted as aliases that mean exactly the same.
+//! One naming scheme: kebab-case values in scene files, with every older spelling still
+//! accepted as an alias that means exactly the same (docs/SCENE_FORMAT.md, "Names").
 
 use timbre::scene::file;
 
-/// A scene using every value renamed to kebab-case, written with `old` spellings or not.
-fn scene(old: bool) -> String {
-    let name = |kebab: &str| {
-        if old {
-            kebab.replace('-', "_")
-        } else {
-            kebab.to_string()
-        }
-    };
-    format!(
-        r#"studio = "{studio}"
-[camera]
-type = "{camera}"
-aperture_radius = 0.1
-shutter = "{shutter}"
-stereo = "{stereo}"
-[[object]]
-shape = {{ type = "{mesh}", vertices = [[0, 0, 5], [1, 0, 5], [0, 1, 5]], triangles = [[0, 1, 2]] }}
-surface = {{ type = "{constant}", colour = [1, 0, 0] }}
-[[object]]
-shape = {{ type = "sphere", centre = [3, 0, 9], radius = 1 }}
-surface = {{ type = "{lens}" }}
-[[object]]
-shape = {{ type = "disc", centre = [-3, 0, 9], normal = [0, 0, 1], radius = 1 }}
-surface = {{ type = "{metric}", outside = [[1, 0, 0], [0, 1, 0], [0, 0, 4]] }}
-[[object]]
-shape = {{ type = "disc", centre = [-3, 3, 9], normal = [0, 0, 1], radius = 1 }}
-surface = {{ type = "{rotating}", angle_deg = 30 }}
-"#,
-        studio = name("metatoy-window"),
-        camera = name("finite-aperture"),
-        shutter = name("entrance-pupil"),
-        stereo = name("side-by-side"),
-        mesh = name("triangle-mesh"),
-        constant = name("constant-colour"),
-        lens = name("luneburg-lens"),
-        metric = name("metric-interface"),
-        rotating = name("ray-rotating"),
-    )
+/// A sphere to carry a surface under test.
+const SPHERE: &str = "shape = { type = \"sphere\", centre = [0, 0, 9], radius = 1 }";
+
+/// (scene text with `@` where the name goes, the name, its older spellings).
+fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
+    let surface =
+        |extra: &str| format!("[[object]]\n{SPHERE}\nsurface = {{ type = \"@\"{extra} }}\n");
+    let snake = |kebab: &str| vec![kebab.replace('-', "_")];
+    let mut table = vec![
+        ("studio = \"@\"\n".to_string(), "metatoy-window", snake("metatoy-window")),
+        (
+            "[camera]\ntype = \"@\"\naperture_radius = 0.1\n".to_string(),
+            "finite-aperture",
+            snake("finite-aperture"),
+        ),
+        (
+            "[[object]]\nshape = { type = \"@\", vertices = [[0, 0, 5], [1, 0, 5], [0, 1, 5]], triangles = [[0, 1, 2]] }\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n".to_string(),
+            "triangle-mesh",
+            snake("triangle-mesh"),
+        ),
+        (surface(", colour = [1, 0, 0]"), "constant-colour", snake("constant-colour")),
+        (surface(""), "luneburg-lens", snake("luneburg-lens")),
+        (surface(""), "eaton-lens", snake("eaton-lens")),
+        (surface(""), "maxwell-fisheye-lens", snake("maxwell-fisheye-lens")),
+        (surface(", r = 2, r_prime = 3, phi_deg = 30"), "ggrin-lens", snake("ggrin-lens")),
+        (
+            surface(", rho = [0, 1], n = [1.5, 1]"),
+            "gradient-index-lens",
+            snake("gradient-index-lens"),
+        ),
+        (surface(""), "metric-interface", snake("metric-interface")),
+        (
+            surface(", a = [0, 0, 1], u = [1, 0, 0], eta_u = -1, eta_v = -1"),
+            "confocal-lenslet-arrays",
+            vec!["confocal_lenslet_arrays".into(), "gcla".into()],
+        ),
+        (surface(""), "ray-rotating", snake("ray-rotating")),
+        (surface(""), "ray-flipping", snake("ray-flipping")),
+        (
+            "[[object]]\nshape = { type = \"disc\", centre = [0, 0, 9], normal = [0, 0, 1], radius = 1 }\nsurface = { type = \"@\", phase = { type = \"linear\", gradient = [0.1, 0] } }\n".to_string(),
+            "phase-hologram",
+            snake("phase-hologram"),
+        ),
+        (surface(""), "phase-conjugating", snake("phase-conjugating")),
+        (surface(", beta = [0, 0, 0.5]"), "lorentz-window", snake("lorentz-window")),
+    ];
+    for shutter in ["detector-plane", "entrance-pupil", "focus-surface"] {
+        let text = "[camera]\nbeta = [0, 0, 0.5]\nshutter = \"@\"\n".to_string();
+        table.push((text, shutter, snake(shutter)));
+    }
+    for stereo in [
+        "side-by-side",
+        "side-by-side-half",
+        "top-bottom",
+        "top-bottom-half",
+    ] {
+        table.push((
+            "[camera]\nstereo = \"@\"\n".to_string(),
+            stereo,
+            snake(stereo),
+        ));
+    }
+    table.push((
+        "[camera]\nstereo = \"@\"\n".to_string(),
+        "colour-anaglyph",
+        vec!["colour_anaglyph".into(), "color-anaglyph".into()],
+    ));
+    table
+}
+
+fn parse(text: &str) -> timbre::scene::SceneDescription {
+    file::parse(text, "names.toml").unwrap_or_else(|e| panic!("{e}\nin:\n{text}"))
 }
 
 #[test]
-fn old_snake_case_names_are_aliases_of_the_kebab_case_names() {
-    let new = scene(false);
-    let old = scene(true);
-    assert_ne!(new, old, "the two spellings differ");
-    assert!(new.contains("\"constant-colour\"") && old.contains("\"constant_colour\""));
-    let new = file::parse(&new, "new.toml").unwrap_or_else(|e| panic!("{e}"));
-    let old = file::parse(&old, "old.toml").unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(new, old);
+fn every_older_spelling_is_an_alias_of_the_kebab_case_name() {
+    let table = aliases();
+    // Every alias the scene-file reader declares is in the table (or is a coefficient key,
+    // tested below).
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/src/scene/file");
+    let mut declared = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let source = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+        for piece in source.split("alias = \"").skip(1) {
+            declared.push(piece.split('"').next().unwrap().to_string());
+        }
+    }
+    assert!(declared.len() >= 25, "{declared:?}");
+    for alias in &declared {
+        let tested = table.iter().any(|(_, _, older)| older.contains(alias));
+        assert!(
+            tested || ["reflection", "transmission"].contains(&alias.as_str()),
+            "alias {alias} is not tested"
+        );
+    }
+    for (text, name, older) in table {
+        let new = parse(&text.replace('@', name));
+        for old in older {
+            assert_ne!(name, old);
+            assert_eq!(parse(&text.replace('@', &old)), new, "{old} means {name}");
+        }
+    }
+}
+
+#[test]
+fn the_older_coefficient_keys_are_aliases() {
+    for (surface, key) in [
+        ("\"mirror\"", "reflection"),
+        ("\"phase-conjugating\"", "reflection"),
+        ("\"refractive\", index_ratio = 1.5", "transmission"),
+        ("\"transparent\"", "transmission"),
+        ("\"luneburg-lens\"", "transmission"),
+        ("\"ray-flipping\"", "transmission"),
+    ] {
+        let text = |extra: &str| {
+            format!("[[object]]\n{SPHERE}\nsurface = {{ type = {surface}{extra} }}\n")
+        };
+        let new = parse(&text(&format!(", {key}_coefficient = 0.25")));
+        assert_eq!(
+            parse(&text(&format!(", {key} = 0.25"))),
+            new,
+            "{key} in {surface}"
+        );
+        assert_ne!(parse(&text("")), new, "the coefficient is read");
+    }
 }
 
 #[test]

@@ -288,13 +288,30 @@ impl Camera {
     }
 }
 
-/// The camera in words, as `timbre check` prints it: projection, aperture and focus (for a
-/// finite aperture or a moving camera), velocity and shutter.
-impl fmt::Display for Camera {
+/// A camera in words (see [`Camera::describe`]).
+pub struct Description<'a> {
+    camera: &'a Camera,
+    focus_shapes: usize,
+}
+
+impl Camera {
+    /// The camera in words, as `timbre check` prints it: projection, aperture and focus (for a
+    /// finite aperture or a moving camera; `focus_shapes` counts the focus surface's shapes),
+    /// velocity and shutter.
+    pub fn describe(&self, focus_shapes: usize) -> Description<'_> {
+        Description {
+            camera: self,
+            focus_shapes,
+        }
+    }
+}
+
+impl fmt::Display for Description<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let camera = self.camera;
         // Degrees to 9 decimals (20° comes back from radians as 19.999999999999996).
         let degrees = |a: f64| (a.to_degrees() * 1e9).round() / 1e9;
-        match (self.projection(), self.aperture_radius()) {
+        match (camera.projection(), camera.aperture_radius()) {
             (Projection::Orthographic { view_width }, _) => {
                 write!(f, "orthographic, {view_width} wide")?
             }
@@ -311,15 +328,15 @@ impl fmt::Display for Camera {
                 r,
             ) => write!(f, "finite aperture (radius {r}), {}°", degrees(a))?,
         }
-        let boost = self.boost();
-        if self.aperture_radius() > 0.0 || !boost.is_identity() {
-            match self.focus() {
+        let boost = camera.boost();
+        if camera.aperture_radius() > 0.0 || !boost.is_identity() {
+            match camera.focus() {
                 Focus::Plane { distance } => write!(f, "; focused at {distance}")?,
-                Focus::Surface => write!(f, "; focused on the focus surface")?,
+                Focus::Surface => write!(f, "; focused on {} shapes", self.focus_shapes)?,
             }
         }
         if !boost.is_identity() {
-            let (shutter, time) = self.shutter();
+            let (shutter, time) = camera.shutter();
             let b = boost.beta();
             write!(
                 f,

@@ -149,11 +149,14 @@ impl Reports {
     /// Resumes a caught panic, else takes the error.
     fn take(reports: &Mutex<Reports>) -> Option<EmbreeError> {
         let mut r = lock(reports);
+        let error = r.error.take();
         if let Some(payload) = r.panic.take() {
+            // The error belongs to the failed call: it must not surface in a later one.
             drop(r);
+            drop(error);
             resume_unwind(payload);
         }
-        r.error.take()
+        error
     }
 }
 
@@ -393,12 +396,15 @@ impl SceneBuilder {
     pub fn commit(self) -> Result<Scene, EmbreeError> {
         // SAFETY: the scene is live and all its geometry's data outlives it.
         unsafe { ffi::timbre_scene_commit(self.scene.raw.as_ptr()) };
+        // Embree's error (if any) is taken first, so that a resumed panic leaves none behind
+        // to surface in a later, unrelated call.
+        let checked = self.scene.device.check();
         for entry in &self.scene.user {
             if let Some(payload) = lock(&entry.registered.bounds_panic).take() {
                 resume_unwind(payload);
             }
         }
-        self.scene.device.check()?;
+        checked?;
         Ok(self.scene)
     }
 }

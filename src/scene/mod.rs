@@ -221,7 +221,7 @@ impl Scene {
 impl World {
     /// The objects of `description` at rest in `frame`, in their order. Each array is
     /// restricted to its members in this frame, which stay contiguous.
-    pub fn build(
+    pub(crate) fn build(
         device: &Device,
         description: &SceneDescription,
         frame: ReferenceFrame,

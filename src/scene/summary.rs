@@ -104,10 +104,11 @@ impl fmt::Display for Report<'_> {
             let rays: usize = d.trajectories.iter().map(|t| t.rays().len()).sum();
             writeln!(f, "  trajectories: {} ({rays} rays)", d.trajectories.len())?;
         }
-        write!(f, "  camera:       {}", d.camera)?;
-        if !d.focus_surface.is_empty() {
-            write!(f, "; {} focus-surface shapes", d.focus_surface.len())?;
-        }
+        write!(
+            f,
+            "  camera:       {}",
+            d.camera.describe(d.focus_surface.len())
+        )?;
         let moving = d
             .objects
             .iter()

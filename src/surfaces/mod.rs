@@ -94,9 +94,8 @@ impl Surface {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         match self {
-            // Answered by `redirect` itself.
             Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
-                Redirection::Lost
+                unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
             Surface::Refractive(s) => s.redirect(at),
