@@ -238,6 +238,50 @@ fn metric_interface(
     }))
 }
 
+/// Generalised confocal lenslet arrays (Eq 39); the lenslets' `u` must not be along `a`.
+fn confocal_lenslet_arrays(
+    a: DVec3,
+    u: DVec3,
+    basis: Basis,
+    eta: DVec2,
+    delta: DVec2,
+    transmission_coefficient: f64,
+) -> Result<Surface, String> {
+    // Directions are unit vectors: a sine below 1e-9 is parallel.
+    if a.cross(u).length() < 1e-9 {
+        return Err(format!(
+            "confocal-lenslet-arrays: u = {u} must not be parallel to a = {a}"
+        ));
+    }
+    Ok(Surface::ConfocalLensletArrays(ConfocalLensletArrays {
+        a,
+        u,
+        basis,
+        eta,
+        delta,
+        transmission_coefficient,
+    }))
+}
+
+/// A teleporting surface, linked to its destination once every object is placed.
+fn teleporting(
+    positional_error: f64,
+    angular_error_deg: f64,
+    transmission_coefficient: f64,
+) -> Result<Surface, String> {
+    if angular_error_deg > 180.0 {
+        return Err(format!(
+            "teleporting: angular_error_deg = {angular_error_deg} is more than 180"
+        ));
+    }
+    Ok(Surface::Teleporting(Teleporting {
+        destination: unlinked(),
+        positional_error,
+        angular_error: angular_error_deg.to_radians(),
+        transmission_coefficient,
+    }))
+}
+
 fn basis(b: Option<BasisName>) -> Basis {
     match b {
         None | Some(BasisName::Global) => Basis::Global,
@@ -401,25 +445,14 @@ impl SurfaceSection {
                 delta_u,
                 delta_v,
                 transmission_coefficient,
-            } => {
-                let eta = DVec2::new(eta_u.0, eta_v.0);
-                let delta = DVec2::new(delta_u.map_or(0.0, |d| d.0), delta_v.map_or(0.0, |d| d.0));
-                // Directions are unit vectors: a sine below 1e-9 is parallel.
-                if a.0.cross(u.0).length() < 1e-9 {
-                    return Err(format!(
-                        "confocal-lenslet-arrays: u = {} must not be parallel to a = {}",
-                        u.0, a.0
-                    ));
-                }
-                Surface::ConfocalLensletArrays(ConfocalLensletArrays {
-                    a: a.0,
-                    u: u.0,
-                    basis: basis(b),
-                    eta,
-                    delta,
-                    transmission_coefficient: coefficient(transmission_coefficient),
-                })
-            }
+            } => confocal_lenslet_arrays(
+                a.0,
+                u.0,
+                basis(b),
+                DVec2::new(eta_u.0, eta_v.0),
+                DVec2::new(delta_u.map_or(0.0, |d| d.0), delta_v.map_or(0.0, |d| d.0)),
+                coefficient(transmission_coefficient),
+            )?,
             SurfaceSection::RayRotating {
                 angle_deg,
                 axis,
@@ -475,21 +508,11 @@ impl SurfaceSection {
                 positional_error,
                 angular_error_deg,
                 transmission_coefficient,
-            } => {
-                let angular_error = angular_error_deg.map_or(0.0, |a| a.0);
-                if angular_error > 180.0 {
-                    return Err(format!(
-                        "teleporting: angular_error_deg = {angular_error} is more than 180"
-                    ));
-                }
-                Surface::Teleporting(Teleporting {
-                    // Linked to the named object once every object is placed.
-                    destination: unlinked(),
-                    positional_error: positional_error.map_or(0.0, |e| e.0),
-                    angular_error: angular_error.to_radians(),
-                    transmission_coefficient: coefficient(transmission_coefficient),
-                })
-            }
+            } => teleporting(
+                positional_error.map_or(0.0, |e| e.0),
+                angular_error_deg.map_or(0.0, |a| a.0),
+                coefficient(transmission_coefficient),
+            )?,
         })
     }
 
