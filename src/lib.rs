@@ -9,6 +9,7 @@ pub mod cameras;
 // and its safe API is the boundary that keeps every other module free of `unsafe`.
 #[allow(unsafe_code)]
 pub mod embree;
+pub mod files;
 pub mod geometry;
 pub mod io;
 pub mod math;

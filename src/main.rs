@@ -252,6 +252,13 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             dir.display()
         )));
     }
+    // Found out now, not after a long render.
+    timbre::files::check_writable(&args.output).map_err(|e| {
+        bad_input(format!(
+            "{}: cannot write the output there: {e}",
+            args.output.display()
+        ))
+    })?;
 
     let device = match settings.threads {
         Some(t) => Device::new(&format!("threads={t}")),

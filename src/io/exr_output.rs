@@ -92,7 +92,12 @@ pub fn write_exr(
         .map_err(err)?;
     let mut bytes = file.into_inner();
     sort_header_attributes(&mut bytes);
-    std::fs::write(path, bytes).map_err(|e| err(e.into()))
+    crate::files::write_atomically(path, |out| out.write_all(&bytes)).map_err(|source| {
+        OutputError::Write {
+            path: path.display().to_string(),
+            source,
+        }
+    })
 }
 
 /// Puts the header attributes of a single-part OpenEXR file in name order, as OpenEXR's own

@@ -1,5 +1,6 @@
 //! Image output: PNG (8-bit, clamped, no gamma curve, as TIM writes) and OpenEXR (f32, values
-//! unchanged, with optional AOV channels), chosen by the file extension.
+//! unchanged, with optional AOV channels), chosen by the file extension; written crash-safely
+//! ([`crate::files`]).
 
 mod exr_output;
 mod png_output;
@@ -57,15 +58,17 @@ impl OutputFormat {
 pub enum OutputError {
     #[error("{0}: unsupported output format; use a .png or .exr file name")]
     UnsupportedFormat(String),
-    #[error("could not write PNG '{path}': {source}")]
-    Png {
-        path: String,
-        source: image::ImageError,
-    },
-    #[error("could not write OpenEXR '{path}': {source}")]
+    #[error("could not encode OpenEXR '{path}': {source}")]
     Exr {
         path: String,
         source: exr::error::Error,
+    },
+    /// Writing failed (a full disk, a read-only file system, an I/O error); the file that was
+    /// at `path` before is unchanged.
+    #[error("could not write '{path}': {source}; any previous file there is unchanged")]
+    Write {
+        path: String,
+        source: std::io::Error,
     },
 }
 

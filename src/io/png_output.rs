@@ -3,6 +3,9 @@
 
 use std::path::Path;
 
+use image::codecs::png::PngEncoder;
+use image::{ExtendedColorType, ImageEncoder};
+
 use super::OutputError;
 use crate::render::Image;
 
@@ -17,11 +20,21 @@ pub fn to_rgb8(image: &Image) -> image::RgbImage {
     image::RgbImage::from_raw(image.width, image.height, bytes).expect("3 bytes per pixel")
 }
 
+/// Writes `image` as an 8-bit PNG, crash-safely ([`crate::files::write_atomically`]).
 pub fn write_png(path: &Path, image: &Image) -> Result<(), OutputError> {
-    to_rgb8(image)
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|source| OutputError::Png {
-            path: path.display().to_string(),
-            source,
-        })
+    let rgb = to_rgb8(image);
+    crate::files::write_atomically(path, |out| {
+        PngEncoder::new(out)
+            .write_image(
+                rgb.as_raw(),
+                rgb.width(),
+                rgb.height(),
+                ExtendedColorType::Rgb8,
+            )
+            .map_err(std::io::Error::other)
+    })
+    .map_err(|source| OutputError::Write {
+        path: path.display().to_string(),
+        source,
+    })
 }

@@ -105,13 +105,10 @@ pub fn save(path: &Path, mesh: &Mesh, encoding: PlyEncoding) -> Result<(), MeshE
             message: "unknown mesh format: the file name must end in .obj or .ply".into(),
         });
     };
-    let file = std::fs::File::create(path).map_err(io)?;
-    let mut out = std::io::BufWriter::new(file);
-    match format {
+    crate::files::write_atomically(path, |mut out| match format {
         MeshFormat::Obj => obj::write(&mut out, mesh),
         MeshFormat::Ply => ply::write(&mut out, mesh, encoding),
-    }
-    .and_then(|()| std::io::Write::flush(&mut out))
+    })
     .map_err(io)
 }
 

@@ -1,0 +1,158 @@
+//! Crash-safe file writing: whatever happens while a file is written (a full disk, a read-only
+//! file system, an I/O error, the process killed), the file that was there before survives
+//! whole, and no error goes unreported.
+//!
+//! The bytes go to a temporary file in the target's directory (so the final rename stays on one
+//! file system), which is flushed and fsynced, every error checked, and then renamed over the
+//! target; the directory is fsynced so that the rename itself is durable. A target that exists
+//! and is not a regular file (a device such as `/dev/full` or `/dev/null`, a FIFO) cannot be
+//! replaced by renaming: it is written in place, still with every error checked.
+
+use std::fs::{File, Permissions};
+use std::io::{self, BufWriter, Write};
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+
+/// Prefix of the temporary files, which a killed process may leave behind (`.timbre-*.tmp`).
+pub const TEMPORARY_PREFIX: &str = ".timbre-";
+
+/// The directory a file at `path` is written in (`.` for a bare file name).
+fn directory(path: &Path) -> &Path {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    }
+}
+
+/// The file a symbolic link at `path` points to, if it is one that resolves: that file is
+/// replaced and the link kept.
+fn resolve(path: &Path) -> Option<PathBuf> {
+    let linked = std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink());
+    linked.then(|| std::fs::canonicalize(path).ok()).flatten()
+}
+
+/// Writes the file at `path` with `write`, crash-safely (see the module docs). `write` gets a
+/// buffered writer; the file at `path` is replaced only if `write` and every step after it
+/// succeed.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> io::Result<()> {
+    let resolved = resolve(path);
+    let path = resolved.as_deref().unwrap_or(path);
+    let existing = std::fs::metadata(path).ok();
+    if existing.as_ref().is_some_and(|m| !m.is_file()) {
+        let mut out = BufWriter::new(File::options().write(true).open(path)?);
+        write(&mut out)?;
+        return out
+            .into_inner()
+            .map_err(|e| e.into_error())?
+            .sync_all()
+            .or_else(|e| {
+                // Devices and FIFOs need not support fsync; that is not a failed write.
+                if e.kind() == io::ErrorKind::InvalidInput {
+                    Ok(())
+                } else {
+                    Err(e)
+                }
+            });
+    }
+    let dir = directory(path);
+    // A new file gets the usual permissions, a replaced one keeps its own.
+    let permissions = existing.map_or(Permissions::from_mode(0o644), |m| m.permissions());
+    let temporary = tempfile::Builder::new()
+        .prefix(TEMPORARY_PREFIX)
+        .suffix(".tmp")
+        .permissions(permissions)
+        .tempfile_in(dir)?;
+    let mut out = BufWriter::new(temporary);
+    write(&mut out)?;
+    let temporary = out.into_inner().map_err(|e| e.into_error())?;
+    temporary.as_file().sync_all()?;
+    temporary.persist(path).map_err(|e| e.error)?;
+    File::open(dir)?.sync_all()
+}
+
+/// Checks that files can be created in the directory of `path` (it exists, is a directory and
+/// is writable), by creating and removing a temporary file there: before a long render, not
+/// after it.
+pub fn check_writable(path: &Path) -> io::Result<()> {
+    let resolved = resolve(path);
+    let path = resolved.as_deref().unwrap_or(path);
+    let dir = directory(path);
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+        // Written in place: it must open for writing.
+        return File::options().write(true).open(path).map(drop);
+    }
+    tempfile::Builder::new()
+        .prefix(TEMPORARY_PREFIX)
+        .suffix(".probe")
+        .tempfile_in(dir)
+        .map(drop)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_temporary_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("picture.png");
+        write_atomically(&path, |out| out.write_all(b"old")).unwrap();
+        let failed = write_atomically(&path, |out| {
+            out.write_all(b"new, but")?;
+            Err(io::Error::other("the encoder failed"))
+        });
+        assert_eq!(failed.unwrap_err().to_string(), "the encoder failed");
+        assert_eq!(std::fs::read(&path).unwrap(), b"old");
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["picture.png"], "the temporary file is removed");
+        write_atomically(&path, |out| out.write_all(b"new")).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_permissions_and_a_new_one_gets_0644() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        write_atomically(&path, |out| out.write_all(b"1")).unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&path), 0o644);
+        std::fs::set_permissions(&path, Permissions::from_mode(0o600)).unwrap();
+        write_atomically(&path, |out| out.write_all(b"2")).unwrap();
+        assert_eq!(mode(&path), 0o600);
+    }
+
+    #[test]
+    fn a_link_is_followed_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("renders").join("v1.png");
+        std::fs::create_dir(target.parent().unwrap()).unwrap();
+        std::fs::write(&target, b"old").unwrap();
+        let link = dir.path().join("latest.png");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_atomically(&link, |out| out.write_all(b"new")).unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+    }
+
+    #[test]
+    fn a_full_device_is_an_error() {
+        let full = Path::new("/dev/full");
+        if !full.exists() {
+            return;
+        }
+        let e = write_atomically(full, |out| out.write_all(&[0; 1 << 16])).unwrap_err();
+        assert_eq!(e.raw_os_error(), Some(28), "ENOSPC: {e}");
+        assert!(full.exists(), "the device is not replaced");
+    }
+}
