@@ -112,9 +112,75 @@ struct RenderArgs {
     /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<Override>,
-    /// Print nothing but errors.
+    /// Print nothing but errors (and progress lines, if --progress json asks for them).
     #[arg(short, long)]
     quiet: bool,
+    /// How to show progress: a bar with elapsed and remaining time on a terminal, or one JSON
+    /// line per update (at most one a second) on standard error, for schedulers and logs.
+    #[arg(long, value_enum, default_value_t = ProgressMode::Bar)]
+    progress: ProgressMode,
+}
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+enum ProgressMode {
+    Bar,
+    Json,
+}
+
+/// One `--progress json` line: pixels done of all (of every view), the fraction done, the
+/// seconds since rendering started and the estimated seconds left (none before any pixel).
+#[derive(Serialize)]
+struct ProgressLine {
+    done_pixels: u64,
+    total_pixels: u64,
+    fraction: f64,
+    elapsed_s: f64,
+    eta_s: Option<f64>,
+}
+
+/// Progress as JSON lines: at the start, at most one a second, and at the end.
+struct JsonProgress {
+    total: u64,
+    start: Instant,
+    /// Pixels done, and when the last line was printed.
+    state: std::sync::Mutex<(u64, Instant)>,
+}
+
+impl JsonProgress {
+    fn new(total: u64) -> JsonProgress {
+        let start = Instant::now();
+        let progress = JsonProgress {
+            total,
+            start,
+            state: std::sync::Mutex::new((0, start)),
+        };
+        progress.print(0);
+        progress
+    }
+
+    fn add(&self, pixels: u64) {
+        let mut state = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        state.0 += pixels;
+        if state.0 >= self.total || state.1.elapsed().as_secs_f64() >= 1.0 {
+            self.print(state.0);
+            state.1 = Instant::now();
+        }
+    }
+
+    fn print(&self, done: u64) {
+        use std::io::Write as _;
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let line = ProgressLine {
+            done_pixels: done,
+            total_pixels: self.total,
+            fraction: done as f64 / self.total.max(1) as f64,
+            elapsed_s: elapsed,
+            eta_s: (done > 0).then(|| elapsed * (self.total - done) as f64 / done as f64),
+        };
+        if let Ok(text) = serde_json::to_string(&line) {
+            let _ = writeln!(std::io::stderr(), "{text}");
+        }
+    }
 }
 
 impl RenderArgs {
@@ -274,7 +340,8 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let build_seconds = building.elapsed().as_secs_f64();
 
     let pixels = settings.width as u64 * settings.height as u64 * stereo.views() as u64;
-    let bar = if args.quiet || !std::io::stderr().is_terminal() {
+    let json = (args.progress == ProgressMode::Json).then(|| JsonProgress::new(pixels));
+    let bar = if args.quiet || json.is_some() || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
     } else {
         let bar = ProgressBar::with_draw_target(Some(pixels), ProgressDrawTarget::stderr());
@@ -286,8 +353,11 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     };
     let start = Instant::now();
     let camera = &description.camera;
-    let image =
-        render_stereo(&scene, camera, &settings, stereo, &|n| bar.inc(n)).map_err(internal)?;
+    let report = |n| match &json {
+        Some(json) => json.add(n),
+        None => bar.inc(n),
+    };
+    let image = render_stereo(&scene, camera, &settings, stereo, &report).map_err(internal)?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 

@@ -939,3 +939,55 @@ fn a_closed_standard_output_is_not_a_crash() {
         "{stderr}"
     );
 }
+
+#[test]
+fn progress_json_prints_lines_that_count_up_to_every_pixel_of_every_view() {
+    let dir = TempDir::new().unwrap();
+    let scene = write(&dir, "stereo.toml", "[camera]\nstereo = \"anaglyph\"\n");
+    let run = timbre(
+        dir.path(),
+        &[
+            "render",
+            path_str(&scene),
+            "-o",
+            "a.png",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--progress",
+            "json",
+            "--quiet",
+        ],
+    );
+    run.assert_success();
+    assert!(run.stdout.is_empty(), "quiet: {}", run.stdout);
+    let lines: Vec<serde_json::Value> = run
+        .stderr
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+        .collect();
+    assert!(lines.len() >= 2, "{}", run.stderr);
+    let field = |line: &serde_json::Value, key: &str| line[key].as_f64();
+    let total = 2.0 * 64.0 * 48.0; // two eyes
+    for line in &lines {
+        assert_eq!(field(line, "total_pixels"), Some(total), "{line}");
+    }
+    let (first, last) = (&lines[0], &lines[lines.len() - 1]);
+    assert_eq!(field(first, "done_pixels"), Some(0.0));
+    assert!(
+        first["eta_s"].is_null(),
+        "no estimate before any pixel: {first}"
+    );
+    assert_eq!(field(last, "done_pixels"), Some(total));
+    assert_eq!(field(last, "fraction"), Some(1.0));
+    assert_eq!(field(last, "eta_s"), Some(0.0));
+    for pair in lines.windows(2) {
+        for key in ["done_pixels", "elapsed_s"] {
+            assert!(
+                field(&pair[0], key) <= field(&pair[1], key),
+                "{key}: {pair:?}"
+            );
+        }
+    }
+}
