@@ -12,6 +12,7 @@ use serde::Serialize;
 use timbre::embree::Device;
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::render::RenderError;
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
 use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
@@ -268,6 +269,52 @@ fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
     spinner
 }
 
+/// Bytes a render needs at its peak, roughly: each view's f64 image (24 bytes a pixel) and
+/// AOVs (20), the stereo output's combined image (up to twice a view), and the output file's
+/// encoding (PNG: 3 bytes a pixel and a compressed copy; EXR: 4 bytes a channel, twice).
+fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputFormat) -> u64 {
+    let pixels = settings.width as u64 * settings.height as u64;
+    let views = stereo.views() as u64;
+    let images = views + 2 * (views > 1) as u64;
+    let render = images * 24 + views * settings.aovs as u64 * 20;
+    let output = match format {
+        OutputFormat::Png => 3 * 2 * (1 + (views > 1) as u64),
+        OutputFormat::Exr => 4 * (3 + 5 * settings.aovs as u64) * 2,
+    };
+    pixels * (render + output)
+}
+
+/// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
+/// less what is mapped now and what Embree and `threads` render threads will map (stacks and
+/// allocator arenas: 256 MiB and 80 MiB a thread, measured generously), and the memory the
+/// system has available (MemAvailable and free swap) less 128 MiB for the rest of the
+/// program; `None` where neither is known.
+fn memory_available(threads: u64) -> Option<u64> {
+    const MIB: u64 = 1 << 20;
+    let field = |text: &str, name: &str| -> Option<u64> {
+        let line = text.lines().find(|l| l.starts_with(name))?;
+        line[name.len()..].split_whitespace().next()?.parse().ok()
+    };
+    let address_space = std::fs::read_to_string("/proc/self/limits")
+        .ok()
+        .and_then(|limits| field(&limits, "Max address space"))
+        .and_then(|limit| {
+            let status = std::fs::read_to_string("/proc/self/status").ok()?;
+            let mapped = field(&status, "VmSize:")? * 1024 + 256 * MIB + threads * 80 * MIB;
+            Some(limit.saturating_sub(mapped))
+        });
+    let system = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|info| {
+            let free = field(&info, "MemAvailable:")? + field(&info, "SwapFree:").unwrap_or(0);
+            Some((free * 1024).saturating_sub(128 * MIB))
+        });
+    match (address_space, system) {
+        (Some(a), Some(s)) => Some(a.min(s)),
+        (a, s) => a.or(s),
+    }
+}
+
 /// Peak resident memory of this process (Linux), e.g. "1.25 GiB".
 fn peak_memory() -> Option<String> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -326,6 +373,27 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         ))
     })?;
 
+    let needed = memory_needed(&settings, stereo, format);
+    let threads = settings
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if let Some(available) = memory_available(threads as u64)
+        && needed > available
+    {
+        let gib = |b: u64| b as f64 / f64::from(1 << 30);
+        return Err(bad_input(format!(
+            "a {}x{} render{} needs about {:.2} GiB of memory, but only {:.2} GiB can be had here (free memory, or the process's address-space limit); render a smaller image",
+            settings.width,
+            settings.height,
+            match stereo.views() {
+                1 => String::new(),
+                n => format!(" of {n} views"),
+            },
+            gib(needed),
+            gib(available)
+        )));
+    }
+
     let device = match settings.threads {
         Some(t) => Device::new(&format!("threads={t}")),
         None => Device::new(""),
@@ -357,7 +425,10 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         Some(json) => json.add(n),
         None => bar.inc(n),
     };
-    let image = render_stereo(&scene, camera, &settings, stereo, &report).map_err(internal)?;
+    let image = render_stereo(&scene, camera, &settings, stereo, &report).map_err(|e| match e {
+        RenderError::Memory { .. } => bad_input(e),
+        e => internal(e),
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
 

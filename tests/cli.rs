@@ -991,3 +991,28 @@ fn progress_json_prints_lines_that_count_up_to_every_pixel_of_every_view() {
         }
     }
 }
+
+#[test]
+fn an_image_too_large_for_the_memory_limit_is_refused_before_rendering() {
+    let dir = TempDir::new().unwrap();
+    let capped = |size: &str, output: &str| {
+        let mut command = Command::new("prlimit");
+        command
+            .arg("--as=1000000000")
+            .arg(common::cli::TIMBRE)
+            .args(["render", "-o", output, "--width", size, "--height", size])
+            .current_dir(dir.path());
+        common::cli::run(command)
+    };
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        eprintln!("skipped: no prlimit");
+        return;
+    }
+    // Under a 1 GB address-space cap a 1024² render fits; 8192² (1.5 GiB for its f64 pixels
+    // alone) would abort when it allocates, so it is refused up front with exit 2.
+    capped("1024", "small.png").assert_success();
+    let run = capped("8192", "big.png");
+    run.assert_bad_input(&["8192x8192", "needs about", "GiB", "render a smaller image"]);
+    assert!(!run.stdout.contains("rays in"), "nothing was rendered");
+    assert_eq!(files_in(&dir), ["small.png"]);
+}

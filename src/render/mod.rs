@@ -58,10 +58,26 @@ impl Image {
     }
 }
 
-/// The worker pool could not be created.
+/// Why a render could not run.
 #[derive(Debug, Error)]
-#[error("could not start the render threads: {0}")]
-pub struct RenderError(#[from] rayon::ThreadPoolBuildError);
+pub enum RenderError {
+    #[error("could not start the render threads: {0}")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
+    /// The image's buffers could not be allocated.
+    #[error(
+        "not enough memory for a {width}x{height} image ({bytes} bytes of buffers); render a smaller image"
+    )]
+    Memory { width: u32, height: u32, bytes: u64 },
+}
+
+/// A buffer of `n` copies of `value`, or `None` where the memory cannot be had (instead of
+/// aborting the process).
+fn buffer<T: Clone>(n: usize, value: T) -> Option<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).ok()?;
+    v.resize(n, value);
+    Some(v)
+}
 
 /// Rows per band: the image is rendered in parallel in bands of whole rows, each written in
 /// place. A multiple of BLOCK_H.
@@ -180,8 +196,16 @@ pub fn render(
 
     let n = s.width as usize * s.height as usize;
     let band = BAND as usize * s.width as usize;
-    let mut pixels = vec![Colour::ZERO; n];
-    let mut aovs = s.aovs.then(|| vec![AovSample::MISS; n]);
+    let out_of_memory = || RenderError::Memory {
+        width: s.width,
+        height: s.height,
+        bytes: n as u64 * (size_of::<Colour>() + s.aovs as usize * size_of::<AovSample>()) as u64,
+    };
+    let mut pixels = buffer(n, Colour::ZERO).ok_or_else(out_of_memory)?;
+    let mut aovs = match s.aovs {
+        true => Some(buffer(n, AovSample::MISS).ok_or_else(out_of_memory)?),
+        false => None,
+    };
     let rays = pool.install(|| {
         let aov_bands: Vec<Option<&mut [AovSample]>> = match aovs.as_mut() {
             Some(a) => a.chunks_mut(band).map(Some).collect(),
