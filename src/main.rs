@@ -295,36 +295,29 @@ fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputForma
 /// program; `None` where neither is known.
 fn memory_available(threads: u64) -> Option<u64> {
     const MIB: u64 = 1 << 20;
-    let field = |text: &str, name: &str| -> Option<u64> {
-        let line = text.lines().find(|l| l.starts_with(name))?;
-        line[name.len()..].split_whitespace().next()?.parse().ok()
-    };
-    let address_space = std::fs::read_to_string("/proc/self/limits")
-        .ok()
-        .and_then(|limits| field(&limits, "Max address space"))
-        .and_then(|limit| {
-            let status = std::fs::read_to_string("/proc/self/status").ok()?;
-            let mapped = field(&status, "VmSize:")? * 1024 + 256 * MIB + threads * 80 * MIB;
-            Some(limit.saturating_sub(mapped))
-        });
-    let system = std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|info| {
-            let free = field(&info, "MemAvailable:")? + field(&info, "SwapFree:").unwrap_or(0);
-            Some((free * 1024).saturating_sub(128 * MIB))
-        });
-    match (address_space, system) {
-        (Some(a), Some(s)) => Some(a.min(s)),
-        (a, s) => a.or(s),
-    }
+    let address_space = proc_number("/proc/self/limits", "Max address space").and_then(|limit| {
+        let mapped = proc_number("/proc/self/status", "VmSize:")? * 1024;
+        Some(limit.saturating_sub(mapped + 256 * MIB + threads * 80 * MIB))
+    });
+    let system = proc_number("/proc/meminfo", "MemAvailable:").map(|available| {
+        let swap = proc_number("/proc/meminfo", "SwapFree:").unwrap_or(0);
+        ((available + swap) * 1024).saturating_sub(128 * MIB)
+    });
+    address_space.into_iter().chain(system).min()
+}
+
+/// The first number after `name` on the line of `file` (a Linux /proc file) that starts with
+/// it; `None` if the file, the line or a number is missing ("unlimited").
+fn proc_number(file: &str, name: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(file).ok()?;
+    let line = text.lines().find(|l| l.starts_with(name))?;
+    line[name.len()..].split_whitespace().next()?.parse().ok()
 }
 
 /// Peak resident memory of this process (Linux), e.g. "1.25 GiB".
 fn peak_memory() -> Option<String> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(format!("{:.2} GiB", kib / (1024.0 * 1024.0)))
+    let kib = proc_number("/proc/self/status", "VmHWM:")?;
+    Some(format!("{:.2} GiB", kib as f64 / (1024.0 * 1024.0)))
 }
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {

@@ -19,7 +19,7 @@ pub struct RenderSettings {
 }
 
 /// Largest accepted maximum trace level. Tracing recurses once per level, so worker threads get
-/// stacks sized for the level (see [`crate::render::render()`]).
+/// stacks sized for the level (see `render::render`).
 pub const MAX_TRACE_LEVEL_LIMIT: u32 = 100_000;
 
 /// Largest accepted image, in pixels (16384 × 16384): the f64 image alone then needs 6 GiB.

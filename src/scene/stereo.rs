@@ -31,9 +31,10 @@ pub enum Stereo {
         half: bool,
     },
     /// A random-dot autostereogram of the depth of the surfaces seen through the pixel
-    /// centres (see [`mod@crate::stereo::autostereogram`]). Depths (distances along the view
+    /// centres (see the `stereo::autostereogram` module). Depths (distances along the view
     /// direction) from `near` to `far` span the depth range; nearer ones count as near, farther
-    /// ones and misses as far. Without `near` and `far`, the nearest depth seen and the median depth are used.
+    /// ones and misses as far. Without `near` and `far`, the nearest depth seen and the median
+    /// depth are used.
     Autostereogram {
         /// Eye separation in pixels; by default 2.5 inches at 72 dpi (180), at most a third
         /// of the width.

@@ -12,7 +12,7 @@ use crate::scene::{RayTrajectory, Spread};
 
 /// Most rays one source may start, and most surfaces one ray may meet: far more than a
 /// picture can show. The points of all trajectories together are limited by
-/// [`crate::trajectories::MAX_POINTS`] when they are traced.
+/// `trajectories::MAX_POINTS` when they are traced.
 const MAX_COUNT: u32 = 10_000;
 
 /// A number of rays or interactions: a whole number from 1 to [`MAX_COUNT`].
