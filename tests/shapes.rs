@@ -1512,13 +1512,23 @@ proptest! {
     #![proptest_config(config(1000))]
 
     /// Rays aimed at a long thin distant cylinder never miss it, and the hit is the reference's
-    /// (decisive) entry point, with frame and bounds checked as for every shape.
+    /// entry point, with frame and bounds checked as for every shape. A ray that enters within
+    /// the reference's tolerance of a cap's rim meets a crossing the reference cannot call
+    /// decisive (rarely; found once: the cylinder from (3.04, −2.80, 13.78) to (9.44, −8.74,
+    /// 42.49) of radius 0.02, seen from near the origin along (0.207, −0.196, 0.958)); check_hit
+    /// still rejects any skipped or missed decisive crossing there.
     #[test]
     fn long_thin_cylinder_is_not_missed(case in thin_cylinder_case(ALL)) {
         let shape = case.shape.to_shape();
         let got = shape.intersect(case.origin, case.direction, case.t_min, case.t_max);
         prop_assert!(got.is_some(), "missed the thin cylinder: {:?}", case);
-        prop_assert_eq!(check_hit(&case, got, Some(&shape)), Ok(Outcome::Hit));
+        let outcome = check_hit(&case, got, Some(&shape));
+        prop_assert!(
+            matches!(outcome, Ok(Outcome::Hit | Outcome::Marginal)),
+            "{:?}: {:?}",
+            outcome,
+            case
+        );
     }
 }
 
