@@ -2,6 +2,7 @@
 //! Run with `cargo run --release --example render_studio`.
 
 use timbre::embree::Device;
+use timbre::io::{Provenance, write_image};
 use timbre::render::render;
 use timbre::scene::{Scene, studio::Studio};
 use timbre::trajectories;
@@ -13,7 +14,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let drawn = trajectories::draw(&device, &description)?;
     let scene = Scene::build(&device, &drawn)?;
     let image = render(&scene, &description.camera, &description.render, &|_| {})?;
-    timbre::io::write_png("studio.png".as_ref(), &image)?;
+    let provenance = Provenance::whole(&description.render, description.hash());
+    write_image("studio.png".as_ref(), &image, &provenance)?;
     println!("{} rays -> studio.png", image.rays);
     Ok(())
 }

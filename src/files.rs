@@ -9,7 +9,7 @@
 //! replaced by renaming: it is written in place, still with every error checked.
 
 use std::fs::{File, Permissions};
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
@@ -31,46 +31,132 @@ fn resolve(path: &Path) -> Option<PathBuf> {
     linked.then(|| std::fs::canonicalize(path).ok()).flatten()
 }
 
-/// Writes the file at `path` with `write`, crash-safely (see the module docs). `write` gets a
-/// buffered writer; the file at `path` is replaced only if `write` and every step after it
-/// succeed.
+/// A file being written crash-safely (see the module docs): [`Write`] and [`Seek`] go to a
+/// temporary file, which [`AtomicFile::commit`] flushes, fsyncs and renames over the target.
+/// Dropped without a commit, it leaves the target as it was and removes the temporary file.
+pub struct AtomicFile {
+    target: PathBuf,
+    out: BufWriter<Spool>,
+}
+
+/// Where the bytes go until the commit: a named temporary file beside the target, or, for a
+/// device or FIFO target (written in place at the commit), an unnamed one.
+enum Spool {
+    Beside(tempfile::NamedTempFile),
+    ForDevice(File),
+}
+
+impl Spool {
+    fn file(&mut self) -> &mut File {
+        match self {
+            Spool::Beside(t) => t.as_file_mut(),
+            Spool::ForDevice(f) => f,
+        }
+    }
+}
+
+impl AtomicFile {
+    /// Starts writing the file at `path` (a symbolic link is followed: the file it points to is
+    /// replaced and the link kept).
+    pub fn create(path: &Path) -> io::Result<AtomicFile> {
+        let resolved = resolve(path);
+        let target = resolved.unwrap_or_else(|| path.to_path_buf());
+        let existing = std::fs::metadata(&target).ok();
+        let spool = if existing.as_ref().is_some_and(|m| !m.is_file()) {
+            // Must open for writing, found out now rather than at the end.
+            File::options().write(true).open(&target)?;
+            Spool::ForDevice(tempfile::tempfile()?)
+        } else {
+            // A new file gets the usual permissions, a replaced one keeps its own.
+            let permissions = existing.map_or(Permissions::from_mode(0o644), |m| m.permissions());
+            Spool::Beside(
+                tempfile::Builder::new()
+                    .prefix(TEMPORARY_PREFIX)
+                    .suffix(".tmp")
+                    .permissions(permissions)
+                    .tempfile_in(directory(&target))?,
+            )
+        };
+        Ok(AtomicFile {
+            target,
+            out: BufWriter::new(spool),
+        })
+    }
+
+    /// The bytes written so far, as a file to read and patch (flushed first).
+    pub fn written(&mut self) -> io::Result<&mut File> {
+        self.out.flush()?;
+        Ok(self.out.get_mut().file())
+    }
+
+    /// Publishes the file: flushed and fsynced, every error checked, renamed over the target
+    /// and the directory fsynced (a device or FIFO target is written in place instead).
+    pub fn commit(self) -> io::Result<()> {
+        let spool = self.out.into_inner().map_err(|e| e.into_error())?;
+        match spool {
+            Spool::Beside(temporary) => {
+                temporary.as_file().sync_all()?;
+                temporary.persist(&self.target).map_err(|e| e.error)?;
+                File::open(directory(&self.target))?.sync_all()
+            }
+            Spool::ForDevice(mut spool) => {
+                spool.seek(SeekFrom::Start(0))?;
+                let mut device = File::options().write(true).open(&self.target)?;
+                io::copy(&mut spool, &mut device)?;
+                device.sync_all().or_else(|e| {
+                    // Devices and FIFOs need not support fsync; that is not a failed write.
+                    if e.kind() == io::ErrorKind::InvalidInput {
+                        Ok(())
+                    } else {
+                        Err(e)
+                    }
+                })
+            }
+        }
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.out.write(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
+    }
+}
+
+impl Seek for AtomicFile {
+    fn seek(&mut self, to: SeekFrom) -> io::Result<u64> {
+        self.out.seek(to)
+    }
+}
+
+impl Write for Spool {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.file().write(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.file().flush()
+    }
+}
+
+impl Seek for Spool {
+    fn seek(&mut self, to: SeekFrom) -> io::Result<u64> {
+        self.file().seek(to)
+    }
+}
+
+/// Writes the file at `path` with `write`, crash-safely ([`AtomicFile`]): the file at `path` is
+/// replaced only if `write` and every step after it succeed.
 pub fn write_atomically(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> io::Result<()> {
-    let resolved = resolve(path);
-    let path = resolved.as_deref().unwrap_or(path);
-    let existing = std::fs::metadata(path).ok();
-    if existing.as_ref().is_some_and(|m| !m.is_file()) {
-        let mut out = BufWriter::new(File::options().write(true).open(path)?);
-        write(&mut out)?;
-        return out
-            .into_inner()
-            .map_err(|e| e.into_error())?
-            .sync_all()
-            .or_else(|e| {
-                // Devices and FIFOs need not support fsync; that is not a failed write.
-                if e.kind() == io::ErrorKind::InvalidInput {
-                    Ok(())
-                } else {
-                    Err(e)
-                }
-            });
-    }
-    let dir = directory(path);
-    // A new file gets the usual permissions, a replaced one keeps its own.
-    let permissions = existing.map_or(Permissions::from_mode(0o644), |m| m.permissions());
-    let temporary = tempfile::Builder::new()
-        .prefix(TEMPORARY_PREFIX)
-        .suffix(".tmp")
-        .permissions(permissions)
-        .tempfile_in(dir)?;
-    let mut out = BufWriter::new(temporary);
-    write(&mut out)?;
-    let temporary = out.into_inner().map_err(|e| e.into_error())?;
-    temporary.as_file().sync_all()?;
-    temporary.persist(path).map_err(|e| e.error)?;
-    File::open(dir)?.sync_all()
+    let mut file = AtomicFile::create(path)?;
+    write(&mut file)?;
+    file.commit()
 }
 
 /// Checks that files can be created in the directory of `path` (it exists, is a directory and

@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod io;
 pub mod math;
 pub mod mesh;
+pub mod production;
 pub mod render;
 pub mod scene;
 pub mod stereo;

@@ -9,9 +9,13 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use serde::Serialize;
 
+use std::time::Duration;
 use timbre::embree::Device;
+
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::production::{self, Checkpointing, Done, Job, JobError, Signals};
+use timbre::render::PixelBounds;
 use timbre::render::RenderError;
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
@@ -78,6 +82,18 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Encoding::BinaryLittleEndian)]
         encoding: Encoding,
     },
+    /// Merge parts of one render (written with --tile, --pixel-bounds, --samples) into the
+    /// whole image, exactly as a single render would have made it.
+    Merge {
+        /// The merged image; the extension (.png or .exr) chooses the format.
+        output: PathBuf,
+        /// The parts (OpenEXR files), in any order.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Print nothing but errors.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Print the versions of timbre and Embree, the CPU's SIMD support and the thread count.
     Info,
 }
@@ -120,6 +136,91 @@ struct RenderArgs {
     /// line per update (at most one a second) on standard error, for schedulers and logs.
     #[arg(long, value_enum, default_value_t = ProgressMode::Bar)]
     progress: ProgressMode,
+    /// Render horizontal strip K of N (0-based, K < N) as a part for `timbre merge`.
+    #[arg(long, value_name = "K/N", conflicts_with = "pixel_bounds")]
+    tile: Option<TileArg>,
+    /// Render only the pixels x0..x1, y0..y1 (half-open) as a part for `timbre merge`.
+    #[arg(long, value_name = "x0,x1,y0,y1")]
+    pixel_bounds: Option<BoundsArg>,
+    /// Render samples A to B-1 of each pixel's sample sequence (of --spp) as a part for
+    /// `timbre merge`.
+    #[arg(long, value_name = "A..B")]
+    samples: Option<SamplesArg>,
+    /// Save a checkpoint (OUTPUT.checkpoint/) every SECONDS, and on SIGINT, SIGTERM (then stop)
+    /// and SIGUSR1 (then go on).
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint_interval: Option<f64>,
+    /// Continue from the checkpoint of the same output, if there is one (checkpoints are saved
+    /// as with --checkpoint-interval).
+    #[arg(long)]
+    resume: bool,
+}
+
+/// `--tile K/N`.
+#[derive(Clone, Copy)]
+struct TileArg {
+    k: u32,
+    n: u32,
+}
+
+impl std::str::FromStr for TileArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (k, n) = s
+            .split_once('/')
+            .and_then(|(k, n)| Some((k.trim().parse().ok()?, n.trim().parse().ok()?)))
+            .ok_or_else(|| format!("expected K/N, e.g. 0/4, got '{s}'"))?;
+        if n == 0 || k >= n {
+            return Err(format!(
+                "tile {k} of {n} does not exist: tiles are numbered 0 to N-1"
+            ));
+        }
+        Ok(TileArg { k, n })
+    }
+}
+
+/// `--pixel-bounds x0,x1,y0,y1`.
+#[derive(Clone, Copy)]
+struct BoundsArg(PixelBounds);
+
+impl std::str::FromStr for BoundsArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let v: Vec<u32> = s
+            .split(',')
+            .map(|x| x.trim().parse())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("expected four whole numbers x0,x1,y0,y1, got '{s}'"))?;
+        let [x0, x1, y0, y1] = v[..] else {
+            return Err(format!(
+                "expected four whole numbers x0,x1,y0,y1, got '{s}'"
+            ));
+        };
+        if x0 >= x1 || y0 >= y1 {
+            return Err(format!(
+                "the bounds {s} hold no pixels: x0 < x1 and y0 < y1 are needed"
+            ));
+        }
+        Ok(BoundsArg(PixelBounds { x0, x1, y0, y1 }))
+    }
+}
+
+/// `--samples A..B`.
+#[derive(Clone)]
+struct SamplesArg(std::ops::Range<u32>);
+
+impl std::str::FromStr for SamplesArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (a, b) = s
+            .split_once("..")
+            .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)))
+            .ok_or_else(|| format!("expected A..B, e.g. 0..64, got '{s}'"))?;
+        if a >= b {
+            return Err(format!("the samples {a}..{b} are none: A < B is needed"));
+        }
+        Ok(SamplesArg(a..b))
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, ValueEnum)]
@@ -352,6 +453,18 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     if settings.aovs && format != OutputFormat::Exr {
         return Err(bad_input("--aov needs an OpenEXR output (-o NAME.exr)"));
     }
+    let mut job = job(&args, &settings, description.hash(), Vec::new())?;
+    let production = job.provenance.sums || job.checkpointing.is_some();
+    if production && *stereo != Stereo::Mono {
+        return Err(bad_input(
+            "--tile, --pixel-bounds, --samples, --checkpoint-interval and --resume work with single views only (camera.stereo = \"none\")",
+        ));
+    }
+    if job.provenance.sums && format != OutputFormat::Exr {
+        return Err(bad_input(
+            "--tile, --pixel-bounds and --samples write a part for `timbre merge`: it needs an OpenEXR output (-o NAME.exr)",
+        ));
+    }
 
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty())
         && !dir.is_dir()
@@ -370,10 +483,17 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         ))
     })?;
 
-    let needed = memory_needed(&settings, stereo, format);
     let threads = settings
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let needed = match stereo {
+        Stereo::Mono => production::memory_needed(
+            job.provenance.bounds.width(),
+            threads,
+            job.checkpointing.is_some(),
+        ),
+        _ => memory_needed(&settings, stereo, format),
+    };
     if let Some(available) = memory_available(threads as u64)
         && needed > available
     {
@@ -403,8 +523,12 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let scene = Scene::build(&device, &drawn).map_err(internal)?;
     waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
+    job.provenance.object_names = scene.object_names.clone();
 
-    let pixels = settings.width as u64 * settings.height as u64 * stereo.views() as u64;
+    let pixels = match stereo {
+        Stereo::Mono => job.provenance.bounds.pixels(),
+        _ => settings.width as u64 * settings.height as u64 * stereo.views() as u64,
+    };
     let json = (args.progress == ProgressMode::Json).then(|| JsonProgress::new(pixels));
     let bar = if args.quiet || json.is_some() || !std::io::stderr().is_terminal() {
         ProgressBar::hidden()
@@ -422,34 +546,75 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         Some(json) => json.add(n),
         None => bar.inc(n),
     };
-    let image = render_stereo(&scene, camera, &settings, stereo, &report).map_err(|e| match e {
-        RenderError::Memory { .. } => bad_input(e),
-        e => internal(e),
-    })?;
+    let rays = if *stereo == Stereo::Mono {
+        let signals = signals().map_err(internal)?;
+        let done = production::run(&scene, camera, &settings, &job, &signals, &report)
+            .map_err(job_failure)?;
+        bar.finish_and_clear();
+        match done {
+            Done::Written {
+                rays,
+                resumed_groups,
+            } => {
+                if resumed_groups > 0 && !args.quiet {
+                    eprintln!(
+                        "timbre: resumed {resumed_groups} group(s) of {} rows from the checkpoint",
+                        production::checkpoint::GROUP
+                    );
+                }
+                rays
+            }
+            Done::Stopped { checkpoint } => {
+                let saved = match checkpoint {
+                    Some(dir) => format!(
+                        "; the work done is saved in {}: run the same command with --resume to continue",
+                        dir.display()
+                    ),
+                    None => String::new(),
+                };
+                return Err(Failure {
+                    code: 130,
+                    message: format!(
+                        "interrupted; {} was not written{saved}",
+                        args.output.display()
+                    ),
+                });
+            }
+        }
+    } else {
+        let image =
+            render_stereo(&scene, camera, &settings, stereo, &report).map_err(|e| match e {
+                RenderError::Memory { .. } => bad_input(e),
+                e => internal(e),
+            })?;
+        bar.finish_and_clear();
+        write_image(&args.output, &image, &job.provenance).map_err(bad_input)?;
+        image.rays
+    };
     let seconds = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-
-    let aovs = AovSelection {
-        depth: args.aov.contains(&Aov::Depth),
-        normal: args.aov.contains(&Aov::Normal),
-        object: args.aov.contains(&Aov::Object),
-    };
-    let provenance = Provenance {
-        spp: settings.spp,
-        seed: settings.seed,
-        aovs,
-        object_names: scene.object_names.clone(),
-    };
-    write_image(&args.output, &image, &provenance).map_err(bad_input)?;
     if !args.quiet {
+        let b = job.provenance.bounds;
         out!(
-            "{}x{}, {} spp: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
-            image.width,
-            image.height,
+            "{}x{}{}, {} spp{}: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
+            settings.width,
+            settings.height,
+            if b == PixelBounds::full(settings.width, settings.height) {
+                String::new()
+            } else {
+                format!(" (pixels {b})")
+            },
             settings.spp,
-            image.rays,
+            if job.provenance.count() == settings.spp {
+                String::new()
+            } else {
+                format!(
+                    " (samples {}..{})",
+                    job.provenance.samples.start, job.provenance.samples.end
+                )
+            },
+            rays,
             seconds,
-            image.rays as f64 / seconds / 1e6,
+            rays as f64 / seconds / 1e6,
             args.output.display()
         );
         let summary = description.summary();
@@ -461,6 +626,133 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             load_seconds,
             build_seconds,
             peak_memory().unwrap_or_else(|| "unknown".into())
+        );
+    }
+    Ok(())
+}
+
+/// The production job the arguments ask for: the part of the image and of the samples, the
+/// output's provenance and checkpointing.
+fn job(
+    args: &RenderArgs,
+    s: &RenderSettings,
+    hash: String,
+    object_names: Vec<String>,
+) -> Result<Job, Failure> {
+    let full = PixelBounds::full(s.width, s.height);
+    let bounds = match (args.tile, args.pixel_bounds) {
+        (Some(TileArg { k, n }), _) => {
+            if n > s.height {
+                return Err(bad_input(format!(
+                    "--tile {k}/{n}: an image {} rows high cannot be cut into {n} strips",
+                    s.height
+                )));
+            }
+            let rows = production::tile_rows(k, n, s.height);
+            PixelBounds {
+                y0: rows.start,
+                y1: rows.end,
+                ..full
+            }
+        }
+        (None, Some(BoundsArg(b))) => {
+            if !full.contains(&b) {
+                return Err(bad_input(format!(
+                    "--pixel-bounds {b} is not within the {}x{} image",
+                    s.width, s.height
+                )));
+            }
+            b
+        }
+        (None, None) => full,
+    };
+    let samples = match &args.samples {
+        Some(SamplesArg(r)) if r.end > s.spp => {
+            return Err(bad_input(format!(
+                "--samples {}..{} goes beyond the {} samples per pixel of the render (--spp)",
+                r.start, r.end, s.spp
+            )));
+        }
+        Some(SamplesArg(r)) => r.clone(),
+        None => 0..s.spp,
+    };
+    let checkpointing = match (args.checkpoint_interval, args.resume) {
+        (Some(i), _) if !(i.is_finite() && i > 0.0) => {
+            return Err(bad_input(format!(
+                "--checkpoint-interval must be a positive number of seconds, got {i}"
+            )));
+        }
+        (None, false) => None,
+        (interval, resume) => Some(Checkpointing {
+            interval: interval.map(Duration::from_secs_f64),
+            resume,
+        }),
+    };
+    let aovs = AovSelection {
+        depth: args.aov.contains(&Aov::Depth),
+        normal: args.aov.contains(&Aov::Normal),
+        object: args.aov.contains(&Aov::Object),
+    };
+    Ok(Job {
+        output: args.output.clone(),
+        provenance: Provenance {
+            width: s.width,
+            height: s.height,
+            sums: bounds != full || samples != (0..s.spp),
+            bounds,
+            spp: s.spp,
+            samples,
+            seed: s.seed,
+            scene: hash,
+            aovs,
+            object_names,
+        },
+        checkpointing,
+    })
+}
+
+/// A production job's failure, with its exit code: 2 for bad input (files that cannot be
+/// used or written), 1 for everything else.
+fn job_failure(e: JobError) -> Failure {
+    match e {
+        JobError::Render(RenderError::Threads(_)) => internal(e),
+        e => bad_input(e),
+    }
+}
+
+/// Signals a production job obeys: SIGINT and SIGTERM stop it (a second one ends the process
+/// at once), SIGUSR1 saves a checkpoint.
+fn signals() -> std::io::Result<Signals> {
+    use signal_hook::consts::{SIGINT, SIGTERM, SIGUSR1};
+    use signal_hook::flag;
+    let signals = Signals::default();
+    for signal in [SIGINT, SIGTERM] {
+        flag::register_conditional_shutdown(signal, 130, signals.stop.clone())?;
+        flag::register(signal, signals.stop.clone())?;
+    }
+    flag::register(SIGUSR1, signals.checkpoint.clone())?;
+    Ok(signals)
+}
+
+/// `timbre merge`.
+fn run_merge(output: &Path, parts: &[PathBuf], quiet: bool) -> Result<(), Failure> {
+    OutputFormat::from_path(output).map_err(bad_input)?;
+    timbre::files::check_writable(output).map_err(|e| {
+        bad_input(format!(
+            "{}: cannot write the output there: {e}",
+            output.display()
+        ))
+    })?;
+    let parts: Vec<&Path> = parts.iter().map(PathBuf::as_path).collect();
+    let merged = production::merge(output, &parts).map_err(job_failure)?;
+    if !quiet {
+        out!(
+            "{}x{}, {} spp: {} parts merged -> {}",
+            merged.width,
+            merged.height,
+            merged.spp,
+            merged.parts,
+            output.display()
         );
     }
     Ok(())
@@ -644,6 +936,11 @@ fn main() -> ExitCode {
             displacement,
             encoding,
         } => run_generate_mesh(&output, triangles, displacement, encoding),
+        Command::Merge {
+            output,
+            parts,
+            quiet,
+        } => run_merge(&output, &parts, quiet),
         Command::Info => run_info(),
     };
     match result {

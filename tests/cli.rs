@@ -993,14 +993,15 @@ fn progress_json_prints_lines_that_count_up_to_every_pixel_of_every_view() {
 }
 
 #[test]
-fn an_image_too_large_for_the_memory_limit_is_refused_before_rendering() {
+fn a_large_render_streams_in_bounded_memory_and_what_cannot_fit_is_refused_up_front() {
     let dir = TempDir::new().unwrap();
-    let capped = |size: &str, output: &str| {
+    let capped = |args: &[&str]| {
         let mut command = Command::new("prlimit");
         command
             .arg("--as=1000000000")
             .arg(common::cli::TIMBRE)
-            .args(["render", "-o", output, "--width", size, "--height", size])
+            .arg("render")
+            .args(args)
             .current_dir(dir.path());
         common::cli::run(command)
     };
@@ -1008,11 +1009,47 @@ fn an_image_too_large_for_the_memory_limit_is_refused_before_rendering() {
         eprintln!("skipped: no prlimit");
         return;
     }
-    // Under a 1 GB address-space cap a 1024² render fits; 8192² (1.5 GiB for its f64 pixels
-    // alone) would abort when it allocates, so it is refused up front with exit 2.
-    capped("1024", "small.png").assert_success();
-    let run = capped("8192", "big.png");
-    run.assert_bad_input(&["8192x8192", "needs about", "GiB", "render a smaller image"]);
+    // Under a 1 GB address-space cap, an 8192² single view (1.5 GiB for its f64 pixels alone,
+    // had it been held in memory) is streamed to its file row by row.
+    let run = capped(&["-o", "big.png", "--width", "8192", "--height", "8192"]);
+    run.assert_success();
+    let peak: f64 = run
+        .stdout
+        .split("peak memory ")
+        .nth(1)
+        .and_then(|m| m.split_whitespace().next())
+        .and_then(|m| m.parse().ok())
+        .expect("the peak memory line");
+    assert!(peak < 0.25, "peak resident memory {peak} GiB");
+    let image = decode_png(&dir.path().join("big.png"));
+    assert_eq!(image.dimensions(), (8192, 8192));
+    // The last row was rendered too: the floor's chequerboard has two colours there.
+    let last: std::collections::HashSet<_> =
+        (0..8192).map(|x| image.get_pixel(x, 8191).0).collect();
+    assert!(last.len() >= 2, "{last:?}");
+    // Two views held in memory to be combined (an anaglyph) would not fit: refused with exit 2
+    // before rendering.
+    let scene = write(
+        dir.path(),
+        "anaglyph.toml",
+        "studio = \"lattice\"\n[camera]\nstereo = \"anaglyph\"\n",
+    );
+    let run = capped(&[
+        path_str(&scene),
+        "-o",
+        "anaglyph.png",
+        "--width",
+        "8192",
+        "--height",
+        "8192",
+    ]);
+    run.assert_bad_input(&[
+        "8192x8192",
+        "of 2 views",
+        "needs about",
+        "GiB",
+        "render a smaller image",
+    ]);
     assert!(!run.stdout.contains("rays in"), "nothing was rendered");
-    assert_eq!(files_in(&dir), ["small.png"]);
+    assert_eq!(files_in(&dir), ["anaglyph.toml", "big.png"]);
 }

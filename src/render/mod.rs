@@ -1,14 +1,21 @@
-//! Rendering: primary rays from the camera, traced in parallel over bands of image rows.
+//! Rendering: primary rays from the camera, traced in parallel over tiles of the image and
+//! handed over in bands of whole rows, top to bottom ([`render_rows`]), or kept in memory
+//! ([`render`]).
 
+mod pipeline;
 mod sampling;
 pub mod shading;
+mod sum;
 mod tracer;
 
+pub use pipeline::Outcome;
 pub use sampling::pixel_offset;
+pub use sum::{FRACTION_BITS, Sum};
 pub use tracer::{Found, Tracer};
 
+use std::sync::atomic::AtomicBool;
+
 use glam::Vec3;
-use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::cameras::Camera;
@@ -33,7 +40,7 @@ pub struct AovSample {
 }
 
 impl AovSample {
-    const MISS: AovSample = AovSample {
+    pub const MISS: AovSample = AovSample {
         depth: f32::INFINITY,
         normal: Vec3::ZERO,
         object: -1.0,
@@ -62,7 +69,7 @@ impl Image {
 #[derive(Debug, Error)]
 pub enum RenderError {
     #[error("could not start the render threads: {0}")]
-    Threads(#[from] rayon::ThreadPoolBuildError),
+    Threads(std::io::Error),
     /// The image's buffers could not be allocated.
     #[error(
         "not enough memory for a {width}x{height} image ({bytes} bytes of buffers); render a smaller image"
@@ -79,26 +86,135 @@ fn buffer<T: Clone>(n: usize, value: T) -> Option<Vec<T>> {
     Some(v)
 }
 
-/// Rows per band: the image is rendered in parallel in bands of whole rows, each written in
-/// place. A multiple of BLOCK_H.
-const BAND: u32 = 8;
+/// Rows per band: the image is handed over in bands of whole rows, from the top of the bounds.
+/// A multiple of BLOCK_H.
+pub const BAND: u32 = 8;
 
 /// Primary rays are traced in packets of BLOCK_W × BLOCK_H neighbouring pixels (8 = Embree's
 /// native AVX2 packet width).
 const BLOCK_W: u32 = 4;
 const BLOCK_H: u32 = 2;
 
-/// Renders the rows from `y0` into `pixels` (and `aovs`, if asked for); returns the rays traced.
-fn render_band(
+/// A rectangle of pixels of the full image: columns `x0..x1` and rows `y0..y1` (half-open, as
+/// pbrt's `--pixelbounds`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PixelBounds {
+    pub x0: u32,
+    pub x1: u32,
+    pub y0: u32,
+    pub y1: u32,
+}
+
+impl PixelBounds {
+    /// All pixels of a `width` × `height` image.
+    pub fn full(width: u32, height: u32) -> PixelBounds {
+        PixelBounds {
+            x0: 0,
+            x1: width,
+            y0: 0,
+            y1: height,
+        }
+    }
+
+    pub fn width(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    pub fn height(&self) -> u32 {
+        self.y1 - self.y0
+    }
+
+    pub fn pixels(&self) -> u64 {
+        self.width() as u64 * self.height() as u64
+    }
+
+    /// Whether there are no pixels inside.
+    pub fn is_empty(&self) -> bool {
+        self.x0 >= self.x1 || self.y0 >= self.y1
+    }
+
+    /// Whether `other` lies inside.
+    pub fn contains(&self, other: &PixelBounds) -> bool {
+        self.x0 <= other.x0 && other.x1 <= self.x1 && self.y0 <= other.y0 && other.y1 <= self.y1
+    }
+}
+
+impl std::fmt::Display for PixelBounds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{},{},{},{}", self.x0, self.x1, self.y0, self.y1)
+    }
+}
+
+/// Finished whole rows of a render: the exact sum of each pixel's samples ([`Sum`]) and, if
+/// asked for, its AOVs, row-major over `bounds`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rows {
+    pub bounds: PixelBounds,
+    pub sums: Vec<Sum>,
+    pub aovs: Option<Vec<AovSample>>,
+    /// Rays traced for these rows.
+    pub rays: u64,
+}
+
+impl Rows {
+    /// Empty (zero) rows `y0..y1` of columns `x0..x1`.
+    pub fn new(x0: u32, x1: u32, y0: u32, y1: u32, aovs: bool) -> Rows {
+        let bounds = PixelBounds { x0, x1, y0, y1 };
+        let n = bounds.pixels() as usize;
+        Rows {
+            bounds,
+            sums: vec![Sum::default(); n],
+            aovs: aovs.then(|| vec![AovSample::MISS; n]),
+            rays: 0,
+        }
+    }
+
+    /// Index of pixel (x, y) (absolute image coordinates inside the bounds).
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        let b = &self.bounds;
+        (y - b.y0) as usize * b.width() as usize + (x - b.x0) as usize
+    }
+
+    /// Copies a tile (inside these rows) in.
+    fn insert(&mut self, at: PixelBounds, tile: &pipeline::Tile) {
+        let w = at.width() as usize;
+        for (r, y) in (at.y0..at.y1).enumerate() {
+            let k = self.index(at.x0, y);
+            self.sums[k..k + w].copy_from_slice(&tile.sums[r * w..(r + 1) * w]);
+            if let (Some(to), Some(from)) = (self.aovs.as_mut(), tile.aovs.as_ref()) {
+                to[k..k + w].copy_from_slice(&from[r * w..(r + 1) * w]);
+            }
+        }
+    }
+}
+
+/// Which samples a render adds to each pixel: samples `first(y)..end` of the per-pixel sample
+/// sequence of a `spp`-sample render, `y` being the first row of each band. AOVs are recorded
+/// for the bands whose samples start at `start` (others take theirs from earlier work).
+pub struct Samples<'a> {
+    /// Samples per pixel of the whole render (a single sample goes through the pixel centre).
+    pub spp: u32,
+    pub start: u32,
+    pub end: u32,
+    pub first: &'a (dyn Fn(u32) -> u32 + Sync),
+}
+
+/// Renders the pixels `tile` with samples `samples` (`aovs`: also the AOVs).
+fn render_tile(
     scene: &Scene,
     camera: &Camera,
     s: &RenderSettings,
-    y0: u32,
-    pixels: &mut [Colour],
-    mut aovs: Option<&mut [AovSample]>,
-) -> u64 {
+    samples: std::ops::Range<u32>,
+    aovs: bool,
+    tile: PixelBounds,
+) -> pipeline::Tile {
     let tracer = Tracer::new(scene, camera, s.shadows);
-    let rows = (pixels.len() / s.width as usize) as u32;
+    let n = tile.pixels() as usize;
+    let mut out = pipeline::Tile {
+        sums: vec![Sum::default(); n],
+        aovs: aovs.then(|| vec![AovSample::MISS; n]),
+        rays: 0,
+    };
     let focus = |origin, direction| {
         let surface = scene.focus_surface.as_ref()?;
         surface
@@ -124,34 +240,40 @@ fn render_band(
             &focus,
         )
     };
-    for by in (y0..y0 + rows).step_by(BLOCK_H as usize) {
-        for bx in (0..s.width).step_by(BLOCK_W as usize) {
+    // A single sample is recorded as it is traced for the AOVs; with more, the pixel centre is
+    // traced once more for them.
+    let record_first = aovs && s.spp == 1 && samples.start == 0;
+    for by in (tile.y0..tile.y1).step_by(BLOCK_H as usize) {
+        for bx in (tile.x0..tile.x1).step_by(BLOCK_W as usize) {
             let mut block = [(0u32, 0u32); 8];
             let mut n = 0;
-            for y in by..(by + BLOCK_H).min(y0 + rows) {
-                for x in bx..(bx + BLOCK_W).min(s.width) {
+            for y in by..(by + BLOCK_H).min(tile.y1) {
+                for x in bx..(bx + BLOCK_W).min(tile.x1) {
                     block[n] = (x, y);
                     n += 1;
                 }
             }
             let block = &block[..n];
-            let mut sums = [Colour::ZERO; 8];
+            let mut sums = [Sum::default(); 8];
             let mut firsts = [None; 8];
-            for sample in 0..s.spp {
+            for sample in samples.clone() {
                 let rays: [Ray; 8] = std::array::from_fn(|i| {
                     let (x, y) = block.get(i).copied().unwrap_or(block[0]);
                     sample_ray(x, y, sample)
                 });
-                // The surfaces met are kept for the AOVs of a single sample.
-                let record = (aovs.is_some() && s.spp == 1).then_some(&mut firsts[..]);
-                tracer.trace_packet(&rays[..n], s.max_trace_level, &mut sums, record);
+                let record = (record_first && sample == 0).then_some(&mut firsts[..]);
+                let mut colours = [Colour::ZERO; 8];
+                tracer.trace_packet(&rays[..n], s.max_trace_level, &mut colours, record);
+                for (sum, colour) in sums.iter_mut().zip(colours) {
+                    sum.add_colour(colour);
+                }
             }
             for (i, &(x, y)) in block.iter().enumerate() {
-                let k = (y - y0) as usize * s.width as usize + x as usize;
-                pixels[k] = sums[i] / s.spp as f64;
-                if let Some(aovs) = aovs.as_deref_mut() {
+                let k = (y - tile.y0) as usize * tile.width() as usize + (x - tile.x0) as usize;
+                out.sums[k] = sums[i];
+                if let Some(aovs) = out.aovs.as_mut() {
                     // The surface seen through the pixel centre (the sample itself when spp = 1).
-                    let found = if s.spp == 1 {
+                    let found = if record_first {
                         firsts[i]
                     } else {
                         let ray =
@@ -170,63 +292,100 @@ fn render_band(
             }
         }
     }
-    tracer.rays_traced()
+    out.rays = tracer.rays_traced();
+    out
 }
 
-/// Renders `scene` through `camera` on `settings.threads` threads. `progress` is called with the number of pixels of each finished band of rows. The result
-/// does not depend on the number of threads.
+/// Renders the pixels `bounds` of `scene` through `camera` with `samples`, on
+/// `settings.threads` threads, and hands finished bands of rows to `sink`, top to bottom; the
+/// memory used depends on the width of `bounds`, not on its height. Stops early (after the
+/// bands in flight) when `stop` is set or `sink` fails. The sums do not depend on the number
+/// of threads, nor on how the pixels and samples are split between renders.
 ///
-/// Tracing recurses once per trace level, so the work runs on a pool of its own whose stacks fit
+/// Tracing recurses once per trace level, so the work runs on threads whose stacks fit
 /// `settings.max_trace_level` (levels above [`MAX_TRACE_LEVEL_LIMIT`] count as the limit; call
 /// [`RenderSettings::validate`] first to reject them).
+pub fn render_rows<E: Send>(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    bounds: PixelBounds,
+    samples: &Samples,
+    stop: &AtomicBool,
+    sink: &mut dyn FnMut(Rows) -> Result<(), E>,
+) -> Result<Result<Outcome, E>, RenderError> {
+    let s = &RenderSettings {
+        max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT),
+        spp: samples.spp,
+        ..settings.clone()
+    };
+    let threads = s
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let stack = (1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL;
+    let tile = |t: PixelBounds| {
+        let band_y0 = bounds.y0 + (t.y0 - bounds.y0) / BAND * BAND;
+        let first = (samples.first)(band_y0);
+        let aovs = s.aovs && first == samples.start;
+        render_tile(scene, camera, s, first..samples.end, aovs, t)
+    };
+    if bounds.is_empty() {
+        return Ok(Ok(Outcome {
+            rays: 0,
+            complete: true,
+        }));
+    }
+    pipeline::run(bounds, threads, stack, s.aovs, stop, &tile, sink).map_err(RenderError::Threads)
+}
+
+/// Renders the whole of `scene` through `camera` into memory, on `settings.threads` threads.
+/// `progress` is called with the number of pixels of each finished band of rows. The result
+/// does not depend on the number of threads.
 pub fn render(
     scene: &Scene,
     camera: &Camera,
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, RenderError> {
-    let s = &RenderSettings {
-        max_trace_level: settings.max_trace_level.min(MAX_TRACE_LEVEL_LIMIT),
-        ..settings.clone()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(s.threads.unwrap_or(0)) // 0: rayon's default, one per core
-        .stack_size((1 << 20) + s.max_trace_level as usize * STACK_PER_LEVEL)
-        .build()?;
-
-    let n = s.width as usize * s.height as usize;
-    let band = BAND as usize * s.width as usize;
+    let n = settings.width as usize * settings.height as usize;
     let out_of_memory = || RenderError::Memory {
-        width: s.width,
-        height: s.height,
-        bytes: n as u64 * (size_of::<Colour>() + s.aovs as usize * size_of::<AovSample>()) as u64,
+        width: settings.width,
+        height: settings.height,
+        bytes: n as u64
+            * (size_of::<Colour>() + settings.aovs as usize * size_of::<AovSample>()) as u64,
     };
     let mut pixels = buffer(n, Colour::ZERO).ok_or_else(out_of_memory)?;
-    let mut aovs = match s.aovs {
+    let mut aovs = match settings.aovs {
         true => Some(buffer(n, AovSample::MISS).ok_or_else(out_of_memory)?),
         false => None,
     };
-    let rays = pool.install(|| {
-        let aov_bands: Vec<Option<&mut [AovSample]>> = match aovs.as_mut() {
-            Some(a) => a.chunks_mut(band).map(Some).collect(),
-            None => (0..n.div_ceil(band)).map(|_| None).collect(),
-        };
-        pixels
-            .par_chunks_mut(band)
-            .zip(aov_bands)
-            .enumerate()
-            .map(|(i, (pixels, aovs))| {
-                let rays = render_band(scene, camera, s, i as u32 * BAND, pixels, aovs);
-                progress(pixels.len() as u64);
-                rays
-            })
-            .sum()
-    });
+    let samples = Samples {
+        spp: settings.spp,
+        start: 0,
+        end: settings.spp,
+        first: &|_| 0,
+    };
+    let width = settings.width as usize;
+    let mut sink = |rows: Rows| -> Result<(), std::convert::Infallible> {
+        let k = rows.bounds.y0 as usize * width;
+        for (p, sum) in pixels[k..k + rows.sums.len()].iter_mut().zip(&rows.sums) {
+            *p = sum.mean(settings.spp);
+        }
+        if let (Some(to), Some(from)) = (aovs.as_mut(), rows.aovs) {
+            to[k..k + from.len()].copy_from_slice(&from);
+        }
+        progress(rows.bounds.pixels());
+        Ok(())
+    };
+    let bounds = PixelBounds::full(settings.width, settings.height);
+    let never = AtomicBool::new(false);
+    let outcome = render_rows(scene, camera, settings, bounds, &samples, &never, &mut sink)?;
+    let Ok(outcome) = outcome;
     Ok(Image {
-        width: s.width,
-        height: s.height,
+        width: settings.width,
+        height: settings.height,
         pixels,
         aovs,
-        rays,
+        rays: outcome.rays,
     })
 }

@@ -68,6 +68,42 @@ pub struct SceneDescription {
 }
 
 impl SceneDescription {
+    /// A hash (16 hexadecimal digits) of everything that decides the picture apart from the
+    /// image size and the sampling (spp, seed): objects, lights, camera, stereo output, ray
+    /// trajectories, the maximum trace level and shadows. Parts of a render and checkpoints
+    /// record it, so that work on different scenes is never combined.
+    pub fn hash(&self) -> String {
+        /// FNV-1a (64 bits) of the text written into it.
+        struct Fnv(u64);
+        impl std::fmt::Write for Fnv {
+            fn write_str(&mut self, s: &str) -> std::fmt::Result {
+                for &b in s.as_bytes() {
+                    self.0 = (self.0 ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+                }
+                Ok(())
+            }
+        }
+        let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+        let r = &self.render;
+        // Debug output of f64 round-trips, so equal text means equal values.
+        let _ = std::fmt::write(
+            &mut h,
+            format_args!(
+                "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{}{}",
+                self.objects,
+                self.arrays,
+                self.lights,
+                self.camera,
+                self.focus_surface,
+                self.stereo,
+                self.trajectories,
+                r.max_trace_level,
+                r.shadows
+            ),
+        );
+        format!("{:016x}", h.0)
+    }
+
     /// Things worth telling the user that are not errors: zero-area triangles left out of
     /// meshes; a moving camera with the focus-surface shutter focused on shapes (pixels that
     /// miss them start their rays at a different time, see [`crate::cameras::Shutter`]).

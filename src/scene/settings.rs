@@ -22,8 +22,13 @@ pub struct RenderSettings {
 /// stacks sized for the level (see `render::render`).
 pub const MAX_TRACE_LEVEL_LIMIT: u32 = 100_000;
 
-/// Largest accepted image, in pixels (16384 × 16384): the f64 image alone then needs 6 GiB.
-pub const MAX_PIXELS: u64 = 1 << 28;
+/// Largest accepted image, in pixels (2³⁶, e.g. 262144 × 262144): single views are streamed to
+/// their file in bounded memory, so the limit is one of sense (such a render takes days);
+/// renders held in memory (stereo outputs) are limited by the memory there is.
+pub const MAX_PIXELS: u64 = 1 << 36;
+
+/// Largest accepted width or height (OpenEXR stores coordinates as 32-bit integers).
+pub const MAX_SIDE: u32 = 1 << 24;
 
 impl RenderSettings {
     /// Checks the limits a render must respect; the message says what is wrong.
@@ -31,6 +36,12 @@ impl RenderSettings {
         let pixels = self.width as u64 * self.height as u64;
         if self.width == 0 || self.height == 0 || self.spp == 0 || self.max_trace_level == 0 {
             return Err("width, height, spp and max_trace_level must be at least 1".into());
+        }
+        if self.width > MAX_SIDE || self.height > MAX_SIDE {
+            return Err(format!(
+                "an image of {}x{} pixels is wider or higher than the limit of {MAX_SIDE} pixels",
+                self.width, self.height
+            ));
         }
         if pixels > MAX_PIXELS {
             return Err(format!(
