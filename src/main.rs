@@ -588,7 +588,14 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                 e => internal(e),
             })?;
         bar.finish_and_clear();
-        write_image(&args.output, &image, &job.provenance).map_err(bad_input)?;
+        // A packed frame is larger than a view.
+        let provenance = Provenance {
+            width: image.width,
+            height: image.height,
+            bounds: PixelBounds::full(image.width, image.height),
+            ..job.provenance.clone()
+        };
+        write_image(&args.output, &image, &provenance).map_err(bad_input)?;
         image.rays
     };
     let seconds = start.elapsed().as_secs_f64();
