@@ -33,6 +33,8 @@ pub(super) fn write<E: From<OutputError>>(
     let mut encoder = png::Encoder::new(file, b.width(), b.height());
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
+    // Fast DEFLATE: encoding keeps up with rendering.
+    encoder.set_compression(png::Compression::Fast);
     let mut writer = encoder.write_header().map_err(failed)?;
     let mut stream = writer.stream_writer().map_err(failed)?;
     let mut row = Vec::with_capacity(3 * b.width() as usize);

@@ -12,6 +12,20 @@ pub const FRACTION_BITS: u32 = 80;
 /// 2^FRACTION_BITS, exactly.
 const SCALE: f64 = (1u128 << FRACTION_BITS) as f64;
 
+/// `c` in fixed point (truncated; saturating; NaN is 0). Scaling by a power of two is exact;
+/// a value below 2¹²⁶ (after scaling) is split exactly into a multiple of 2⁶³ and a rest, each
+/// converted with one instruction (an f64 → i128 conversion is a slow library call).
+fn fixed(c: f64) -> i128 {
+    const HALF: f64 = (1u64 << 63) as f64;
+    let x = c * SCALE;
+    if x.abs() >= HALF * HALF {
+        return x as i128;
+    }
+    let high = (x / HALF).trunc();
+    let low = x - high * HALF;
+    ((high as i64 as i128) << 63) + low as i64 as i128
+}
+
 /// The exact sum of some samples of one pixel, per RGB channel.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Sum(pub [i128; 3]);
@@ -20,8 +34,7 @@ impl Sum {
     /// Adds one sample's colour.
     pub fn add_colour(&mut self, colour: Colour) {
         for (s, c) in self.0.iter_mut().zip(colour.to_array()) {
-            // Scaling by a power of two is exact; the conversion saturates.
-            *s = s.saturating_add((c * SCALE) as i128);
+            *s = s.saturating_add(fixed(c));
         }
     }
 
@@ -82,6 +95,14 @@ mod tests {
         let mean = forward.mean(samples.len() as u32).x;
         let exact = samples.iter().sum::<f64>() / samples.len() as f64;
         assert!((mean - exact).abs() < 1e-15, "{mean} {exact}");
+    }
+
+    #[test]
+    fn the_fast_conversion_is_the_plain_one() {
+        let values = [0.0, 1.0, -1.0, 0.3, -0.3, 1e-30, 2.0f64.powi(-17), 7.5e13, -7.5e13, 1e20];
+        for c in values.into_iter().chain((0..1000).map(|i| (i as f64 * 0.7361).sin() * 1e3)) {
+            assert_eq!(fixed(c), (c * SCALE) as i128, "{c}");
+        }
     }
 
     #[test]
