@@ -9,6 +9,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressFinish, ProgressStyle};
 use serde::Serialize;
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 use timbre::embree::Device;
 
@@ -547,7 +549,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         None => bar.inc(n),
     };
     let rays = if *stereo == Stereo::Mono {
-        let signals = signals().map_err(internal)?;
+        let (signals, signal) = signals().map_err(internal)?;
         let done = production::run(&scene, camera, &settings, &job, &signals, &report)
             .map_err(job_failure)?;
         bar.finish_and_clear();
@@ -572,8 +574,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                     ),
                     None => String::new(),
                 };
+                // 128 + the signal's number, as shells report a process it ended.
                 return Err(Failure {
-                    code: 130,
+                    code: 128 + signal.load(Ordering::Relaxed).min(127) as u8,
                     message: format!(
                         "interrupted; {} was not written{saved}",
                         args.output.display()
@@ -728,17 +731,20 @@ fn job_failure(e: JobError) -> Failure {
 }
 
 /// Signals a production job obeys: SIGINT and SIGTERM stop it (a second one ends the process
-/// at once), SIGUSR1 saves a checkpoint.
-fn signals() -> std::io::Result<Signals> {
+/// at once), SIGUSR1 saves a checkpoint. Also returns the number of the stopping signal, once
+/// one came.
+fn signals() -> std::io::Result<(Signals, Arc<AtomicUsize>)> {
     use signal_hook::consts::{SIGINT, SIGTERM, SIGUSR1};
     use signal_hook::flag;
     let signals = Signals::default();
+    let which = Arc::new(AtomicUsize::new(0));
     for signal in [SIGINT, SIGTERM] {
-        flag::register_conditional_shutdown(signal, 130, signals.stop.clone())?;
+        flag::register_conditional_shutdown(signal, 128 + signal, signals.stop.clone())?;
         flag::register(signal, signals.stop.clone())?;
+        flag::register_usize(signal, which.clone(), signal as usize)?;
     }
     flag::register(SIGUSR1, signals.checkpoint.clone())?;
-    Ok(signals)
+    Ok((signals, which))
 }
 
 /// `timbre merge`.

@@ -36,6 +36,24 @@ impl AovSelection {
     }
 }
 
+impl std::fmt::Display for AovSelection {
+    /// The AOVs selected, as `--aov` names them ("depth,object"), or "none".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = [
+            (self.depth, "depth"),
+            (self.normal, "normal"),
+            (self.object, "object"),
+        ]
+        .into_iter()
+        .filter_map(|(on, name)| on.then_some(name))
+        .collect();
+        match names.is_empty() {
+            true => write!(f, "none"),
+            false => write!(f, "{}", names.join(",")),
+        }
+    }
+}
+
 /// What an output file holds and how it was made (recorded in EXR headers).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Provenance {

@@ -75,18 +75,24 @@ pub fn load(dir: &Path, expected: &Provenance) -> Result<BTreeMap<u32, Kept>, Jo
                 got.bounds
             )));
         }
-        if got.samples.start != want.samples.start || got.samples.end > want.samples.end {
-            return Err(refuse(format!(
-                "holds samples {}..{}, which do not start this render's samples {}..{}",
-                got.samples.start, got.samples.end, want.samples.start, want.samples.end
-            )));
-        }
         if got.spp != want.spp && (got.spp == 1 || want.spp == 1) {
             return Err(refuse(format!(
                 "was rendered with {} sample(s) per pixel and this render has {}: a single \
                  sample goes through each pixel centre, several are spread over the pixel, so \
                  one cannot continue the other",
                 got.spp, want.spp
+            )));
+        }
+        if got.samples.start != want.samples.start {
+            return Err(refuse(format!(
+                "holds samples from {}, this render's start at {} (--samples)",
+                got.samples.start, want.samples.start
+            )));
+        }
+        if got.samples.end > want.samples.end {
+            return Err(refuse(format!(
+                "holds samples {}..{}, more than this render's {}..{} (--spp, --samples)",
+                got.samples.start, got.samples.end, want.samples.start, want.samples.end
             )));
         }
         kept.insert(

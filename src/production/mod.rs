@@ -124,7 +124,7 @@ pub fn compare(got: &Provenance, version: &str, want: &Provenance) -> Result<(),
     }
     if got.aovs != want.aovs {
         return Err(format!(
-            "its AOV channels are {:?}, not {:?}",
+            "its AOVs are {}, not {} (--aov)",
             got.aovs, want.aovs
         ));
     }

@@ -99,8 +99,22 @@ mod tests {
 
     #[test]
     fn the_fast_conversion_is_the_plain_one() {
-        let values = [0.0, 1.0, -1.0, 0.3, -0.3, 1e-30, 2.0f64.powi(-17), 7.5e13, -7.5e13, 1e20];
-        for c in values.into_iter().chain((0..1000).map(|i| (i as f64 * 0.7361).sin() * 1e3)) {
+        let values = [
+            0.0,
+            1.0,
+            -1.0,
+            0.3,
+            -0.3,
+            1e-30,
+            2.0f64.powi(-17),
+            7.5e13,
+            -7.5e13,
+            1e20,
+        ];
+        for c in values
+            .into_iter()
+            .chain((0..1000).map(|i| (i as f64 * 0.7361).sin() * 1e3))
+        {
             assert_eq!(fixed(c), (c * SCALE) as i128, "{c}");
         }
     }
