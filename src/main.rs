@@ -417,10 +417,10 @@ fn proc_number(file: &str, name: &str) -> Option<u64> {
     line[name.len()..].split_whitespace().next()?.parse().ok()
 }
 
-/// Peak resident memory of this process (Linux), e.g. "1.25 GiB".
+/// Peak resident memory of this process (Linux), e.g. "231 MiB".
 fn peak_memory() -> Option<String> {
     let kib = proc_number("/proc/self/status", "VmHWM:")?;
-    Some(format!("{:.2} GiB", kib as f64 / (1024.0 * 1024.0)))
+    Some(format!("{} MiB", kib.div_ceil(1024)))
 }
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {

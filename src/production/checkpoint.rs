@@ -24,6 +24,21 @@ pub fn directory(output: &Path) -> PathBuf {
     PathBuf::from(name)
 }
 
+/// The first row of the group a checkpoint file holds, from its name (`rows-Y.exr`).
+fn group_row(path: &Path) -> Option<u32> {
+    let name = path.file_name()?.to_str()?;
+    name.strip_prefix("rows-")?
+        .strip_suffix(".exr")?
+        .parse()
+        .ok()
+}
+
+/// Whether the directory `dir` holds any saved group.
+pub fn has_groups(dir: &Path) -> bool {
+    std::fs::read_dir(dir)
+        .is_ok_and(|entries| entries.flatten().any(|e| group_row(&e.path()).is_some()))
+}
+
 /// A group kept in a checkpoint: its file and the samples it holds.
 #[derive(Debug, Clone)]
 pub struct Kept {
@@ -46,12 +61,7 @@ pub fn load(dir: &Path, expected: &Provenance) -> Result<BTreeMap<u32, Kept>, Jo
             message: format!("cannot be read: {e}"),
         })?;
         let path = path.path();
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        let Some(y0) = name
-            .strip_prefix("rows-")
-            .and_then(|n| n.strip_suffix(".exr"))
-            .and_then(|n| n.parse::<u32>().ok())
-        else {
+        let Some(y0) = group_row(&path) else {
             continue; // temporary files of an interrupted write, and anything else
         };
         let part = read_part(&path).map_err(JobError::Part)?;

@@ -155,7 +155,7 @@ pub fn run(
         .map(|_| checkpoint::directory(&job.output));
     let resume = job.checkpointing.as_ref().is_some_and(|c| c.resume);
     let kept = match &dir {
-        Some(dir) if dir.exists() => {
+        Some(dir) if checkpoint::has_groups(dir) => {
             if !resume {
                 return Err(JobError::Checkpoint {
                     path: dir.display().to_string(),

@@ -213,7 +213,7 @@ fn depth_map(image: &Image, camera: &Camera, near: Option<f64>, far: Option<f64>
         .iter()
         .enumerate()
         .map(|(k, a)| {
-            let (x, y) = ((k as u32 % w) as f64, (k as u32 / w) as f64);
+            let (x, y) = ((k % w as usize) as f64, (k / w as usize) as f64);
             let (_, chief) = camera.chief_ray(w, h, x, y);
             a.depth as f64 * chief.normalize().dot(camera.view_direction())
         })
