@@ -122,11 +122,7 @@ pub fn read(kept: &Kept) -> Result<Rows, JobError> {
     let b = part.provenance.bounds;
     let mut all = Rows::new(b.x0, b.x1, b.y0, b.y1, part.provenance.aovs.any());
     while let Some(rows) = part.next_rows().map_err(JobError::Part)? {
-        let k = all.index(b.x0, rows.bounds.y0);
-        all.sums[k..k + rows.sums.len()].copy_from_slice(&rows.sums);
-        if let (Some(to), Some(from)) = (all.aovs.as_mut(), rows.aovs) {
-            to[k..k + from.len()].copy_from_slice(&from);
-        }
+        all.copy_rows(&rows);
     }
     Ok(all)
 }

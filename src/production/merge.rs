@@ -9,7 +9,7 @@ use std::path::Path;
 
 use super::{JobError, compare};
 use crate::io::{self, Block, Finish, PartReader, Provenance, read_part};
-use crate::render::{BAND, PixelBounds, Rows, Sum};
+use crate::render::{BAND, PixelBounds, Rows};
 
 /// What a merge put together.
 #[derive(Debug, Clone, PartialEq)]
@@ -150,20 +150,10 @@ pub fn merge(output: &Path, paths: &[&Path]) -> Result<Merged, JobError> {
                     if !(b.y0..b.y1).contains(&y) {
                         continue;
                     }
-                    let from = part.rows_at(y)?;
-                    let (i, j) = (rows.index(b.x0, y), from.index(b.x0, y));
-                    let w = b.width() as usize;
-                    for (s, f) in rows.sums[i..i + w].iter_mut().zip(&from.sums[j..j + w]) {
-                        s.add(f);
-                    }
-                    // Every part has the same AOVs of a pixel (those of its centre, or of its
-                    // one sample).
-                    if let (Some(to), Some(f)) = (rows.aovs.as_mut(), from.aovs.as_ref()) {
-                        to[i..i + w].copy_from_slice(&f[j..j + w]);
-                    }
+                    rows.add_row(part.rows_at(y)?, y);
                 }
             }
-            let colours: Vec<_> = rows.sums.iter().map(|s: &Sum| s.mean(spp)).collect();
+            let colours: Vec<_> = rows.sums.iter().map(|s| s.mean(spp)).collect();
             write(&Block {
                 y0,
                 colours: &colours,

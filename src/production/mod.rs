@@ -211,14 +211,7 @@ pub fn run(
                 }
                 let (_, from) = restored.as_ref().expect("just read");
                 for y in rows.bounds.y0..rows.bounds.y1 {
-                    let (i, j) = (rows.index(bounds.x0, y), from.index(bounds.x0, y));
-                    let w = bounds.width() as usize;
-                    for (s, f) in rows.sums[i..i + w].iter_mut().zip(&from.sums[j..j + w]) {
-                        s.add(f);
-                    }
-                    if let (Some(to), Some(f)) = (rows.aovs.as_mut(), from.aovs.as_ref()) {
-                        to[i..i + w].copy_from_slice(&f[j..j + w]);
-                    }
+                    rows.add_row(from, y);
                 }
             }
             let colours: Vec<_> = rows.sums.iter().map(|s| s.mean(count)).collect();
@@ -239,11 +232,7 @@ pub fn run(
                     let y1 = (group + checkpoint::GROUP).min(bounds.y1);
                     Rows::new(bounds.x0, bounds.x1, group, y1, rows.aovs.is_some())
                 });
-                let k = g.index(bounds.x0, rows.bounds.y0);
-                g.sums[k..k + rows.sums.len()].copy_from_slice(&rows.sums);
-                if let (Some(to), Some(from)) = (g.aovs.as_mut(), rows.aovs.take()) {
-                    to[k..k + from.len()].copy_from_slice(&from);
-                }
+                g.copy_rows(&rows);
                 if rows.bounds.y1 == g.bounds.y1 {
                     let g = gathering.take().expect("a group");
                     if !unchanged {

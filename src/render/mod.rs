@@ -175,6 +175,30 @@ impl Rows {
         (y - b.y0) as usize * b.width() as usize + (x - b.x0) as usize
     }
 
+    /// Copies in whole rows of the same columns (`other` lies inside these rows).
+    pub fn copy_rows(&mut self, other: &Rows) {
+        let k = self.index(self.bounds.x0, other.bounds.y0);
+        let n = other.sums.len();
+        self.sums[k..k + n].copy_from_slice(&other.sums);
+        if let (Some(to), Some(from)) = (self.aovs.as_mut(), other.aovs.as_ref()) {
+            to[k..k + n].copy_from_slice(from);
+        }
+    }
+
+    /// Adds the sums of row `y` of `other` (whose columns lie inside these) to those of the same
+    /// pixels here, and takes its AOVs (those of a pixel are the same in every part of a render).
+    pub fn add_row(&mut self, other: &Rows, y: u32) {
+        let b = other.bounds;
+        let (i, j) = (self.index(b.x0, y), other.index(b.x0, y));
+        let w = b.width() as usize;
+        for (s, o) in self.sums[i..i + w].iter_mut().zip(&other.sums[j..j + w]) {
+            s.add(o);
+        }
+        if let (Some(to), Some(from)) = (self.aovs.as_mut(), other.aovs.as_ref()) {
+            to[i..i + w].copy_from_slice(&from[j..j + w]);
+        }
+    }
+
     /// Copies a tile (inside these rows) in.
     fn insert(&mut self, at: PixelBounds, tile: &pipeline::Tile) {
         let w = at.width() as usize;
