@@ -719,6 +719,27 @@ fn exr_has_colour_and_aov_channels_and_provenance() {
     }
     assert_eq!(jittered.int("timbre.spp"), Some(4));
     assert_eq!(jittered.text("timbre.seed").as_deref(), Some("0"));
+    assert_eq!(jittered.text("timbre.samples").as_deref(), Some("0..4"));
+    // The scene's hash: the same scene, the same hash (seed and spp aside); another, another.
+    let scene = jittered.text("timbre.scene").expect("timbre.scene");
+    assert!(
+        scene.len() == 16 && scene.chars().all(|c| c.is_ascii_hexdigit()),
+        "{scene}"
+    );
+    assert_eq!(exr.text("timbre.scene"), Some(scene.clone()));
+    // A scene file of the same studio is the same scene; moving its camera makes another.
+    let file = write(dir.path(), "studio.toml", "studio = \"lattice\"\n");
+    let hash_of = |name: &str, set: &str| {
+        let mut args = vec!["render", "-q", path_str(&file), "-o", name, "--width", "8"];
+        args.extend(["--height", "6", "--set", set]);
+        timbre(dir.path(), &args).assert_success();
+        Exr::read(&dir.path().join(name)).text("timbre.scene")
+    };
+    assert_eq!(hash_of("same.exr", "render.seed=5"), Some(scene.clone()));
+    assert_ne!(
+        hash_of("moved.exr", "camera.position=[0,1,-1]"),
+        Some(scene)
+    );
 
     // A selection of AOVs writes only those channels.
     timbre_line(
