@@ -279,3 +279,21 @@ pub fn tile_rows(k: u32, n: u32, height: u32) -> Range<u32> {
     let at = |i: u32| (i as u64 * height as u64 / n as u64) as u32;
     at(k)..at(k + 1)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_cut_the_rows_into_strips_that_differ_by_at_most_one_row() {
+        for (n, height) in [(1, 1), (3, 72), (4, 10), (7, 7), (5, 1 << 24)] {
+            let strips: Vec<Range<u32>> = (0..n).map(|k| tile_rows(k, n, height)).collect();
+            assert_eq!(strips[0].start, 0);
+            assert_eq!(strips[n as usize - 1].end, height);
+            assert!(strips.windows(2).all(|w| w[0].end == w[1].start));
+            let sizes: Vec<u32> = strips.iter().map(|s| s.end - s.start).collect();
+            let (min, max) = (sizes.iter().min().unwrap(), sizes.iter().max().unwrap());
+            assert!(*min >= 1 && max - min <= 1, "{n} of {height}: {sizes:?}");
+        }
+    }
+}
