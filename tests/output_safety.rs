@@ -124,9 +124,49 @@ fn a_full_file_system_keeps_the_old_picture() {
         .assert_bad_input(&["No space left on device", "unchanged"]);
         assert_eq!(&std::fs::read(path).unwrap(), old, "{}", path.display());
     }
+    // Merged parts and checkpoints are written the same way: a merge that does not fit, and a
+    // render whose checkpoint does not fit, leave everything as it was.
+    let parts = tempfile::TempDir::new().unwrap();
+    for tile in ["0/2", "1/2"] {
+        let name = format!("part{}.exr", &tile[..1]);
+        let args = [
+            "render", "-q", "-o", &name, "--width", "2560", "--height", "1920",
+        ];
+        timbre(parts.path(), &[&args[..], &["--tile", tile]].concat()).assert_success();
+    }
+    for path in [&png, &exr] {
+        let part = |k: u32| parts.path().join(format!("part{k}.exr"));
+        timbre(
+            fs.path(),
+            &[
+                "merge",
+                path_str(path),
+                path_str(&part(0)),
+                path_str(&part(1)),
+            ],
+        )
+        .assert_bad_input(&["No space left on device", "unchanged"]);
+    }
+    timbre(
+        fs.path(),
+        &[
+            "render",
+            "-o",
+            path_str(&exr),
+            "--width",
+            "2560",
+            "--height",
+            "1920",
+            "--checkpoint-interval",
+            "0.001",
+        ],
+    )
+    .assert_bad_input(&["No space left on device"]);
+    assert_eq!(std::fs::read(&png).unwrap(), old_png);
+    assert_eq!(std::fs::read(&exr).unwrap(), old_exr);
     assert_eq!(
         files_in(fs.path()),
-        ["studio.exr", "studio.png"],
+        ["studio.exr", "studio.exr.checkpoint", "studio.png"],
         "no temporary file"
     );
 }
