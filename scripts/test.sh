@@ -7,3 +7,6 @@ cargo fmt --all -- --check
 cargo clippy --all-targets --release --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked
 cargo test --release --locked
+# The Slurm scripts of cluster/slurm/ on a real one-node Slurm cluster (installs slurm-wlm and
+# munge if missing); it uses target/release/timbre, which `cargo test --release` has just built.
+scripts/slurm-e2e.sh
