@@ -424,6 +424,7 @@ fn peak_memory() -> Option<String> {
 }
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
+    let stopping = Stopping::new().map_err(internal)?;
     let loading = Instant::now();
     let waiting = spinner(args.quiet, "loading the scene");
     let mut description = load(args.scene.as_deref(), &args.set)?;
@@ -466,6 +467,11 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         return Err(bad_input(
             "--tile, --pixel-bounds and --samples write a part for `timbre merge`: it needs an OpenEXR output (-o NAME.exr)",
         ));
+    }
+    // A single view stops cleanly on SIGINT and SIGTERM (keeping a checkpoint, if asked for),
+    // also while its BVH is built; stereo outputs are not stopped early.
+    if *stereo == Stereo::Mono {
+        stopping.handle().map_err(internal)?;
     }
 
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty())
@@ -549,8 +555,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         None => bar.inc(n),
     };
     let rays = if *stereo == Stereo::Mono {
-        let (signals, signal) = signals().map_err(internal)?;
-        let done = production::run(&scene, camera, &settings, &job, &signals, &report)
+        let done = production::run(&scene, camera, &settings, &job, &stopping.signals, &report)
             .map_err(job_failure)?;
         bar.finish_and_clear();
         match done {
@@ -576,7 +581,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                 };
                 // 128 + the signal's number, as shells report a process it ended.
                 return Err(Failure {
-                    code: 128 + signal.load(Ordering::Relaxed).min(127) as u8,
+                    code: 128 + stopping.which.load(Ordering::Relaxed).min(127) as u8,
                     message: format!(
                         "interrupted; {} was not written{saved}",
                         args.output.display()
@@ -730,21 +735,37 @@ fn job_failure(e: JobError) -> Failure {
     }
 }
 
-/// Signals a production job obeys: SIGINT and SIGTERM stop it (a second one ends the process
-/// at once), SIGUSR1 saves a checkpoint. Also returns the number of the stopping signal, once
-/// one came.
-fn signals() -> std::io::Result<(Signals, Arc<AtomicUsize>)> {
-    use signal_hook::consts::{SIGINT, SIGTERM, SIGUSR1};
-    use signal_hook::flag;
-    let signals = Signals::default();
-    let which = Arc::new(AtomicUsize::new(0));
-    for signal in [SIGINT, SIGTERM] {
-        flag::register_conditional_shutdown(signal, 128 + signal, signals.stop.clone())?;
-        flag::register(signal, signals.stop.clone())?;
-        flag::register_usize(signal, which.clone(), signal as usize)?;
+/// Signals a render obeys. SIGUSR1 (a scheduler's warning that time runs out) asks for a
+/// checkpoint: handled from the start, so that it does not end the process while the scene
+/// loads. SIGINT and SIGTERM stop a production job ([`Signals::stop`]; a second one ends the
+/// process at once), handled by [`Stopping::handle`] once the render is known to be one; the
+/// number of the stopping signal is kept for the exit code.
+struct Stopping {
+    signals: Signals,
+    which: Arc<AtomicUsize>,
+}
+
+impl Stopping {
+    fn new() -> std::io::Result<Stopping> {
+        let signals = Signals::default();
+        signal_hook::flag::register(signal_hook::consts::SIGUSR1, signals.checkpoint.clone())?;
+        Ok(Stopping {
+            signals,
+            which: Arc::new(AtomicUsize::new(0)),
+        })
     }
-    flag::register(SIGUSR1, signals.checkpoint.clone())?;
-    Ok((signals, which))
+
+    fn handle(&self) -> std::io::Result<()> {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        use signal_hook::flag;
+        let stop = &self.signals.stop;
+        for signal in [SIGINT, SIGTERM] {
+            flag::register_conditional_shutdown(signal, 128 + signal, stop.clone())?;
+            flag::register(signal, stop.clone())?;
+            flag::register_usize(signal, self.which.clone(), signal as usize)?;
+        }
+        Ok(())
+    }
 }
 
 /// `timbre merge`.

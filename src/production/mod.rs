@@ -1,6 +1,6 @@
 //! Production renders: a single-view render streamed to its output in bounded memory, optionally
 //! as a part of the image (pixel bounds, a range of samples) to be merged with others, with
-//! checkpoints it can be resumed from ([`checkpoint`]), and the merging of parts ([`merge`]).
+//! checkpoints it can be resumed from ([`checkpoint`]), and the merging of parts ([`merge()`]).
 //!
 //! Every pixel's samples are summed exactly ([`crate::render::Sum`]), so parts and checkpoints
 //! add up to the same bits as one uninterrupted render.
