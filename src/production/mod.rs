@@ -201,6 +201,8 @@ pub fn run(
         Ok(())
     };
     let mut rays = 0;
+    // The colours of a band, in one buffer for all.
+    let mut colours = Vec::new();
     let stop = &signals.stop;
     let finish = io::write_streaming(&job.output, p, |write| {
         let mut sink = |mut rows: Rows| -> Result<(), JobError> {
@@ -214,7 +216,8 @@ pub fn run(
                     rows.add_row(from, y);
                 }
             }
-            let colours: Vec<_> = rows.sums.iter().map(|s| s.mean(count)).collect();
+            colours.clear();
+            colours.extend(rows.sums.iter().map(|s| s.mean(count)));
             write(&Block {
                 y0: rows.bounds.y0,
                 colours: &colours,

@@ -11,8 +11,10 @@ use std::time::Duration;
 
 use super::{AovSample, BAND, PixelBounds, Rows, Sum};
 
-/// Columns per tile (a multiple of the ray packets' width).
-pub(super) const TILE_W: u32 = 256;
+/// Columns per tile (a multiple of the ray packets' width): a tile is big enough (16 Ki
+/// pixels) that handing it over costs little, and bands of images up to this wide are one
+/// tile, handed on without a copy.
+pub(super) const TILE_W: u32 = 2048;
 
 /// A rendered tile: its sums and AOVs, row-major, and the rays traced.
 pub(super) struct Tile {
@@ -139,10 +141,21 @@ pub(super) fn run<E: Send>(
             waiting.insert(i, tile);
             while let Some(tile) = waiting.remove(&expected) {
                 let at = tiling.tile(expected);
-                let rows =
-                    band.get_or_insert_with(|| Rows::new(bounds.x0, bounds.x1, at.y0, at.y1, aovs));
-                rows.insert(at, &tile);
-                rows.rays += tile.rays;
+                if tiling.per_band == 1 {
+                    // (A band kept from a checkpoint has no AOVs rendered: they come later.)
+                    let n = tile.sums.len();
+                    band = Some(Rows {
+                        bounds: at,
+                        sums: tile.sums,
+                        aovs: tile.aovs.or_else(|| aovs.then(|| vec![AovSample::MISS; n])),
+                        rays: tile.rays,
+                    });
+                } else {
+                    let rows = band
+                        .get_or_insert_with(|| Rows::new(bounds.x0, bounds.x1, at.y0, at.y1, aovs));
+                    rows.insert(at, &tile);
+                    rows.rays += tile.rays;
+                }
                 expected += 1;
                 if at.x1 == bounds.x1 {
                     let rows = band.take().expect("a band in progress");

@@ -15,15 +15,35 @@ const SCALE: f64 = (1u128 << FRACTION_BITS) as f64;
 /// `c` in fixed point (truncated; saturating; NaN is 0). Scaling by a power of two is exact;
 /// a value below 2¹²⁶ (after scaling) is split exactly into a multiple of 2⁶³ and a rest, each
 /// converted with one instruction (an f64 → i128 conversion is a slow library call).
+#[inline]
 fn fixed(c: f64) -> i128 {
     const HALF: f64 = (1u64 << 63) as f64;
     let x = c * SCALE;
     if x.abs() >= HALF * HALF {
         return x as i128;
     }
-    let high = (x / HALF).trunc();
-    let low = x - high * HALF;
-    ((high as i64 as i128) << 63) + low as i64 as i128
+    // Truncated by the conversion itself (`trunc()` would be a library call).
+    let high = (x / HALF) as i64;
+    let low = x - high as f64 * HALF;
+    ((high as i128) << 63) + low as i64 as i128
+}
+
+/// `s` rounded to the nearest f64 (ties to even), as `s as f64` does, but without its slow
+/// library call (inlined: the mean of every pixel of every band needs three): a value beyond 63 bits is shifted down to 63, with the bits shifted out
+/// folded into the lowest one (a "sticky" bit, so the rounding still sees whether anything was
+/// below), converted by one instruction and scaled back by a power of two (exact).
+#[inline]
+fn to_f64(s: i128) -> f64 {
+    if let Ok(small) = i64::try_from(s) {
+        return small as f64;
+    }
+    let m = s.unsigned_abs();
+    let shift = 128 - m.leading_zeros() - 63;
+    let sticky = (m & ((1u128 << shift) - 1) != 0) as u64;
+    // 2^shift built from its bits (powi with a variable exponent is a library call too).
+    let scale = f64::from_bits((1023 + shift as u64) << 52);
+    let v = ((m >> shift) as u64 | sticky) as f64 * scale;
+    if s < 0 { -v } else { v }
 }
 
 /// The exact sum of some samples of one pixel, per RGB channel.
@@ -50,7 +70,10 @@ impl Sum {
         if count == 0 {
             return Colour::ZERO;
         }
-        Colour::from_array(self.0.map(|s| s as f64 / SCALE)) / count as f64
+        // Scaling by 2^-FRACTION_BITS is exact, so multiplying is dividing.
+        let [r, g, b] = self.0;
+        let unit = 1.0 / SCALE;
+        Colour::new(to_f64(r) * unit, to_f64(g) * unit, to_f64(b) * unit) / count as f64
     }
 }
 
@@ -116,6 +139,25 @@ mod tests {
             .chain((0..1000).map(|i| (i as f64 * 0.7361).sin() * 1e3))
         {
             assert_eq!(fixed(c), (c * SCALE) as i128, "{c}");
+        }
+    }
+
+    #[test]
+    fn the_fast_rounding_to_f64_is_the_plain_one() {
+        let mut x = 0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c834_u128;
+        let mut values = vec![0, 1, -1, i128::MAX, i128::MIN, 1 << 80, (1 << 80) + 1];
+        // Ties and near-ties at the rounding position of a 64-bit-plus value.
+        values.extend([(1i128 << 70) + (1 << 17), (1i128 << 70) + (1 << 17) + 1]);
+        values.extend([(3i128 << 70) + (1 << 17), -(1i128 << 100) - (1 << 47)]);
+        for _ in 0..10_000 {
+            x = x
+                .wrapping_mul(0x2360_ed05_1fc6_5da4_4385_df64_9fcc_f645)
+                .wrapping_add(1);
+            let shift = (x >> 120) as u32 % 127;
+            values.push((x as i128) >> shift);
+        }
+        for v in values {
+            assert_eq!(to_f64(v).to_bits(), (v as f64).to_bits(), "{v}");
         }
     }
 
