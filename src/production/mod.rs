@@ -79,7 +79,7 @@ pub fn memory_needed(width: u32, threads: usize, checkpointing: bool) -> u64 {
     // Sums, AOVs and colours of a pixel, and its encoded channels (up to 20 of 4 bytes).
     const PER_PIXEL: u64 = 48 + 20 + 24 + 80;
     let rows = 2 * render::BAND as u64 + 16 + checkpointing as u64 * 2 * checkpoint::GROUP as u64;
-    let tiles = 8 * threads.max(2) as u64 * 256 * render::BAND as u64;
+    let tiles = 8 * threads.max(2) as u64 * render::TILE_W as u64 * render::BAND as u64;
     (rows * width as u64 + tiles) * PER_PIXEL + checkpointing as u64 * UNSAVED_LIMIT as u64
 }
 

@@ -8,7 +8,7 @@ pub mod shading;
 mod sum;
 mod tracer;
 
-pub use pipeline::Outcome;
+pub use pipeline::{Outcome, TILE_W};
 pub use sampling::pixel_offset;
 pub use sum::{FRACTION_BITS, Sum};
 pub use tracer::{Found, Tracer};

@@ -14,7 +14,7 @@ use super::{AovSample, BAND, PixelBounds, Rows, Sum};
 /// Columns per tile (a multiple of the ray packets' width): a tile is big enough (16 Ki
 /// pixels) that handing it over costs little, and bands of images up to this wide are one
 /// tile, handed on without a copy.
-pub(super) const TILE_W: u32 = 2048;
+pub const TILE_W: u32 = 2048;
 
 /// A rendered tile: its sums and AOVs, row-major, and the rays traced.
 pub(super) struct Tile {
