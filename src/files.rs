@@ -159,6 +159,51 @@ pub fn write_atomically(
     file.commit()
 }
 
+/// Reads the whole regular file at `path`, at most `limit` bytes: a FIFO, a device or a
+/// directory is refused before it is opened (reading one could block forever or never end), and
+/// so is a file larger than `limit`, whose size is checked before reading and again while
+/// reading (a file that grows meanwhile).
+pub fn read_regular(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
+    use std::io::Read;
+    use std::os::unix::fs::FileTypeExt;
+    let kind = std::fs::metadata(path)?.file_type();
+    let not = |what: &str| {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("is {what}, not a regular file"),
+        ))
+    };
+    if kind.is_dir() {
+        return not("a directory");
+    }
+    if kind.is_fifo() {
+        return not("a FIFO (named pipe)");
+    }
+    if kind.is_socket() {
+        return not("a socket");
+    }
+    if kind.is_char_device() || kind.is_block_device() {
+        return not("a device");
+    }
+    let file = File::open(path)?;
+    let too_large = |size: u64| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("is larger than the limit of {limit} bytes ({size} bytes or more)"),
+        )
+    };
+    let size = file.metadata()?.len();
+    if size > limit {
+        return Err(too_large(size));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
 /// Checks that files can be created in the directory of `path` (it exists, is a directory and
 /// is writable), by creating and removing a temporary file there: before a long render, not
 /// after it.
@@ -229,6 +274,36 @@ mod tests {
                 .is_symlink()
         );
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
+    }
+
+    #[test]
+    fn only_regular_files_within_the_limit_are_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scene.toml");
+        std::fs::write(&path, b"0123456789").unwrap();
+        assert_eq!(read_regular(&path, 10).unwrap(), b"0123456789");
+        let e = read_regular(&path, 9).unwrap_err().to_string();
+        assert!(e.contains("larger than the limit of 9 bytes"), "{e}");
+        let e = read_regular(dir.path(), 100).unwrap_err().to_string();
+        assert!(e.contains("a directory"), "{e}");
+        for (device, what) in [("/dev/zero", "a device"), ("/dev/null", "a device")] {
+            if Path::new(device).exists() {
+                let e = read_regular(Path::new(device), 100)
+                    .unwrap_err()
+                    .to_string();
+                assert!(e.contains(what), "{device}: {e}");
+            }
+        }
+        // A FIFO would block the open until someone writes to it.
+        let fifo = dir.path().join("fifo");
+        if std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success())
+        {
+            let e = read_regular(&fifo, 100).unwrap_err().to_string();
+            assert!(e.contains("FIFO"), "{e}");
+        }
     }
 
     #[test]

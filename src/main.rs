@@ -116,8 +116,8 @@ struct RenderArgs {
     /// Samples per pixel (overrides the scene file).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     spp: Option<u32>,
-    /// Worker threads (default: all cores).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    /// Worker threads (default: all cores), at most 1024.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
     /// Seed of the random sample positions (overrides the scene file).
     #[arg(long)]

@@ -64,6 +64,9 @@ impl MeshFormat {
     }
 }
 
+/// Largest mesh file that is read, in bytes (4 GiB: 200 million triangles in binary PLY).
+pub const MAX_FILE_BYTES: u64 = 4 << 30;
+
 /// Reads the meshes in an OBJ or PLY file (a PLY file holds one).
 pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
     let shown = path.display().to_string();
@@ -72,10 +75,11 @@ pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
         location: String::new(),
         message: "unknown mesh format: the file name must end in .obj or .ply".into(),
     })?;
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
-        path: shown.clone(),
-        source,
-    })?;
+    let bytes =
+        crate::files::read_regular(path, MAX_FILE_BYTES).map_err(|source| MeshError::Io {
+            path: shown.clone(),
+            source,
+        })?;
     let meshes = match format {
         MeshFormat::Obj => obj::read(&bytes),
         MeshFormat::Ply => ply::read(&bytes).map(|m| vec![m]),

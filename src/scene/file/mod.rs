@@ -223,13 +223,29 @@ fn yes() -> bool {
     true
 }
 
+/// Largest scene file (each of a scene and its includes) that is read, in bytes (256 MiB: a
+/// million spheres take about 130 MB).
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+
 /// Reads and checks a scene file, with `overrides` applied: the file's own errors are
 /// reported at their line and column first.
 fn read(path: &Path, overrides: &[Override]) -> Result<(Source, File), SceneFileError> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| SceneFileError::Io {
-        path: shown.clone(),
-        source,
+    let bytes =
+        crate::files::read_regular(path, MAX_FILE_BYTES).map_err(|source| SceneFileError::Io {
+            path: shown.clone(),
+            source,
+        })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let before = String::from_utf8_lossy(&e.as_bytes()[..valid]);
+        let (line, column) = line_column(&before, valid);
+        SceneFileError::Invalid {
+            path: shown.clone(),
+            line,
+            column,
+            message: format!("the file is not UTF-8 text (invalid bytes at byte offset {valid})"),
+        }
     })?;
     read_text(text, &shown, overrides)
 }

@@ -29,6 +29,11 @@ pub const MAX_ARRAY_ELEMENTS: u64 = 10_000_000;
 /// Most objects a scene may have (each mesh file part is one; repetition belongs in arrays).
 pub const MAX_OBJECTS: usize = 1_000_000;
 
+/// Largest number of includes in a scene, counting each time a file is included (so that a
+/// "diamond" of files including each other twice is refused at once, not after expanding
+/// millions of copies).
+pub const MAX_INCLUDES: usize = 10_000;
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ObjectSection {
@@ -257,6 +262,8 @@ pub(super) struct Placer {
     stack: Vec<PathBuf>,
     /// Objects placed so far (numbers unnamed objects).
     count: usize,
+    /// Files included so far (each time they are included).
+    includes: usize,
     /// Teleporting surfaces, to be linked to their destinations once every object is placed.
     pub(super) links: Vec<Link>,
 }
@@ -274,6 +281,7 @@ impl Placer {
         Placer {
             stack: vec![top.canonicalize().unwrap_or_else(|_| top.to_path_buf())],
             count: 0,
+            includes: 0,
             links: Vec::new(),
         }
     }
@@ -322,6 +330,16 @@ impl Placer {
                 return Err(
                     source.error(Some(span), format!("include cycle: {}", chain.join(" -> ")))
                 );
+            }
+            self.includes += 1;
+            if self.includes > MAX_INCLUDES {
+                return Err(source.error(
+                    Some(span),
+                    format!(
+                        "the scene includes files more than {MAX_INCLUDES} times in all (a file \
+                         included twice counts twice; repeated objects belong in arrays)"
+                    ),
+                ));
             }
             let (included, file) = super::read(&path, &[])
                 .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
