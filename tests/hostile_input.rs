@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use tempfile::TempDir;
 
-use common::cli::{Run, path_str, timbre, write};
+use common::cli::{Run, path_str, write};
 
 /// Runs `timbre` with `args` in `dir`, killed (and the test failed) after 20 s: a hang.
 fn bounded(dir: &std::path::Path, args: &[&str]) -> Run {
