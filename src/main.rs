@@ -25,13 +25,74 @@ use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo};
 use timbre::trajectories::{self, Trajectory, TrajectoryError};
 
-/// `println!` that ignores a closed standard output (`timbre check s.toml | head -1`) instead
-/// of panicking.
+/// `println!` of [`printable`] text that ignores a closed standard output
+/// (`timbre check s.toml | head -1`) instead of panicking.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($arg)*);
+        let _ = writeln!(std::io::stdout(), "{}", printable(&format!($($arg)*)));
     }};
+}
+
+/// `eprintln!` of [`printable`] text.
+macro_rules! err {
+    ($($arg:tt)*) => {{
+        eprintln!("{}", printable(&format!($($arg)*)));
+    }};
+}
+
+/// Longest run of characters without a space that is printed whole.
+const LONGEST_WORD: usize = 200;
+
+/// `text` made safe to print on a terminal, whatever a file put in it: control characters
+/// (other than line breaks and tabs) and the Unicode marks that reorder text are escaped
+/// (`\x1b`, `\u{202e}`), so a name or token cannot drive the terminal; a run of more than
+/// [`LONGEST_WORD`] characters without a space (a 10 MB key, a 309-digit number) is cut in the
+/// middle, saying how much was left out.
+fn printable(text: &str) -> String {
+    let escaped: String = text
+        .chars()
+        .map(|c| match c {
+            '\n' | '\t' => c.to_string(),
+            c if c.is_control() => {
+                if (c as u32) < 0x100 {
+                    format!("\\x{:02x}", c as u32)
+                } else {
+                    format!("\\u{{{:x}}}", c as u32)
+                }
+            }
+            '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' => {
+                format!("\\u{{{:x}}}", c as u32)
+            }
+            c => c.to_string(),
+        })
+        .collect();
+    let mut out = String::with_capacity(escaped.len().min(1 << 16));
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        let n = word.chars().count();
+        if n > LONGEST_WORD {
+            let head: String = word.chars().take(LONGEST_WORD - 40).collect();
+            let tail: String = word.chars().skip(n - 20).collect();
+            out.push_str(&format!(
+                "{head}…[{} characters left out]…{tail}",
+                n - LONGEST_WORD + 20
+            ));
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for c in escaped.chars() {
+        if c.is_whitespace() {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    out
 }
 
 #[derive(Parser)]
@@ -432,14 +493,14 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let load_seconds = loading.elapsed().as_secs_f64();
     if !args.quiet {
         for w in description.warnings() {
-            eprintln!("timbre: warning: {w}");
+            err!("timbre: warning: {w}");
         }
     }
     args.apply_to(&mut description.render);
     description.render.validate().map_err(bad_input)?;
     let settings = description.render.clone();
     if !args.quiet && description.camera.aperture_radius() > 0.0 && settings.spp == 1 {
-        eprintln!(
+        err!(
             "timbre: warning: a finite-aperture camera with 1 sample per pixel sees through one random pupil point per pixel (noisy); set --spp or [render] spp"
         );
     }
@@ -564,7 +625,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                 resumed_groups,
             } => {
                 if resumed_groups > 0 && !args.quiet {
-                    eprintln!(
+                    err!(
                         "timbre: resumed {resumed_groups} group(s) of {} rows from the checkpoint",
                         production::checkpoint::GROUP
                     );
@@ -797,7 +858,7 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     let description = load(Some(scene), set)?;
     waiting.finish_and_clear();
     for w in description.warnings() {
-        eprintln!("timbre: warning: {w}");
+        err!("timbre: warning: {w}");
     }
     let r = &description.render;
     stereo::validate(&description.stereo, r.width, r.height)
@@ -834,7 +895,7 @@ struct TracedPoint<'a> {
 fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> {
     let description = load(Some(scene), set)?;
     for w in description.warnings() {
-        eprintln!("timbre: warning: {w}");
+        err!("timbre: warning: {w}");
     }
     if description.trajectories.is_empty() {
         return Err(bad_input(format!(
@@ -980,7 +1041,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("timbre: error: {}", f.message);
+            err!("timbre: error: {}", f.message);
             ExitCode::from(f.code)
         }
     }

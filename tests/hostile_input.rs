@@ -112,3 +112,33 @@ fn absurd_thread_counts_are_refused_by_the_command_line() {
     assert!(run.stderr.contains("1..=1024"), "{}", run.stderr);
     assert!(!dir.path().join("x.png").exists());
 }
+
+#[test]
+fn control_characters_from_a_file_never_reach_the_terminal_and_long_tokens_are_cut() {
+    let dir = TempDir::new().unwrap();
+    // An object name with an OSC title sequence, BEL, a clear-screen sequence, NUL and a
+    // right-to-left override, on a degenerate shape so that the name is quoted in the error.
+    write(
+        dir.path(),
+        "evil.toml",
+        "studio = \"empty\"\n[[object]]\n\
+         name = \"evil\\u001b]0;pwned\\u0007\\u001b[2J\\u0000\\u202e\"\n\
+         shape = { type = \"parallelogram\", corner = [0, 0, 0], span_u = [0, 0, 0], span_v = [0, 0, 0] }\n\
+         surface = { type = \"matt\", colour = [1, 1, 1] }\n",
+    );
+    let run = bounded(dir.path(), &["check", "evil.toml"]);
+    run.assert_bad_input(&["evil.toml:4:", r"evil\x1b]0;pwned\x07\x1b[2J\x00\u{202e}"]);
+    let raw = |c: char| run.stderr.contains(c) || run.stdout.contains(c);
+    for c in ['\x1b', '\x07', '\0', '\u{202e}'] {
+        assert!(!raw(c), "{c:?} printed raw: {:?}", run.stderr);
+    }
+    // A 100 000-character key is not echoed whole.
+    write(
+        dir.path(),
+        "long.toml",
+        format!("{} = 1\n", "k".repeat(100_000)),
+    );
+    let run = bounded(dir.path(), &["check", "long.toml"]);
+    run.assert_bad_input(&["long.toml:1:1", "unknown field", "characters left out"]);
+    assert!(run.stderr.len() < 2000, "{} bytes", run.stderr.len());
+}
