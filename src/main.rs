@@ -110,7 +110,8 @@ struct Cli {
 enum Command {
     /// Render a scene file (or, with none, TIM's standard studio) to PNG or OpenEXR.
     Render(RenderArgs),
-    /// Check a scene file (and load its meshes) without rendering it; print a summary.
+    /// Check a scene file as a render would (load its meshes, trace its ray trajectories,
+    /// build the BVH), without rendering it; print a summary.
     Check {
         /// The TOML scene file.
         scene: PathBuf,
@@ -860,9 +861,18 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     for w in description.warnings() {
         err!("timbre: warning: {w}");
     }
+    // Every check a render makes before it starts: the render settings, the stereo output,
+    // the ray trajectories (traced and drawn) and the BVH.
     let r = &description.render;
+    r.validate().map_err(bad_input)?;
     stereo::validate(&description.stereo, r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
+    let waiting = spinner(false, "building the BVH");
+    let device = Device::new("").map_err(internal)?;
+    let drawn =
+        trajectories::draw(&device, &description).map_err(|e| untraceable(Some(scene), e))?;
+    Scene::build(&device, &drawn).map_err(internal)?;
+    waiting.finish_and_clear();
     out!("{}: OK", scene.display());
     out!("{}", description.report());
     Ok(())

@@ -142,3 +142,26 @@ fn control_characters_from_a_file_never_reach_the_terminal_and_long_tokens_are_c
     run.assert_bad_input(&["long.toml:1:1", "unknown field", "characters left out"]);
     assert!(run.stderr.len() < 2000, "{} bytes", run.stderr.len());
 }
+
+#[test]
+fn check_refuses_what_render_would_refuse() {
+    let dir = TempDir::new().unwrap();
+    // Between two facing mirrors, 10 000 rays of up to 100 interactions each would have a
+    // million points: more than a scene's trajectories may have.
+    let mirrors = "studio = \"empty\"\n\
+        [[object]]\nshape = { type = \"disc\", centre = [0, 0, 0], normal = [0, 0, 1], radius = 10 }\n\
+        surface = { type = \"mirror\" }\n\
+        [[object]]\nshape = { type = \"disc\", centre = [0, 0, 1], normal = [0, 0, -1], radius = 10 }\n\
+        surface = { type = \"mirror\" }\n\
+        [[ray_trajectory]]\nstart = [0, 0, 0.5]\ndirection = [0, 0, 1]\n\
+        cone_half_angle_deg = 1\nrays = 10000\nmax_interactions = 100\n";
+    write(dir.path(), "mirrors.toml", mirrors);
+    bounded(dir.path(), &["check", "mirrors.toml"]).assert_bad_input(&["mirrors.toml", "points"]);
+    // Render settings beyond their limits.
+    write(
+        dir.path(),
+        "huge.toml",
+        "studio = \"empty\"\n[render]\nwidth = 16777217\nheight = 1\n",
+    );
+    bounded(dir.path(), &["check", "huge.toml"]).assert_bad_input(&["limit of 16777216"]);
+}
