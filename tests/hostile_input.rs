@@ -165,3 +165,48 @@ fn check_refuses_what_render_would_refuse() {
     );
     bounded(dir.path(), &["check", "huge.toml"]).assert_bad_input(&["limit of 16777216"]);
 }
+
+#[test]
+fn messages_speak_the_scene_files_language() {
+    let dir = TempDir::new().unwrap();
+    let cases = [
+        (
+            "render = [1, 2]\n",
+            "1:10",
+            "expected a table, not an array",
+        ),
+        ("camera = 3\n", "1:10", "expected a table"),
+        (
+            "[[object]]\nshape = 5\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n",
+            "2:9",
+            "expected a table with a `type` key",
+        ),
+        (
+            "[render]\nwidth = 1e308\n",
+            "2:9",
+            "`1e308`, expected a whole number from 1 to 4294967295",
+        ),
+        (
+            "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 1e308], radius = 1 }\n\
+             surface = { type = \"matt\", colour = [1, 1, 1] }\n",
+            "2:",
+            "got 1e308",
+        ),
+        (
+            "[[object]]\nname = \"\"\nshape = { type = \"parallelogram\", corner = [0, 0, 0], \
+             span_u = [0, 0, 0], span_v = [0, 0, 0] }\n\
+             surface = { type = \"matt\", colour = [1, 1, 1] }\n",
+            "3:",
+            "an object with an empty name (name = \"\")",
+        ),
+    ];
+    for (i, (text, at, words)) in cases.iter().enumerate() {
+        let name = format!("case{i}.toml");
+        write(dir.path(), &name, text);
+        let run = bounded(dir.path(), &["check", &name]);
+        run.assert_bad_input(&[&format!("{name}:{at}"), words]);
+        for rust in ["Section", "u32", "f64", "struct", "enum", "000000000000"] {
+            assert!(!run.stderr.contains(rust), "{rust}: {}", run.stderr);
+        }
+    }
+}

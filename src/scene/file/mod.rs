@@ -83,6 +83,111 @@ impl SceneFileError {
     }
 }
 
+/// A TOML or serde message in the scene file's own words: Rust type names become what the
+/// file should have there ("struct CameraSection" is a table, "nonzero u32" a whole number
+/// from 1 to 4294967295).
+fn plain(message: &str) -> String {
+    let mut words: Vec<String> = Vec::new();
+    let mut tokens = message.split(' ').peekable();
+    while let Some(token) = tokens.next() {
+        let rust_type = |t: &str| t.trim_end_matches([',', '.']).ends_with("Section");
+        match token {
+            // "struct RenderSection with 6 elements": a table (its fields are not an array).
+            "struct" if tokens.peek().is_some_and(|t| rust_type(t)) => {
+                let name = tokens.next().unwrap_or_default();
+                if tokens.peek() == Some(&"with") {
+                    let _ = (tokens.next(), tokens.next());
+                    let last = tokens.next().unwrap_or_default();
+                    words.push(format!(
+                        "a table{}",
+                        &last[last.trim_end_matches([',', '.']).len()..]
+                    ));
+                } else {
+                    words.push(format!(
+                        "a table{}",
+                        &name[name.trim_end_matches([',', '.']).len()..]
+                    ));
+                }
+            }
+            "internally" if tokens.peek() == Some(&"tagged") => {
+                let _ = (tokens.next(), tokens.next());
+                let name = tokens.next().unwrap_or_default();
+                let tail = &name[name.trim_end_matches([',', '.']).len()..];
+                words.push(format!("a table with a `type` key{tail}"));
+            }
+            "enum" if tokens.peek().is_some_and(|t| rust_type(t)) => {
+                let name = tokens.next().unwrap_or_default();
+                words.push(format!(
+                    "one of the names listed{}",
+                    &name[name.trim_end_matches([',', '.']).len()..]
+                ));
+            }
+            _ => words.push(token.to_string()),
+        }
+    }
+    let text = words.join(" ");
+    // An array given where a table belongs is not a question of its length.
+    let text = match text.find("invalid length ") {
+        Some(at) if text.contains("expected a table") => {
+            let rest = &text[at..];
+            let end = rest.find(", ").map_or(rest.len(), |i| i + 2);
+            format!("{}{}", &text[..at], &rest[end..]).replacen(
+                "expected a table",
+                "expected a table, not an array",
+                1,
+            )
+        }
+        _ => text,
+    };
+    [
+        ("a nonzero u32", "a whole number from 1 to 4294967295"),
+        (
+            "a nonzero u64",
+            "a whole number from 1 to 18446744073709551615",
+        ),
+        ("u32", "a whole number from 0 to 4294967295"),
+        ("u64", "a whole number from 0 to 18446744073709551615"),
+        ("usize", "a whole number"),
+        ("f64", "a number"),
+        ("floating point", "number"),
+    ]
+    .iter()
+    .fold(text, |t, (rust, words)| t.replace(rust, words))
+}
+
+/// `message` with every number of more than 20 characters written in scientific notation
+/// (`1e308`, not 309 digits).
+fn short_numbers(message: &str) -> String {
+    let shorten = |word: &str| {
+        let start = word
+            .find(|c: char| c.is_ascii_digit() || c == '-')
+            .unwrap_or(word.len());
+        let end = word
+            .rfind(|c: char| c.is_ascii_digit() || c == '.')
+            .map_or(start, |i| i + 1)
+            .max(start);
+        let number = &word[start..end];
+        match number.parse::<f64>() {
+            Ok(v) if number.len() > 20 => format!("{}{v:e}{}", &word[..start], &word[end..]),
+            _ => word.to_string(),
+        }
+    };
+    message
+        .split(' ')
+        .map(shorten)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// How messages name an object: `object 'NAME'`, and one named "" so that it can be told.
+fn object_label(name: &str) -> String {
+    if name.is_empty() {
+        "an object with an empty name (name = \"\")".into()
+    } else {
+        format!("object '{name}'")
+    }
+}
+
 /// 1-based line and column of byte `offset` in `text`.
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = text.get(..offset.min(text.len())).unwrap_or(text);
@@ -127,7 +232,7 @@ impl Source {
             return SceneFileError::Overridden {
                 path: self.path.clone(),
                 overrides: list.join(" "),
-                message,
+                message: short_numbers(&message),
             };
         }
         let (line, column) = line_column(&self.text, span.map_or(0, |s| s.start));
@@ -135,13 +240,13 @@ impl Source {
             path: self.path.clone(),
             line,
             column,
-            message,
+            message: short_numbers(&message),
         }
     }
 
     /// Deserialises the text into `File`.
     fn file(&self) -> Result<File, SceneFileError> {
-        toml::from_str(&self.text).map_err(|e| self.error(e.span(), e.message().trim().to_string()))
+        toml::from_str(&self.text).map_err(|e| self.error(e.span(), plain(e.message().trim())))
     }
 }
 
@@ -368,7 +473,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
     for link in links.into_iter().chain(placer.links) {
         link_teleporter(&mut scene, &mut linked, &link.origin, &link.destination).map_err(|m| {
             link.at
-                .with_message(format!("object '{}': {m}", link.origin))
+                .with_message(format!("{}: {m}", object_label(&link.origin)))
         })?;
     }
     Ok(scene)

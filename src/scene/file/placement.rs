@@ -367,10 +367,12 @@ impl Placer {
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
-        let parts =
-            o.shape.into_inner().build(source.dir()).map_err(|e| {
-                source.error(Some(shape_span.clone()), format!("object '{name}': {e}"))
-            })?;
+        let parts = o.shape.into_inner().build(source.dir()).map_err(|e| {
+            source.error(
+                Some(shape_span.clone()),
+                format!("{}: {e}", super::object_label(&name)),
+            )
+        })?;
         let surface_span = o.surface.span();
         if let Some(destination) = o.surface.get_ref().destination() {
             self.links.push(Link {
@@ -380,17 +382,23 @@ impl Placer {
             });
         }
         let surface = o.surface.into_inner().build().map_err(|e| {
-            source.error(Some(surface_span.clone()), format!("object '{name}': {e}"))
+            source.error(
+                Some(surface_span.clone()),
+                format!("{}: {e}", super::object_label(&name)),
+            )
         })?;
         let mut placed = Placed::default();
         for (part, shape) in parts {
             surface.check_shape(&shape).map_err(|e| {
-                source.error(Some(surface_span.clone()), format!("object '{name}': {e}"))
+                source.error(
+                    Some(surface_span.clone()),
+                    format!("{}: {e}", super::object_label(&name)),
+                )
             })?;
             let shape = own.shape(&shape).map_err(|e| {
                 source.error(
                     transform_span.clone().or(Some(shape_span.clone())),
-                    format!("object '{name}': {e}"),
+                    format!("{}: {e}", super::object_label(&name)),
                 )
             })?;
             placed.objects.push(SceneObject {
