@@ -193,6 +193,11 @@ fn messages_speak_the_scene_files_language() {
             "got 1e308",
         ),
         (
+            "a = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n",
+            "1:",
+            "nested too deeply",
+        ),
+        (
             "[[object]]\nname = \"\"\nshape = { type = \"parallelogram\", corner = [0, 0, 0], \
              span_u = [0, 0, 0], span_v = [0, 0, 0] }\n\
              surface = { type = \"matt\", colour = [1, 1, 1] }\n",

@@ -150,6 +150,10 @@ fn plain(message: &str) -> String {
         ("usize", "a whole number"),
         ("f64", "a number"),
         ("floating point", "number"),
+        (
+            "cannot recurse further; max recursion depth met",
+            "arrays or tables nested too deeply",
+        ),
     ]
     .iter()
     .fold(text, |t, (rust, words)| t.replace(rust, words))
