@@ -2,8 +2,10 @@
 //! read and written, and a generator of test meshes.
 //!
 //! A file is read into [`Mesh`]es (an OBJ file may hold several objects or groups, each one
-//! mesh). Polygons are triangulated as fans. Every index and coordinate is checked, and errors
-//! name the file and, where the format allows, the line or element.
+//! mesh). Polygons are triangulated as fans. Every index and coordinate is checked, and so is
+//! every PLY value against its header's declaration; errors name the file, the place (line and
+//! column in text, byte offset in binary PLY) and what is at fault, in words. Text quoted from a
+//! file is shortened and has its control characters escaped.
 
 pub mod generate;
 mod obj;
@@ -36,7 +38,8 @@ pub enum MeshError {
         path: String,
         source: std::io::Error,
     },
-    /// `location` is "line N", "element 'face' N" or empty.
+    /// `location` is where in the file: "line N" or "line N, column C" (OBJ, ASCII PLY, a PLY
+    /// header), "byte N" (binary PLY), "header", or empty.
     #[error("{path}:{location}{}{message}", if location.is_empty() { " " } else { ": " })]
     Invalid {
         path: String,
@@ -140,14 +143,8 @@ impl ParseProblem {
     }
 }
 
-/// Splits a polygon (vertex indices in order) into a fan of triangles.
-fn fan(polygon: &[u32], triangles: &mut Vec<[u32; 3]>) {
-    for i in 1..polygon.len().saturating_sub(1) {
-        triangles.push([polygon[0], polygon[i], polygon[i + 1]]);
-    }
-}
-
-/// Checks that every coordinate is finite; `locate(i)` names vertex i in the file.
+/// Checks that every coordinate is finite; `locate(i)` names vertex i in the file. (The readers
+/// check every coordinate where they read it; this is a last guard after `tobj`.)
 fn check_finite(
     what: &str,
     points: &[DVec3],
@@ -156,9 +153,84 @@ fn check_finite(
     match points.iter().position(|p| !p.is_finite()) {
         Some(i) => Err(ParseProblem::new(
             locate(i),
-            format!("{what} {} is not finite: {}", i, points[i]),
+            format!("{what} {i} is not finite"),
         )),
         None => Ok(()),
+    }
+}
+
+/// The longest text from a file that a message shows; longer is cut, with "…".
+const SHOWN_CHARS: usize = 40;
+
+/// Text from a file as a message may show it: at most [`SHOWN_CHARS`] characters (then "…"),
+/// with [`escaped`] characters, so that a file cannot flood or drive the terminal.
+fn shown(bytes: &[u8]) -> String {
+    escaped(bytes, SHOWN_CHARS)
+}
+
+/// `bytes` as text with control and invisible formatting characters escaped (`\x1b`,
+/// `\u{202e}`), bytes that are not UTF-8 written as `\xNN` and a backslash doubled; cut after
+/// `limit` characters (then "…").
+fn escaped(bytes: &[u8], limit: usize) -> String {
+    let mut out = String::new();
+    let mut chars = 0;
+    for chunk in bytes.utf8_chunks() {
+        for c in chunk.valid().chars() {
+            if chars == limit {
+                out.push('…');
+                return out;
+            }
+            chars += 1;
+            match c {
+                '\\' => out.push_str("\\\\"),
+                c if c.is_control() => out.push_str(&format!("\\x{:02x}", c as u32)),
+                c if is_invisible(c) => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+                c => out.push(c),
+            }
+        }
+        for &b in chunk.invalid() {
+            if chars == limit {
+                out.push('…');
+                return out;
+            }
+            chars += 1;
+            out.push_str(&format!("\\x{b:02x}"));
+        }
+    }
+    out
+}
+
+/// Characters that print as nothing or reorder what follows: zero-width spaces and joiners,
+/// direction marks and overrides, line and paragraph separators, the byte order mark.
+fn is_invisible(c: char) -> bool {
+    matches!(
+        c,
+        '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}'
+    )
+}
+
+/// Whether [`escaped`] changes `c` (other than doubling a backslash).
+fn needs_escape(c: char) -> bool {
+    c.is_control() || is_invisible(c)
+}
+
+/// Why a coordinate read as `value` is not finite: "NaN", "infinite", or, when its text in the
+/// file (`token`) is a finite number too large for the type, "infinite ('1e999' is too large for
+/// a double)".
+fn not_finite(value: f64, token: Option<&[u8]>, type_name: &str) -> String {
+    if value.is_nan() {
+        return "NaN".into();
+    }
+    let spelled_infinite = token.is_some_and(|t| {
+        let t = t.to_ascii_lowercase();
+        let t = t.strip_prefix(b"-").or(t.strip_prefix(b"+")).unwrap_or(&t);
+        t.starts_with(b"inf")
+    });
+    match token {
+        Some(t) if !spelled_infinite => {
+            format!("infinite ('{}' is too large for {type_name})", shown(t))
+        }
+        _ => "infinite".into(),
     }
 }
 

@@ -2,26 +2,37 @@
 //! materials and texture coordinates ignored) and written with one `v` (and `vn`) line per
 //! vertex.
 //!
-//! `tobj` reports what went wrong but not where, so the text is checked line by line first.
+//! `tobj` reports what went wrong but not where, and takes some malformed lines without a word,
+//! so the text is checked line by line first, to the rules below; what passes is what `tobj`
+//! reads without error:
+//! - `v`: x y z, optionally w (not 0) or r g b, all numbers; x y z (and x/w …) finite; every
+//!   vertex with a colour or none;
+//! - `vt`: u v, optionally w; `vn`: x y z (a NaN or infinite normal is allowed: the mesh is then
+//!   shaded flat);
+//! - `f`: at least three vertex references `v`, `v/vt`, `v//vn` or `v/vt/vn`, all of one form,
+//!   each index (1-based, or negative counting back) within what the lines before define;
+//! - the file is UTF-8.
+//!
+//! Errors say the line, and the column of the word at fault where there is one; text from the
+//! file is quoted through [`shown`].
 
 use std::borrow::Cow;
 use std::io::Write;
 
 use glam::DVec3;
 
-use super::{Mesh, ParseProblem, check_finite};
+use super::{Mesh, ParseProblem, check_finite, escaped, needs_escape, not_finite, shown};
 
 pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
-    let text = std::str::from_utf8(bytes)
-        .map_err(|_| ParseProblem::new("", "not a text file (invalid UTF-8)"))?;
-    let faces_only = check(text)?;
+    let text = std::str::from_utf8(bytes).map_err(|e| not_utf8(bytes, &e))?;
+    let checked = check(text)?;
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj_buf(&mut faces_only.as_bytes(), &options, |_| {
+    let (models, _materials) = tobj::load_obj_buf(&mut checked.as_bytes(), &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| ParseProblem::new("", format!("invalid OBJ file: {e}")))?;
@@ -39,7 +50,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
             name: if model.name == "unnamed_object" {
                 String::new()
             } else {
-                model.name
+                printable_name(model.name)
             },
             vertices,
             triangles: m
@@ -53,18 +64,64 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
     Ok(meshes)
 }
 
+/// An object or group name with control and invisible characters escaped (it ends up in
+/// messages).
+fn printable_name(name: String) -> String {
+    if name.chars().any(needs_escape) {
+        escaped(name.as_bytes(), usize::MAX)
+    } else {
+        name
+    }
+}
+
+/// Where the first byte that is not UTF-8 is.
+fn not_utf8(bytes: &[u8], e: &std::str::Utf8Error) -> ParseProblem {
+    let good = &bytes[..e.valid_up_to()];
+    let line_start = good.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1);
+    let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+    let column = String::from_utf8_lossy(&good[line_start..]).chars().count() + 1;
+    let bad_len = e.error_len().unwrap_or(bytes.len() - good.len());
+    let bad = &bytes[good.len()..good.len() + bad_len];
+    ParseProblem::new(
+        format!("line {line}, column {column}"),
+        format!("not a text file (invalid UTF-8: {})", shown(bad)),
+    )
+}
+
+/// "1 number", "2 numbers".
+fn numbers_count(n: usize) -> String {
+    if n == 1 {
+        "1 number".into()
+    } else {
+        format!("{n} numbers")
+    }
+}
+
 fn to_points(xyz: &[f64]) -> Vec<DVec3> {
     xyz.chunks_exact(3).map(DVec3::from_slice).collect()
 }
 
-/// Checks every vertex, normal and face line (`tobj` reports errors without a line number),
-/// and returns the text with point (`p`) and polyline (`l`) lines blanked: `tobj` would read
-/// those of three or more points as polygons.
+/// Where `word` (a slice of `line`) starts, as "line N, column C".
+fn column(line_no: usize, line: &str, word: &str) -> String {
+    let offset = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
+    let column = line.get(..offset).map_or(0, |s| s.chars().count()) + 1;
+    format!("line {line_no}, column {column}")
+}
+
+/// Checks every vertex, normal and face line (see the module's rules), and returns the text
+/// with the lines `tobj` must not see blanked: points (`p`) and polylines (`l`), which it would
+/// read as polygons when they have three or more points, and `usemtl` lines it would reject
+/// (materials are ignored anyway).
 fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
     let mut counts = [0i64; 3]; // v, vt, vn read so far
     let mut blanked = false;
+    // Whether the first vertex has a colour, and its line.
+    let mut coloured: Option<(bool, usize)> = None;
     for (i, line) in text.lines().enumerate() {
-        let at = |message: String| ParseProblem::new(format!("line {}", i + 1), message);
+        let line_no = i + 1;
+        let at = |message: String| ParseProblem::new(format!("line {line_no}"), message);
+        let at_word =
+            |word: &str, message: String| ParseProblem::new(column(line_no, line, word), message);
         let mut words = line.split_whitespace();
         let keyword = words.next().unwrap_or("");
         let words: Vec<&str> = words.collect();
@@ -72,31 +129,71 @@ fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
             words
                 .iter()
                 .map(|w| {
-                    w.parse::<f64>()
-                        .map_err(|_| at(format!("'{w}' is not a number")))
+                    w.parse::<f64>().map_err(|_| {
+                        at_word(w, format!("'{}' is not a number", shown(w.as_bytes())))
+                    })
                 })
                 .collect()
         };
         match keyword {
             "v" => {
                 let x = numbers()?;
-                let p = match x.len() {
-                    3 | 6 => DVec3::new(x[0], x[1], x[2]),
-                    4 | 7 if x[3] == 0.0 => return Err(at("a vertex with w = 0".into())),
-                    4 | 7 => DVec3::new(x[0], x[1], x[2]) / x[3],
-                    n => {
+                let n = counts[0] + 1;
+                if !matches!(x.len(), 3 | 4 | 6) {
+                    return Err(at(format!(
+                        "a vertex needs x y z, optionally w or r g b; got {}",
+                        numbers_count(x.len())
+                    )));
+                }
+                for (k, name) in ["x", "y", "z", "w"].iter().enumerate().take(x.len()) {
+                    if !x[k].is_finite() {
+                        return Err(at_word(
+                            words[k],
+                            format!(
+                                "vertex {n}: {name} is {}",
+                                not_finite(x[k], Some(words[k].as_bytes()), "a double")
+                            ),
+                        ));
+                    }
+                }
+                if x.len() == 4 {
+                    if x[3] == 0.0 {
+                        return Err(at_word(
+                            words[3],
+                            format!("vertex {n}: w is 0 (x, y and z are divided by w)"),
+                        ));
+                    }
+                    for (k, name) in ["x", "y", "z"].iter().enumerate() {
+                        if !(x[k] / x[3]).is_finite() {
+                            return Err(at(format!(
+                                "vertex {n}: {name} / w is too large (infinite)"
+                            )));
+                        }
+                    }
+                }
+                // tobj keeps colours in a list of their own, which must cover every vertex.
+                let colour = x.len() == 6;
+                match coloured {
+                    None => coloured = Some((colour, line_no)),
+                    Some((first, first_line)) if first != colour => {
+                        let (this, that) = if colour { ("a", "none") } else { ("no", "one") };
                         return Err(at(format!(
-                            "a vertex needs x y z, optionally w and r g b; got {n} numbers"
+                            "vertex {n} has {this} colour (r g b) but the first vertex (line \
+                             {first_line}) has {that}: give every vertex a colour or none"
                         )));
                     }
-                };
-                if !p.is_finite() {
-                    return Err(at("a vertex coordinate is not finite".into()));
+                    Some(_) => {}
                 }
                 counts[0] += 1;
             }
             "vt" => {
-                numbers()?;
+                let x = numbers()?;
+                if !matches!(x.len(), 2 | 3) {
+                    return Err(at(format!(
+                        "a texture coordinate needs u v, optionally w; got {}",
+                        numbers_count(x.len())
+                    )));
+                }
                 counts[1] += 1;
             }
             "vn" => {
@@ -112,11 +209,31 @@ fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
                         words.len()
                     )));
                 }
+                let mut first_form = None;
                 for word in &words {
-                    check_reference(word, &counts).map_err(at)?;
+                    let form = check_reference(word, &counts).map_err(|m| at_word(word, m))?;
+                    match first_form {
+                        None => first_form = Some((form, word)),
+                        Some((f, first)) if f != form => {
+                            return Err(at_word(
+                                word,
+                                format!(
+                                    "the face mixes '{}' and '{}': all its vertices must have \
+                                     the same form (v, v/vt, v//vn or v/vt/vn)",
+                                    shown(first.as_bytes()),
+                                    shown(word.as_bytes())
+                                ),
+                            ));
+                        }
+                        Some(_) => {}
+                    }
                 }
             }
             "l" | "p" => blanked = true,
+            // What tobj takes for the material's name (and rejects when empty).
+            "usemtl" if line.split_once(' ').unwrap_or_default().1.trim().is_empty() => {
+                blanked = true;
+            }
             _ => {}
         }
     }
@@ -127,6 +244,7 @@ fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
         .lines()
         .map(|line| match line.split_whitespace().next() {
             Some("l" | "p") => "",
+            Some("usemtl") if line.split_once(' ').unwrap_or_default().1.trim().is_empty() => "",
             _ => line,
         })
         .collect();
@@ -134,12 +252,14 @@ fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
 }
 
 /// Checks a face's vertex reference `v`, `v/vt`, `v//vn` or `v/vt/vn` against the vertices,
-/// texture coordinates and normals read so far (negative indices count back from the last).
-fn check_reference(word: &str, counts: &[i64; 3]) -> Result<(), String> {
+/// texture coordinates and normals read so far (negative indices count back from the last), and
+/// returns its form: whether it has a texture coordinate and a normal.
+fn check_reference(word: &str, counts: &[i64; 3]) -> Result<(bool, bool), String> {
     const WHAT: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    let not_a_reference = || format!("'{}' is not a vertex reference", shown(word.as_bytes()));
     let parts: Vec<&str> = word.split('/').collect();
     if parts.len() > 3 || parts[0].is_empty() {
-        return Err(format!("'{word}' is not a vertex reference"));
+        return Err(not_a_reference());
     }
     for (k, part) in parts.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
         let n = counts[k];
@@ -157,10 +277,22 @@ fn check_reference(word: &str, counts: &[i64; 3]) -> Result<(), String> {
                     WHAT[k]
                 ));
             }
-            Err(_) => return Err(format!("'{word}' is not a vertex reference")),
+            Err(_) => {
+                // An integer too large for 64 bits is still an index out of range.
+                let digits = part.strip_prefix(['-', '+']).unwrap_or(part);
+                if digits.bytes().all(|b| b.is_ascii_digit()) && !digits.is_empty() {
+                    return Err(format!(
+                        "face refers to {} {}, but {n} are defined before this line",
+                        WHAT[k],
+                        shown(part.as_bytes())
+                    ));
+                }
+                return Err(not_a_reference());
+            }
         }
     }
-    Ok(())
+    let has = |k: usize| parts.get(k).is_some_and(|p| !p.is_empty());
+    Ok((has(1), has(2)))
 }
 
 pub(super) fn write(out: &mut impl Write, mesh: &Mesh) -> std::io::Result<()> {
