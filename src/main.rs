@@ -775,7 +775,8 @@ fn job(
         provenance: Provenance {
             width: s.width,
             height: s.height,
-            sums: bounds != full || samples != (0..s.spp),
+            // Asked for a part, a part it is (to be merged), even if it is all of the image.
+            sums: args.tile.is_some() || args.pixel_bounds.is_some() || args.samples.is_some(),
             bounds,
             spp: s.spp,
             samples,

@@ -78,6 +78,10 @@ fn merged_tiles_and_pixel_bounds_equal_the_single_render_byte_for_byte() {
     // In any order.
     merge(d, "tiles.exr", &["tile2.exr", "tile0.exr", "tile1.exr"]).assert_success();
     assert_same_file(&d.join("tiles.exr"), &d.join("single.exr"));
+    // One tile of one (a job array of one task) is a part too.
+    render(d, &scene, &["-o", "all.exr", "--tile", "0/1", AOVS]).assert_success();
+    merge(d, "one.exr", &["all.exr"]).assert_success();
+    assert_same_file(&d.join("one.exr"), &d.join("single.exr"));
 
     // A mosaic of uneven rectangles, not aligned to anything.
     let bounds = ["0,37,0,29", "37,96,0,29", "0,61,29,72", "61,96,29,72"];
