@@ -19,4 +19,5 @@ pub mod render;
 pub mod scene;
 pub mod stereo;
 pub mod surfaces;
+pub mod text;
 pub mod trajectories;

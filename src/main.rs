@@ -45,50 +45,35 @@ macro_rules! err {
 const LONGEST_WORD: usize = 200;
 
 /// `text` made safe to print on a terminal, whatever a file put in it: control characters
-/// (other than line breaks and tabs) and the Unicode marks that reorder text are escaped
-/// (`\x1b`, `\u{202e}`), so a name or token cannot drive the terminal; a run of more than
+/// (other than line breaks and tabs) and invisible or reordering marks are escaped
+/// ([`timbre::text::escape`]), so a name or token cannot drive the terminal; a run of more than
 /// [`LONGEST_WORD`] characters without a space (a 10 MB key, a 309-digit number) is cut in the
 /// middle, saying how much was left out.
 fn printable(text: &str) -> String {
-    let escaped: String = text
-        .chars()
-        .map(|c| match c {
-            '\n' | '\t' => c.to_string(),
-            c if c.is_control() => {
-                if (c as u32) < 0x100 {
-                    format!("\\x{:02x}", c as u32)
-                } else {
-                    format!("\\u{{{:x}}}", c as u32)
-                }
-            }
-            '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' => {
-                format!("\\u{{{:x}}}", c as u32)
-            }
-            c => c.to_string(),
-        })
-        .collect();
-    let mut out = String::with_capacity(escaped.len().min(1 << 16));
+    let mut out = String::with_capacity(text.len().min(1 << 16));
     let mut word = String::new();
     let flush = |word: &mut String, out: &mut String| {
         let n = word.chars().count();
         if n > LONGEST_WORD {
             let head: String = word.chars().take(LONGEST_WORD - 40).collect();
             let tail: String = word.chars().skip(n - 20).collect();
-            out.push_str(&format!(
-                "{head}…[{} characters left out]…{tail}",
-                n - LONGEST_WORD + 20
-            ));
+            let left_out = n - LONGEST_WORD + 20;
+            out.push_str(&format!("{head}…[{left_out} characters left out]…{tail}"));
         } else {
             out.push_str(word);
         }
         word.clear();
     };
-    for c in escaped.chars() {
-        if c.is_whitespace() {
-            flush(&mut word, &mut out);
-            out.push(c);
-        } else {
-            word.push(c);
+    for c in text.chars() {
+        match c {
+            '\n' | '\t' | ' ' => {
+                flush(&mut word, &mut out);
+                out.push(c);
+            }
+            c => match timbre::text::escape(c) {
+                Some(e) => word.push_str(&e),
+                None => word.push(c),
+            },
         }
     }
     flush(&mut word, &mut out);

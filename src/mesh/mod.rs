@@ -181,11 +181,10 @@ fn escaped(bytes: &[u8], limit: usize) -> String {
                 return out;
             }
             chars += 1;
-            match c {
-                '\\' => out.push_str("\\\\"),
-                c if c.is_control() => out.push_str(&format!("\\x{:02x}", c as u32)),
-                c if is_invisible(c) => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
-                c => out.push(c),
+            match (c, crate::text::escape(c)) {
+                ('\\', _) => out.push_str("\\\\"),
+                (_, Some(e)) => out.push_str(&e),
+                (c, None) => out.push(c),
             }
         }
         for &b in chunk.invalid() {
@@ -198,20 +197,6 @@ fn escaped(bytes: &[u8], limit: usize) -> String {
         }
     }
     out
-}
-
-/// Characters that print as nothing or reorder what follows: zero-width spaces and joiners,
-/// direction marks and overrides, line and paragraph separators, the byte order mark.
-fn is_invisible(c: char) -> bool {
-    matches!(
-        c,
-        '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}'
-    )
-}
-
-/// Whether [`escaped`] changes `c` (other than doubling a backslash).
-fn needs_escape(c: char) -> bool {
-    c.is_control() || is_invisible(c)
 }
 
 /// Why a coordinate read as `value` is not finite: "NaN", "infinite", or, when its text in the

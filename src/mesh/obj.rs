@@ -21,7 +21,7 @@ use std::io::Write;
 
 use glam::DVec3;
 
-use super::{Mesh, ParseProblem, check_finite, escaped, needs_escape, not_finite, shown};
+use super::{Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
 
 pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| not_utf8(bytes, &e))?;
@@ -67,7 +67,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
 /// An object or group name with control and invisible characters escaped (it ends up in
 /// messages).
 fn printable_name(name: String) -> String {
-    if name.chars().any(needs_escape) {
+    if name.chars().any(|c| crate::text::escape(c).is_some()) {
         escaped(name.as_bytes(), usize::MAX)
     } else {
         name

@@ -51,16 +51,12 @@ pub struct Kept {
 /// difference.
 pub fn load(dir: &Path, expected: &Provenance) -> Result<BTreeMap<u32, Kept>, JobError> {
     let mut kept = BTreeMap::new();
-    let entries = std::fs::read_dir(dir).map_err(|e| JobError::Checkpoint {
+    let unreadable = |e: std::io::Error| JobError::Checkpoint {
         path: dir.display().to_string(),
         message: format!("cannot be read: {e}"),
-    })?;
-    for entry in entries {
-        let path = entry.map_err(|e| JobError::Checkpoint {
-            path: dir.display().to_string(),
-            message: format!("cannot be read: {e}"),
-        })?;
-        let path = path.path();
+    };
+    for entry in std::fs::read_dir(dir).map_err(unreadable)? {
+        let path = entry.map_err(unreadable)?.path();
         let Some(y0) = group_row(&path) else {
             continue; // temporary files of an interrupted write, and anything else
         };

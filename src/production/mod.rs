@@ -191,7 +191,9 @@ pub fn run(
     let mut gathering: Option<Rows> = None;
     let mut restored: Option<(u32, Rows)> = None;
     let mut unsaved: Vec<Rows> = Vec::new();
-    let unsaved_bytes = |rows: &[Rows]| rows.iter().map(|r| r.sums.len() * 68).sum::<usize>();
+    let per_pixel = size_of::<render::Sum>() + size_of::<render::AovSample>();
+    let unsaved_bytes =
+        |rows: &[Rows]| rows.iter().map(|r| r.sums.len() * per_pixel).sum::<usize>();
     let save = |unsaved: &mut Vec<Rows>| -> Result<(), JobError> {
         if let Some(dir) = &dir {
             for rows in unsaved.drain(..) {

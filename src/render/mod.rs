@@ -10,7 +10,7 @@ mod tracer;
 
 pub use pipeline::{Outcome, TILE_W};
 pub use sampling::pixel_offset;
-pub use sum::{FRACTION_BITS, Sum};
+pub use sum::Sum;
 pub use tracer::{Found, Tracer};
 
 use std::sync::atomic::AtomicBool;

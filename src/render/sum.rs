@@ -7,7 +7,7 @@
 use crate::math::Colour;
 
 /// Binary places of the fixed-point sums.
-pub const FRACTION_BITS: u32 = 80;
+const FRACTION_BITS: u32 = 80;
 
 /// 2^FRACTION_BITS, exactly.
 const SCALE: f64 = (1u128 << FRACTION_BITS) as f64;

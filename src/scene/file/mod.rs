@@ -87,43 +87,27 @@ impl SceneFileError {
 /// file should have there ("struct CameraSection" is a table, "nonzero u32" a whole number
 /// from 1 to 4294967295).
 fn plain(message: &str) -> String {
+    // The punctuation after the last word of a phrase, kept when the phrase is replaced.
+    let punctuation = |word: &str| word[word.trim_end_matches([',', '.']).len()..].to_string();
+    let section = |word: &&str| word.trim_end_matches([',', '.']).ends_with("Section");
     let mut words: Vec<String> = Vec::new();
     let mut tokens = message.split(' ').peekable();
     while let Some(token) = tokens.next() {
-        let rust_type = |t: &str| t.trim_end_matches([',', '.']).ends_with("Section");
-        match token {
+        let (replacement, skipped) = match token {
             // "struct RenderSection with 6 elements": a table (its fields are not an array).
-            "struct" if tokens.peek().is_some_and(|t| rust_type(t)) => {
-                let name = tokens.next().unwrap_or_default();
-                if tokens.peek() == Some(&"with") {
-                    let _ = (tokens.next(), tokens.next());
-                    let last = tokens.next().unwrap_or_default();
-                    words.push(format!(
-                        "a table{}",
-                        &last[last.trim_end_matches([',', '.']).len()..]
-                    ));
-                } else {
-                    words.push(format!(
-                        "a table{}",
-                        &name[name.trim_end_matches([',', '.']).len()..]
-                    ));
-                }
+            "struct" if tokens.peek().is_some_and(section) => {
+                let with = tokens.clone().nth(1) == Some("with");
+                ("a table", if with { 4 } else { 1 })
             }
-            "internally" if tokens.peek() == Some(&"tagged") => {
-                let _ = (tokens.next(), tokens.next());
-                let name = tokens.next().unwrap_or_default();
-                let tail = &name[name.trim_end_matches([',', '.']).len()..];
-                words.push(format!("a table with a `type` key{tail}"));
+            "internally" if tokens.peek() == Some(&"tagged") => ("a table with a `type` key", 3),
+            "enum" if tokens.peek().is_some_and(section) => ("one of the names listed", 1),
+            _ => {
+                words.push(token.to_string());
+                continue;
             }
-            "enum" if tokens.peek().is_some_and(|t| rust_type(t)) => {
-                let name = tokens.next().unwrap_or_default();
-                words.push(format!(
-                    "one of the names listed{}",
-                    &name[name.trim_end_matches([',', '.']).len()..]
-                ));
-            }
-            _ => words.push(token.to_string()),
-        }
+        };
+        let last = tokens.nth(skipped - 1).unwrap_or_default();
+        words.push(format!("{replacement}{}", punctuation(last)));
     }
     let text = words.join(" ");
     // An array given where a table belongs is not a question of its length.

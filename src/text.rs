@@ -1,0 +1,40 @@
+//! Text from files made safe to show on a terminal: characters that could drive it or hide
+//! what follows are written as escapes instead.
+
+/// Characters that print as nothing or reorder what follows: zero-width spaces and joiners,
+/// direction marks and overrides, line and paragraph separators, the byte order mark.
+pub fn is_invisible(c: char) -> bool {
+    matches!(
+        c,
+        '\u{200b}'..='\u{200f}' | '\u{2028}'..='\u{202e}' | '\u{2060}'..='\u{206f}' | '\u{feff}'
+    )
+}
+
+/// How `c` is shown if it must not reach a terminal as it is: a control character as `\x1b`, an
+/// invisible one as `\u{202e}`; `None` for every other character.
+pub fn escape(c: char) -> Option<String> {
+    if c.is_control() {
+        // Control characters (Unicode's Cc) are all below U+0100.
+        Some(format!("\\x{:02x}", c as u32))
+    } else if is_invisible(c) {
+        Some(format!("\\u{{{:x}}}", c as u32))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn controls_and_invisible_marks_are_escaped_and_nothing_else() {
+        assert_eq!(escape('\x1b').as_deref(), Some("\\x1b"));
+        assert_eq!(escape('\u{9b}').as_deref(), Some("\\x9b"));
+        assert_eq!(escape('\u{202e}').as_deref(), Some("\\u{202e}"));
+        assert_eq!(escape('\u{feff}').as_deref(), Some("\\u{feff}"));
+        for c in ['a', 'é', '∅', '球', ' ', '\\'] {
+            assert_eq!(escape(c), None, "{c}");
+        }
+    }
+}
