@@ -1781,3 +1781,53 @@ fn array_copies_are_limited_for_the_whole_scene() {
     ));
     assert!(e.contains("12000000 copies in all"), "{e}");
 }
+
+/// A scene of `n` spheres named `s0`, `s1`, … at x = 0, 1, …, with `head` before them and
+/// `tail` after: past a mebibyte, timbre parses such a file in parts.
+fn many_spheres(head: &str, n: usize, tail: &str) -> String {
+    let mut text = format!("studio = \"none\"\n{head}");
+    for i in 0..n {
+        text += &format!(
+            "[[object]]\nname = \"s{i}\"\nshape = {{ type = \"sphere\", centre = [{i}, 0, 0], radius = 0.25 }}\n{MATT}\n"
+        );
+    }
+    text + tail
+}
+
+#[test]
+fn large_files_mean_the_same_when_parsed_in_parts() {
+    // Past the spheres, a mebibyte of lights, then a table of the last sphere: it reaches back
+    // over the lights, which TOML allows.
+    let lights = "[[light]]\ntype = \"ambient\"\ncolour = [1e-6, 0, 0]\n".repeat(25_000);
+    let text = many_spheres(
+        "[render]\nwidth = 7\n",
+        25_000,
+        &format!("{lights}[object.transform]\ntranslate = [0, 0, 3]\n"),
+    );
+    assert!(text.len() > 3 << 20);
+    let scene = parse(&text);
+    assert_eq!(scene.objects.len(), 25_000);
+    assert_eq!(scene.render.width, 7);
+    assert_close(scene.lights.ambient, v(0.025, 0.0, 0.0));
+    assert_close(sphere(&scene, "s0").centre(), v(0.0, 0.0, 0.0));
+    assert_close(sphere(&scene, "s12345").centre(), v(12345.0, 0.0, 0.0));
+    assert_close(sphere(&scene, "s24999").centre(), v(24999.0, 0.0, 3.0));
+}
+
+#[test]
+fn errors_deep_in_large_files_are_located_in_the_whole_file() {
+    let bad = many_spheres("", 20_000, "").replace(
+        "name = \"s15000\"\nshape = { type = \"sphere\", centre = [15000, 0, 0], radius = 0.25 }",
+        "name = \"s15000\"\nshape = { type = \"sphere\", centre = [15000, 0, 0], radius = -2 }",
+    );
+    assert_error_at(&bad, "radius = -2", &["expected a positive number"]);
+    // A table given twice, far apart, is TOML's error, at the second.
+    let twice = many_spheres("[render]\nwidth = 7\n", 20_000, "[render]\nheight = 5\n");
+    let message = parse_error(&twice);
+    assert_eq!(
+        location(&message, "s.toml").0,
+        twice.lines().count() - 1,
+        "{message}"
+    );
+    assert!(message.contains("duplicate"), "{message}");
+}

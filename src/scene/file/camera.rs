@@ -3,9 +3,9 @@
 
 use std::ops::Range;
 
+use super::parts::Spanned;
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
-use toml::Spanned;
 
 use super::shapes::ShapeSection;
 use super::values::{Finite, Positive, Vector};

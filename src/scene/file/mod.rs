@@ -7,6 +7,7 @@
 
 mod camera;
 mod overrides;
+mod parts;
 mod placement;
 mod shapes;
 mod surfaces;
@@ -19,7 +20,6 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 use thiserror::Error;
-use toml::Spanned;
 
 use super::SceneDescription;
 use super::lights::{Lights, PointLight};
@@ -29,8 +29,9 @@ use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
 use camera::CameraSection;
 pub use overrides::Override;
+use parts::Spanned;
 pub use placement::MAX_ARRAY_ELEMENTS;
-use placement::{GroupSection, IncludeSection, Items, Link, ObjectSection, Placer};
+use placement::{GroupSection, IncludeSection, Items, Link, MAX_OBJECTS, ObjectSection, Placer};
 use surfaces::SurfaceSection;
 use trajectories::TrajectorySection;
 use values::{Positive, Rgb, Vector};
@@ -232,13 +233,28 @@ impl Source {
         }
     }
 
-    /// Deserialises the text into `File`.
+    /// Deserialises the text into `File`, a large text in parts (`parts.rs`).
     fn file(&self) -> Result<File, SceneFileError> {
-        toml::from_str(&self.text).map_err(|e| self.error(e.span(), plain(e.message().trim())))
+        let outline = parts::outline(&self.text, MAX_OBJECTS);
+        if let Some(at) = outline.excess_object {
+            return Err(self.error(Some(at..at), placement::too_many_objects()));
+        }
+        let mut file = File::default();
+        for part in outline.parts {
+            let more = parts::in_part(
+                &self.text,
+                part,
+                |t| toml::from_str::<File>(t),
+                toml::de::Error::span,
+            )
+            .map_err(|(span, e)| self.error(span, plain(e.message().trim())))?;
+            file.append(more);
+        }
+        Ok(file)
     }
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct File {
     studio: Option<StudioName>,
@@ -265,6 +281,20 @@ struct WindowSection {
 }
 
 impl File {
+    /// Adds the tables of the next part of the file. Only the first part has top-level keys,
+    /// and a table opened in two parts is parsed in one (`parts.rs`), so nothing is replaced.
+    fn append(&mut self, next: File) {
+        self.studio = self.studio.or(next.studio);
+        self.render = self.render.take().or(next.render);
+        self.camera = self.camera.take().or(next.camera);
+        self.window = self.window.take().or(next.window);
+        self.light.extend(next.light);
+        self.object.extend(next.object);
+        self.group.extend(next.group);
+        self.include.extend(next.include);
+        self.ray_trajectory.extend(next.ray_trajectory);
+    }
+
     fn items(self) -> Items {
         Items {
             object: self.object,

@@ -10,9 +10,9 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
+use super::parts::Spanned;
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
-use toml::Spanned;
 
 use super::shapes::ShapeSection;
 use super::surfaces::SurfaceSection;
@@ -33,6 +33,11 @@ pub const MAX_OBJECTS: usize = 1_000_000;
 /// "diamond" of files including each other twice is refused at once, not after expanding
 /// millions of copies).
 pub const MAX_INCLUDES: usize = 10_000;
+
+/// The error for a scene of more than [`MAX_OBJECTS`] objects.
+pub(super) fn too_many_objects() -> String {
+    format!("the scene has more than {MAX_OBJECTS} objects (repeated objects belong in arrays)")
+}
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -193,9 +198,7 @@ impl Placed {
     /// Checks the scene-wide limits on objects and array copies.
     fn check_size(&self) -> Result<(), String> {
         if self.objects.len() > MAX_OBJECTS {
-            return Err(format!(
-                "the scene has more than {MAX_OBJECTS} objects (repeated objects belong in arrays)"
-            ));
+            return Err(too_many_objects());
         }
         let copies = self.copies();
         if copies > MAX_ARRAY_ELEMENTS {
@@ -298,8 +301,11 @@ impl Placer {
     ) -> Result<Placed, SceneFileError> {
         let mut placed = Placed::default();
         for o in items.object {
+            let span = o.shape.span();
             placed.append(self.object(source, o, parent, frame, prefix)?);
-            placed.check_size().map_err(|e| source.error(None, e))?;
+            placed
+                .check_size()
+                .map_err(|e| source.error(Some(span), e))?;
         }
         for g in items.group {
             let name = join(prefix, g.name.as_deref());
@@ -348,7 +354,9 @@ impl Placer {
             let inner = self.items(&included, file.items(), &own, frame, &name)?;
             self.stack.pop();
             placed.append(self.repeat(source, inner, offsets, &name)?);
-            placed.check_size().map_err(|e| source.error(None, e))?;
+            placed
+                .check_size()
+                .map_err(|e| source.error(Some(span.clone()), e))?;
         }
         Ok(placed)
     }

@@ -2,8 +2,8 @@
 
 use std::ops::Range;
 
+use super::parts::Spanned;
 use serde::{Deserialize, Deserializer, de};
-use toml::Spanned;
 
 use super::values::{Direction, Positive, Rgb, Vector};
 use super::{SceneFileError, Source};
