@@ -81,7 +81,7 @@ pub(super) struct Outline {
 /// The outline of `text`; one part where the text is short or its outline unclear.
 pub(super) fn outline(text: &str, max_objects: usize) -> Outline {
     let whole = |excess_object| Outline {
-        parts: [0..text.len()].to_vec(),
+        parts: std::iter::once(0..text.len()).collect(),
         excess_object,
     };
     if text.len() < PART_BYTES {
