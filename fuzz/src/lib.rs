@@ -1,0 +1,109 @@
+//! What the fuzz targets run and check, one function a target; `tests/fuzz_corpus.rs` runs the
+//! same functions on the committed corpus in the normal test command. Each panics (an assertion)
+//! where timbre misbehaves: a panic of its own, an error message that does not start with its
+//! file, or one that shows a Rust type name or a parser's `Debug` output.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use timbre::embree::Device;
+use timbre::scene::file::{self, Override};
+use timbre::scene::Scene;
+
+/// Scene files with includes and meshes, checked as `timbre check` checks them: the input is up
+/// to four files separated by 0xFF bytes (never part of UTF-8 text), written as `scene.toml`,
+/// `inc.toml`, `m.obj` and `m.ply`, so that the scene can include the second and use the meshes.
+pub fn scene(data: &[u8]) {
+    const NAMES: [&str; 4] = ["scene.toml", "inc.toml", "m.obj", "m.ply"];
+    let mut files = data.split(|&b| b == 0xFF);
+    for name in NAMES {
+        put(name, files.next().unwrap_or_default());
+    }
+    let path = scratch().join(NAMES[0]);
+    let description = match file::load(&path) {
+        Ok(d) => d,
+        Err(e) => return assert_plain(&e.to_string(), &path, data),
+    };
+    // Every check `timbre check` makes after loading.
+    let r = &description.render;
+    if r.validate().is_err()
+        || timbre::stereo::validate(&description.stereo, r.width, r.height).is_err()
+    {
+        return;
+    }
+    let device = Device::new("threads=1").expect("an Embree device");
+    if let Ok(drawn) = timbre::trajectories::draw(&device, &description) {
+        let _ = Scene::build(&device, &drawn);
+    }
+}
+
+/// A mesh file named `name` (its extension says how it is read), read as a `type = "mesh"`
+/// shape reads it.
+pub fn mesh(data: &[u8], name: &str) {
+    let path = put(name, data);
+    if let Err(e) = timbre::mesh::load(&path) {
+        assert_plain(&e.to_string(), &path, data);
+    }
+}
+
+/// `--set key=value` overrides, one a line, applied to a scene that uses most of the format.
+pub fn set(data: &[u8]) {
+    const INCLUDED: &str = "[[object]]\nname = \"ball\"\n\
+        shape = { type = \"sphere\", centre = [0, 0, 0], radius = 0.5 }\n\
+        surface = { type = \"mirror\" }\n";
+    static SCENE: OnceLock<PathBuf> = OnceLock::new();
+    let path = SCENE.get_or_init(|| {
+        put("inc.toml", INCLUDED.as_bytes());
+        put("base.toml", include_bytes!("../set-base.toml"))
+    });
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    let overrides: Result<Vec<Override>, String> = text.lines().map(str::parse).collect();
+    let Ok(overrides) = overrides else {
+        return;
+    };
+    if let Err(e) = file::load_with(path, &overrides) {
+        assert_plain(&e.to_string(), path, data);
+    }
+}
+
+/// A directory for this process's input files, removed when the process ends normally.
+pub fn scratch() -> &'static Path {
+    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    DIR.get_or_init(|| tempfile::tempdir().expect("a scratch directory"))
+        .path()
+}
+
+/// Writes `bytes` to `name` in the scratch directory.
+pub fn put(name: &str, bytes: &[u8]) -> PathBuf {
+    let path = scratch().join(name);
+    std::fs::write(&path, bytes).expect("a scratch file");
+    path
+}
+
+/// Asserts what every error message must be: it names `path` first, and no Rust type name or
+/// `Debug` output of a parser reaches the user (unless the input itself has those words, which
+/// a message may quote).
+pub fn assert_plain(message: &str, path: &Path, input: &[u8]) {
+    let shown = path.display().to_string();
+    assert!(
+        message.starts_with(&shown),
+        "an error that does not start with its file: {message}"
+    );
+    for leak in [
+        "Section",
+        "ParseError",
+        "LineCol",
+        "Some(",
+        "Ascii",
+        "BinaryLittleEndian",
+        "Utf8Error",
+    ] {
+        let quoted = input.windows(leak.len()).any(|w| w == leak.as_bytes());
+        assert!(
+            !message.contains(leak) || quoted,
+            "{leak} in an error: {message}"
+        );
+    }
+}

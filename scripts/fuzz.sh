@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# Coverage-guided fuzzing of what timbre reads (docs/RELIABILITY.md): the targets of fuzz/
+# (scene files with includes and meshes, OBJ, PLY, `--set` values) under libFuzzer, through
+# cargo-fuzz on the stable toolchain (no sanitizer: safe Rust needs none; a panic, an abort, a
+# hang past 10 s or more than 2 GiB is a finding).
+#
+#   scripts/fuzz.sh SECONDS [TARGET...]   fuzz each target (default: all four) for SECONDS,
+#                                         from the committed corpus and the project's own
+#                                         scenes and meshes; findings go to fuzz/artifacts/
+#   scripts/fuzz.sh --minimize            merge what fuzzing found into the committed corpus
+#                                         tests/data/fuzz/TARGET/ (smallest set of inputs with
+#                                         the same coverage)
+#
+# Working corpora live in fuzz/corpus/, logs in fuzz/logs/ (both ignored by git). Needs cargo-fuzz (installed here on
+# first use).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$PWD"
+targets=(scene obj ply set)
+command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz@0.13.2
+fuzz() { cargo +stable fuzz "$@"; }
+
+# The seeds: the committed corpus, then the project's own scenes and meshes.
+seed() {
+    local target=$1 dir="fuzz/corpus/$1"
+    mkdir -p "$dir"
+    [ -d "tests/data/fuzz/$target" ] && cp -n "tests/data/fuzz/$target"/* "$dir"/ 2>/dev/null || true
+    case $target in
+        obj) cp -n tests/data/meshes/*.obj scenes/meshes/*.obj "$dir"/ ;;
+        ply)
+            cp -n tests/data/meshes/*.ply "$dir"/
+            for e in ascii binary-little-endian binary-big-endian; do
+                target/release/timbre generate-mesh --triangles 24 --encoding "$e" -o "$dir/sphere-$e.ply" >/dev/null
+            done ;;
+        scene)
+            for s in scenes/*.toml; do cp -n "$s" "$dir/"; done
+            # A scene that includes a file and uses both meshes: four files joined by 0xFF.
+            {
+                printf '[[include]]\nfile = "inc.toml"\ntransform = { scale = 2 }\n'
+                printf '[[object]]\nshape = { type = "mesh", file = "m.ply" }\nsurface = { type = "mirror" }\n'
+                printf '\xff[[object]]\nshape = { type = "mesh", file = "m.obj" }\nsurface = { type = "matt", colour = [1, 1, 1] }\n'
+                printf '\xff'; cat scenes/meshes/prism.obj
+                printf '\xff'; cat tests/data/meshes/empty.ply
+            } > "$dir/include-and-meshes" ;;
+        set)
+            printf 'render.width=8\ncamera.beta=[0,0,0.9]\n' > "$dir/two"
+            printf 'object.1.surface.index_ratio=-1\n' > "$dir/index"
+            printf 'group.0.object.0.shape.radius=2\nstudio=empty\n' > "$dir/group" ;;
+    esac
+}
+
+# Words of the scene format, so that the fuzzer finds keys and names without guessing them.
+dictionary() {
+    grep -o '`[a-z_0-9-]\+`' docs/SCENE_FORMAT.md | tr -d '`' | sort -u | sed 's/.*/"&"/'
+    printf '"[[object]]"\n"[[group]]"\n"[[include]]"\n"[[group.object]]"\n"= {"\n"= ["\n"\\xff"\n'
+}
+
+cargo build --release --quiet
+if [ "${1:-}" = "--minimize" ]; then
+    for t in "${targets[@]}"; do
+        mkdir -p "tests/data/fuzz/$t" "fuzz/corpus/$t"
+        old=$(mktemp -d)
+        cp -a "tests/data/fuzz/$t/." "$old/"
+        rm -f "tests/data/fuzz/$t"/*
+        fuzz cmin -s none --release "$t" "tests/data/fuzz/$t" -- "$old" "fuzz/corpus/$t" \
+            -rss_limit_mb=2048 -timeout=10 2>&1 | tail -n 2
+        rm -rf "$old"
+        echo "$t: $(ls "tests/data/fuzz/$t" | wc -l) inputs, $(du -sh "tests/data/fuzz/$t" | cut -f1)"
+    done
+    exit 0
+fi
+
+seconds=${1:?usage: scripts/fuzz.sh SECONDS [TARGET...] | --minimize}
+shift
+[ $# -gt 0 ] && targets=("$@")
+dictionary > fuzz/scene.dict
+for t in "${targets[@]}"; do
+    seed "$t"
+    flags=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536
+           -print_final_stats=1)
+    case $t in scene | set) flags+=(-dict="$root/fuzz/scene.dict") ;; esac
+    echo "== $t: ${seconds} s from $(ls "fuzz/corpus/$t" | wc -l) inputs"
+    mkdir -p fuzz/logs
+    fuzz run -s none --release "$t" "fuzz/corpus/$t" -- "${flags[@]}" > "fuzz/logs/$t.log" 2>&1 ||
+        echo "   a finding: see fuzz/logs/$t.log and fuzz/artifacts/$t/"
+    grep -E 'INITED|DONE|stat::|ERROR|SUMMARY|panicked' "fuzz/logs/$t.log" || true
+done
