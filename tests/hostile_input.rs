@@ -4,9 +4,11 @@
 
 mod common;
 
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
+use serde::Deserialize;
 use tempfile::TempDir;
 
 use common::cli::{Run, path_str, write};
@@ -166,52 +168,51 @@ fn check_refuses_what_render_would_refuse() {
     bounded(dir.path(), &["check", "huge.toml"]).assert_bad_input(&["limit of 16777216"]);
 }
 
+/// The cases of `tests/data/malformed/expected.toml`.
+#[derive(Deserialize)]
+struct Corpus {
+    case: Vec<Case>,
+}
+
+/// A malformed scene file, the exit code of `timbre check` on it and fragments of its message.
+#[derive(Deserialize)]
+struct Case {
+    file: String,
+    code: i32,
+    message: Vec<String>,
+}
+
 #[test]
-fn messages_speak_the_scene_files_language() {
-    let dir = TempDir::new().unwrap();
-    let cases = [
-        (
-            "render = [1, 2]\n",
-            "1:10",
-            "expected a table, not an array",
-        ),
-        ("camera = 3\n", "1:10", "expected a table"),
-        (
-            "[[object]]\nshape = 5\nsurface = { type = \"matt\", colour = [1, 1, 1] }\n",
-            "2:9",
-            "expected a table with a `type` key",
-        ),
-        (
-            "[render]\nwidth = 1e308\n",
-            "2:9",
-            "`1e308`, expected a whole number from 1 to 4294967295",
-        ),
-        (
-            "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 1e308], radius = 1 }\n\
-             surface = { type = \"matt\", colour = [1, 1, 1] }\n",
-            "2:",
-            "got 1e308",
-        ),
-        (
-            "a = [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n",
-            "1:",
-            "nested too deeply",
-        ),
-        (
-            "[[object]]\nname = \"\"\nshape = { type = \"parallelogram\", corner = [0, 0, 0], \
-             span_u = [0, 0, 0], span_v = [0, 0, 0] }\n\
-             surface = { type = \"matt\", colour = [1, 1, 1] }\n",
-            "3:",
-            "an object with an empty name (name = \"\")",
-        ),
-    ];
-    for (i, (text, at, words)) in cases.iter().enumerate() {
-        let name = format!("case{i}.toml");
-        write(dir.path(), &name, text);
-        let run = bounded(dir.path(), &["check", &name]);
-        run.assert_bad_input(&[&format!("{name}:{at}"), words]);
-        for rust in ["Section", "u32", "f64", "struct", "enum", "000000000000"] {
-            assert!(!run.stderr.contains(rust), "{rust}: {}", run.stderr);
+fn every_file_of_the_malformed_corpus_gets_its_one_line_message() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/malformed");
+    let expected = std::fs::read_to_string(dir.join("expected.toml")).unwrap();
+    let corpus: Corpus = toml::from_str(&expected).unwrap();
+    let mut files: Vec<String> = common::cli::files_in(&dir);
+    files.retain(|f| f != "expected.toml");
+    let mut listed: Vec<String> = corpus.case.iter().map(|c| c.file.clone()).collect();
+    listed.sort();
+    assert_eq!(files, listed, "every file of the corpus has one case");
+    for case in &corpus.case {
+        let run = bounded(&dir, &["check", &case.file]);
+        let what = format!("{}: {}", case.file, run.stderr);
+        assert_eq!(run.code, Some(case.code), "{what}");
+        assert!(run.stdout.is_empty(), "{what}");
+        // One line, after the file name and where in it.
+        let head = format!("timbre: error: {}{}", case.file, case.message[0]);
+        assert!(run.stderr.starts_with(&head), "{what}");
+        assert_eq!(run.stderr.find('\n'), Some(run.stderr.len() - 1), "{what}");
+        assert!(
+            !run.stderr.trim_end().chars().any(char::is_control),
+            "a control character: {what}"
+        );
+        for fragment in &case.message {
+            assert!(run.stderr.contains(fragment), "lacks {fragment:?}: {what}");
+        }
+        // No Rust type names or `Debug` output.
+        for rust in [
+            "Section", "u32", "i128", "f64", "struct", "enum", "Some(", "{ ",
+        ] {
+            assert!(!run.stderr.contains(rust), "{rust}: {what}");
         }
     }
 }

@@ -23,9 +23,11 @@ pub fn trace(
     for (s, source) in description.trajectories.iter().enumerate() {
         for (k, ray) in source.rays().into_iter().enumerate() {
             let mut t = follow(&world, ray, source.max_interactions, bounds);
-            budget = budget
-                .checked_sub(t.points.len())
-                .ok_or(TrajectoryError::TooManyPoints)?;
+            budget = budget.checked_sub(t.points.len()).ok_or_else(|| {
+                TrajectoryError::TooManyPoints {
+                    trajectory: source.name.clone(),
+                }
+            })?;
             (t.source, t.ray) = (s, k);
             traced.push(t);
         }

@@ -26,10 +26,11 @@ use crate::scene::SceneDescription;
 pub enum TrajectoryError {
     #[error(transparent)]
     Embree(#[from] EmbreeError),
+    /// Counted in the order of the file: `trajectory` names the ray trajectory that went past.
     #[error(
-        "the ray trajectories have more than {MAX_POINTS} points in all; give fewer rays or a smaller max_interactions"
+        "ray trajectory '{trajectory}': with it the ray trajectories have more than {MAX_POINTS} points in all; give fewer rays or a smaller max_interactions"
     )]
-    TooManyPoints,
+    TooManyPoints { trajectory: String },
 }
 
 /// `description` with its ray trajectories traced and drawn in as objects ([`tubes`]), and no

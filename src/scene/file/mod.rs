@@ -124,7 +124,7 @@ fn plain(message: &str) -> String {
         }
         _ => text,
     };
-    [
+    let words = [
         ("a nonzero u32", "a whole number from 1 to 4294967295"),
         (
             "a nonzero u64",
@@ -139,9 +139,38 @@ fn plain(message: &str) -> String {
             "cannot recurse further; max recursion depth met",
             "arrays or tables nested too deeply",
         ),
-    ]
-    .iter()
-    .fold(text, |t, (rust, words)| t.replace(rust, words))
+        (" as i128", ""),
+        ("expected variant identifier", "expected a name in quotes"),
+        ("wanted string or table", "expected a name in quotes"),
+    ];
+    // Only outside `quoted` words: those are the file's own.
+    text.split('`')
+        .enumerate()
+        .map(|(k, part)| match k % 2 {
+            0 => words
+                .iter()
+                .fold(part.to_string(), |t, (rust, w)| t.replace(rust, w)),
+            _ => part.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("`")
+}
+
+/// The TOML parser's `message` at `span` of `text` in the scene file's words, where the parser's
+/// own words mislead: a missing value is not an unquoted string, and a duplicate key is named.
+fn parser_message(text: &str, span: Option<&Range<usize>>, message: &str) -> String {
+    let at = span.and_then(|s| text.get(s.clone())).unwrap_or_default();
+    let after = span.and_then(|s| text.get(s.start..)).unwrap_or_default();
+    let next = after.trim_start_matches([' ', '\t']).chars().next();
+    if message.starts_with("string values must be quoted")
+        && matches!(next, None | Some('\n' | '\r' | '#'))
+    {
+        return "expected a value after `=`".into();
+    }
+    if message == "duplicate key" && !at.is_empty() {
+        return format!("duplicate key `{at}`: each key and table may be given only once");
+    }
+    plain(message)
 }
 
 /// `message` with every number of more than 20 characters written in scientific notation
@@ -177,12 +206,13 @@ fn object_label(name: &str) -> String {
     }
 }
 
-/// 1-based line and column of byte `offset` in `text`.
+/// 1-based line and column of byte `offset` in `text` (a byte-order mark takes no column).
 fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = text.get(..offset.min(text.len())).unwrap_or(text);
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let line = before.matches('\n').count() + 1;
-    (line, before[line_start..].chars().count() + 1)
+    let line_text = before[line_start..].trim_start_matches('\u{feff}');
+    (line, line_text.chars().count() + 1)
 }
 
 /// The text of a scene file, for error messages, and its directory, for relative paths.
@@ -247,7 +277,10 @@ impl Source {
                 |t| toml::from_str::<File>(t),
                 toml::de::Error::span,
             )
-            .map_err(|(span, e)| self.error(span, plain(e.message().trim())))?;
+            .map_err(|(span, e)| {
+                let message = parser_message(&self.text, span.as_ref(), e.message().trim());
+                self.error(span, message)
+            })?;
             file.append(more);
         }
         Ok(file)
