@@ -1831,3 +1831,41 @@ fn errors_deep_in_large_files_are_located_in_the_whole_file() {
     );
     assert!(message.contains("duplicate"), "{message}");
 }
+
+#[test]
+fn overrides_reach_every_part_of_a_large_file() {
+    let dir = TempDir::new().unwrap();
+    let path = write(
+        dir.path(),
+        "many.toml",
+        many_spheres("[render]\nwidth = 7\n", 25_000, ""),
+    );
+    let set = |s: &[&str]| -> Vec<Override> { s.iter().map(|o| o.parse().unwrap()).collect() };
+    let scene = file::load_with(
+        &path,
+        &set(&[
+            "object.0.shape.radius=0.5",
+            "object.20000.shape.centre=[0, 1, 2]",
+            "object.24999.name=last",
+            "render.width=9",
+            "camera.horizontal_view_angle_deg=30",
+        ]),
+    )
+    .unwrap();
+    assert_eq!(scene.objects.len(), 25_000);
+    assert_eq!(scene.render.width, 9);
+    assert!((sphere(&scene, "s0").radius() - 0.5).abs() < 1e-12);
+    assert_close(sphere(&scene, "s20000").centre(), v(0.0, 1.0, 2.0));
+    assert_close(sphere(&scene, "s19999").centre(), v(19999.0, 0.0, 0.0));
+    assert_close(sphere(&scene, "last").centre(), v(24999.0, 0.0, 0.0));
+    assert_eq!(
+        scene.camera,
+        file::parse("[camera]\nhorizontal_view_angle_deg = 30\n", "c.toml")
+            .unwrap()
+            .camera
+    );
+    let e = file::load_with(&path, &set(&["object.25000.name=x"]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("index 25000 is beyond the 25000 entries"), "{e}");
+}

@@ -5,7 +5,9 @@
 //! TOML (`[0, 0, -2]`, `2.5`, `true`, `"lattice"`); a bare word is taken as a string
 //! (`studio=lattice`). Missing tables are created; a missing array entry is an error.
 
+use std::collections::HashMap;
 use std::fmt;
+use std::ops::Range;
 use std::str::FromStr;
 
 use toml::{Table, Value};
@@ -59,19 +61,86 @@ impl fmt::Display for Override {
     }
 }
 
-/// The scene-file text with the overrides applied (reformatted by toml).
+/// The scene-file text with the overrides applied. A large file is changed in the parts it is
+/// parsed in (`parts.rs`), so that memory stays in proportion to a part: each part an override
+/// reaches is reformatted by toml, the others are kept as they are.
 pub(super) fn apply(text: &str, overrides: &[Override]) -> Result<String, String> {
-    let mut root = text.parse::<Table>().map_err(|e| e.to_string())?;
-    for o in overrides {
-        set(&mut root, o).map_err(|e| format!("{o}: {e}"))?;
+    let parts = super::parts::outline(text, usize::MAX).parts;
+    let parse = |part: &Range<usize>| {
+        text[part.clone()]
+            .parse::<Table>()
+            .map_err(|e| e.to_string())
+    };
+    // The top-level keys of each part, with the lengths of those that are arrays.
+    let mut keys = Vec::new();
+    for part in &parts {
+        let table = parse(part)?;
+        let lengths: HashMap<String, Option<usize>> = table
+            .into_iter()
+            .map(|(k, v)| (k, v.as_array().map(Vec::len)))
+            .collect();
+        keys.push(lengths);
     }
-    toml::to_string(&root).map_err(|e| e.to_string())
+    let mut located = vec![Vec::new(); parts.len()];
+    for o in overrides {
+        let (part, o) = locate(&keys, o).map_err(|e| format!("{o}: {e}"))?;
+        located[part].push(o);
+    }
+    let mut changed = String::with_capacity(text.len());
+    for (part, overrides) in parts.iter().zip(located) {
+        if overrides.is_empty() {
+            changed += &text[part.clone()];
+            continue;
+        }
+        let mut table = parse(part)?;
+        for o in &overrides {
+            set(&mut table, o).map_err(|e| format!("{o}: {e}"))?;
+        }
+        changed += &toml::to_string(&table).map_err(|e| e.to_string())?;
+    }
+    Ok(changed)
+}
+
+/// The part whose table `o` changes, given each part's top-level `keys`, and `o` with an index
+/// into an array of tables counted within that part.
+fn locate(
+    keys: &[HashMap<String, Option<usize>>],
+    o: &Override,
+) -> Result<(usize, Override), String> {
+    let first = &o.key[0];
+    let holding: Vec<(usize, Option<usize>)> = keys
+        .iter()
+        .enumerate()
+        .filter_map(|(p, k)| k.get(first).map(|&len| (p, len)))
+        .collect();
+    let Some(&(part, _)) = holding.first() else {
+        return Ok((0, o.clone()));
+    };
+    let Some(entry) = o.key.get(1).and_then(|k| k.parse::<usize>().ok()) else {
+        if o.key.len() == 1 && holding.len() > 1 {
+            return Err(format!(
+                "'{first}' is too long to be replaced whole; set its entries one by one"
+            ));
+        }
+        return Ok((part, o.clone()));
+    };
+    let mut before = 0;
+    for &(part, len) in &holding {
+        let len = len.unwrap_or(0);
+        if entry < before + len || holding.len() == 1 {
+            let mut o = o.clone();
+            o.key[1] = (entry - before).to_string();
+            return Ok((part, o));
+        }
+        before += len;
+    }
+    Err(format!("index {entry} is beyond the {before} entries"))
 }
 
 fn set(root: &mut Table, o: &Override) -> Result<(), String> {
     let (last, path) = o.key.split_last().expect("keys are not empty");
     let mut here = Value::Table(std::mem::take(root));
-    let result = descend(&mut here, path).map(|slot| match slot {
+    let result = descend(&mut here, path, last).map(|slot| match slot {
         Value::Table(t) => {
             t.insert(last.clone(), o.value.clone());
             Ok(())
@@ -92,15 +161,23 @@ fn set(root: &mut Table, o: &Override) -> Result<(), String> {
     result.and_then(|r| r)
 }
 
-/// The value at `path` below `here`, creating missing tables.
-fn descend<'a>(here: &'a mut Value, path: &[String]) -> Result<&'a mut Value, String> {
+/// The value at `path` below `here`, creating missing tables; `last` is the key set there.
+fn descend<'a>(here: &'a mut Value, path: &[String], last: &str) -> Result<&'a mut Value, String> {
     let Some((first, rest)) = path.split_first() else {
         return Ok(here);
     };
     let next = match here {
-        Value::Table(t) => t
-            .entry(first.clone())
-            .or_insert_with(|| Value::Table(Table::new())),
+        Value::Table(t) => {
+            // An index selects an entry of an array that is there, never of a new table.
+            let after = rest.first().map_or(last, String::as_str);
+            if !t.contains_key(first) && after.bytes().all(|b| b.is_ascii_digit()) {
+                return Err(format!(
+                    "there are no '{first}' entries for '{after}' to select"
+                ));
+            }
+            t.entry(first.clone())
+                .or_insert_with(|| Value::Table(Table::new()))
+        }
         Value::Array(a) => {
             let i = index(first, a.len())?;
             &mut a[i]
@@ -112,7 +189,7 @@ fn descend<'a>(here: &'a mut Value, path: &[String]) -> Result<&'a mut Value, St
             ));
         }
     };
-    descend(next, rest)
+    descend(next, rest, last)
 }
 
 fn index(key: &str, len: usize) -> Result<usize, String> {
@@ -155,6 +232,11 @@ mod tests {
         assert_eq!(t["object"][1]["name"].as_str(), Some("c"));
         let e = apply_one(text, "object.2.name=c").unwrap_err();
         assert!(e.contains("index 2 is beyond the 2 entries"), "{e}");
+        let e = apply_one(text, "group.0.name=c").unwrap_err();
+        assert!(
+            e.contains("there are no 'group' entries for '0' to select"),
+            "{e}"
+        );
         let e = apply_one(text, "render.width.x=1").unwrap_err();
         assert!(
             e.contains("'x' cannot be set inside a value of type integer"),
