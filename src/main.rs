@@ -1016,7 +1016,15 @@ fn simd_features() -> Vec<&'static str> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // A usage error quotes the argument: printed like every message, escaped and cut.
+        Err(e) if e.use_stderr() => {
+            eprint!("{}", printable(&e.render().to_string()));
+            std::process::exit(e.exit_code());
+        }
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         Command::Render(args) => run_render(args),
         Command::Check { scene, set } => run_check(&scene, &set),

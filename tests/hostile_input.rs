@@ -104,6 +104,34 @@ fn an_include_diamond_is_refused_at_once() {
 }
 
 #[test]
+fn includes_nested_too_deeply_are_refused_not_a_stack_overflow() {
+    // A chain of 2000 files, each including the next once.
+    let dir = TempDir::new().unwrap();
+    for level in 0..2000 {
+        let include = format!("[[include]]\nfile = \"level{}.toml\"\n", level + 1);
+        write(dir.path(), &format!("level{level}.toml"), include);
+    }
+    write(dir.path(), "level2000.toml", SPHERE);
+    bounded(dir.path(), &["check", "level0.toml"])
+        .assert_bad_input(&["level100.toml:2:8", "nested more than 100 files deep"]);
+    bounded(dir.path(), &["check", "level1900.toml"]).assert_success();
+}
+
+#[test]
+fn usage_errors_are_escaped_and_cut_too() {
+    let dir = TempDir::new().unwrap();
+    let deep = format!("v={}{}", "[".repeat(5000), "]".repeat(5000));
+    let bell = "a\u{7}b";
+    for value in [deep.as_str(), bell] {
+        let run = bounded(dir.path(), &["check", "x.toml", "--set", value]);
+        assert_eq!(run.code, Some(2), "{}", run.stderr);
+        assert!(run.stderr.contains("--set <KEY=VALUE>"), "{}", run.stderr);
+        assert!(run.stderr.len() < 2000, "{} bytes", run.stderr.len());
+        assert!(!run.stderr.contains('\u{7}'), "{}", run.stderr);
+    }
+}
+
+#[test]
 fn absurd_thread_counts_are_refused_by_the_command_line() {
     let dir = TempDir::new().unwrap();
     let run = bounded(

@@ -139,6 +139,7 @@ fn plain(message: &str) -> String {
             "cannot recurse further; max recursion depth met",
             "arrays or tables nested too deeply",
         ),
+        ("recursion limit", "arrays or tables nested too deeply"),
         (" as i128", ""),
         ("expected variant identifier", "expected a name in quotes"),
         ("wanted string or table", "expected a name in quotes"),

@@ -34,6 +34,9 @@ pub const MAX_OBJECTS: usize = 1_000_000;
 /// millions of copies).
 pub const MAX_INCLUDES: usize = 10_000;
 
+/// Deepest chain of files including each other (each level takes stack space while it is read).
+pub const MAX_INCLUDE_DEPTH: usize = 100;
+
 /// The error for a scene of more than [`MAX_OBJECTS`] objects.
 pub(super) fn too_many_objects() -> String {
     format!("the scene has more than {MAX_OBJECTS} objects (repeated objects belong in arrays)")
@@ -336,6 +339,12 @@ impl Placer {
                 return Err(
                     source.error(Some(span), format!("include cycle: {}", chain.join(" -> ")))
                 );
+            }
+            if self.stack.len() > MAX_INCLUDE_DEPTH {
+                return Err(source.error(
+                    Some(span),
+                    format!("includes are nested more than {MAX_INCLUDE_DEPTH} files deep"),
+                ));
             }
             self.includes += 1;
             if self.includes > MAX_INCLUDES {
