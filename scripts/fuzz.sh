@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 root="$PWD"
 targets=(scene obj ply set)
 command -v cargo-fuzz >/dev/null || cargo install --locked cargo-fuzz@0.13.2
-fuzz() { cargo +stable fuzz "$@"; }
+fuzz() { cargo fuzz "$@"; }
 
 # The seeds: the committed corpus, then the project's own scenes and meshes.
 seed() {
@@ -74,6 +74,7 @@ seconds=${1:?usage: scripts/fuzz.sh SECONDS [TARGET...] | --minimize}
 shift
 [ $# -gt 0 ] && targets=("$@")
 dictionary > fuzz/scene.dict
+findings=()
 for t in "${targets[@]}"; do
     seed "$t"
     flags=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536
@@ -81,7 +82,13 @@ for t in "${targets[@]}"; do
     case $t in scene | set) flags+=(-dict="$root/fuzz/scene.dict") ;; esac
     echo "== $t: ${seconds} s from $(ls "fuzz/corpus/$t" | wc -l) inputs"
     mkdir -p fuzz/logs
-    fuzz run -s none --release "$t" "fuzz/corpus/$t" -- "${flags[@]}" > "fuzz/logs/$t.log" 2>&1 ||
-        echo "   a finding: see fuzz/logs/$t.log and fuzz/artifacts/$t/"
-    grep -E 'INITED|DONE|stat::|ERROR|SUMMARY|panicked' "fuzz/logs/$t.log" || true
+    if ! fuzz run -s none --release "$t" "fuzz/corpus/$t" -- "${flags[@]}" > "fuzz/logs/$t.log" 2>&1; then
+        findings+=("$t")
+        grep -E -A12 'panicked|ERROR|SUMMARY' "fuzz/logs/$t.log" | head -n 40
+    fi
+    grep -E 'INITED|DONE|stat::' "fuzz/logs/$t.log" || true
 done
+if [ ${#findings[@]} -gt 0 ]; then
+    echo "findings in ${findings[*]}: the inputs are in fuzz/artifacts/, the logs in fuzz/logs/" >&2
+    exit 1
+fi

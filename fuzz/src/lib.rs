@@ -4,11 +4,10 @@
 //! file, or one that shows a Rust type name or a parser's `Debug` output.
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use timbre::embree::Device;
-use timbre::scene::file::{self, Override};
 use timbre::scene::Scene;
+use timbre::scene::file::{self, Override};
 
 /// Scene files with includes and meshes, checked as `timbre check` checks them: the input is up
 /// to four files separated by 0xFF bytes (never part of UTF-8 text), written as `scene.toml`,
@@ -51,11 +50,11 @@ pub fn set(data: &[u8]) {
     const INCLUDED: &str = "[[object]]\nname = \"ball\"\n\
         shape = { type = \"sphere\", centre = [0, 0, 0], radius = 0.5 }\n\
         surface = { type = \"mirror\" }\n";
-    static SCENE: OnceLock<PathBuf> = OnceLock::new();
-    let path = SCENE.get_or_init(|| {
+    let path = scratch().join("base.toml");
+    if !path.exists() {
         put("inc.toml", INCLUDED.as_bytes());
-        put("base.toml", include_bytes!("../set-base.toml"))
-    });
+        put("base.toml", include_bytes!("../set-base.toml"));
+    }
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
@@ -63,16 +62,18 @@ pub fn set(data: &[u8]) {
     let Ok(overrides) = overrides else {
         return;
     };
-    if let Err(e) = file::load_with(path, &overrides) {
-        assert_plain(&e.to_string(), path, data);
+    if let Err(e) = file::load_with(&path, &overrides) {
+        assert_plain(&e.to_string(), &path, data);
     }
 }
 
-/// A directory for this process's input files, removed when the process ends normally.
-pub fn scratch() -> &'static Path {
-    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
-    DIR.get_or_init(|| tempfile::tempdir().expect("a scratch directory"))
-        .path()
+/// A directory for this thread's input files (tests replay several targets at once), removed
+/// when the thread ends.
+pub fn scratch() -> PathBuf {
+    thread_local! {
+        static DIR: tempfile::TempDir = tempfile::tempdir().expect("a scratch directory");
+    }
+    DIR.with(|d| d.path().to_path_buf())
 }
 
 /// Writes `bytes` to `name` in the scratch directory.
