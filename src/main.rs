@@ -456,6 +456,35 @@ fn memory_available(threads: u64) -> Option<u64> {
     address_space.into_iter().chain(system).min()
 }
 
+/// Refuses `what` (a render, or a check) before it starts if its `image` buffers and the
+/// scene's BVH would need more memory than can be had here: a clear error, not an abort.
+fn check_memory(
+    what: &str,
+    image: u64,
+    description: &SceneDescription,
+    threads: usize,
+) -> Result<(), Failure> {
+    let scene = description.build_memory();
+    let Some(available) = memory_available(threads as u64) else {
+        return Ok(());
+    };
+    if image + scene <= available {
+        return Ok(());
+    }
+    let gib = |b: u64| b as f64 / f64::from(1 << 30);
+    let advice = if scene > image {
+        "give the scene fewer array copies, triangles or objects"
+    } else {
+        "render a smaller image"
+    };
+    Err(bad_input(format!(
+        "{what} needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {advice}",
+        gib(image + scene),
+        gib(scene),
+        gib(available)
+    )))
+}
+
 /// The first number after `name` on the line of `file` (a Linux /proc file) that starts with
 /// it; `None` if the file, the line or a number is missing ("unlimited").
 fn proc_number(file: &str, name: &str) -> Option<u64> {
@@ -541,7 +570,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let threads = settings
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let needed = match stereo {
+    let image = match stereo {
         Stereo::Mono => production::memory_needed(
             job.provenance.bounds.width(),
             threads,
@@ -549,22 +578,16 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         ),
         _ => memory_needed(&settings, stereo, format),
     };
-    if let Some(available) = memory_available(threads as u64)
-        && needed > available
-    {
-        let gib = |b: u64| b as f64 / f64::from(1 << 30);
-        return Err(bad_input(format!(
-            "a {}x{} render{} needs about {:.2} GiB of memory, but only {:.2} GiB can be had here (free memory, or the process's address-space limit); render a smaller image",
-            settings.width,
-            settings.height,
-            match stereo.views() {
-                1 => String::new(),
-                n => format!(" of {n} views"),
-            },
-            gib(needed),
-            gib(available)
-        )));
-    }
+    let what = format!(
+        "a {}x{} render{}",
+        settings.width,
+        settings.height,
+        match stereo.views() {
+            1 => String::new(),
+            n => format!(" of {n} views"),
+        }
+    );
+    check_memory(&what, image, &description, threads)?;
 
     let device = match settings.threads {
         Some(t) => Device::new(&format!("threads={t}")),
@@ -853,6 +876,13 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     r.validate().map_err(bad_input)?;
     stereo::validate(&description.stereo, r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    check_memory(
+        &format!("checking {}", scene.display()),
+        0,
+        &description,
+        threads,
+    )?;
     let waiting = spinner(false, "building the BVH");
     let device = Device::new("").map_err(internal)?;
     let drawn =

@@ -132,6 +132,32 @@ fn usage_errors_are_escaped_and_cut_too() {
 }
 
 #[test]
+fn a_scene_too_large_for_the_memory_there_is_refused_not_aborted() {
+    // Ten million array copies of one sphere: 150 bytes of text, about 5 GB of BVH.
+    let dir = TempDir::new().unwrap();
+    write(
+        dir.path(),
+        "copies.toml",
+        format!("{SPHERE}array = {{ vectors = [[3, 0, 0], [0, 3, 0]], counts = [10000, 1000] }}\n"),
+    );
+    let mut command = Command::new("prlimit");
+    command
+        .args([
+            "--as=2000000000",
+            common::cli::TIMBRE,
+            "check",
+            "copies.toml",
+        ])
+        .current_dir(dir.path());
+    let run = common::cli::run(command);
+    run.assert_bad_input(&[
+        "copies.toml",
+        "GiB for the scene's BVH",
+        "fewer array copies",
+    ]);
+}
+
+#[test]
 fn absurd_thread_counts_are_refused_by_the_command_line() {
     let dir = TempDir::new().unwrap();
     let run = bounded(

@@ -60,6 +60,23 @@ impl SceneDescription {
         summary
     }
 
+    /// Bytes that building the scene adds to what its description holds, generously: Embree's
+    /// geometry and BVH and timbre's tables, measured with Embree 3.13.5 at about 520 bytes an
+    /// array copy (counted as 640), 120 a mesh triangle (each prototype once) and 600 an
+    /// object.
+    pub fn build_memory(&self) -> u64 {
+        let triangles: u64 = self
+            .objects
+            .iter()
+            .map(|o| match &o.shape {
+                Shape::TriangleMesh(m) => m.triangles().len() as u64,
+                _ => 0,
+            })
+            .sum();
+        let copies: u64 = self.arrays.iter().map(|a| a.offsets.len() as u64).sum();
+        copies * 640 + triangles * 128 + self.objects.len() as u64 * 640
+    }
+
     /// The whole `timbre check` report (after its "OK" line), one item a line.
     pub fn report(&self) -> Report<'_> {
         Report(self)
