@@ -158,6 +158,21 @@ fn a_scene_too_large_for_the_memory_there_is_refused_not_aborted() {
 }
 
 #[test]
+fn a_long_stretch_that_cannot_be_parsed_in_parts_is_refused_before_parsing() {
+    // 20 MB of one array: the toml crate would need about 1.5 GB for it.
+    let dir = TempDir::new().unwrap();
+    let text = format!(
+        "studio = \"empty\"\n\n[render]\nx = [{}1]\n",
+        "1,".repeat(10_000_000)
+    );
+    write(dir.path(), "dense.toml", text);
+    bounded(dir.path(), &["check", "dense.toml"]).assert_bad_input(&[
+        "dense.toml:1:1",
+        "20 MB from here on could not be cut into parts of at most 16 MiB",
+    ]);
+}
+
+#[test]
 fn absurd_thread_counts_are_refused_by_the_command_line() {
     let dir = TempDir::new().unwrap();
     let run = bounded(

@@ -272,6 +272,19 @@ impl Source {
         }
         let mut file = File::default();
         for part in outline.parts {
+            if part.len() > parts::MAX_PART_BYTES {
+                return Err(self.error(
+                    Some(part.start..part.start),
+                    format!(
+                        "{} MB from here on could not be cut into parts of at most {} MiB: \
+                         timbre parses large files in parts cut before plain `[[name]]` \
+                         headers (no quoted keys), so write long lists as `[[object]]` \
+                         entries and large meshes as mesh files",
+                        part.len() / 1_000_000,
+                        parts::MAX_PART_BYTES >> 20
+                    ),
+                ));
+            }
             let more = parts::in_part(
                 &self.text,
                 part,

@@ -21,6 +21,11 @@ use serde::{Deserialize, Deserializer};
 /// The size of text from which a file is parsed in parts, and about the size of each part.
 pub(super) const PART_BYTES: usize = 1 << 20;
 
+/// Largest part that is parsed (the toml crate needs up to 75 bytes for each byte of a dense
+/// array): a longer stretch without a header to cut at, or a file whose outline is unclear, is
+/// refused.
+pub(super) const MAX_PART_BYTES: usize = 16 << 20;
+
 thread_local! {
     /// Where in its file the part being parsed starts.
     static PART_START: Cell<usize> = const { Cell::new(0) };
