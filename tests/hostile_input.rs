@@ -173,6 +173,23 @@ fn a_long_stretch_that_cannot_be_parsed_in_parts_is_refused_before_parsing() {
 }
 
 #[test]
+fn a_scene_reading_more_than_a_gibibyte_through_includes_is_refused() {
+    // A 9 MB file included 130 times.
+    let dir = TempDir::new().unwrap();
+    write(
+        dir.path(),
+        "big.toml",
+        format!("# {}\n", "x".repeat(9_000_000)),
+    );
+    let include = "[[include]]\nfile = \"big.toml\"\n";
+    write(dir.path(), "top.toml", include.repeat(130));
+    bounded(dir.path(), &["check", "top.toml"]).assert_bad_input(&[
+        "top.toml:240:8",
+        "the scene's files come to more than 1024 MiB in all",
+    ]);
+}
+
+#[test]
 fn absurd_thread_counts_are_refused_by_the_command_line() {
     let dir = TempDir::new().unwrap();
     let run = bounded(

@@ -521,7 +521,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         group: file.group,
         include: file.include,
     };
-    let mut placer = Placer::new(path);
+    let mut placer = Placer::new(path, source.text.len());
     let placed = placer.items(
         source,
         items,

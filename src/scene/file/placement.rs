@@ -34,6 +34,10 @@ pub const MAX_OBJECTS: usize = 1_000_000;
 /// millions of copies).
 pub const MAX_INCLUDES: usize = 10_000;
 
+/// Most bytes of scene-file text a scene may have, with its includes (each time they are
+/// included): 1 GiB, so that parsing them all takes a minute at most.
+pub const MAX_SCENE_BYTES: usize = 1 << 30;
+
 /// Deepest chain of files including each other (each level takes stack space while it is read).
 pub const MAX_INCLUDE_DEPTH: usize = 100;
 
@@ -270,6 +274,8 @@ pub(super) struct Placer {
     count: usize,
     /// Files included so far (each time they are included).
     includes: usize,
+    /// Bytes of scene-file text read so far (each time a file is included).
+    bytes: usize,
     /// Teleporting surfaces, to be linked to their destinations once every object is placed.
     pub(super) links: Vec<Link>,
 }
@@ -283,11 +289,13 @@ pub(super) struct Link {
 }
 
 impl Placer {
-    pub(super) fn new(top: &Path) -> Placer {
+    /// A placer for the scene file at `top`, of `bytes` bytes.
+    pub(super) fn new(top: &Path, bytes: usize) -> Placer {
         Placer {
             stack: vec![top.canonicalize().unwrap_or_else(|_| top.to_path_buf())],
             count: 0,
             includes: 0,
+            bytes,
             links: Vec::new(),
         }
     }
@@ -358,6 +366,17 @@ impl Placer {
             }
             let (included, file) = super::read(&path, &[])
                 .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
+            self.bytes += included.text.len();
+            if self.bytes > MAX_SCENE_BYTES {
+                return Err(source.error(
+                    Some(span),
+                    format!(
+                        "the scene's files come to more than {} MiB in all (a file included \
+                         twice counts twice)",
+                        MAX_SCENE_BYTES >> 20
+                    ),
+                ));
+            }
             self.stack.push(key);
             let frame = FrameName::or(i.frame, frame);
             let inner = self.items(&included, file.items(), &own, frame, &name)?;
