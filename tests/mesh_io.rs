@@ -585,7 +585,7 @@ fn obj_face_with_two_vertices_is_an_error() {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n",
     );
     // `load_err` panics with the meshes if the file loads.
-    assert_contains(&load_err(&path), &["two.obj:line 5: "]);
+    assert_contains(&load_err(&path), &["two.obj:5: "]);
 }
 
 #[test]
@@ -653,7 +653,7 @@ fn obj_face_index_out_of_range_names_the_line() {
     assert_eq!(
         text,
         format!(
-            "{}:line 6, column 7: face refers to vertex 4, but 3 are defined before this line",
+            "{}:6:7: face refers to vertex 4, but 3 are defined before this line",
             path.display()
         )
     );
@@ -667,10 +667,7 @@ fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
         "crlf.obj",
         "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\n\r\nf 1 2 3\r\nf 1 2 9\r\n",
     );
-    assert_contains(
-        &load_err(&crlf),
-        &["crlf.obj:line 6, column 7: ", "refers to vertex 9"],
-    );
+    assert_contains(&load_err(&crlf), &["crlf.obj:6:7: ", "refers to vertex 9"]);
     // Relative indices: -1 is the last vertex so far, -4 is before the first of three.
     let negative = write(
         &dir,
@@ -679,7 +676,7 @@ fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
     );
     assert_contains(
         &load_err(&negative),
-        &["negative.obj:line 5, column 9: ", "refers to vertex -4"],
+        &["negative.obj:5:9: ", "refers to vertex -4"],
     );
     // Texture-coordinate-and-normal syntax still finds the vertex index.
     let slashes = write(
@@ -689,7 +686,7 @@ fn obj_face_index_out_of_range_names_the_line_with_crlf_and_negative_indices() {
     );
     assert_contains(
         &load_err(&slashes),
-        &["slashes.obj:line 6, column 8: ", "refers to vertex 5"],
+        &["slashes.obj:6:8: ", "refers to vertex 5"],
     );
 }
 
@@ -727,8 +724,8 @@ fn obj_errors_name_the_line_for_every_kind_of_bad_vertex_or_reference() {
     for (name, text, line) in cases {
         let path = write(&dir, name, text);
         let message = load_err(&path);
-        if !message.contains(&format!("{name}:line {line}: "))
-            && !message.contains(&format!("{name}:line {line}, column "))
+        if !message.contains(&format!("{name}:{line}: "))
+            && !message.contains(&format!("{name}:{line}:"))
         {
             wrong.push(format!("expected line {line}: {message}"));
         }
@@ -747,7 +744,7 @@ fn obj_zero_index_names_the_line() {
     assert_eq!(
         text,
         format!(
-            "{}:line 5, column 3: face refers to vertex 0, but indices count from 1",
+            "{}:5:3: face refers to vertex 0, but indices count from 1",
             path.display()
         )
     );
@@ -760,7 +757,7 @@ fn obj_vertex_with_two_coordinates_names_the_line() {
     assert_eq!(
         text,
         format!(
-            "{}:line 3: a vertex needs x y z, optionally w or r g b; got 2 numbers",
+            "{}:3: a vertex needs x y z, optionally w or r g b; got 2 numbers",
             path.display()
         )
     );
@@ -772,7 +769,7 @@ fn obj_vertex_with_a_word_names_the_line() {
     let path = write(&dir, "word.obj", "v 0 0 0\nv 1 zero 0\nv 0 1 0\nf 1 2 3\n");
     assert_contains(
         &load_err(&path),
-        &["word.obj:line 2, column 5: ", "'zero' is not a number"],
+        &["word.obj:2:5: ", "'zero' is not a number"],
     );
     let normal = write(
         &dir,
@@ -781,7 +778,7 @@ fn obj_vertex_with_a_word_names_the_line() {
     );
     assert_contains(
         &load_err(&normal),
-        &["normal.obj:line 4: ", "a normal needs three numbers"],
+        &["normal.obj:4: ", "a normal needs three numbers"],
     );
     let face = write(
         &dir,
@@ -790,10 +787,7 @@ fn obj_vertex_with_a_word_names_the_line() {
     );
     assert_contains(
         &load_err(&face),
-        &[
-            "face.obj:line 5, column 5: ",
-            "'two' is not a vertex reference",
-        ],
+        &["face.obj:5:5: ", "'two' is not a vertex reference"],
     );
 }
 
@@ -801,10 +795,7 @@ fn obj_vertex_with_a_word_names_the_line() {
 fn obj_non_finite_vertex_names_the_line() {
     let path = corpus("nan_vertex.obj");
     let text = load_err(&path);
-    assert_eq!(
-        text,
-        format!("{}:line 5, column 3: vertex 3: x is NaN", path.display())
-    );
+    assert_eq!(text, format!("{}:5:3: vertex 3: x is NaN", path.display()));
     let dir = TempDir::new().unwrap();
     for (name, word, why) in [
         ("inf.obj", "inf", "infinite"),
@@ -823,7 +814,7 @@ fn obj_non_finite_vertex_names_the_line() {
         );
         assert_contains(
             &load_err(&path),
-            &[&format!("{name}:line 3, column 5: vertex 3: y is {why}")],
+            &[&format!("{name}:3:5: vertex 3: y is {why}")],
         );
     }
 }
@@ -853,7 +844,7 @@ fn obj_that_is_not_utf8_is_an_error() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 4, column 6: not a text file (invalid UTF-8: \\xe9)",
+            "{}:4:6: not a text file (invalid UTF-8: \\xe9)",
             path.display()
         )
     );
@@ -880,7 +871,7 @@ fn ply_without_an_x_property_is_an_error() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 4: the 'vertex' element has no property 'x'",
+            "{}:4: the 'vertex' element has no property 'x'",
             path.display()
         )
     );
@@ -905,7 +896,7 @@ fn ply_without_a_face_element_is_an_error() {
     assert_contains(
         &load_err(&path),
         &[
-            "no_list.ply:line 7: ",
+            "no_list.ply:7: ",
             "the 'face' element has no list property 'vertex_indices'",
         ],
     );
@@ -917,7 +908,7 @@ fn ply_face_index_out_of_range_names_the_face() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 14, column 7: face 1: vertex index 3 is out of range (the file has 3 vertices)",
+            "{}:14:7: face 1: vertex index 3 is out of range (the file has 3 vertices)",
             path.display()
         )
     );
@@ -929,7 +920,7 @@ fn ply_negative_index_names_the_face() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 15, column 5: face 2: vertex index -1 is out of range (the file has 3 vertices)",
+            "{}:15:5: face 2: vertex index -1 is out of range (the file has 3 vertices)",
             path.display()
         )
     );
@@ -941,7 +932,7 @@ fn ply_face_with_two_vertices_names_the_face() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 14, column 1: face 1: a face needs at least 3 vertices, got 2",
+            "{}:14:1: face 1: a face needs at least 3 vertices, got 2",
             path.display()
         )
     );
@@ -959,7 +950,7 @@ fn ply_non_finite_vertex_names_the_vertex() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 13, column 3: vertex 2: y is infinite ('1e999' is too large for a double)",
+            "{}:13:3: vertex 2: y is infinite ('1e999' is too large for a double)",
             path.display()
         )
     );
@@ -1030,7 +1021,7 @@ fn truncated_ascii_ply_names_the_missing_line() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 15: the file ends after 1 of the 2 faces the header declares",
+            "{}:15: the file ends after 1 of the 2 faces the header declares",
             path.display()
         )
     );
@@ -1041,7 +1032,7 @@ fn truncated_ascii_ply_names_the_missing_line() {
     let cut = write(&dir, "cut.ply", &bytes[..keep]);
     assert_contains(
         &load_err(&cut),
-        &["cut.ply:line 11: vertex 1 has 2 values, the header declares 3"],
+        &["cut.ply:11: vertex 1 has 2 values, the header declares 3"],
     );
 }
 
@@ -1057,9 +1048,7 @@ fn ply_garbage_in_the_body_names_the_line() {
     );
     assert_contains(
         &load_err(&path),
-        &[
-            "garbage.ply:line 11, column 3: vertex 1: 'zero' is not a number (property 'y' is float)",
-        ],
+        &["garbage.ply:11:3: vertex 1: 'zero' is not a number (property 'y' is float)"],
     );
 }
 
@@ -1069,7 +1058,7 @@ fn ply_garbage_header_is_an_error_at_line_1() {
     assert_eq!(
         load_err(&path),
         format!(
-            "{}:line 1: not a PLY file: the first line is 'not a ply file', not 'ply'",
+            "{}:1: not a PLY file: the first line is 'not a ply file', not 'ply'",
             path.display()
         )
     );
@@ -1078,7 +1067,7 @@ fn ply_garbage_header_is_an_error_at_line_1() {
     let obj = write(&dir, "obj.ply", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     assert_contains(
         &load_err(&obj),
-        &["obj.ply:line 1: not a PLY file: the first line is 'v 0 0 0', not 'ply'"],
+        &["obj.ply:1: not a PLY file: the first line is 'v 0 0 0', not 'ply'"],
     );
     let endless = write(
         &dir,
@@ -1087,7 +1076,7 @@ fn ply_garbage_header_is_an_error_at_line_1() {
     );
     assert_contains(
         &load_err(&endless),
-        &["endless.ply:line 5: the file ends in the header: there is no 'end_header' line"],
+        &["endless.ply:5: the file ends in the header: there is no 'end_header' line"],
     );
     let bad_property = write(
         &dir,
@@ -1096,7 +1085,7 @@ fn ply_garbage_header_is_an_error_at_line_1() {
     );
     assert_contains(
         &load_err(&bad_property),
-        &["bad_property.ply:line 4: 'quaternion' is not a PLY type: char, uchar, "],
+        &["bad_property.ply:4: 'quaternion' is not a PLY type: char, uchar, "],
     );
 }
 
@@ -1226,56 +1215,50 @@ fn ply_corpus_of_header_and_body_mismatches_gives_exact_messages() {
     let cases = [
         (
             "x_is_a_list.ply",
-            "line 5: property 'x' of element 'vertex' is a list; a coordinate must be a number",
+            "5: property 'x' of element 'vertex' is a list; a coordinate must be a number",
         ),
         (
             "property_twice.ply",
-            "line 7: property 'y' of element 'vertex' is declared twice (first on line 6)",
+            "7: property 'y' of element 'vertex' is declared twice (first on line 6)",
         ),
         (
             "element_twice.ply",
-            "line 8: element 'vertex' is declared twice (first on line 4)",
+            "8: element 'vertex' is declared twice (first on line 4)",
         ),
         (
             "float_list_count.ply",
-            "line 9: the count of list property 'vertex_indices' of element 'face' has type \
+            "9: the count of list property 'vertex_indices' of element 'face' has type \
              'float': a list count must be of an integer type",
         ),
         (
             "ascii_2_0.ply",
-            "line 2: format 'ascii 2.0' is not supported: PLY 1.0 only",
+            "2: format 'ascii 2.0' is not supported: PLY 1.0 only",
         ),
         (
             "extra_vertex_value.ply",
-            "line 12, column 7: vertex 1 has 4 values, the header declares 3",
+            "12:7: vertex 1 has 4 values, the header declares 3",
         ),
         (
             "extra_face_value.ply",
-            "line 14, column 9: face 0 has 5 values, the header and its list count declare 4",
+            "14:9: face 0 has 5 values, the header and its list count declare 4",
         ),
         (
             "more_faces_than_declared.ply",
-            "line 15, column 1: the body has data after the 3 vertices and 1 face the header \
+            "15:1: the body has data after the 3 vertices and 1 face the header \
              declares",
         ),
         // The fourth vertex line is read as face 0: a list of 1, and one value too many.
         (
             "more_vertices_than_declared.ply",
-            "line 14, column 5: face 0 has 3 values, the header and its list count declare 2",
+            "14:5: face 0 has 3 values, the header and its list count declare 2",
         ),
         (
             "float_index_list.ply",
-            "line 9: property 'vertex_indices' of element 'face' is a list of 'float'; vertex \
+            "9: property 'vertex_indices' of element 'face' is a list of 'float'; vertex \
              indices must be of an integer type",
         ),
-        (
-            "nan_coordinate.ply",
-            "line 11, column 1: vertex 0: x is NaN",
-        ),
-        (
-            "inf_coordinate.ply",
-            "line 13, column 5: vertex 2: z is infinite",
-        ),
+        ("nan_coordinate.ply", "11:1: vertex 0: x is NaN"),
+        ("inf_coordinate.ply", "13:5: vertex 2: z is infinite"),
     ];
     let mut wrong = Vec::new();
     for (name, expected) in cases {
@@ -1302,60 +1285,60 @@ fn ply_header_mistakes_name_the_line() {
         (
             "encoding.ply",
             file(&format!("format binary 1.0\n{vertex}{face}")),
-            "line 2: format 'binary 1.0' is not supported: the encoding must be ascii, \
+            "2: format 'binary 1.0' is not supported: the encoding must be ascii, \
              binary_little_endian or binary_big_endian",
         ),
         (
             "binary_2.ply",
             file(&format!("format binary_big_endian 1.1\n{vertex}{face}")),
-            "line 2: format 'binary_big_endian 1.1' is not supported: PLY 1.0 only",
+            "2: format 'binary_big_endian 1.1' is not supported: PLY 1.0 only",
         ),
         (
             "short_format.ply",
             file(&format!("format ascii\n{vertex}{face}")),
-            "line 2: 'format ascii' is not a format line such as 'format ascii 1.0'",
+            "2: 'format ascii' is not a format line such as 'format ascii 1.0'",
         ),
         (
             "format_twice.ply",
             file(&format!(
                 "format ascii 1.0\nformat ascii 1.0\n{vertex}{face}"
             )),
-            "line 3: the format is declared twice (first on line 2)",
+            "3: the format is declared twice (first on line 2)",
         ),
         (
             "no_format.ply",
             file(&format!("{vertex}{face}")),
-            "line 2: element 'vertex' comes before the 'format' line",
+            "2: element 'vertex' comes before the 'format' line",
         ),
         (
             "property_first.ply",
             file(&format!(
                 "format ascii 1.0\nproperty float w\n{vertex}{face}"
             )),
-            "line 3: property 'w' comes before any element",
+            "3: property 'w' comes before any element",
         ),
         (
             "keyword.ply",
             file(&format!("format ascii 1.0\n{vertex}elemnt face 1\n")),
-            "line 7: 'elemnt' is not a PLY header keyword (format, comment, obj_info, element, \
+            "7: 'elemnt' is not a PLY header keyword (format, comment, obj_info, element, \
              property, end_header)",
         ),
         (
             "negative_count.ply",
             file("format ascii 1.0\nelement vertex -3\n"),
-            "line 3: element 'vertex' has count '-3': a count must be a whole number",
+            "3: element 'vertex' has count '-3': a count must be a whole number",
         ),
         (
             "fractional_count.ply",
             file(&format!("format ascii 1.0\n{vertex}element face 1.5\n")),
-            "line 7: element 'face' has count '1.5': a count must be a whole number",
+            "7: element 'face' has count '1.5': a count must be a whole number",
         ),
         (
             "endless_count.ply",
             file(&format!(
                 "format ascii 1.0\n{vertex}element face 123456789012345678901234567890\n"
             )),
-            "line 7: element 'face' has count '123456789012345678901234567890', more than any \
+            "7: element 'face' has count '123456789012345678901234567890', more than any \
              file can hold",
         ),
         (
@@ -1364,27 +1347,27 @@ fn ply_header_mistakes_name_the_line() {
                 "format ascii 1.0\nelement vertex 4294967297\nproperty float x\n\
                  property float y\nproperty float z\n{face}"
             )),
-            "line 3: the header declares 4294967297 vertices: timbre reads at most 4294967296",
+            "3: the header declares 4294967297 vertices: timbre reads at most 4294967296",
         ),
         (
             "short_property.ply",
             file(&format!(
                 "format ascii 1.0\n{vertex}element face 1\nproperty list uchar int\n"
             )),
-            "line 8: 'property list uchar int' is not a property line such as 'property float \
+            "8: 'property list uchar int' is not a property line such as 'property float \
              x' or 'property list uchar int vertex_indices'",
         ),
         (
             "end_header_and_more.ply",
             format!("ply\nformat ascii 1.0\n{vertex}{face}end_header now\n{body}").into_bytes(),
-            "line 9: 'end_header now' has words after 'end_header'",
+            "9: 'end_header now' has words after 'end_header'",
         ),
         (
             "scalar_indices.ply",
             file(&format!(
                 "format ascii 1.0\n{vertex}element face 1\nproperty int vertex_indices\n"
             )),
-            "line 8: property 'vertex_indices' of element 'face' is not a list; it must be a \
+            "8: property 'vertex_indices' of element 'face' is not a list; it must be a \
              list of vertex indices ('property list uchar int vertex_indices')",
         ),
         (
@@ -1392,7 +1375,7 @@ fn ply_header_mistakes_name_the_line() {
             file(&format!(
                 "format ascii 1.0\n{vertex}{face}property list uchar int vertex_index\n"
             )),
-            "line 9: the 'face' element has both 'vertex_indices' (line 8) and 'vertex_index': \
+            "9: the 'face' element has both 'vertex_indices' (line 8) and 'vertex_index': \
              which are the faces?",
         ),
         (
@@ -1401,7 +1384,7 @@ fn ply_header_mistakes_name_the_line() {
                 "format ascii 1.0\n{vertex}property list uchar float nx\nproperty float ny\n\
                  property float nz\n{face}"
             )),
-            "line 7: property 'nx' of element 'vertex' is a list; a normal's component must be a \
+            "7: property 'nx' of element 'vertex' is a list; a normal's component must be a \
              number",
         ),
     ];
@@ -1423,46 +1406,46 @@ fn ply_body_values_that_do_not_fit_their_declaration_name_line_and_column() {
         (
             "short_line.ply",
             file("0 0 0\n1 0\n0 1 0\n", "3 0 1 2\n"),
-            "line 11: vertex 1 has 2 values, the header declares 3",
+            "11: vertex 1 has 2 values, the header declares 3",
         ),
         (
             "short_face.ply",
             file(good, "3 0 1\n"),
-            "line 13: face 0 has 3 values, the header and its list count declare 4",
+            "13: face 0 has 3 values, the header and its list count declare 4",
         ),
         (
             "float_index.ply",
             file(good, "3 0 1.0 2\n"),
-            "line 13, column 5: face 0: '1.0' is not an integer (property 'vertex_indices' is \
+            "13:5: face 0: '1.0' is not an integer (property 'vertex_indices' is \
              int)",
         ),
         (
             "big_count.ply",
             file(good, "300 0 1 2\n"),
-            "line 13, column 1: face 0: 300 is out of range for property 'vertex_indices' \
+            "13:1: face 0: 300 is out of range for property 'vertex_indices' \
              (uchar: 0 to 255)",
         ),
         (
             "negative_count.ply",
             format!("{signed}0 0 0\n1 0 0\n0 1 0\n-1 0 1 2\n").into_bytes(),
-            "line 13, column 1: face 0: list 'vertex_indices' has a negative count (-1)",
+            "13:1: face 0: list 'vertex_indices' has a negative count (-1)",
         ),
         (
             "fractional_int.ply",
             format!("{signed}0 0 0\n1.5 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
-            "line 11, column 1: vertex 1: '1.5' is not an integer (property 'x' is int)",
+            "11:1: vertex 1: '1.5' is not an integer (property 'x' is int)",
         ),
         // No 400-digit number in a message: cut at 40 characters.
         (
             "long_int.ply",
             format!("{signed}0 0 0\n{long_digits} 0 0\n0 1 0\n3 0 1 2\n").into_bytes(),
-            "line 11, column 1: vertex 1: 9999999999999999999999999999999999999999… is out of \
+            "11:1: vertex 1: 9999999999999999999999999999999999999999… is out of \
              range for property 'x' (int: -2147483648 to 2147483647)",
         ),
         (
             "float_overflow.ply",
             file("0 0 0\n1 1e39 0\n0 1 0\n", "3 0 1 2\n"),
-            "line 11, column 3: vertex 1: y is infinite ('1e39' is too large for a float)",
+            "11:3: vertex 1: y is infinite ('1e39' is too large for a float)",
         ),
         (
             "long_double.ply",
@@ -1472,33 +1455,33 @@ fn ply_body_values_that_do_not_fit_their_declaration_name_line_and_column() {
                 "0".repeat(309)
             )
             .into_bytes(),
-            "line 11, column 1: vertex 1: x is infinite ('1000000000000000000000000000000000000000…' \
+            "11:1: vertex 1: x is infinite ('1000000000000000000000000000000000000000…' \
              is too large for a double)",
         ),
         (
             "word.ply",
             file("0 0 0\n1 one 0\n0 1 0\n", "3 0 1 2\n"),
-            "line 11, column 3: vertex 1: 'one' is not a number (property 'y' is float)",
+            "11:3: vertex 1: 'one' is not a number (property 'y' is float)",
         ),
         (
             "index.ply",
             file(good, "3 0 1 3\n"),
-            "line 13, column 7: face 0: vertex index 3 is out of range (the file has 3 vertices)",
+            "13:7: face 0: vertex index 3 is out of range (the file has 3 vertices)",
         ),
         (
             "missing_vertex_line.ply",
             file("0 0 0\n1 0 0\n", ""),
-            "line 12: the file ends after 2 of the 3 vertices the header declares",
+            "12: the file ends after 2 of the 3 vertices the header declares",
         ),
         (
             "no_faces_line.ply",
             file(good, ""),
-            "line 13: the file ends after 0 of the 1 face the header declares",
+            "13: the file ends after 0 of the 1 face the header declares",
         ),
         (
             "trailing_words.ply",
             file(good, "3 0 1 2\n\n  # written by hand\n"),
-            "line 15, column 3: the body has data after the 3 vertices and 1 face the header \
+            "15:3: the body has data after the 3 vertices and 1 face the header \
              declares",
         ),
     ];
@@ -1525,23 +1508,23 @@ fn ply_other_elements_are_checked_as_strictly_as_vertices_and_faces() {
         (
             "edge_range.ply",
             format!("{header}{ok}0 1\n1 256\n2 0.5 1.5\n").into_bytes(),
-            "line 20, column 3: edge 1: 256 is out of range for property 'vertex2' (uchar: 0 to \
+            "20:3: edge 1: 256 is out of range for property 'vertex2' (uchar: 0 to \
              255)",
         ),
         (
             "edge_extra.ply",
             format!("{header}{ok}0 1 2\n1 2\n2 0.5 1.5\n").into_bytes(),
-            "line 19, column 5: edge 0 has 3 values, the header declares 2",
+            "19:5: edge 0 has 3 values, the header declares 2",
         ),
         (
             "weights_short.ply",
             format!("{header}{ok}0 1\n1 2\n3 0.5 1.5\n").into_bytes(),
-            "line 21: material 0 has 3 values, the header and its list count declare 4",
+            "21: material 0 has 3 values, the header and its list count declare 4",
         ),
         (
             "after_material.ply",
             format!("{header}{ok}0 1\n1 2\n2 0.5 1.5\n0 0\n").into_bytes(),
-            "line 22, column 1: the body has data after the 3 vertices, 1 face, 2 'edge' \
+            "22:1: the body has data after the 3 vertices, 1 face, 2 'edge' \
              elements and 1 'material' element the header declares",
         ),
     ];
@@ -1706,7 +1689,7 @@ fn text_from_a_file_is_shortened_and_escaped_in_messages() {
         (
             "escape_header.ply",
             b"ply\nformat ascii 1.0\n\x1b]0;owned\x07\nend_header\n".to_vec(),
-            "line 3: '\\x1b]0;owned\\x07' is not a PLY header keyword (format, comment, \
+            "3: '\\x1b]0;owned\\x07' is not a PLY header keyword (format, comment, \
              obj_info, element, property, end_header)",
         ),
         (
@@ -1716,7 +1699,7 @@ fn text_from_a_file_is_shortened_and_escaped_in_messages() {
                 ascii_header(3, 1, "")
             )
             .into_bytes(),
-            "line 11, column 3: vertex 1: '\\x1b[2J' is not a number (property 'y' is float)",
+            "11:3: vertex 1: '\\x1b[2J' is not a number (property 'y' is float)",
         ),
         // Bytes that are not UTF-8, and a right-to-left override.
         (
@@ -1727,23 +1710,23 @@ fn text_from_a_file_is_shortened_and_escaped_in_messages() {
         (
             "bidi.ply",
             "ply\nformat ascii\u{202e}1.0 \n".as_bytes().to_vec(),
-            "line 2: 'format ascii\\u{202e}1.0' is not a format line such as 'format ascii 1.0'",
+            "2: 'format ascii\\u{202e}1.0' is not a format line such as 'format ascii 1.0'",
         ),
         (
             "long_first_line.ply",
             long.clone().into_bytes(),
-            "line 1: not a PLY file: the first line is 'vvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvv…', \
+            "1: not a PLY file: the first line is 'vvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvv…', \
              not 'ply'",
         ),
         (
             "long_obj.obj",
             format!("v 0 0 0\nv 1 0 {long}\n").into_bytes(),
-            "line 2, column 7: 'vvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvv…' is not a number",
+            "2:7: 'vvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvvv…' is not a number",
         ),
         (
             "escape.obj",
             b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \x1b[31m3\x00\n".to_vec(),
-            "line 4, column 7: '\\x1b[31m3\\x00' is not a vertex reference",
+            "4:7: '\\x1b[31m3\\x00' is not a vertex reference",
         ),
     ];
     assert_messages(&dir, &cases);
@@ -1787,68 +1770,68 @@ fn obj_lines_tobj_would_reject_without_a_line_are_errors_with_one() {
         (
             "seven.obj",
             b"v 0 0 0\nv 1 0 0 1 0.5 0.5 0.5\nv 0 1 0\nf 1 2 3\n".to_vec(),
-            "line 2: a vertex needs x y z, optionally w or r g b; got 7 numbers",
+            "2: a vertex needs x y z, optionally w or r g b; got 7 numbers",
         ),
         (
             "colours.obj",
             b"v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n".to_vec(),
-            "line 2: vertex 2 has no colour (r g b) but the first vertex (line 1) has one: give \
+            "2: vertex 2 has no colour (r g b) but the first vertex (line 1) has one: give \
              every vertex a colour or none",
         ),
         (
             "colours_late.obj",
             format!("{tri}v 1 1 0 0 0 1\nf 1 2 3\n").into_bytes(),
-            "line 4: vertex 4 has a colour (r g b) but the first vertex (line 1) has none: give \
+            "4: vertex 4 has a colour (r g b) but the first vertex (line 1) has none: give \
              every vertex a colour or none",
         ),
         (
             "vt.obj",
             format!("{tri}vt 0.5\nf 1/1 2/1 3/1\n").into_bytes(),
-            "line 4: a texture coordinate needs u v, optionally w; got 1 number",
+            "4: a texture coordinate needs u v, optionally w; got 1 number",
         ),
         (
             "forms.obj",
             format!("{tri}vn 0 0 1\nf 1//1 2//1 3\n").into_bytes(),
-            "line 5, column 13: the face mixes '1//1' and '3': all its vertices must have the \
+            "5:13: the face mixes '1//1' and '3': all its vertices must have the \
              same form (v, v/vt, v//vn or v/vt/vn)",
         ),
         (
             "w_nan.obj",
             format!("{tri}v 1 1 1 nan\nf 1 2 3\n").into_bytes(),
-            "line 4, column 9: vertex 4: w is NaN",
+            "4:9: vertex 4: w is NaN",
         ),
         // An infinite w would put the vertex at the origin.
         (
             "w_inf.obj",
             format!("{tri}v 1 1 1 inf\nf 1 2 3\n").into_bytes(),
-            "line 4, column 9: vertex 4: w is infinite",
+            "4:9: vertex 4: w is infinite",
         ),
         (
             "w_zero.obj",
             format!("{tri}v 1 1 1 0.0\nf 1 2 3\n").into_bytes(),
-            "line 4, column 9: vertex 4: w is 0 (x, y and z are divided by w)",
+            "4:9: vertex 4: w is 0 (x, y and z are divided by w)",
         ),
         (
             "w_tiny.obj",
             format!("{tri}v 1 1e300 1 1e-300\nf 1 2 3\n").into_bytes(),
-            "line 4: vertex 4: y / w is too large (infinite)",
+            "4: vertex 4: y / w is too large (infinite)",
         ),
         (
             "absurd.obj",
             format!("{tri}f 1 2 {long_index}\n").into_bytes(),
-            "line 4, column 7: face refers to vertex 1111111111111111111111111111111111111111…, \
+            "4:7: face refers to vertex 1111111111111111111111111111111111111111…, \
              but 3 are defined before this line",
         ),
         (
             "absurd_negative.obj",
             format!("{tri}f 1 2 -{long_index}\n").into_bytes(),
-            "line 4, column 7: face refers to vertex -111111111111111111111111111111111111111…, \
+            "4:7: face refers to vertex -111111111111111111111111111111111111111…, \
              but 3 are defined before this line",
         ),
         (
             "utf8_late.obj",
             b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\no caf\xc3\xa9 \xff\n".to_vec(),
-            "line 5, column 8: not a text file (invalid UTF-8: \\xff)",
+            "5:8: not a text file (invalid UTF-8: \\xff)",
         ),
     ];
     assert_messages(&dir, &cases);
@@ -2058,7 +2041,7 @@ fn check_names_the_scene_the_mesh_and_the_line_of_a_malformed_obj() {
     assert_eq!(
         run.stderr.trim_end(),
         format!(
-            "timbre: error: scene.toml:{SHAPE_AT}: object 'm': bad.obj:line 6, column 7: \
+            "timbre: error: scene.toml:{SHAPE_AT}: object 'm': bad.obj:6:7: \
              face refers to vertex 4, but 3 are defined before this line"
         )
     );
@@ -2075,7 +2058,7 @@ fn check_resolves_mesh_paths_relative_to_the_scene_file() {
     .unwrap();
     write(&dir, "scenes/scene.toml", mesh_scene("meshes/bad.ply"));
     timbre(dir.path(), &["check", "scenes/scene.toml"]).assert_bad_input(&[&format!(
-        "scenes/scene.toml:{SHAPE_AT}: object 'm': scenes/meshes/bad.ply:line 14, column 7: \
+        "scenes/scene.toml:{SHAPE_AT}: object 'm': scenes/meshes/bad.ply:14:7: \
          face 1: vertex index 3 is out of range"
     )]);
 

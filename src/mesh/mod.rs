@@ -38,8 +38,9 @@ pub enum MeshError {
         path: String,
         source: std::io::Error,
     },
-    /// `location` is where in the file: "line N" or "line N, column C" (OBJ, ASCII PLY, a PLY
-    /// header), "byte N" (binary PLY), "header", or empty.
+    /// `location` is where in the file, in the scene file's style: "N:C" (line and column) or
+    /// "N" (a line) in OBJ, ASCII PLY and PLY headers, "byte N" in binary PLY, "header", or
+    /// empty.
     #[error("{path}:{location}{}{message}", if location.is_empty() { " " } else { ": " })]
     Invalid {
         path: String,

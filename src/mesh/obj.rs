@@ -83,7 +83,7 @@ fn not_utf8(bytes: &[u8], e: &std::str::Utf8Error) -> ParseProblem {
     let bad_len = e.error_len().unwrap_or(bytes.len() - good.len());
     let bad = &bytes[good.len()..good.len() + bad_len];
     ParseProblem::new(
-        format!("line {line}, column {column}"),
+        format!("{line}:{column}"),
         format!("not a text file (invalid UTF-8: {})", shown(bad)),
     )
 }
@@ -101,11 +101,11 @@ fn to_points(xyz: &[f64]) -> Vec<DVec3> {
     xyz.chunks_exact(3).map(DVec3::from_slice).collect()
 }
 
-/// Where `word` (a slice of `line`) starts, as "line N, column C".
+/// Where `word` (a slice of `line`) starts, as "N:C" (line and column).
 fn column(line_no: usize, line: &str, word: &str) -> String {
     let offset = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
     let column = line.get(..offset).map_or(0, |s| s.chars().count()) + 1;
-    format!("line {line_no}, column {column}")
+    format!("{line_no}:{column}")
 }
 
 /// Checks every vertex, normal and face line (see the module's rules), and returns the text
@@ -119,7 +119,7 @@ fn check(text: &str) -> Result<Cow<'_, str>, ParseProblem> {
     let mut coloured: Option<(bool, usize)> = None;
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
-        let at = |message: String| ParseProblem::new(format!("line {line_no}"), message);
+        let at = |message: String| ParseProblem::new(line_no.to_string(), message);
         let at_word =
             |word: &str, message: String| ParseProblem::new(column(line_no, line, word), message);
         let mut words = line.split_whitespace();

@@ -204,7 +204,7 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
     loop {
         if pos >= bytes.len() {
             return Err(ParseProblem::new(
-                format!("line {}", line_no + 1),
+                (line_no + 1).to_string(),
                 "the file ends in the header: there is no 'end_header' line",
             ));
         }
@@ -215,7 +215,7 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
         let line = &bytes[pos..end];
         let next = (end + 1).min(bytes.len());
         line_no += 1;
-        let at = |message: String| ParseProblem::new(format!("line {line_no}"), message);
+        let at = |message: String| ParseProblem::new(line_no.to_string(), message);
         if line_no == 1 {
             if trimmed(line) != b"ply" {
                 return Err(at(format!(
@@ -413,7 +413,7 @@ struct Plan {
 
 fn plan(header: &Header) -> Result<Plan, ParseProblem> {
     let find = |name: &[u8]| header.elements.iter().position(|e| e.name == name);
-    let line = |n: usize| format!("line {n}");
+    let line = |n: usize| n.to_string();
     let mut roles: Vec<Vec<Role>> = header
         .elements
         .iter()
@@ -742,11 +742,11 @@ impl Source for Ascii<'_> {
 
     fn here(&self) -> String {
         let column = self.token.0 - self.line_start + 1;
-        format!("line {}, column {column}", self.line_no)
+        format!("{}:{column}", self.line_no)
     }
 
     fn line(&self) -> String {
-        format!("line {}", self.line_no)
+        self.line_no.to_string()
     }
 
     fn token(&self) -> Option<&[u8]> {
@@ -758,7 +758,7 @@ impl Source for Ascii<'_> {
     }
 
     fn at_end(&self) -> String {
-        format!("line {}", self.line_no + 1)
+        (self.line_no + 1).to_string()
     }
 
     fn remaining(&self) -> usize {
@@ -771,7 +771,7 @@ impl Source for Ascii<'_> {
                 .iter()
                 .position(|&b| !is_blank(b))
             {
-                return Some(format!("line {}, column {}", self.line_no, k + 1));
+                return Some(format!("{}:{}", self.line_no, k + 1));
             }
         }
         None
