@@ -16,7 +16,7 @@ fi
 mkdir -p "$work"
 cd "$work"
 
-# `measure LABEL [prlimit options --] ARGS...`: one row of the table.
+# `measure LABEL [--cap BYTES] ARGS...`: one row of the table (BYTES: an address-space limit).
 measure() {
     local label=$1
     shift
@@ -28,7 +28,7 @@ measure() {
     local out code
     out=$( { /usr/bin/time -f "TIME %e %M" "${limit[@]}" "$timbre" "$@" >/dev/null; } 2>&1) && code=0 || code=$?
     local message times
-    message=$(grep -v '^TIME' <<<"$out" | head -n 1 | cut -c1-90)
+    message=$(grep -v '^TIME' <<<"$out" | head -n 1 | cut -c1-90 || true)
     times=$(grep '^TIME' <<<"$out" | tail -n 1)
     read -r _ wall kib <<<"$times"
     printf '| %s | %s | %s s | %s MiB | %s |\n' "$label" "$code" "$wall" "$((kib / 1024))" "${message:-OK}"
@@ -67,7 +67,7 @@ open("bomb.ply", "wb").write(
 open("ply-bomb.toml", "w").write(
     '[[object]]\nshape = { type = "mesh", file = "bomb.ply" }\nsurface = { type = "mirror" }\n')
 PY
-mkfifo fifo.toml
+rm -f fifo.toml && mkfifo fifo.toml
 
 echo "| input | exit | wall | peak RSS | message |"
 echo "|---|---|---|---|---|"
