@@ -85,11 +85,16 @@ pub(super) struct Outline {
 
 /// The outline of `text`; one part where the text is short or its outline unclear.
 pub(super) fn outline(text: &str, max_objects: usize) -> Outline {
+    cut(text, PART_BYTES, max_objects)
+}
+
+/// [`outline`] with parts of about `part_bytes`.
+fn cut(text: &str, part_bytes: usize, max_objects: usize) -> Outline {
     let whole = |excess_object| Outline {
         parts: std::iter::once(0..text.len()).collect(),
         excess_object,
     };
-    if text.len() < PART_BYTES {
+    if text.len() < part_bytes {
         return whole(None);
     }
     let Some(lines) = scan(text.as_bytes()) else {
@@ -122,7 +127,7 @@ pub(super) fn outline(text: &str, max_objects: usize) -> Outline {
             // A new element of an array of tables: the place to cut.
             Some((_, true)) | None if new_element => {
                 let part_start = starts[starts.len() - 1];
-                if at - part_start >= PART_BYTES {
+                if at - part_start >= part_bytes {
                     starts.push(at);
                 }
             }
@@ -337,6 +342,57 @@ mod tests {
             let reached = text[..reaching].rfind(reached).unwrap();
             let part = |at: usize| outline.parts.iter().position(|p| p.contains(&at));
             assert_eq!(part(reaching), part(reached), "{tail:.20}");
+        }
+    }
+
+    /// Pieces of TOML that a cut could get wrong: arrays of tables and their subtables,
+    /// headers inside strings, arrays and comments, tables given twice or reached back into.
+    const PIECES: [&str; 11] = [
+        "[[object]]\nname = \"a\"\n",
+        "[[group]]\nname = \"g\"\n[[group.object]]\nname = \"m\"\n",
+        "[render]\nwidth = 3\n",
+        "[object.transform]\nscale = 2\n",
+        "[[light]]\nx = \"\"\"\n[[object]]\n\"\"\"\n",
+        "[[light]]\ny = [\n[1],\n]\n",
+        "# [[object]]\n",
+        "[camera]\nz = '[[x]]'\n",
+        "[[include]]\nfile = 'f'\n",
+        "[[object]]\n[object.shape]\nr = 1\n",
+        "[object]\nname = \"b\"\n",
+    ];
+
+    /// The parts' tables joined as `File::append` joins them (arrays of tables extended), or
+    /// `None` where a part is not TOML or two parts have the same key otherwise.
+    fn joined(text: &str, parts: &[Range<usize>]) -> Option<toml::Table> {
+        let mut all = toml::Table::new();
+        for part in parts {
+            for (key, value) in text[part.clone()].parse::<toml::Table>().ok()? {
+                match (all.get_mut(&key), value) {
+                    (Some(toml::Value::Array(a)), toml::Value::Array(more)) => a.extend(more),
+                    (Some(_), _) => return None,
+                    (None, value) => {
+                        all.insert(key, value);
+                    }
+                }
+            }
+        }
+        Some(all)
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn parsing_the_parts_and_joining_them_is_parsing_the_whole(
+            top in proptest::bool::ANY,
+            pieces in proptest::collection::vec(0..PIECES.len(), 1..24),
+            part_bytes in 1usize..120,
+        ) {
+            let mut text = if top { "studio = \"none\"\n".to_string() } else { String::new() };
+            for p in pieces {
+                text += PIECES[p];
+            }
+            let outline = cut(&text, part_bytes, usize::MAX);
+            let whole = text.parse::<toml::Table>().ok();
+            proptest::prop_assert_eq!(joined(&text, &outline.parts), whole, "{}", text);
         }
     }
 
