@@ -155,7 +155,7 @@ fn cut(text: &str, part_bytes: usize, max_objects: usize) -> Outline {
 /// A line of a TOML file's outline: a table header or a key at the start of a line.
 #[derive(Debug, PartialEq)]
 enum Line<'a> {
-    /// `[key]` or `[[key]]` (with `array`) at byte `at`; `key` with the spaces taken out.
+    /// `[key]` or `[[key]]` (with `array`) at byte `at`; `key` is bare keys joined by dots.
     Header {
         at: usize,
         key: &'a str,
