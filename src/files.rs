@@ -159,12 +159,9 @@ pub fn write_atomically(
     file.commit()
 }
 
-/// Reads the whole regular file at `path`, at most `limit` bytes: a FIFO, a device or a
-/// directory is refused before it is opened (reading one could block forever or never end), and
-/// so is a file larger than `limit`, whose size is checked before reading and again while
-/// reading (a file that grows meanwhile).
-pub fn read_regular(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
-    use std::io::Read;
+/// Opens the regular file at `path` for reading: a FIFO, a device, a socket or a directory is
+/// refused before it is opened (opening or reading one could block forever or never end).
+pub fn open_regular(path: &Path) -> io::Result<File> {
     use std::os::unix::fs::FileTypeExt;
     let kind = std::fs::metadata(path)?.file_type();
     let not = |what: &str| {
@@ -185,7 +182,15 @@ pub fn read_regular(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     if kind.is_char_device() || kind.is_block_device() {
         return not("a device");
     }
-    let file = File::open(path)?;
+    File::open(path)
+}
+
+/// Reads the whole regular file at `path` ([`open_regular`]), at most `limit` bytes: a larger
+/// file is refused, its size checked before reading and again while reading (a file that grows
+/// meanwhile).
+pub fn read_regular(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
+    use std::io::Read;
+    let file = open_regular(path)?;
     let too_large = |size: u64| {
         io::Error::new(
             io::ErrorKind::InvalidInput,

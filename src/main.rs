@@ -762,9 +762,14 @@ fn job(
         None => 0..s.spp,
     };
     let checkpointing = match (args.checkpoint_interval, args.resume) {
-        (Some(i), _) if !(i.is_finite() && i > 0.0) => {
+        // A millisecond to about 32 years: what a Duration holds, and more than a render takes.
+        (Some(i), _) if !(1e-3..=1e9).contains(&i) => {
+            let shown = match i.abs() < 1e15 {
+                true => i.to_string(),
+                false => format!("{i:e}"),
+            };
             return Err(bad_input(format!(
-                "--checkpoint-interval must be a positive number of seconds, got {i}"
+                "--checkpoint-interval must be from 0.001 to 1000000000 seconds, got {shown}"
             )));
         }
         (None, false) => None,

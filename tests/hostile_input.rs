@@ -190,6 +190,45 @@ fn a_scene_reading_more_than_a_gibibyte_through_includes_is_refused() {
 }
 
 #[test]
+fn merge_reads_only_regular_files() {
+    let dir = TempDir::new().unwrap();
+    let d = dir.path();
+    bounded(
+        d,
+        &[
+            "render", "--width", "8", "--height", "4", "--tile", "0/2", "-o", "a.exr",
+        ],
+    )
+    .assert_success();
+    assert!(
+        Command::new("mkfifo")
+            .arg(d.join("b.exr"))
+            .status()
+            .unwrap()
+            .success()
+    );
+    bounded(d, &["merge", "out.exr", "a.exr", "b.exr"]).assert_bad_input(&["b.exr", "FIFO"]);
+    bounded(d, &["merge", "out.exr", "a.exr", "/dev/zero"])
+        .assert_bad_input(&["/dev/zero", "a device"]);
+    assert!(!d.join("out.exr").exists());
+}
+
+#[test]
+fn checkpoint_intervals_out_of_range_are_refused() {
+    let dir = TempDir::new().unwrap();
+    for (interval, shown) in [
+        ("1e308", "1e308"),
+        ("nan", "NaN"),
+        ("0", "0"),
+        ("inf", "inf"),
+    ] {
+        let args = ["render", "--checkpoint-interval", interval, "-o", "x.exr"];
+        bounded(dir.path(), &args)
+            .assert_bad_input(&[&format!("from 0.001 to 1000000000 seconds, got {shown}")]);
+    }
+}
+
+#[test]
 fn absurd_thread_counts_are_refused_by_the_command_line() {
     let dir = TempDir::new().unwrap();
     let run = bounded(

@@ -45,7 +45,8 @@ pub fn read_part(path: &Path) -> Result<PartReader, PartError> {
         path: name.clone(),
         message,
     };
-    let file = File::open(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
+    let file =
+        crate::files::open_regular(path).map_err(|e| fail(format!("cannot open it: {e}")))?;
     let unreadable = |e: exr::error::Error| fail(format!("not a readable OpenEXR file ({e})"));
     let reader: Reader<_> = exr::block::read(BufReader::new(file), true).map_err(unreadable)?;
     let headers = reader.headers();
