@@ -407,7 +407,7 @@ fn parts_that_do_not_make_up_one_image_are_refused_and_nothing_is_lost() {
     args_refused(&["--samples", "3..3"], &["are none"]);
     args_refused(
         &["--checkpoint-interval", "0"],
-        &["positive number of seconds"],
+        &["from 0.001 to 1000000000 seconds, got 0"],
     );
     render(d, &scene, &["--tile", "0/2", "-o", "part.png"])
         .assert_bad_input(&["needs an OpenEXR output"]);
