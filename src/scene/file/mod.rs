@@ -159,9 +159,9 @@ fn plain(message: &str) -> String {
 
 /// The TOML parser's `message` at `span` of `text` in the scene file's words, where the parser's
 /// own words mislead: a missing value is not an unquoted string, and a duplicate key is named.
-fn parser_message(text: &str, span: Option<&Range<usize>>, message: &str) -> String {
-    let at = span.and_then(|s| text.get(s.clone())).unwrap_or_default();
-    let after = span.and_then(|s| text.get(s.start..)).unwrap_or_default();
+fn parser_message(text: &str, span: &Range<usize>, message: &str) -> String {
+    let at = text.get(span.clone()).unwrap_or_default();
+    let after = text.get(span.start..).unwrap_or_default();
     let next = after.trim_start_matches([' ', '\t']).chars().next();
     if message.starts_with("string values must be quoted")
         && matches!(next, None | Some('\n' | '\r' | '#'))
@@ -292,8 +292,8 @@ impl Source {
                 toml::de::Error::span,
             )
             .map_err(|(span, e)| {
-                let message = parser_message(&self.text, span.as_ref(), e.message().trim());
-                self.error(span, message)
+                let message = parser_message(&self.text, &span, e.message().trim());
+                self.error(Some(span), message)
             })?;
             file.append(more);
         }

@@ -31,19 +31,22 @@ thread_local! {
     static PART_START: Cell<usize> = const { Cell::new(0) };
 }
 
-/// Parses `text[range]` with `parse`, so that every [`Spanned`] it makes and the span it returns
-/// are offsets in the whole `text`.
+/// Parses `text[range]` with `parse`, so that every [`Spanned`] it makes and the span of its
+/// error are offsets in the whole `text` (an error without a span is put at the part's start).
 pub(super) fn in_part<T, E>(
     text: &str,
     range: Range<usize>,
     parse: impl FnOnce(&str) -> Result<T, E>,
     span: impl FnOnce(&E) -> Option<Range<usize>>,
-) -> Result<T, (Option<Range<usize>>, E)> {
+) -> Result<T, (Range<usize>, E)> {
     let start = range.start;
     let before = PART_START.replace(start);
     let result = parse(&text[range]);
     PART_START.set(before);
-    result.map_err(|e| (span(&e).map(|s| s.start + start..s.end + start), e))
+    result.map_err(|e| {
+        let at = span(&e).map_or(start..start, |s| s.start + start..s.end + start);
+        (at, e)
+    })
 }
 
 /// A value and its byte range in the scene file (not only in the part that held it).
