@@ -485,6 +485,12 @@ fn check_memory(
     )))
 }
 
+/// [`check_memory`] for `what` builds the scene (with Embree's default threads) and no image.
+fn check_scene_memory(what: &str, description: &SceneDescription) -> Result<(), Failure> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    check_memory(what, 0, description, threads)
+}
+
 /// The first number after `name` on the line of `file` (a Linux /proc file) that starts with
 /// it; `None` if the file, the line or a number is missing ("unlimited").
 fn proc_number(file: &str, name: &str) -> Option<u64> {
@@ -764,9 +770,10 @@ fn job(
     let checkpointing = match (args.checkpoint_interval, args.resume) {
         // A millisecond to about 32 years: what a Duration holds, and more than a render takes.
         (Some(i), _) if !(1e-3..=1e9).contains(&i) => {
-            let shown = match i.abs() < 1e15 {
-                true => i.to_string(),
-                false => format!("{i:e}"),
+            let shown = if i.abs() < 1e15 {
+                i.to_string()
+            } else {
+                format!("{i:e}")
             };
             return Err(bad_input(format!(
                 "--checkpoint-interval must be from 0.001 to 1000000000 seconds, got {shown}"
@@ -881,13 +888,7 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     r.validate().map_err(bad_input)?;
     stereo::validate(&description.stereo, r.width, r.height)
         .map_err(|m| bad_input(in_file(Some(scene), m)))?;
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    check_memory(
-        &format!("checking {}", scene.display()),
-        0,
-        &description,
-        threads,
-    )?;
+    check_scene_memory(&format!("checking {}", scene.display()), &description)?;
     let waiting = spinner(false, "building the BVH");
     let device = Device::new("").map_err(internal)?;
     let drawn =
@@ -934,6 +935,7 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
             scene.display()
         )));
     }
+    check_scene_memory(&format!("tracing {}", scene.display()), &description)?;
     let device = Device::new("").map_err(internal)?;
     let traced =
         trajectories::trace(&device, &description).map_err(|e| untraceable(Some(scene), e))?;
