@@ -26,14 +26,14 @@ seed() {
     mkdir -p "$dir"
     [ -d "tests/data/fuzz/$target" ] && cp -n "tests/data/fuzz/$target"/* "$dir"/ 2>/dev/null || true
     case $target in
-        obj) cp -n tests/data/meshes/*.obj scenes/meshes/*.obj "$dir"/ ;;
+        obj) cp -n tests/data/meshes/*.obj scenes/meshes/*.obj "$dir"/ || true ;;
         ply)
-            cp -n tests/data/meshes/*.ply "$dir"/
+            cp -n tests/data/meshes/*.ply "$dir"/ || true
             for e in ascii binary-little-endian binary-big-endian; do
                 target/release/timbre generate-mesh --triangles 24 --encoding "$e" -o "$dir/sphere-$e.ply" >/dev/null
             done ;;
         scene)
-            for s in scenes/*.toml; do cp -n "$s" "$dir/"; done
+            cp -n scenes/*.toml "$dir"/ || true
             # A scene that includes a file and uses both meshes: four files joined by 0xFF.
             {
                 printf '[[include]]\nfile = "inc.toml"\ntransform = { scale = 2 }\n'
@@ -86,7 +86,7 @@ for t in "${targets[@]}"; do
     mkdir -p fuzz/logs
     if ! fuzz run -s none --release "$t" "fuzz/corpus/$t" -- "${flags[@]}" > "fuzz/logs/$t.log" 2>&1; then
         findings+=("$t")
-        grep -E -A12 'panicked|ERROR|SUMMARY' "fuzz/logs/$t.log" | head -n 40
+        grep -E -A12 'panicked|ERROR|SUMMARY' "fuzz/logs/$t.log" | head -n 40 || true
     fi
     grep -E 'INITED|DONE|stat::' "fuzz/logs/$t.log" || true
 done

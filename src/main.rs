@@ -44,8 +44,9 @@ macro_rules! err {
 /// Longest run of characters without a space that is printed whole.
 const LONGEST_WORD: usize = 200;
 
-/// `text` made safe to print on a terminal, whatever a file put in it: control characters
-/// (other than line breaks and tabs) and invisible or reordering marks are escaped
+/// `text` made safe to print on a terminal as one line, whatever a file put in it: control
+/// characters (line breaks too: a name cannot start a line that looks like timbre's own) and
+/// invisible or reordering marks are escaped
 /// ([`timbre::text::escape`]), so a name or token cannot drive the terminal; a run of more than
 /// [`LONGEST_WORD`] characters without a space (a 10 MB key, a 309-digit number) is cut in the
 /// middle, saying how much was left out.
@@ -66,7 +67,7 @@ fn printable(text: &str) -> String {
     };
     for c in text.chars() {
         match c {
-            '\n' | '\t' | ' ' => {
+            ' ' => {
                 flush(&mut word, &mut out);
                 out.push(c);
             }
@@ -896,7 +897,9 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
     Scene::build(&device, &drawn).map_err(internal)?;
     waiting.finish_and_clear();
     out!("{}: OK", scene.display());
-    out!("{}", description.report());
+    for line in description.report().to_string().lines() {
+        out!("{line}");
+    }
     Ok(())
 }
 
@@ -964,8 +967,21 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
             rays,
             scene: scene.display().to_string(),
         };
-        let text = serde_json::to_string_pretty(&document).map_err(internal)?;
-        out!("{text}");
+        // serde_json escapes control characters; invisible marks get JSON escapes too, and
+        // nothing is cut (the output must stay JSON).
+        let text: String = serde_json::to_string_pretty(&document)
+            .map_err(internal)?
+            .chars()
+            .map(|c| {
+                if timbre::text::is_invisible(c) {
+                    format!("\\u{:04x}", c as u32)
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect();
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), "{text}");
         return Ok(());
     }
     for t in &traced {
@@ -1057,7 +1073,9 @@ fn main() -> ExitCode {
         Ok(cli) => cli,
         // A usage error quotes the argument: printed like every message, escaped and cut.
         Err(e) if e.use_stderr() => {
-            eprint!("{}", printable(&e.render().to_string()));
+            for line in e.render().to_string().lines() {
+                err!("{line}");
+            }
             std::process::exit(e.exit_code());
         }
         Err(e) => e.exit(),

@@ -113,7 +113,7 @@ fn includes_nested_too_deeply_are_refused_not_a_stack_overflow() {
     }
     write(dir.path(), "level2000.toml", SPHERE);
     bounded(dir.path(), &["check", "level0.toml"])
-        .assert_bad_input(&["level100.toml:2:8", "nested more than 100 files deep"]);
+        .assert_bad_input(&["level100.toml:2:8", "nested more than 100 levels deep"]);
     bounded(dir.path(), &["check", "level1900.toml"]).assert_success();
 }
 

@@ -1830,6 +1830,19 @@ fn errors_deep_in_large_files_are_located_in_the_whole_file() {
         "{message}"
     );
     assert!(message.contains("duplicate"), "{message}");
+    // The same with the first table on the first line, after a byte-order mark.
+    let spheres = many_spheres("", 20_000, "[render]\nheight = 5\n");
+    let marked = format!(
+        "\u{feff}[render]\nwidth = 7\n{}",
+        spheres.trim_start_matches("studio = \"none\"\n")
+    );
+    let message = parse_error(&marked);
+    assert!(message.contains("duplicate key `render`"), "{message}");
+    assert_eq!(
+        location(&message, "s.toml").0,
+        marked.lines().count() - 1,
+        "{message}"
+    );
 }
 
 #[test]
@@ -1868,4 +1881,16 @@ fn overrides_reach_every_part_of_a_large_file() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("index 25000 is beyond the 25000 entries"), "{e}");
+    // A plain value in a later part would belong to the table before it: refused.
+    let lights = "[[light]]\ntype = \"ambient\"\ncolour = [0, 0, 0]\n".repeat(30_000);
+    let path = write(dir.path(), "late.toml", many_spheres(&lights, 3, ""));
+    let e = file::load_with(&path, &set(&["object=[]"]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("'object' can be set only to a table or to tables"),
+        "{e}"
+    );
+    let scene = file::load_with(&path, &set(&["object.2.name=last"])).unwrap();
+    assert_close(sphere(&scene, "last").centre(), v(2.0, 0.0, 0.0));
 }

@@ -30,6 +30,10 @@ pub fn scene(data: &[u8]) {
     {
         return;
     }
+    // `timbre check` refuses what would not fit (check_scene_memory); here more than 1 GiB.
+    if description.build_memory() > 1 << 30 {
+        return;
+    }
     let device = Device::new("threads=1").expect("an Embree device");
     if let Ok(drawn) = timbre::trajectories::draw(&device, &description) {
         let _ = Scene::build(&device, &drawn);
@@ -50,11 +54,9 @@ pub fn set(data: &[u8]) {
     const INCLUDED: &str = "[[object]]\nname = \"ball\"\n\
         shape = { type = \"sphere\", centre = [0, 0, 0], radius = 0.5 }\n\
         surface = { type = \"mirror\" }\n";
-    let path = scratch().join("base.toml");
-    if !path.exists() {
-        put("inc.toml", INCLUDED.as_bytes());
-        put("base.toml", include_bytes!("../set-base.toml"));
-    }
+    // Written every time: the scene target writes its own inc.toml in the same directory.
+    put("inc.toml", INCLUDED.as_bytes());
+    let path = put("base.toml", include_bytes!("../set-base.toml"));
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };

@@ -169,9 +169,14 @@ fn parser_message(text: &str, span: &Range<usize>, message: &str) -> String {
         return "expected a value after `=`".into();
     }
     if message == "duplicate key" && !at.is_empty() {
-        return format!("duplicate key `{at}`: each key and table may be given only once");
+        return duplicate(at);
     }
     plain(message)
+}
+
+/// The error for `key` given twice.
+fn duplicate(key: &str) -> String {
+    format!("duplicate key `{key}`: each key and table may be given only once")
 }
 
 /// `message` with every number of more than 20 characters written in scientific notation
@@ -285,6 +290,7 @@ impl Source {
                     ),
                 ));
             }
+            let start = part.start;
             let more = parts::in_part(
                 &self.text,
                 part,
@@ -295,7 +301,8 @@ impl Source {
                 let message = parser_message(&self.text, &span, e.message().trim());
                 self.error(Some(span), message)
             })?;
-            file.append(more);
+            file.append(more)
+                .map_err(|key| self.error(Some(start..start), duplicate(key)))?;
         }
         Ok(file)
     }
@@ -329,17 +336,28 @@ struct WindowSection {
 
 impl File {
     /// Adds the tables of the next part of the file. Only the first part has top-level keys,
-    /// and a table opened in two parts is parsed in one (`parts.rs`), so nothing is replaced.
-    fn append(&mut self, next: File) {
-        self.studio = self.studio.or(next.studio);
-        self.render = self.render.take().or(next.render);
-        self.camera = self.camera.take().or(next.camera);
-        self.window = self.window.take().or(next.window);
+    /// and a table opened in two parts is parsed in one (`parts.rs`), so a key given in both
+    /// (the name is returned) is a duplicate the cut did not foresee, never a replacement.
+    fn append(&mut self, next: File) -> Result<(), &'static str> {
+        fn one<T>(a: &mut Option<T>, b: Option<T>, name: &'static str) -> Result<(), &'static str> {
+            match (a.is_some(), b) {
+                (true, Some(_)) => Err(name),
+                (_, b) => {
+                    *a = a.take().or(b);
+                    Ok(())
+                }
+            }
+        }
+        one(&mut self.studio, next.studio, "studio")?;
+        one(&mut self.render, next.render, "render")?;
+        one(&mut self.camera, next.camera, "camera")?;
+        one(&mut self.window, next.window, "window")?;
         self.light.extend(next.light);
         self.object.extend(next.object);
         self.group.extend(next.group);
         self.include.extend(next.include);
         self.ray_trajectory.extend(next.ray_trajectory);
+        Ok(())
     }
 
     fn items(self) -> Items {

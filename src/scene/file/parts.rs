@@ -141,9 +141,10 @@ fn cut(text: &str, part_bytes: usize, max_objects: usize) -> Outline {
             }
             None => {}
         }
+        // `[[a.b]]` makes `a` a table, unless it is an array of tables already.
         let is_array = match previous {
             Some((_, was_array)) if key.contains('.') => was_array,
-            _ => array,
+            _ => new_element,
         };
         opened.insert(first, (at, is_array));
     }
@@ -179,7 +180,12 @@ fn scan(text: &[u8]) -> Option<Vec<Line<'_>>> {
     let mut lines = Vec::new();
     let mut keys = Vec::new();
     let mut depth = 0usize;
-    let mut i = 0;
+    // A byte-order mark before the first line is not part of it.
+    let mut i = if text.starts_with("\u{feff}".as_bytes()) {
+        3
+    } else {
+        0
+    };
     let mut line_start = true;
     while i < text.len() {
         if line_start {
@@ -350,7 +356,10 @@ mod tests {
 
     /// Pieces of TOML that a cut could get wrong: arrays of tables and their subtables,
     /// headers inside strings, arrays and comments, tables given twice or reached back into.
-    const PIECES: [&str; 11] = [
+    const PIECES: [&str; 14] = [
+        "\u{feff}[render]\nwidth = 4\n",
+        "[[group.object]]\nname = \"n\"\n",
+        "[[light]]\r\nname = 'crlf'\r\n[light.x]\r\ny = 1\r\n",
         "[[object]]\nname = \"a\"\n",
         "[[group]]\nname = \"g\"\n[[group.object]]\nname = \"m\"\n",
         "[render]\nwidth = 3\n",

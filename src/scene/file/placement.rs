@@ -351,7 +351,7 @@ impl Placer {
             if self.stack.len() > MAX_INCLUDE_DEPTH {
                 return Err(source.error(
                     Some(span),
-                    format!("includes are nested more than {MAX_INCLUDE_DEPTH} files deep"),
+                    format!("includes are nested more than {MAX_INCLUDE_DEPTH} levels deep"),
                 ));
             }
             self.includes += 1;
