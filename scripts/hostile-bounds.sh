@@ -6,14 +6,7 @@
 #   scripts/hostile-bounds.sh [WORKDIR]    (default: a temporary directory, removed afterwards)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet
-timbre="$PWD/target/release/timbre"
-work="${1:-}"
-if [ -z "$work" ]; then
-    work="$(mktemp -d)"
-    trap 'rm -rf "$work"' EXIT
-fi
-mkdir -p "$work"
+source scripts/workdir.sh "$@"
 cd "$work"
 
 # `measure LABEL [--cap BYTES] ARGS...`: one row of the table (BYTES: an address-space limit).

@@ -6,14 +6,7 @@
 #   scripts/large-scenes.sh [WORKDIR]      (default: a temporary directory, removed afterwards)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet
-timbre="$PWD/target/release/timbre"
-work="${1:-}"
-if [ -z "$work" ]; then
-    work="$(mktemp -d)"
-    trap 'rm -rf "$work"' EXIT
-fi
-mkdir -p "$work"
+source scripts/workdir.sh "$@"
 for n in 1000000 10000000; do
     "$timbre" generate-mesh --triangles "$n" -o "$work/sphere-$n.ply"
     cat > "$work/sphere-$n.toml" <<SCENE
