@@ -30,6 +30,12 @@ fn capped(dir: &std::path::Path, args: &[&str], bytes: u64) -> Run {
     run
 }
 
+/// Makes a FIFO (named pipe) at `path`.
+fn mkfifo(path: &Path) {
+    let made = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(made.success(), "mkfifo {}", path.display());
+}
+
 const SPHERE: &str = "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 0], radius = 1 }\n\
                       surface = { type = \"matt\", colour = [1, 1, 1] }\n";
 
@@ -37,14 +43,7 @@ const SPHERE: &str = "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 0
 fn only_regular_files_are_read() {
     let dir = TempDir::new().unwrap();
     let d = dir.path();
-    let fifo = d.join("fifo.toml");
-    assert!(
-        Command::new("mkfifo")
-            .arg(&fifo)
-            .status()
-            .unwrap()
-            .success()
-    );
+    mkfifo(&d.join("fifo.toml"));
     bounded(d, &["check", "fifo.toml"]).assert_bad_input(&[
         "fifo.toml",
         "FIFO",
@@ -187,13 +186,7 @@ fn merge_reads_only_regular_files() {
         ],
     )
     .assert_success();
-    assert!(
-        Command::new("mkfifo")
-            .arg(d.join("b.exr"))
-            .status()
-            .unwrap()
-            .success()
-    );
+    mkfifo(&d.join("b.exr"));
     bounded(d, &["merge", "out.exr", "a.exr", "b.exr"]).assert_bad_input(&["b.exr", "FIFO"]);
     bounded(d, &["merge", "out.exr", "a.exr", "/dev/zero"])
         .assert_bad_input(&["/dev/zero", "a device"]);

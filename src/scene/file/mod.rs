@@ -291,13 +291,7 @@ impl Source {
                 ));
             }
             let start = part.start;
-            let more = parts::in_part(
-                &self.text,
-                part,
-                |t| toml::from_str::<File>(t),
-                toml::de::Error::span,
-            )
-            .map_err(|(span, e)| {
+            let more: File = parts::in_part(&self.text, part).map_err(|(span, e)| {
                 let message = parser_message(&self.text, &span, e.message().trim());
                 self.error(Some(span), message)
             })?;

@@ -86,6 +86,13 @@ pub(super) fn apply(text: &str, overrides: &[Override]) -> Result<String, String
         let (part, o) = locate(&keys, o).map_err(|e| format!("{o}: {e}"))?;
         located[part].push(o);
     }
+    // After the first part only headers may stand at the top: a plain value would belong to
+    // the table before it.
+    let plain = |v: &Value| match v {
+        Value::Table(_) => false,
+        Value::Array(a) => a.is_empty() || !a.iter().all(Value::is_table),
+        _ => true,
+    };
     let mut changed = String::with_capacity(text.len());
     for (k, (part, overrides)) in parts.iter().zip(located).enumerate() {
         if overrides.is_empty() {
@@ -95,13 +102,6 @@ pub(super) fn apply(text: &str, overrides: &[Override]) -> Result<String, String
         let mut table = parse(part)?;
         for o in &overrides {
             set(&mut table, o).map_err(|e| format!("{o}: {e}"))?;
-            // After the first part only headers may stand at the top: a plain value would
-            // belong to the table before it.
-            let plain = |v: &Value| match v {
-                Value::Table(_) => false,
-                Value::Array(a) => a.is_empty() || !a.iter().all(Value::is_table),
-                _ => true,
-            };
             if k > 0 && table.values().any(plain) {
                 return Err(format!(
                     "{o}: in a file this large (parsed in parts), '{}' can be set only to a \

@@ -16,6 +16,7 @@ use std::cell::Cell;
 use std::collections::HashMap;
 use std::ops::Range;
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Deserializer};
 
 /// The size of text from which a file is parsed in parts, and about the size of each part.
@@ -31,20 +32,20 @@ thread_local! {
     static PART_START: Cell<usize> = const { Cell::new(0) };
 }
 
-/// Parses `text[range]` with `parse`, so that every [`Spanned`] it makes and the span of its
-/// error are offsets in the whole `text` (an error without a span is put at the part's start).
-pub(super) fn in_part<T, E>(
+/// Deserialises `text[range]`, so that every [`Spanned`] it makes and the span of its error are
+/// offsets in the whole `text` (an error without a span is put at the part's start).
+pub(super) fn in_part<T: DeserializeOwned>(
     text: &str,
     range: Range<usize>,
-    parse: impl FnOnce(&str) -> Result<T, E>,
-    span: impl FnOnce(&E) -> Option<Range<usize>>,
-) -> Result<T, (Range<usize>, E)> {
+) -> Result<T, (Range<usize>, toml::de::Error)> {
     let start = range.start;
     let before = PART_START.replace(start);
-    let result = parse(&text[range]);
+    let result = toml::from_str(&text[range]);
     PART_START.set(before);
     result.map_err(|e| {
-        let at = span(&e).map_or(start..start, |s| s.start + start..s.end + start);
+        let at = e
+            .span()
+            .map_or(start..start, |s| s.start + start..s.end + start);
         (at, e)
     })
 }
