@@ -5,10 +5,11 @@
 #   libclang-dev   libclang for bindgen (reads the shim's header at build time)
 #   openexr        exrheader, used by the tests to validate written EXR files
 #   gcc            compiles the C shim (normally present with the Rust toolchain)
+#   g++            compiles libFuzzer for the fuzz smoke run of the tests (scripts/fuzz.sh)
 # and checks that rustc is at least the rust-version declared in Cargo.toml.
 set -euo pipefail
 
-packages=(libembree-dev libclang-dev openexr gcc)
+packages=(libembree-dev libclang-dev openexr gcc g++)
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
