@@ -30,7 +30,8 @@ pub fn phong(light: &PointLight, surface: &Coloured, n: DVec3, v: DVec3, l: DVec
     let diffuse = surface.diffuse * light.colour * nl.abs();
     let r = 2.0 * nl * n - l;
     let cos_alpha = r.dot(v);
-    let specular = if cos_alpha > 0.0 {
+    // A matt surface's highlight is exactly zero: no power to take.
+    let specular = if cos_alpha > 0.0 && surface.specular != Colour::ZERO {
         surface.specular * light.colour * cos_alpha.powf(light.phong_exponent)
     } else {
         Colour::ZERO
