@@ -428,8 +428,8 @@ impl SceneGeometry {
         best
     }
 
-    /// Nearest hits of up to 8 rays from a common origin, traced as one Embree packet (primary
-    /// rays of neighbouring pixels); entries beyond `directions.len()` are `None`.
+    /// Nearest hits of up to 8 rays from a common origin (primary rays of neighbouring pixels),
+    /// as [`Self::nearest_packet`].
     pub fn nearest8(
         &self,
         origin: DVec3,
@@ -437,26 +437,28 @@ impl SceneGeometry {
         t_min: f64,
         t_max: f64,
     ) -> [Option<Hit>; 8] {
-        let mut rays = [ExactRay {
-            origin,
-            direction: DVec3::Z,
-        }; 8];
         let n = directions.len().min(8);
-        for (ray, &direction) in rays.iter_mut().zip(directions) {
-            ray.direction = direction;
-        }
-        if !embree_can_trace(origin) {
+        let rays: [ExactRay; 8] = std::array::from_fn(|i| ExactRay {
+            origin,
+            direction: directions.get(i).copied().unwrap_or(DVec3::Z),
+        });
+        self.nearest_packet(&rays[..n], t_min, t_max)
+    }
+
+    /// Nearest hits of up to 8 rays traced as one Embree packet (coherent rays: neighbouring
+    /// pixels, a finite aperture's samples); entries beyond `rays.len()` are `None`.
+    pub fn nearest_packet(&self, rays: &[ExactRay], t_min: f64, t_max: f64) -> [Option<Hit>; 8] {
+        let rays = &rays[..rays.len().min(8)];
+        if !rays.iter().all(|r| embree_can_trace(r.origin)) {
             return std::array::from_fn(|i| {
-                (i < n).then(|| self.nearest(origin, rays[i].direction, t_min, t_max))?
+                let r = rays.get(i)?;
+                self.nearest(r.origin, r.direction, t_min, t_max)
             });
         }
-        let raw = self.top.bvh.intersect8(&rays[..n], t_min, t_max, VISIBLE);
+        let raw = self.top.bvh.intersect8(rays, t_min, t_max, VISIBLE);
         std::array::from_fn(|i| {
-            if i < n {
-                self.complete(raw[i], &rays[i], t_min, t_max)
-            } else {
-                None
-            }
+            let r = rays.get(i)?;
+            self.complete(raw[i], r, t_min, t_max)
         })
     }
 

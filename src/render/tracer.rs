@@ -5,6 +5,7 @@ use std::cell::Cell;
 use glam::DVec3;
 
 use crate::cameras::Camera;
+use crate::embree::ExactRay;
 use crate::geometry::{Hit, Interaction};
 use crate::math::{Colour, Ray, ReferenceFrame};
 use crate::scene::{Scene, World};
@@ -80,9 +81,8 @@ impl<'a> Tracer<'a> {
     }
 
     /// [`Tracer::trace`] of primary rays (at most 8, in the camera frame): adds each ray's
-    /// colour to `colours` and, if asked, records the surface it meets first in `firsts`. Rays
-    /// that reach the scene frame from the same origin (primary rays of neighbouring pixels)
-    /// are intersected as one packet.
+    /// colour to `colours` and, if asked, records the surface it meets first in `firsts`.
+    /// Without camera-frame objects the rays are intersected as one packet.
     pub(crate) fn trace_packet(
         &self,
         rays: &[Ray],
@@ -109,9 +109,7 @@ impl<'a> Tracer<'a> {
             }
             &transformed[..rays.len()]
         };
-        if self.scene.camera_frame.is_some()
-            || scene_rays.iter().any(|r| r.origin != scene_rays[0].origin)
-        {
+        if self.scene.camera_frame.is_some() {
             for (i, r) in rays.iter().enumerate() {
                 let found = self.first(r, 0.0, ReferenceFrame::Camera);
                 if let Some(f) = &found {
@@ -121,14 +119,16 @@ impl<'a> Tracer<'a> {
             }
             return;
         }
-        let mut directions = [DVec3::ZERO; 8];
-        for (d, r) in directions.iter_mut().zip(scene_rays) {
-            *d = r.direction;
-        }
+        let packet: [ExactRay; 8] = std::array::from_fn(|i| {
+            let r = scene_rays.get(i).unwrap_or(&scene_rays[0]);
+            ExactRay {
+                origin: r.origin,
+                direction: r.direction,
+            }
+        });
         self.rays.set(self.rays.get() + rays.len() as u64);
-        let hits = self.scene.scene_frame.geometry.nearest8(
-            scene_rays[0].origin,
-            &directions[..rays.len()],
+        let hits = self.scene.scene_frame.geometry.nearest_packet(
+            &packet[..rays.len()],
             0.0,
             f64::INFINITY,
         );

@@ -4,7 +4,7 @@
 use std::sync::OnceLock;
 
 use glam::DVec3;
-use timbre::embree::Device;
+use timbre::embree::{Device, ExactRay};
 use timbre::geometry::{AnalyticShape, Hit, SceneGeometry, Shape};
 
 use super::rng::Rng;
@@ -138,10 +138,11 @@ pub fn box_interval(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f6
 }
 
 /// Traces a packet of 1 to 8 rays from `base`'s origin (with its t_min and t_max) with
-/// `nearest8`: coherent (around an aim point 10 along `base`'s direction) or scattered, drawn
-/// from `rng`. Fails if a lane beyond the packet's rays answers; otherwise hands each ray's
-/// query, its lane's answer and the single-ray answer (`nearest`) to `check_lane`, and returns
-/// how many lanes differ from the single-ray answer (see [`same_hit`], to 1e-12).
+/// `nearest8`, or from origins scattered about it (as a finite aperture's samples) with
+/// `nearest_packet`: coherent (around an aim point 10 along `base`'s direction) or scattered,
+/// drawn from `rng`. Fails if a lane beyond the packet's rays answers; otherwise hands each
+/// ray's query, its lane's answer and the single-ray answer (`nearest`) to `check_lane`, and
+/// returns how many lanes differ from the single-ray answer (see [`same_hit`], to 1e-12).
 pub fn check_packet(
     scene: &SceneGeometry,
     base: Query,
@@ -150,25 +151,41 @@ pub fn check_packet(
 ) -> Result<usize, String> {
     let aim = base.origin + 10.0 * base.direction;
     let coherent = rng.f() < 0.6;
+    let apart = rng.f() < 0.3;
     let n = 1 + rng.index(8);
-    let directions: Vec<DVec3> = (0..n)
+    let rays: Vec<ExactRay> = (0..n)
         .map(|_| {
-            if coherent {
-                (aim + 0.5 * rng.unit() - base.origin).normalize()
+            let origin = if apart {
+                base.origin + 0.05 * rng.unit()
+            } else {
+                base.origin
+            };
+            let direction = if coherent {
+                (aim + 0.5 * rng.unit() - origin).normalize()
             } else {
                 rng.unit()
-            }
+            };
+            ExactRay { origin, direction }
         })
         .collect();
-    let lanes = scene.nearest8(base.origin, &directions, base.t_min, base.t_max);
+    let lanes = if apart {
+        scene.nearest_packet(&rays, base.t_min, base.t_max)
+    } else {
+        let directions: Vec<DVec3> = rays.iter().map(|r| r.direction).collect();
+        scene.nearest8(base.origin, &directions, base.t_min, base.t_max)
+    };
     if lanes[n..].iter().any(Option::is_some) {
         return Err(format!(
-            "nearest8 answered lanes beyond its {n} rays: {lanes:?}"
+            "the packet answered lanes beyond its {n} rays: {lanes:?}"
         ));
     }
     let mut differs = 0;
-    for (&direction, &lane) in directions.iter().zip(&lanes) {
-        let q = Query { direction, ..base };
+    for (ray, &lane) in rays.iter().zip(&lanes) {
+        let q = Query {
+            origin: ray.origin,
+            direction: ray.direction,
+            ..base
+        };
         let single = scene.nearest(q.origin, q.direction, q.t_min, q.t_max);
         differs += usize::from(!same_hit(single, lane, 1e-12));
         check_lane(q, lane, single)?;

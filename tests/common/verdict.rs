@@ -382,13 +382,14 @@ pub fn check_queries(
         observe(&answers, got);
     }
     for _ in 0..packets {
-        // A packet from one origin: coherent (around an aim point) or scattered.
+        // A packet from one origin or from origins about it: coherent (around an aim point)
+        // or scattered.
         let base = draw(rng);
         tally.packet_differs += check_packet(scene, base, rng, |q, lane, single| {
             let answers = Answers::new(objects, elements, q);
             let brute = scene.nearest_brute_force(q.origin, q.direction, q.t_min, q.t_max);
             let v = check_nearest(&answers, brute, lane)
-                .map_err(|e| format!("nearest8 lane (single ray: {single:?}): {e}\n{q:?}"))?;
+                .map_err(|e| format!("packet lane (single ray: {single:?}): {e}\n{q:?}"))?;
             tally.packet[v as usize] += 1;
             Ok(())
         })?;
