@@ -269,6 +269,27 @@ int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray) {
     return r.tfar < 0.0f;
 }
 
+/* Fills an 8-wide packet (structure of arrays) and its valid mask from timbre's rays. */
+static void to_embree_packet8(const int *valid, const TimbreRay *rays, int *valid8,
+                              struct RTCRay8 *out) {
+    for (unsigned i = 0; i < 8; i++) {
+        const TimbreRay *r = &rays[i];
+        valid8[i] = valid[i] ? -1 : 0;
+        out->org_x[i] = r->org[0];
+        out->org_y[i] = r->org[1];
+        out->org_z[i] = r->org[2];
+        out->dir_x[i] = r->dir[0];
+        out->dir_y[i] = r->dir[1];
+        out->dir_z[i] = r->dir[2];
+        out->tnear[i] = r->tnear;
+        out->tfar[i] = r->tfar;
+        out->time[i] = 0.0f;
+        out->mask[i] = r->mask;
+        out->id[i] = r->id;
+        out->flags[i] = 0;
+    }
+}
+
 void timbre_intersect8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
                        TimbreHit *hits) {
     TimbreContext ctx;
@@ -279,21 +300,8 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
     /* Embree requires the packet and its valid mask to be 32-byte aligned. */
     _Alignas(32) struct RTCRayHit8 rh;
     _Alignas(32) int valid8[8];
+    to_embree_packet8(valid, rays, valid8, &rh.ray);
     for (unsigned i = 0; i < 8; i++) {
-        const TimbreRay *r = &rays[i];
-        valid8[i] = valid[i] ? -1 : 0;
-        rh.ray.org_x[i] = r->org[0];
-        rh.ray.org_y[i] = r->org[1];
-        rh.ray.org_z[i] = r->org[2];
-        rh.ray.dir_x[i] = r->dir[0];
-        rh.ray.dir_y[i] = r->dir[1];
-        rh.ray.dir_z[i] = r->dir[2];
-        rh.ray.tnear[i] = r->tnear;
-        rh.ray.tfar[i] = r->tfar;
-        rh.ray.time[i] = 0.0f;
-        rh.ray.mask[i] = r->mask;
-        rh.ray.id[i] = r->id;
-        rh.ray.flags[i] = 0;
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
@@ -313,4 +321,26 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
         hits[i].prim_id = rh.hit.primID[i];
         hits[i].inst_id = rh.hit.instID[0][i];
     }
+}
+
+void timbre_occluded8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
+                      int *occluded) {
+    TimbreContext ctx;
+    init_context(&ctx, query);
+#if !defined(TIMBRE_EMBREE4)
+    ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+#endif
+    _Alignas(32) struct RTCRay8 r;
+    _Alignas(32) int valid8[8];
+    to_embree_packet8(valid, rays, valid8, &r);
+#if defined(TIMBRE_EMBREE4)
+    struct RTCOccludedArguments args;
+    rtcInitOccludedArguments(&args);
+    args.context = &ctx.base;
+    args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
+    rtcOccluded8(valid8, (RTCScene)scene, &r, &args);
+#else
+    rtcOccluded8(valid8, (RTCScene)scene, &ctx.base, &r);
+#endif
+    for (unsigned i = 0; i < 8; i++) occluded[i] = valid[i] && r.tfar[i] < 0.0f;
 }

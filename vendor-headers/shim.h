@@ -82,5 +82,8 @@ int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray);
 /* Packet of 8 rays; lanes with valid[i] == 0 are ignored and get a miss. */
 void timbre_intersect8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
                        TimbreHit *hits);
+/* Occlusion of a packet of 8 rays: occluded[i] is 1 where lane i is blocked (0 where invalid). */
+void timbre_occluded8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
+                      int *occluded);
 
 #endif

@@ -553,20 +553,7 @@ impl Scene {
         assert!(rays.len() <= 8, "a packet holds at most 8 rays");
         let best: [Best; 8] = std::array::from_fn(|_| no_best());
         let query = Query::new(rays, &self.instance_offsets, &best);
-        let fallback = ExactRay {
-            origin: DVec3::ZERO,
-            direction: DVec3::Z,
-        };
-        let packet: [ffi::TimbreRay; 8] = std::array::from_fn(|i| {
-            to_embree(
-                rays.get(i).unwrap_or(&fallback),
-                t_near,
-                t_far,
-                mask,
-                i as u32,
-            )
-        });
-        let valid: [c_int; 8] = std::array::from_fn(|i| if i < rays.len() { -1 } else { 0 });
+        let (packet, valid) = packet8(rays.len(), |i| (&rays[i], t_near, t_far), mask);
         let mut hits = [ffi::TimbreHit {
             t: 0.0,
             geom_id: INVALID_ID,
@@ -588,6 +575,60 @@ impl Scene {
         query.resume_panic();
         std::array::from_fn(|i| Self::finish(&hits[i], best[i].get()))
     }
+
+    /// Whether anything with a matching mask lies on each of up to 8 ray segments
+    /// (ray, t_near, t_far), traced as one coherent packet (shadow rays of neighbouring
+    /// pixels); lanes beyond `segments.len()` are false.
+    pub fn occluded8(&self, segments: &[(ExactRay, f64, f64)], mask: u32) -> [bool; 8] {
+        assert!(segments.len() <= 8, "a packet holds at most 8 rays");
+        let rays: [ExactRay; 8] =
+            std::array::from_fn(|i| segments.get(i).map_or(FALLBACK_RAY, |s| s.0));
+        let best: [Best; 8] = std::array::from_fn(|_| no_best());
+        let query = Query::new(&rays[..segments.len()], &self.instance_offsets, &best);
+        let (packet, valid) = packet8(
+            segments.len(),
+            |i| (&segments[i].0, segments[i].1, segments[i].2),
+            mask,
+        );
+        let mut occluded: [c_int; 8] = [0; 8];
+        // SAFETY: all four arrays have 8 elements as the shim expects; `query` outlives the
+        // call (as in `intersect8`).
+        unsafe {
+            ffi::timbre_occluded8(
+                self.raw.as_ptr(),
+                &query as *const Query as *const c_void,
+                valid.as_ptr(),
+                packet.as_ptr(),
+                occluded.as_mut_ptr(),
+            )
+        };
+        query.resume_panic();
+        occluded.map(|o| o != 0)
+    }
+}
+
+/// The ray of a packet's inactive lanes.
+const FALLBACK_RAY: ExactRay = ExactRay {
+    origin: DVec3::ZERO,
+    direction: DVec3::Z,
+};
+
+/// An 8-wide packet and its valid mask: lane i < `n` is `lane(i)` = (ray, t_near, t_far),
+/// with id i (the index of its exact ray in the query); the others are inactive.
+fn packet8<'a>(
+    n: usize,
+    lane: impl Fn(usize) -> (&'a ExactRay, f64, f64),
+    mask: u32,
+) -> ([ffi::TimbreRay; 8], [c_int; 8]) {
+    let packet = std::array::from_fn(|i| {
+        let (ray, t_near, t_far) = if i < n {
+            lane(i)
+        } else {
+            (&FALLBACK_RAY, 0.0, f64::INFINITY)
+        };
+        to_embree(ray, t_near, t_far, mask, i as u32)
+    });
+    (packet, std::array::from_fn(|i| if i < n { -1 } else { 0 }))
 }
 
 /// Embree asks for a primitive's bounds while building the BVH. Never unwinds (see the module

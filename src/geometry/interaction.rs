@@ -3,6 +3,7 @@
 use glam::{DVec2, DVec3};
 
 use super::{Hit, SceneGeometry, Shape};
+use crate::embree::ExactRay;
 use crate::math::{Frame, Ray};
 
 /// Where a ray meets a surface, with everything a surface law needs.
@@ -68,6 +69,17 @@ impl Interaction<'_> {
     /// exactly in f64; Embree tests triangles in f32, hence the larger margin.
     pub fn self_hit_margin(&self) -> f64 {
         self.self_hit_margin_at(self.point())
+    }
+
+    /// The shadow ray towards a light at `distance` in unit direction `l`: the segment from
+    /// the interaction point that a shadow-throwing object must cross to hide the light.
+    pub fn shadow_segment(&self, l: DVec3, distance: f64) -> (ExactRay, f64, f64) {
+        let origin = self.point();
+        let ray = ExactRay {
+            origin,
+            direction: l,
+        };
+        (ray, self.self_hit_margin_at(origin), distance)
     }
 
     /// The ray leaving the interaction point in `direction`, and the distance it must travel

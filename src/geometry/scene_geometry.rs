@@ -471,15 +471,56 @@ impl SceneGeometry {
                 .is_some();
         }
         let ray = ExactRay { origin, direction };
+        self.unbounded_blocks(&ray, t_min, t_max)
+            || (self.top.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
+                && self.confirmed(&ray, t_min, t_max))
+    }
+
+    /// [`Self::shadowed`] of up to 8 segments (ray, t_min, t_max), the BVH's part traced as one
+    /// Embree packet (shadow rays of neighbouring pixels); lanes beyond `segments.len()` are
+    /// false.
+    pub fn shadowed8(&self, segments: &[(ExactRay, f64, f64)]) -> [bool; 8] {
+        let segments = &segments[..segments.len().min(8)];
+        let mut blocked = [false; 8];
+        // The lanes left to the BVH, and their segments.
+        let (mut lanes, mut packet, mut n) = ([0; 8], [segments[0]; 8], 0);
+        for (i, &(ray, t_min, t_max)) in segments.iter().enumerate() {
+            if !embree_can_trace(ray.origin) {
+                blocked[i] = self
+                    .brute_force(ray.origin, ray.direction, t_min, t_max, true)
+                    .is_some();
+            } else if self.unbounded_blocks(&ray, t_min, t_max) {
+                blocked[i] = true;
+            } else {
+                (lanes[n], packet[n]) = (i, (ray, t_min, t_max));
+                n += 1;
+            }
+        }
+        if n > 0 {
+            let occluded = self.top.bvh.occluded8(&packet[..n], SHADOW_THROWING);
+            for (k, &(ray, t_min, t_max)) in packet[..n].iter().enumerate() {
+                blocked[lanes[k]] = occluded[k] && self.confirmed(&ray, t_min, t_max);
+            }
+        }
+        blocked
+    }
+
+    /// Whether a shadow-throwing object outside the BVH lies on the ray with t_min < t < t_max.
+    fn unbounded_blocks(&self, ray: &ExactRay, t_min: f64, t_max: f64) -> bool {
         self.unbounded.iter().any(|&e| {
-            self.shadow_throwing[e.0] && self.intersect_element(e, &ray, t_min, t_max).is_some()
-        }) || (self.top.bvh.occluded(&ray, t_min, t_max, SHADOW_THROWING)
-            // User-geometry callbacks decide exactly in f64; triangles are decided in f32 (see
-            // `first_hit`), so with meshes an any-hit is confirmed exactly.
-            && (!self.has_meshes || {
-                let raw = self.top.bvh.intersect(&ray, t_min, t_max, SHADOW_THROWING);
-                self.first_hit(raw, &ray, t_min, t_max, SHADOW_THROWING).is_some()
-            }))
+            self.shadow_throwing[e.0] && self.intersect_element(e, ray, t_min, t_max).is_some()
+        })
+    }
+
+    /// Confirms an occlusion Embree reported on the segment. User-geometry callbacks decide
+    /// exactly in f64; triangles are decided in f32 (see `first_hit`), so with meshes an
+    /// any-hit is confirmed by an exact nearest-hit query.
+    fn confirmed(&self, ray: &ExactRay, t_min: f64, t_max: f64) -> bool {
+        !self.has_meshes || {
+            let raw = self.top.bvh.intersect(ray, t_min, t_max, SHADOW_THROWING);
+            self.first_hit(raw, ray, t_min, t_max, SHADOW_THROWING)
+                .is_some()
+        }
     }
 
     /// Reference intersector: a plain f64 loop over all objects and array elements, for tests.

@@ -14,8 +14,11 @@
 
 use glam::DVec3;
 
+use std::cell::Cell;
+
 use super::Tracer;
-use crate::geometry::Interaction;
+use crate::embree::ExactRay;
+use crate::geometry::{Interaction, SceneGeometry};
 use crate::math::Colour;
 use crate::scene::lights::PointLight;
 use crate::surfaces::Coloured;
@@ -42,24 +45,93 @@ pub fn phong(light: &PointLight, surface: &Coloured, n: DVec3, v: DVec3, l: DVec
 impl Tracer<'_> {
     /// The colour of a coloured surface seen at `at`, lit by the scene's lights.
     pub(super) fn lit(&self, surface: &Coloured, at: &Interaction) -> Colour {
-        let lights = &self.scene.lights;
+        let mut sum = surface.diffuse * self.scene.lights.ambient;
+        self.light_paths(surface, at, |lit, l, distance| {
+            if !self.shadowed(at, l, distance) {
+                sum += lit;
+            }
+        });
+        sum
+    }
+
+    /// Hands `each` every point light's contribution to a coloured surface at `at` without
+    /// shadowing, with the unit direction and distance to the light, in the scene's order of
+    /// lights; lights that add nothing are left out.
+    pub(super) fn light_paths(
+        &self,
+        surface: &Coloured,
+        at: &Interaction,
+        mut each: impl FnMut(Colour, DVec3, f64),
+    ) {
         let n = at.frame().w;
         let v = -at.ray.direction;
         let p = at.point();
-        lights
-            .points
-            .iter()
-            .fold(surface.diffuse * lights.ambient, |sum, light| {
-                let to_light = light.position - p;
-                let distance = to_light.length();
-                let l = to_light / distance;
-                let lit = phong(light, surface, n, v, l);
-                if lit == Colour::ZERO || self.shadowed(at, l, distance) {
-                    sum
-                } else {
-                    sum + lit
-                }
-            })
+        for light in &self.scene.lights.points {
+            let to_light = light.position - p;
+            let distance = to_light.length();
+            let l = to_light / distance;
+            let lit = phong(light, surface, n, v, l);
+            if lit != Colour::ZERO {
+                each(lit, l, distance);
+            }
+        }
+    }
+}
+
+/// The shadow rays of a packet's lanes, traced 8 at a time as Embree packets: each comes with
+/// its lane and the light's contribution, added to the lane's colour if nothing blocks it.
+pub(super) struct ShadowRays<'a> {
+    geometry: &'a SceneGeometry,
+    lights: [(usize, Colour); 8],
+    segments: [(ExactRay, f64, f64); 8],
+    n: usize,
+}
+
+impl<'a> ShadowRays<'a> {
+    pub fn new(geometry: &'a SceneGeometry) -> Self {
+        let nowhere = ExactRay {
+            origin: DVec3::ZERO,
+            direction: DVec3::Z,
+        };
+        ShadowRays {
+            geometry,
+            lights: [(0, Colour::ZERO); 8],
+            segments: [(nowhere, 0.0, 0.0); 8],
+            n: 0,
+        }
+    }
+
+    /// Adds the shadow ray `segment` of lane `lane`, whose light adds `lit`; traces the batch
+    /// when it is full, adding to `colours` and counting the rays in `rays`.
+    pub fn push(
+        &mut self,
+        lane: usize,
+        lit: Colour,
+        segment: (ExactRay, f64, f64),
+        colours: &mut [Option<Colour>; 8],
+        rays: &Cell<u64>,
+    ) {
+        (self.lights[self.n], self.segments[self.n]) = ((lane, lit), segment);
+        self.n += 1;
+        if self.n == 8 {
+            self.flush(colours, rays);
+        }
+    }
+
+    /// Traces the shadow rays pushed so far; each unblocked light's contribution is added to
+    /// its lane's colour, in the order pushed.
+    pub fn flush(&mut self, colours: &mut [Option<Colour>; 8], rays: &Cell<u64>) {
+        if self.n == 0 {
+            return;
+        }
+        rays.set(rays.get() + self.n as u64);
+        let blocked = self.geometry.shadowed8(&self.segments[..self.n]);
+        for (&(lane, lit), blocked) in self.lights[..self.n].iter().zip(blocked) {
+            if let (Some(colour), false) = (&mut colours[lane], blocked) {
+                *colour += lit;
+            }
+        }
+        self.n = 0;
     }
 }
 

@@ -11,6 +11,8 @@ use crate::math::{Colour, Ray, ReferenceFrame};
 use crate::scene::{Scene, World};
 use crate::surfaces::Redirection;
 
+use super::shading::ShadowRays;
+
 /// The first surface a ray meets, in whichever frame it is at rest.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Found {
@@ -132,9 +134,28 @@ impl<'a> Tracer<'a> {
             0.0,
             f64::INFINITY,
         );
+        // Lanes that meet coloured surfaces are shaded once all their shadow rays have been
+        // traced, as packets.
+        let world = self.world(ReferenceFrame::Scene);
+        let mut lit: [Option<Colour>; 8] = [None; 8];
+        let mut shadow_rays = ShadowRays::new(&world.geometry);
         for (i, (hit, ray)) in hits.iter().zip(scene_rays).enumerate() {
             if let Some(hit) = hit {
-                colours[i] += self.shade_hit(ReferenceFrame::Scene, ray, hit, level);
+                let at = Interaction {
+                    ray: *ray,
+                    hit: *hit,
+                    geometry: &world.geometry,
+                };
+                match world.objects[hit.object].surface.redirect(&at, &mut |_| {}) {
+                    Redirection::Lit(coloured) if self.shadows => {
+                        lit[i] = Some(coloured.diffuse * self.scene.lights.ambient);
+                        self.light_paths(coloured, &at, |colour, l, distance| {
+                            let segment = at.shadow_segment(l, distance);
+                            shadow_rays.push(i, colour, segment, &mut lit, &self.rays);
+                        });
+                    }
+                    r => colours[i] += self.follow(r, &at, level, ReferenceFrame::Scene),
+                }
             }
             record(i, &|| {
                 hit.map(|hit| Found {
@@ -143,6 +164,12 @@ impl<'a> Tracer<'a> {
                     hit,
                 })
             });
+        }
+        shadow_rays.flush(&mut lit, &self.rays);
+        for (colour, lit) in colours.iter_mut().zip(lit) {
+            if let Some(lit) = lit {
+                *colour += lit;
+            }
         }
     }
 
@@ -177,9 +204,21 @@ impl<'a> Tracer<'a> {
             geometry: &world.geometry,
         };
         let surface = &world.objects[hit.object].surface;
+        self.follow(surface.redirect(&at, &mut |_| {}), &at, level, frame)
+    }
+
+    /// The colour a surface law's redirection at `at` shows: lit by the lights, emitted, or
+    /// seen along the continued ray, traced one level down in `frame`.
+    fn follow(
+        &self,
+        redirection: Redirection,
+        at: &Interaction,
+        level: u32,
+        frame: ReferenceFrame,
+    ) -> Colour {
         let on = |(ray, margin)| self.trace_on(&ray, margin, level - 1, frame);
-        match surface.redirect(&at, &mut |_| {}) {
-            Redirection::Lit(coloured) => self.lit(coloured, &at),
+        match redirection {
+            Redirection::Lit(coloured) => self.lit(coloured, at),
             Redirection::Emits(colour) => colour,
             Redirection::Lost => Colour::ZERO,
             Redirection::Leaves { direction, factor } => factor * on(at.leaving(direction)),
@@ -214,7 +253,8 @@ impl<'a> Tracer<'a> {
             return false;
         }
         self.rays.set(self.rays.get() + 1);
+        let (ray, t_min, t_max) = at.shadow_segment(l, distance);
         at.geometry
-            .shadowed(at.point(), l, at.self_hit_margin(), distance)
+            .shadowed(ray.origin, ray.direction, t_min, t_max)
     }
 }
