@@ -213,7 +213,7 @@ impl Camera {
     /// the entrance-pupil disk, chosen by the two uniform numbers `pupil`, towards the pixel's
     /// image I, at the time the shutter model gives. `focus_surface(origin, direction)` is the
     /// distance along a chief ray to the focus surface (used with [`Focus::Surface`]).
-    #[inline]
+    #[inline(always)]
     pub fn ray(
         &self,
         width: u32,
@@ -224,13 +224,27 @@ impl Camera {
     ) -> Ray {
         let (centre, direction) = self.chief_ray(width, height, x, y);
         // A single pinhole with the shutter in the pupil needs no image point: its rays are the
-        // chief rays themselves, leaving at t_s.
+        // chief rays themselves, leaving at t_s. (Inlined: returning the ray through memory
+        // stalled the render loop.)
         if self.aperture_radius == 0.0
             && self.eye == DVec3::ZERO
             && self.shutter == Shutter::EntrancePupil
         {
             return Ray::new(centre, direction, self.shutter_time);
         }
+        self.ray_through_pupil(centre, direction, pupil, focus_surface)
+    }
+
+    /// [`Self::ray`] of a finite aperture, an eye of a stereo pair or a shutter away from the
+    /// pupil, from the pixel's chief ray (from the pupil centre `centre` along `direction`).
+    #[inline(never)]
+    fn ray_through_pupil(
+        &self,
+        centre: DVec3,
+        direction: DVec3,
+        pupil: [f64; 2],
+        focus_surface: &dyn Fn(DVec3, DVec3) -> Option<f64>,
+    ) -> Ray {
         let chief = direction.normalize();
         let image = match self.focus {
             Focus::Plane { distance } => {

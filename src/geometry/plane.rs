@@ -42,6 +42,7 @@ impl AnalyticShape for Plane {
     }
 
     /// The t where the line meets the plane, if in (t_min, t_max).
+    #[inline]
     fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
         let t = plane_distance(self.point, self.frame.w, origin, direction)?;
         (t > t_min && t < t_max).then_some(t)

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
 
-use super::Shape;
+use super::{AnalyticShape, Shape};
 use crate::embree::{self, Bounds, Device, EmbreeError, ExactRay, UserGeometry};
 use crate::math::Frame;
 
@@ -394,6 +394,7 @@ impl SceneGeometry {
     }
 
     /// Nearest hit of (object, element) with t_min < t < t_max, intersected directly.
+    #[inline]
     fn intersect_element(
         &self,
         (object, element): (usize, u32),
@@ -402,14 +403,19 @@ impl SceneGeometry {
         t_max: f64,
     ) -> Option<Hit> {
         let origin = ray.origin - self.offset(object, element);
-        self.shapes[object]
-            .intersect(origin, ray.direction, t_min, t_max)
-            .map(|(t, prim)| Hit {
-                object,
-                element,
-                prim,
-                t,
-            })
+        let hit = match &self.shapes[object] {
+            // Inlined: the usual unbounded shape, which every ray tests.
+            Shape::Plane(p) => p
+                .intersect(origin, ray.direction, t_min, t_max)
+                .map(|t| (t, 0)),
+            s => s.intersect(origin, ray.direction, t_min, t_max),
+        };
+        hit.map(|(t, prim)| Hit {
+            object,
+            element,
+            prim,
+            t,
+        })
     }
 
     /// Resolves Embree's hit in f64 and lets the unbounded objects compete with it.
