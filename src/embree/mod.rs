@@ -620,15 +620,15 @@ fn packet8<'a>(
     lane: impl Fn(usize) -> (&'a ExactRay, f64, f64),
     mask: u32,
 ) -> ([ffi::TimbreRay; 8], [c_int; 8]) {
-    let packet = std::array::from_fn(|i| {
-        let (ray, t_near, t_far) = if i < n {
-            lane(i)
-        } else {
-            (&FALLBACK_RAY, 0.0, f64::INFINITY)
-        };
-        to_embree(ray, t_near, t_far, mask, i as u32)
-    });
-    (packet, std::array::from_fn(|i| if i < n { -1 } else { 0 }))
+    let (mut packet, mut valid) = (
+        [to_embree(&FALLBACK_RAY, 0.0, f64::INFINITY, mask, 0); 8],
+        [0; 8],
+    );
+    for i in 0..n {
+        let (ray, t_near, t_far) = lane(i);
+        (packet[i], valid[i]) = (to_embree(ray, t_near, t_far, mask, i as u32), -1);
+    }
+    (packet, valid)
 }
 
 /// Embree asks for a primitive's bounds while building the BVH. Never unwinds (see the module

@@ -462,10 +462,11 @@ impl SceneGeometry {
             });
         }
         let raw = self.top.bvh.intersect8(rays, t_min, t_max, VISIBLE);
-        std::array::from_fn(|i| {
-            let r = rays.get(i)?;
-            self.complete(raw[i], r, t_min, t_max)
-        })
+        let mut hits = [None; 8];
+        for ((hit, r), &raw) in hits.iter_mut().zip(rays).zip(&raw) {
+            *hit = self.complete(raw, r, t_min, t_max);
+        }
+        hits
     }
 
     /// Whether a shadow-throwing object lies on the ray with t_min < t < t_max.

@@ -15,7 +15,7 @@ pub use tracer::{Found, Tracer};
 
 use std::sync::atomic::AtomicBool;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 use crate::cameras::Camera;
@@ -281,10 +281,11 @@ fn render_tile(
             let mut sums = [Sum::default(); 8];
             let mut firsts = [None; 8];
             for sample in samples.clone() {
-                let rays: [Ray; 8] = std::array::from_fn(|i| {
-                    let (x, y) = block.get(i).copied().unwrap_or(block[0]);
-                    sample_ray(x, y, sample)
-                });
+                // Written in place (an array built by a closure went through the stack twice).
+                let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z, 0.0); 8];
+                for (ray, &(x, y)) in rays.iter_mut().zip(block) {
+                    *ray = sample_ray(x, y, sample);
+                }
                 let record = (record_first && sample == 0).then_some(&mut firsts[..]);
                 let mut colours = [Colour::ZERO; 8];
                 tracer.trace_packet(&rays[..n], s.max_trace_level, &mut colours, record);

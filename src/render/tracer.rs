@@ -121,13 +121,13 @@ impl<'a> Tracer<'a> {
             }
             return;
         }
-        let packet: [ExactRay; 8] = std::array::from_fn(|i| {
-            let r = scene_rays.get(i).unwrap_or(&scene_rays[0]);
-            ExactRay {
-                origin: r.origin,
-                direction: r.direction,
-            }
-        });
+        let mut packet = [ExactRay {
+            origin: DVec3::ZERO,
+            direction: DVec3::Z,
+        }; 8];
+        for (p, r) in packet.iter_mut().zip(scene_rays) {
+            (p.origin, p.direction) = (r.origin, r.direction);
+        }
         self.rays.set(self.rays.get() + rays.len() as u64);
         let hits = self.scene.scene_frame.geometry.nearest_packet(
             &packet[..rays.len()],
