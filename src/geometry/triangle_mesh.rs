@@ -18,7 +18,7 @@ pub struct TriangleMesh {
     data: Arc<MeshData>,
 }
 
-#[derive(Debug, PartialEq)]
+#[derive(PartialEq)]
 struct MeshData {
     vertices: Vec<DVec3>,
     triangles: Vec<[u32; 3]>,
@@ -26,6 +26,36 @@ struct MeshData {
     normals: Option<Vec<DVec3>>,
     /// Zero-area triangles left out of `triangles`.
     removed: usize,
+}
+
+/// A mesh shows its sizes and a digest of its data (FNV-1a over the bits of every coordinate and
+/// index, 64 bits at a time), not its values one by one: the scene hash, taken from the scene's
+/// Debug text, stays fast for millions of triangles (formatting them took seconds).
+impl std::fmt::Debug for MeshData {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut digest = 0xcbf2_9ce4_8422_2325u64;
+        let mut eat = |word: u64| digest = (digest ^ word).wrapping_mul(0x0000_0100_0000_01b3);
+        let normals = self.normals.iter().flatten();
+        for c in self
+            .vertices
+            .iter()
+            .chain(normals)
+            .flat_map(|v| v.to_array())
+        {
+            eat(c.to_bits());
+        }
+        for t in &self.triangles {
+            eat(u64::from(t[0]) | u64::from(t[1]) << 32);
+            eat(u64::from(t[2]));
+        }
+        f.debug_struct("MeshData")
+            .field("vertices", &self.vertices.len())
+            .field("triangles", &self.triangles.len())
+            .field("normals", &self.normals.is_some())
+            .field("removed", &self.removed)
+            .field("digest", &format_args!("{digest:016x}"))
+            .finish()
+    }
 }
 
 impl TriangleMesh {
@@ -222,6 +252,29 @@ mod tests {
     fn triangle(normals: Option<Vec<DVec3>>) -> TriangleMesh {
         let v = vec![DVec3::ZERO, DVec3::X, DVec3::Y];
         TriangleMesh::with_normals(v, vec![[0, 1, 2]], normals).unwrap()
+    }
+
+    #[test]
+    fn the_debug_text_tells_meshes_apart_by_every_bit() {
+        let text = |v: Vec<DVec3>, t: Vec<[u32; 3]>, n: Option<Vec<DVec3>>| {
+            format!("{:?}", TriangleMesh::with_normals(v, t, n).unwrap())
+        };
+        let v = || vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let t = || vec![[0, 1, 2], [0, 2, 3]];
+        let base = text(v(), t(), None);
+        assert_eq!(base, text(v(), t(), None));
+        let mut nudged = v();
+        nudged[2].y = f64::from_bits(1f64.to_bits() + 1);
+        assert_ne!(base, text(nudged, t(), None));
+        assert_ne!(base, text(v(), vec![[0, 1, 2], [0, 3, 2]], None));
+        let normals = vec![DVec3::Z; 4];
+        let with_normals = text(v(), t(), Some(normals.clone()));
+        assert_ne!(base, with_normals);
+        let mut tilted = normals;
+        tilted[3] = DVec3::new(0.0, 0.6, 0.8);
+        assert_ne!(with_normals, text(v(), t(), Some(tilted)));
+        // Sizes, not values: the text stays short however large the mesh.
+        assert!(base.len() < 200, "{base}");
     }
 
     #[test]
