@@ -14,6 +14,9 @@
 #   POV-Ray on the lattice and the mesh (wall time, as `time` measures it),
 #   primary rays only: bare Embree rtcIntersect1 and rtcIntersect8 on L and M, and timbre on
 #     the same scenes with ambient light only (no shadow rays),
+#   the BVH build of M against bare Embree's (MEDIUM quality, as timbre builds it),
+#   TIM's studio at 1920x1080 (the pinhole at rest, at 0.99c, and a finite aperture with 8 spp),
+#   loading a 10-million-triangle binary PLY (timbre's test sphere),
 # with the anchors' availability probe before and after (2.0 = two full cores). Ratios are
 # taken within each repetition; the medians [min-max] are printed, and the raw figures are left
 # in WORKDIR/raw.csv. The 1080p studio is timed too (Dr TIM's figures are the issue's).
@@ -101,6 +104,10 @@ shape = { type = "mesh", file = "m.ply", smooth = false }
 surface = { type = "matt", colour = [0.56, 0.56, 0.56] }'
 { header "${m_view[@]}" "[5, 8, -6]"; echo "$mesh_object"; } >"$work/M.toml"
 { header "${m_view[@]}" ""; echo "$mesh_object"; } >"$work/M-primary.toml"
+printf 'studio = "lattice"\n[render]\nwidth = 1920\nheight = 1080\n' >"$work/studio.toml"
+# A 10-million-triangle binary PLY (timbre's test sphere) for loading.
+"$timbre" generate-mesh --triangles 10000000 -o "$work/sphere-10m.ply" >/dev/null
+printf 'studio = "none"\n[render]\nwidth = 64\nheight = 48\n[[object]]\nshape = { type = "mesh", file = "sphere-10m.ply" }\nsurface = { type = "matt", colour = [1, 1, 1] }\ntransform = { translate = [0, 0, 5] }\n' >"$work/sphere-10m.toml"
 
 # --- the pictures agree -------------------------------------------------------------------------
 "$embree" --shade-only --reps 1 --threads 2 --images "$work" >/dev/null 2>&1
@@ -112,10 +119,21 @@ for s in LF LF-triangles M; do
 done
 
 # --- timings ----------------------------------------------------------------------------------
-# timbre's render time: its summary line "... rays in S s (...)".
-timbre_render() { # scene threads -> seconds
-    "$timbre" render "$work/$1.toml" --threads "$2" -o "$work/t_$1.png" 2>/dev/null |
-        sed -n 's/.* rays in \([0-9.]*\) s .*/\1/p'
+# timbre's summary lines: "... N rays in S s (R Mrays/s) -> FILE" and "scene: ... loaded in L s,
+# BVH built in B s; ...". timbre_render records the render time as ITEM (and the load and BVH
+# build times as ITEM_load and ITEM_build), or the throughput with --mrays.
+timbre_render() { # item scene threads [--mrays] [timbre options...]
+    local item=$1 scene=$2 threads=$3 mrays=""; shift 3
+    [ "${1:-}" = --mrays ] && { mrays=1; shift; }
+    local out
+    out=$("$timbre" render "$work/$scene.toml" --threads "$threads" -o "$work/t_$item.png" "$@" 2>/dev/null)
+    if [ -n "$mrays" ]; then
+        record "$item" "$(sed -n 's/.* s (\([0-9.]*\) Mrays\/s).*/\1/p' <<<"$out")"
+    else
+        record "$item" "$(sed -n 's/.* rays in \([0-9.]*\) s .*/\1/p' <<<"$out")"
+        record "${item}_load" "$(sed -n 's/.*loaded in \([0-9.]*\) s.*/\1/p' <<<"$out")"
+        record "${item}_build" "$(sed -n 's/.*BVH built in \([0-9.]*\) s.*/\1/p' <<<"$out")"
+    fi
 }
 wall() { # command... -> wall seconds
     local t0 t1
@@ -130,7 +148,7 @@ mkdir -p /tmp/povray-anchor && ln -sf "$work/mesh_m.inc" /tmp/povray-anchor/mesh
 raw="$work/raw.csv"
 echo "rep,threads,item,value" >"$raw"
 record() { echo "$rep,$threads,$1,$2" >>"$raw"; }
-echo "== $reps repetitions (each: 1 thread, then 2 threads), about $((reps * 50)) s"
+echo "== $reps repetitions (each: 1 thread, then 2 threads), about $((reps * 90)) s"
 for rep in $(seq 1 "$reps"); do
     for threads in 1 2; do
         record avail_before "$(probe)"
@@ -138,7 +156,16 @@ for rep in $(seq 1 "$reps"); do
             awk -F, '/^CSV,shade/ { print $3 "," $5 }' | while IFS=, read -r scene seconds; do
                 echo "$rep,$threads,embree_shade_$scene,$seconds"
             done >>"$raw"
-        for s in LF LF-triangles M L M-primary; do record "timbre_$s" "$(timbre_render "$s" "$threads")"; done
+        for s in LF LF-triangles M L M-primary; do timbre_render "timbre_$s" "$s" "$threads"; done
+        "$embree" --reps 1 --build-only --scenes M --qualities medium --device-threads "$threads" 2>/dev/null |
+            awk -F, '/^CSV,build/ { print $6 }' | while read -r ms; do
+                echo "$rep,$threads,embree_build_M,$(awk -v m="$ms" 'BEGIN { print m / 1000 }')"
+            done >>"$raw"
+        # Throughput of the moving and finite-aperture cameras against the pinhole at rest.
+        timbre_render studio_pinhole studio "$threads" --mrays
+        timbre_render studio_moving studio "$threads" --mrays --set 'camera.beta=[0,0,0.99]'
+        timbre_render studio_aperture studio "$threads" --mrays --spp 8 \
+            --set camera.aperture_radius=0.02 --set camera.focus_distance=15
         "$embree" --reps 1 --no-build --scenes L,M --methods 1,8 --threads "$threads" --qualities high 2>/dev/null |
             awk -F, '/^CSV,render/ { print $3 "," $5 "," $7 }' | while IFS=, read -r scene method mrays; do
                 echo "$rep,$threads,embree_rtc${method}_$scene,$(awk -v r="$mrays" 'BEGIN { print 2073600 / (r * 1e6) }')"
@@ -147,8 +174,8 @@ for rep in $(seq 1 "$reps"); do
         record timbre_wall_LF "$(wall "$timbre" render -q "$work/LF.toml" --threads "$threads" -o "$work/w_LF.png")"
         record pov_wall_mesh "$(wall pov mesh "$threads")"
         record timbre_wall_M "$(wall "$timbre" render -q "$work/M.toml" --threads "$threads" -o "$work/w_M.png")"
-        record timbre_studio "$("$timbre" render --width 1920 --height 1080 --threads "$threads" -o "$work/studio.png" |
-            sed -n 's/.* rays in \([0-9.]*\) s .*/\1/p')"
+        timbre_render timbre_studio studio "$threads"
+        timbre_render sphere10m sphere-10m "$threads"
         record avail_after "$(probe)"
     done
     echo "   repetition $rep done"
@@ -200,6 +227,9 @@ awk -F, -v reps="$reps" '
         row("primary rays only, timbre / Embree rtcIntersect1, M", "timbre_M-primary", "embree_rtc1_M", "%.2f")
         row("primary rays only, timbre / Embree rtcIntersect8, L", "timbre_L", "embree_rtc8_L", "%.2f")
         row("primary rays only, timbre / Embree rtcIntersect8, M", "timbre_M-primary", "embree_rtc8_M", "%.2f")
+        row("camera at 0.99c / pinhole at rest, studio throughput", "studio_moving", "studio_pinhole", "%.2f")
+        row("finite aperture (8 spp) / pinhole, studio throughput", "studio_aperture", "studio_pinhole", "%.2f")
+        row("timbre BVH build / bare Embree build (MEDIUM), M", "timbre_M_build", "embree_build_M", "%.2f")
         print ""
         print "| time per frame, median of " reps " | 1 thread | 2 threads |"
         print "|---|---|---|"
@@ -219,6 +249,11 @@ awk -F, -v reps="$reps" '
         time("POV-Ray wall, mesh", "pov_wall_mesh", 1, "s")
         time("timbre wall, M", "timbre_wall_M", 1, "s")
         time("timbre, the 1080p studio (Dr TIM: 23.9 s / 13.2 s)", "timbre_studio", 1000, "ms")
+        time("timbre, M: loading the binary PLY", "timbre_M_load", 1000, "ms")
+        time("timbre, M: BVH build", "timbre_M_build", 1000, "ms")
+        time("bare Embree, M: BVH build (MEDIUM)", "embree_build_M", 1000, "ms")
+        time("timbre, 10M-triangle binary PLY: loading", "sphere10m_load", 1000, "ms")
+        time("timbre, 10M-triangle binary PLY: BVH build", "sphere10m_build", 1000, "ms")
     }' "$raw"
 echo
 echo "raw figures: $raw"
