@@ -281,10 +281,12 @@ fn render_tile(
             let mut sums = [Sum::default(); 8];
             let mut firsts = [None; 8];
             for sample in samples.clone() {
-                // Written in place (an array built by a closure went through the stack twice).
+                // Written field by field: rays built by a closure, or copied whole, went through
+                // the stack and stalled on store forwarding.
                 let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z, 0.0); 8];
                 for (ray, &(x, y)) in rays.iter_mut().zip(block) {
-                    *ray = sample_ray(x, y, sample);
+                    let r = sample_ray(x, y, sample);
+                    (ray.origin, ray.direction, ray.time) = (r.origin, r.direction, r.time);
                 }
                 let record = (record_first && sample == 0).then_some(&mut firsts[..]);
                 let mut colours = [Colour::ZERO; 8];
