@@ -17,10 +17,36 @@
 enum { ORG_X, ORG_Y, ORG_Z, TNEAR, DIR_X, DIR_Y, DIR_Z, TIME, TFAR, MASK, ID, FLAGS };
 enum { NG_X, NG_Y, NG_Z, HIT_U, HIT_V, PRIM_ID, GEOM_ID, INST_ID };
 
+/* Embree >= 4.3 built with instance arrays (the default, and PyPI's embreex build of 4.4) has an
+ * instance primitive id after the instance ids, as the last member of RTCHit, RTCHitN and
+ * RTCRayQueryContext, and writes it on every query. Headers older than 4.3 (embree4-sys ships
+ * 4.2's) or configured without instance arrays lack the field: their structs are then too small
+ * for such a library, which would write past them. So, without RTC_GEOMETRY_INSTANCE_ARRAY,
+ * timbre leaves room for the field after each of those structs (the 4.3+ layout exactly: the
+ * structs' sizes are multiples of their alignment, so the room follows the last member). */
+#if defined(TIMBRE_EMBREE4) && !defined(RTC_GEOMETRY_INSTANCE_ARRAY)
+#define INST_PRIM_ROOM(N) unsigned inst_prim_room[RTC_MAX_INSTANCE_LEVEL_COUNT][N];
+#define INIT_INST_PRIM_ROOM(x, N) memset((x)->inst_prim_room, 0xFF, sizeof((x)->inst_prim_room))
+#else
+#define INST_PRIM_ROOM(N)
+#define INIT_INST_PRIM_ROOM(x, N) ((void)0)
+#endif
+
+/* Ray/hit structs with that room (see INST_PRIM_ROOM). */
+typedef struct {
+    struct RTCRayHit rh;
+    INST_PRIM_ROOM(1)
+} RayHit1;
+typedef struct {
+    struct RTCRayHit8 rh;
+    INST_PRIM_ROOM(8)
+} RayHit8;
+
 /* The ray-query context extended with timbre's per-query pointer. */
 typedef struct {
 #if defined(TIMBRE_EMBREE4)
     struct RTCRayQueryContext base;
+    INST_PRIM_ROOM(1)
 #else
     struct RTCIntersectContext base;
 #endif
@@ -30,6 +56,7 @@ typedef struct {
 static void init_context(TimbreContext *ctx, const void *query) {
 #if defined(TIMBRE_EMBREE4)
     rtcInitRayQueryContext(&ctx->base);
+    INIT_INST_PRIM_ROOM(ctx, 1);
 #else
     rtcInitIntersectContext(&ctx->base);
 #endif
@@ -85,6 +112,9 @@ static void user_intersect(const struct RTCIntersectFunctionNArguments *args) {
         LANE_U(hit, PRIM_ID, N, i) = args->primID;
         LANE_U(hit, GEOM_ID, N, i) = args->geomID;
         LANE_U(hit, INST_ID, N, i) = ctx->base.instID[0];
+#if defined(TIMBRE_EMBREE4) && defined(RTC_GEOMETRY_INSTANCE_ARRAY)
+        LANE_U(hit, INST_ID + RTC_MAX_INSTANCE_LEVEL_COUNT, N, i) = ctx->base.instPrimID[0];
+#endif
     }
 }
 
@@ -234,23 +264,25 @@ static void to_embree_ray(const TimbreRay *r, struct RTCRay *out) {
 void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, TimbreHit *hit) {
     TimbreContext ctx;
     init_context(&ctx, query);
-    struct RTCRayHit rh;
-    to_embree_ray(ray, &rh.ray);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RayHit1 padded;
+    INIT_INST_PRIM_ROOM(&padded, 1);
+    struct RTCRayHit *rh = &padded.rh;
+    to_embree_ray(ray, &rh->ray);
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 #if defined(TIMBRE_EMBREE4)
     struct RTCIntersectArguments args;
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
-    rtcIntersect1((RTCScene)scene, &rh, &args);
+    rtcIntersect1((RTCScene)scene, rh, &args);
 #else
-    rtcIntersect1((RTCScene)scene, &ctx.base, &rh);
+    rtcIntersect1((RTCScene)scene, &ctx.base, rh);
 #endif
-    hit->t = rh.ray.tfar;
-    hit->geom_id = rh.hit.geomID;
-    hit->prim_id = rh.hit.primID;
-    hit->inst_id = rh.hit.instID[0];
+    hit->t = rh->ray.tfar;
+    hit->geom_id = rh->hit.geomID;
+    hit->prim_id = rh->hit.primID;
+    hit->inst_id = rh->hit.instID[0];
 }
 
 int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray) {
@@ -277,40 +309,42 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
     ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 #endif
     /* Embree requires the packet and its valid mask to be 32-byte aligned. */
-    _Alignas(32) struct RTCRayHit8 rh;
+    _Alignas(32) RayHit8 padded;
+    INIT_INST_PRIM_ROOM(&padded, 8);
+    struct RTCRayHit8 *rh = &padded.rh;
     _Alignas(32) int valid8[8];
     for (unsigned i = 0; i < 8; i++) {
         const TimbreRay *r = &rays[i];
         valid8[i] = valid[i] ? -1 : 0;
-        rh.ray.org_x[i] = r->org[0];
-        rh.ray.org_y[i] = r->org[1];
-        rh.ray.org_z[i] = r->org[2];
-        rh.ray.dir_x[i] = r->dir[0];
-        rh.ray.dir_y[i] = r->dir[1];
-        rh.ray.dir_z[i] = r->dir[2];
-        rh.ray.tnear[i] = r->tnear;
-        rh.ray.tfar[i] = r->tfar;
-        rh.ray.time[i] = 0.0f;
-        rh.ray.mask[i] = r->mask;
-        rh.ray.id[i] = r->id;
-        rh.ray.flags[i] = 0;
-        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        rh->ray.org_x[i] = r->org[0];
+        rh->ray.org_y[i] = r->org[1];
+        rh->ray.org_z[i] = r->org[2];
+        rh->ray.dir_x[i] = r->dir[0];
+        rh->ray.dir_y[i] = r->dir[1];
+        rh->ray.dir_z[i] = r->dir[2];
+        rh->ray.tnear[i] = r->tnear;
+        rh->ray.tfar[i] = r->tfar;
+        rh->ray.time[i] = 0.0f;
+        rh->ray.mask[i] = r->mask;
+        rh->ray.id[i] = r->id;
+        rh->ray.flags[i] = 0;
+        rh->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh->hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh->hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
 #if defined(TIMBRE_EMBREE4)
     struct RTCIntersectArguments args;
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
     args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
-    rtcIntersect8(valid8, (RTCScene)scene, &rh, &args);
+    rtcIntersect8(valid8, (RTCScene)scene, rh, &args);
 #else
-    rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, &rh);
+    rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, rh);
 #endif
     for (unsigned i = 0; i < 8; i++) {
-        hits[i].t = rh.ray.tfar[i];
-        hits[i].geom_id = valid[i] ? rh.hit.geomID[i] : TIMBRE_INVALID_ID;
-        hits[i].prim_id = rh.hit.primID[i];
-        hits[i].inst_id = rh.hit.instID[0][i];
+        hits[i].t = rh->ray.tfar[i];
+        hits[i].geom_id = valid[i] ? rh->hit.geomID[i] : TIMBRE_INVALID_ID;
+        hits[i].prim_id = rh->hit.primID[i];
+        hits[i].inst_id = rh->hit.instID[0][i];
     }
 }
