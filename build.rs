@@ -40,16 +40,26 @@ fn main() {
             .map(|d| d.display().to_string())
             .collect::<Vec<_>>()
             .join(", ");
-        let how = if embree4 {
+        let other = format!("embree{}/rtcore.h", if embree4 { 3 } else { 4 });
+        let other_found = include_dirs.iter().find(|d| d.join(&other).exists());
+        let how = if let (false, Some(d)) = (embree4, other_found) {
+            format!(
+                "Embree 4 is installed ({} exists; Debian 13's libembree-dev is Embree 4): \
+                 build with `--features embree4`, or install Embree 3 (Debian 12's libembree-dev).",
+                d.join(&other).display()
+            )
+        } else if embree4 {
             "The `embree4` feature builds against Embree 4. On Debian 12, install it with \
              scripts/setup-embree4.sh (from PyPI's embreex wheel and the embree4-sys crate) and \
              set EMBREE_DIR to the directory it prints (target/embree4 by default); on Debian 13, \
              `apt-get install libembree-dev` provides it in the system paths. Or build without \
              `--features embree4` for Debian 12's Embree 3."
+                .to_string()
         } else {
             "Install Debian's libembree-dev (scripts/setup.sh does), or set EMBREE_DIR to a \
              directory with include/embree3/ and lib/libembree3.so. (For Embree 4, build with \
              `--features embree4`.)"
+                .to_string()
         };
         panic!("Embree {major} headers not found: no {header} in {looked}. {how}");
     };
@@ -61,6 +71,15 @@ fn main() {
 
     if let Some(dir) = &embree_dir {
         let lib_dir = dir.join("lib");
+        let so = lib_dir.join(format!("lib{lib}.so"));
+        if *found == dir.join("include") && !so.exists() {
+            panic!(
+                "EMBREE_DIR={} has Embree {major}'s headers but no {}: the linker needs it \
+                 (scripts/setup-embree4.sh lays out both for Embree 4).",
+                dir.display(),
+                so.display()
+            );
+        }
         if lib_dir.exists() {
             println!("cargo:rustc-link-search=native={}", lib_dir.display());
             // Embree 4 from EMBREE_DIR is not in the loader's paths: the binaries, tests and
