@@ -94,7 +94,8 @@ edition = "2021"
 [dependencies]
 $headers_crate = "=$headers_version"
 EOF
-(cd "$work/fetch" && cargo fetch --quiet)
+host="$(rustc -vV | sed -n 's/^host: //p')"
+(cd "$work/fetch" && cargo fetch --quiet --target "$host")
 manifest="$(cd "$work/fetch" && cargo metadata --format-version 1 --offline |
     python3 -c 'import json, sys
 for p in json.load(sys.stdin)["packages"]:

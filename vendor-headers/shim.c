@@ -2,6 +2,7 @@
 #include "shim.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,13 +27,21 @@ enum { NG_X, NG_Y, NG_Z, HIT_U, HIT_V, PRIM_ID, GEOM_ID, INST_ID };
  * structs' sizes are multiples of their alignment, so the room follows the last member). */
 #if defined(TIMBRE_EMBREE4) && !defined(RTC_GEOMETRY_INSTANCE_ARRAY)
 #define INST_PRIM_ROOM(N) unsigned inst_prim_room[RTC_MAX_INSTANCE_LEVEL_COUNT][N];
-#define INIT_INST_PRIM_ROOM(x, N) memset((x)->inst_prim_room, 0xFF, sizeof((x)->inst_prim_room))
+#define INIT_INST_PRIM_ROOM(x) memset((x)->inst_prim_room, 0xFF, sizeof((x)->inst_prim_room))
+/* The room is where a 4.3+ library puts instPrimID: right after instID. */
+#define ROOM_FOLLOWS_INST_ID(wrapper, inner, member_offset, inst_id)                            \
+    _Static_assert(offsetof(wrapper, inst_prim_room) ==                                         \
+                       offsetof(wrapper, inner) + (member_offset) + sizeof(inst_id),           \
+                   #wrapper ": no room for instPrimID right after instID")
 #else
 #define INST_PRIM_ROOM(N)
-#define INIT_INST_PRIM_ROOM(x, N) ((void)0)
+#define INIT_INST_PRIM_ROOM(x) ((void)0)
+#define ROOM_FOLLOWS_INST_ID(wrapper, inner, member_offset, inst_id)                            \
+    _Static_assert(1, "no room needed")
 #endif
 
-/* Ray/hit structs with that room (see INST_PRIM_ROOM). */
+/* Ray/hit structs with that room (see INST_PRIM_ROOM). Any other RTCRayHitN a query passes to
+ * Embree 4 needs the same (RTCRay alone, as occlusion queries pass, has no hit and needs none). */
 typedef struct {
     struct RTCRayHit rh;
     INST_PRIM_ROOM(1)
@@ -41,6 +50,12 @@ typedef struct {
     struct RTCRayHit8 rh;
     INST_PRIM_ROOM(8)
 } RayHit8;
+ROOM_FOLLOWS_INST_ID(RayHit1, rh,
+                     offsetof(struct RTCRayHit, hit) + offsetof(struct RTCHit, instID),
+                     ((struct RTCHit *)0)->instID);
+ROOM_FOLLOWS_INST_ID(RayHit8, rh,
+                     offsetof(struct RTCRayHit8, hit) + offsetof(struct RTCHit8, instID),
+                     ((struct RTCHit8 *)0)->instID);
 
 /* The ray-query context extended with timbre's per-query pointer. */
 typedef struct {
@@ -52,11 +67,15 @@ typedef struct {
 #endif
     const void *query;
 } TimbreContext;
+#if defined(TIMBRE_EMBREE4)
+ROOM_FOLLOWS_INST_ID(TimbreContext, base, offsetof(struct RTCRayQueryContext, instID),
+                     ((struct RTCRayQueryContext *)0)->instID);
+#endif
 
 static void init_context(TimbreContext *ctx, const void *query) {
 #if defined(TIMBRE_EMBREE4)
     rtcInitRayQueryContext(&ctx->base);
-    INIT_INST_PRIM_ROOM(ctx, 1);
+    INIT_INST_PRIM_ROOM(ctx);
 #else
     rtcInitIntersectContext(&ctx->base);
 #endif
@@ -265,7 +284,7 @@ void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, Tim
     TimbreContext ctx;
     init_context(&ctx, query);
     RayHit1 padded;
-    INIT_INST_PRIM_ROOM(&padded, 1);
+    INIT_INST_PRIM_ROOM(&padded);
     struct RTCRayHit *rh = &padded.rh;
     to_embree_ray(ray, &rh->ray);
     rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -310,7 +329,7 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
 #endif
     /* Embree requires the packet and its valid mask to be 32-byte aligned. */
     _Alignas(32) RayHit8 padded;
-    INIT_INST_PRIM_ROOM(&padded, 8);
+    INIT_INST_PRIM_ROOM(&padded);
     struct RTCRayHit8 *rh = &padded.rh;
     _Alignas(32) int valid8[8];
     for (unsigned i = 0; i < 8; i++) {
