@@ -13,3 +13,12 @@ scripts/slurm-e2e.sh
 # A short fuzz smoke run, 20 s a target from the committed corpus (docs/RELIABILITY.md);
 # installs cargo-fuzz if missing.
 scripts/fuzz.sh 20
+# The same suite against Embree 4 (the `embree4` feature) beside Debian's Embree 3: installs
+# Embree 4.4 into target/embree4 from the package registries (scripts/setup-embree4.sh), then
+# clippy and every test with the feature. Only timbre itself is built again (the dependencies'
+# builds are shared); the last line puts the Embree 3 build of target/release/timbre back.
+embree4="$PWD/target/embree4"
+scripts/setup-embree4.sh "$embree4"
+EMBREE_DIR="$embree4" cargo clippy --all-targets --release --locked --features embree4 -- -D warnings
+EMBREE_DIR="$embree4" cargo test --release --locked --features embree4
+cargo build --release --locked --quiet

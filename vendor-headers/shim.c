@@ -2,6 +2,7 @@
 #include "shim.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,19 +18,64 @@
 enum { ORG_X, ORG_Y, ORG_Z, TNEAR, DIR_X, DIR_Y, DIR_Z, TIME, TFAR, MASK, ID, FLAGS };
 enum { NG_X, NG_Y, NG_Z, HIT_U, HIT_V, PRIM_ID, GEOM_ID, INST_ID };
 
+/* Embree >= 4.3 built with instance arrays (the default, and PyPI's embreex build of 4.4) has an
+ * instance primitive id after the instance ids, as the last member of RTCHit, RTCHitN and
+ * RTCRayQueryContext, and writes it on every query. Headers older than 4.3 (embree4-sys ships
+ * 4.2's) or configured without instance arrays lack the field: their structs are then too small
+ * for such a library, which would write past them. So, without RTC_GEOMETRY_INSTANCE_ARRAY,
+ * timbre leaves room for the field after each of those structs (the 4.3+ layout exactly: the
+ * structs' sizes are multiples of their alignment, so the room follows the last member). */
+#if defined(TIMBRE_EMBREE4) && !defined(RTC_GEOMETRY_INSTANCE_ARRAY)
+#define INST_PRIM_ROOM(N) unsigned inst_prim_room[RTC_MAX_INSTANCE_LEVEL_COUNT][N];
+#define INIT_INST_PRIM_ROOM(x) memset((x)->inst_prim_room, 0xFF, sizeof((x)->inst_prim_room))
+/* The room is where a 4.3+ library puts instPrimID: right after instID. */
+#define ROOM_FOLLOWS_INST_ID(wrapper, inner, member_offset, inst_id)                            \
+    _Static_assert(offsetof(wrapper, inst_prim_room) ==                                         \
+                       offsetof(wrapper, inner) + (member_offset) + sizeof(inst_id),           \
+                   #wrapper ": no room for instPrimID right after instID")
+#else
+#define INST_PRIM_ROOM(N)
+#define INIT_INST_PRIM_ROOM(x) ((void)0)
+#define ROOM_FOLLOWS_INST_ID(wrapper, inner, member_offset, inst_id)                            \
+    _Static_assert(1, "no room needed")
+#endif
+
+/* Ray/hit structs with that room (see INST_PRIM_ROOM). Any other RTCRayHitN a query passes to
+ * Embree 4 needs the same (RTCRay alone, as occlusion queries pass, has no hit and needs none). */
+typedef struct {
+    struct RTCRayHit rh;
+    INST_PRIM_ROOM(1)
+} RayHit1;
+typedef struct {
+    struct RTCRayHit8 rh;
+    INST_PRIM_ROOM(8)
+} RayHit8;
+ROOM_FOLLOWS_INST_ID(RayHit1, rh,
+                     offsetof(struct RTCRayHit, hit) + offsetof(struct RTCHit, instID),
+                     ((struct RTCHit *)0)->instID);
+ROOM_FOLLOWS_INST_ID(RayHit8, rh,
+                     offsetof(struct RTCRayHit8, hit) + offsetof(struct RTCHit8, instID),
+                     ((struct RTCHit8 *)0)->instID);
+
 /* The ray-query context extended with timbre's per-query pointer. */
 typedef struct {
 #if defined(TIMBRE_EMBREE4)
     struct RTCRayQueryContext base;
+    INST_PRIM_ROOM(1)
 #else
     struct RTCIntersectContext base;
 #endif
     const void *query;
 } TimbreContext;
+#if defined(TIMBRE_EMBREE4)
+ROOM_FOLLOWS_INST_ID(TimbreContext, base, offsetof(struct RTCRayQueryContext, instID),
+                     ((struct RTCRayQueryContext *)0)->instID);
+#endif
 
 static void init_context(TimbreContext *ctx, const void *query) {
 #if defined(TIMBRE_EMBREE4)
     rtcInitRayQueryContext(&ctx->base);
+    INIT_INST_PRIM_ROOM(ctx);
 #else
     rtcInitIntersectContext(&ctx->base);
 #endif
@@ -85,6 +131,9 @@ static void user_intersect(const struct RTCIntersectFunctionNArguments *args) {
         LANE_U(hit, PRIM_ID, N, i) = args->primID;
         LANE_U(hit, GEOM_ID, N, i) = args->geomID;
         LANE_U(hit, INST_ID, N, i) = ctx->base.instID[0];
+#if defined(TIMBRE_EMBREE4) && defined(RTC_GEOMETRY_INSTANCE_ARRAY)
+        LANE_U(hit, INST_ID + RTC_MAX_INSTANCE_LEVEL_COUNT, N, i) = ctx->base.instPrimID[0];
+#endif
     }
 }
 
@@ -234,23 +283,25 @@ static void to_embree_ray(const TimbreRay *r, struct RTCRay *out) {
 void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, TimbreHit *hit) {
     TimbreContext ctx;
     init_context(&ctx, query);
-    struct RTCRayHit rh;
-    to_embree_ray(ray, &rh.ray);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RayHit1 padded;
+    INIT_INST_PRIM_ROOM(&padded);
+    struct RTCRayHit *rh = &padded.rh;
+    to_embree_ray(ray, &rh->ray);
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 #if defined(TIMBRE_EMBREE4)
     struct RTCIntersectArguments args;
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
-    rtcIntersect1((RTCScene)scene, &rh, &args);
+    rtcIntersect1((RTCScene)scene, rh, &args);
 #else
-    rtcIntersect1((RTCScene)scene, &ctx.base, &rh);
+    rtcIntersect1((RTCScene)scene, &ctx.base, rh);
 #endif
-    hit->t = rh.ray.tfar;
-    hit->geom_id = rh.hit.geomID;
-    hit->prim_id = rh.hit.primID;
-    hit->inst_id = rh.hit.instID[0];
+    hit->t = rh->ray.tfar;
+    hit->geom_id = rh->hit.geomID;
+    hit->prim_id = rh->hit.primID;
+    hit->inst_id = rh->hit.instID[0];
 }
 
 int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray) {
@@ -298,28 +349,30 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
     ctx.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 #endif
     /* Embree requires the packet and its valid mask to be 32-byte aligned. */
-    _Alignas(32) struct RTCRayHit8 rh;
+    _Alignas(32) RayHit8 padded;
+    INIT_INST_PRIM_ROOM(&padded);
+    struct RTCRayHit8 *rh = &padded.rh;
     _Alignas(32) int valid8[8];
-    to_embree_packet8(valid, rays, valid8, &rh.ray);
+    to_embree_packet8(valid, rays, valid8, &rh->ray);
     for (unsigned i = 0; i < 8; i++) {
-        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+        rh->hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh->hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh->hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
 #if defined(TIMBRE_EMBREE4)
     struct RTCIntersectArguments args;
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
     args.flags = RTC_RAY_QUERY_FLAG_COHERENT;
-    rtcIntersect8(valid8, (RTCScene)scene, &rh, &args);
+    rtcIntersect8(valid8, (RTCScene)scene, rh, &args);
 #else
-    rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, &rh);
+    rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, rh);
 #endif
     for (unsigned i = 0; i < 8; i++) {
-        hits[i].t = rh.ray.tfar[i];
-        hits[i].geom_id = valid[i] ? rh.hit.geomID[i] : TIMBRE_INVALID_ID;
-        hits[i].prim_id = rh.hit.primID[i];
-        hits[i].inst_id = rh.hit.instID[0][i];
+        hits[i].t = rh->ray.tfar[i];
+        hits[i].geom_id = valid[i] ? rh->hit.geomID[i] : TIMBRE_INVALID_ID;
+        hits[i].prim_id = rh->hit.primID[i];
+        hits[i].inst_id = rh->hit.instID[0][i];
     }
 }
 
