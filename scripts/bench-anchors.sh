@@ -16,6 +16,7 @@
 #     the same scenes with ambient light only (no shadow rays),
 #   the BVH build of M against bare Embree's (MEDIUM quality, as timbre builds it),
 #   TIM's studio at 1920x1080 (the pinhole at rest, at 0.99c, and a finite aperture with 8 spp),
+#   timbre built against Embree 4 (scripts/setup-embree4.sh) on LF, M and the studio,
 #   loading a 10-million-triangle binary PLY (timbre's test sphere),
 # with the anchors' availability probe before and after (2.0 = two full cores). Ratios are
 # taken within each repetition; the medians [min-max] are printed, and the raw figures are left
@@ -29,6 +30,11 @@ anchors="$(cd .. && pwd)/shared/anchors"
 source scripts/workdir.sh "$@"
 cargo build --release --quiet --example image_diff
 diff_images="$PWD/target/release/examples/image_diff"
+# timbre built against Embree 4 too (the embree4 feature), in its own target directory.
+scripts/setup-embree4.sh >/dev/null
+EMBREE_DIR="$PWD/target/embree4" CARGO_TARGET_DIR="$PWD/target/embree4-build" \
+    cargo build --release --quiet --features embree4
+timbre4="$PWD/target/embree4-build/release/timbre"
 
 # --- the anchors -------------------------------------------------------------------------------
 command -v povray >/dev/null || { apt-get update -qq && apt-get install -y -qq povray >/dev/null; }
@@ -126,7 +132,7 @@ timbre_render() { # item scene threads [--mrays] [timbre options...]
     local item=$1 scene=$2 threads=$3 mrays=""; shift 3
     [ "${1:-}" = --mrays ] && { mrays=1; shift; }
     local out
-    out=$("$timbre" render "$work/$scene.toml" --threads "$threads" -o "$work/t_$item.png" "$@" 2>/dev/null)
+    out=$("${binary:-$timbre}" render "$work/$scene.toml" --threads "$threads" -o "$work/t_$item.png" "$@" 2>/dev/null)
     if [ -n "$mrays" ]; then
         record "$item" "$(sed -n 's/.* s (\([0-9.]*\) Mrays\/s).*/\1/p' <<<"$out")"
     else
@@ -157,6 +163,7 @@ for rep in $(seq 1 "$reps"); do
                 echo "$rep,$threads,embree_shade_$scene,$seconds"
             done >>"$raw"
         for s in LF LF-triangles M L M-primary; do timbre_render "timbre_$s" "$s" "$threads"; done
+        for s in LF M studio; do binary="$timbre4" timbre_render "timbre4_$s" "$s" "$threads"; done
         "$embree" --reps 1 --build-only --scenes M --qualities medium --device-threads "$threads" 2>/dev/null |
             awk -F, '/^CSV,build/ { print $6 }' | while read -r ms; do
                 echo "$rep,$threads,embree_build_M,$(awk -v m="$ms" 'BEGIN { print m / 1000 }')"
@@ -227,6 +234,9 @@ awk -F, -v reps="$reps" '
         row("primary rays only, timbre / Embree rtcIntersect1, M", "timbre_M-primary", "embree_rtc1_M", "%.2f")
         row("primary rays only, timbre / Embree rtcIntersect8, L", "timbre_L", "embree_rtc8_L", "%.2f")
         row("primary rays only, timbre / Embree rtcIntersect8, M", "timbre_M-primary", "embree_rtc8_M", "%.2f")
+        row("timbre with Embree 4 / bare Embree 3 shading pass, LF", "timbre4_LF", "embree_shade_LF", "%.2f")
+        row("timbre with Embree 4 / bare Embree 3 shading pass, M", "timbre4_M", "embree_shade_M", "%.2f")
+        row("timbre with Embree 4 / with Embree 3, studio", "timbre4_studio", "timbre_studio", "%.2f")
         row("camera at 0.99c / pinhole at rest, studio throughput", "studio_moving", "studio_pinhole", "%.2f")
         row("finite aperture (8 spp) / pinhole, studio throughput", "studio_aperture", "studio_pinhole", "%.2f")
         row("timbre BVH build / bare Embree build (MEDIUM), M", "timbre_M_build", "embree_build_M", "%.2f")
@@ -249,6 +259,9 @@ awk -F, -v reps="$reps" '
         time("POV-Ray wall, mesh", "pov_wall_mesh", 1, "s")
         time("timbre wall, M", "timbre_wall_M", 1, "s")
         time("timbre, the 1080p studio (Dr TIM: 23.9 s / 13.2 s)", "timbre_studio", 1000, "ms")
+        time("timbre with Embree 4: LF", "timbre4_LF", 1000, "ms")
+        time("timbre with Embree 4: M", "timbre4_M", 1000, "ms")
+        time("timbre with Embree 4: studio", "timbre4_studio", 1000, "ms")
         time("timbre, M: loading the binary PLY", "timbre_M_load", 1000, "ms")
         time("timbre, M: BVH build", "timbre_M_build", 1000, "ms")
         time("bare Embree, M: BVH build (MEDIUM)", "embree_build_M", 1000, "ms")
