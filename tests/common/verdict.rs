@@ -44,6 +44,7 @@
 use std::cell::Cell;
 
 use glam::DVec3;
+use timbre::embree::ExactRay;
 use timbre::geometry::{Hit, ObjectArray, SceneGeometry, Shape};
 
 use super::AXES;
@@ -351,7 +352,8 @@ impl Tally {
 }
 
 /// Runs every check on a built scene: `rays` single rays (`nearest` and `shadowed`) and
-/// `packets` packets of up to 8 (`nearest8`, each lane also against `nearest`), their queries
+/// `packets` packets of up to 8 (`nearest8` or `nearest_packet`, each lane also against
+/// `nearest`, and `shadowed8`), their queries
 /// drawn by `draw` from `rng`. `observe` sees each single ray's answers and hit, for counts of
 /// a test's own.
 #[allow(clippy::too_many_arguments)]
@@ -393,6 +395,30 @@ pub fn check_queries(
             tally.packet[v as usize] += 1;
             Ok(())
         })?;
+        // Up to 8 shadow rays as one packet: each lane against the brute-force answers.
+        let queries: Vec<Query> = (0..1 + rng.index(8)).map(|_| draw(rng)).collect();
+        let segments: Vec<_> = queries
+            .iter()
+            .map(|q| {
+                let ray = ExactRay {
+                    origin: q.origin,
+                    direction: q.direction,
+                };
+                (ray, q.t_min, q.t_max)
+            })
+            .collect();
+        let lanes = scene.shadowed8(&segments);
+        if lanes[queries.len()..].iter().any(|&b| b) {
+            return Err(format!(
+                "shadowed8 answered lanes beyond its rays: {lanes:?}"
+            ));
+        }
+        for (&q, &shadowed) in queries.iter().zip(&lanes) {
+            let answers = Answers::new(objects, elements, q);
+            let v = check_shadowed(&answers, shadowed)
+                .map_err(|e| format!("shadowed8 lane ({shadowed}): {e}\n{q:?}"))?;
+            tally.shadowed[v as usize] += 1;
+        }
     }
     Ok(tally)
 }
