@@ -2,11 +2,11 @@
 //! Lorentz transformations and reference frames, keyed random numbers, and the ODE integrator
 //! of the gradient-index lenses. The bottom layer: it imports nothing else of timbre.
 
-mod dormand_prince;
+mod dop853;
 mod lorentz;
 pub mod random;
 
-pub use dormand_prince::DormandPrince;
+pub use dop853::{Dop853, ErrorEstimate, Phase};
 pub use lorentz::{LorentzTransform, ReferenceFrame};
 
 use glam::DVec3;

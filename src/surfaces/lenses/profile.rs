@@ -12,8 +12,6 @@
 //! is continued by its own formula (the table by its last cubic), which the integrator's trial
 //! stages may sample just outside the surface.
 
-use glam::DVec3;
-
 #[derive(Debug, Clone, PartialEq)]
 pub enum IndexProfile {
     Luneburg,
@@ -33,28 +31,56 @@ impl IndexProfile {
         }
     }
 
-    /// n∇n = ∇(n²)/2 at the point `x` (in units of R, relative to the centre).
-    pub fn force(&self, x: DVec3) -> DVec3 {
+    /// n² and the factor φ with n∇n = ∇(n²)/2 = φ x at a point x (in units of R, relative to
+    /// the centre) with |x|² = `rho_squared`: by spherical symmetry φ = n n′(ρ)/ρ, the force of
+    /// the ray equation in Hamiltonian form per unit distance from the centre.
+    pub fn n_squared_and_force(&self, rho_squared: f64) -> (f64, f64) {
         match self {
-            IndexProfile::Luneburg => -x,
-            IndexProfile::Eaton => -x / x.length().powi(3),
-            IndexProfile::MaxwellFisheye => -8.0 * x / (1.0 + x.length_squared()).powi(3),
+            IndexProfile::Luneburg => (2.0 - rho_squared, -1.0),
+            IndexProfile::Eaton => {
+                let rho = rho_squared.sqrt();
+                (2.0 / rho - 1.0, -1.0 / (rho_squared * rho))
+            }
+            IndexProfile::MaxwellFisheye => {
+                let inverse = 1.0 / (1.0 + rho_squared);
+                let n = 2.0 * inverse;
+                (n * n, -8.0 * inverse * inverse * inverse)
+            }
             IndexProfile::Table(t) => {
-                let rho = x.length();
-                if rho == 0.0 {
-                    return DVec3::ZERO;
-                }
+                let rho = rho_squared.sqrt();
                 let (n, slope) = t.eval(rho);
-                n * slope / rho * x
+                let force = if rho == 0.0 { 0.0 } else { n * slope / rho };
+                (n * n, force)
             }
         }
     }
 
-    /// For a profile that is infinite at the centre (Eaton's), where a ray aimed at it cannot
-    /// be integrated: the optical path 2∫₀¹ n dρ of the trip to the centre and back (with
-    /// ρ = 2 sin²u, 2∫₀¹ √(2/ρ − 1) dρ = π + 2). `None` for profiles finite there.
-    pub fn singular_return_path(&self) -> Option<f64> {
-        matches!(self, IndexProfile::Eaton).then_some(std::f64::consts::PI + 2.0)
+    /// ρn² and its derivative d(ρn²)/dρ = n² + 2ρnn′ at ρ, the potential of the ray equation
+    /// after the Levi-Civita transformation (see `gradient_index`). Both stay finite at the
+    /// centre where n² has a pole like 1/ρ (Eaton's), and ρn² is 0 there for a profile finite
+    /// there.
+    pub fn rho_n_squared(&self, rho: f64) -> (f64, f64) {
+        match self {
+            IndexProfile::Luneburg => (rho * (2.0 - rho * rho), 2.0 - 3.0 * rho * rho),
+            IndexProfile::Eaton => (2.0 - rho, -1.0),
+            IndexProfile::MaxwellFisheye => {
+                let s = 1.0 + rho * rho;
+                (
+                    4.0 * rho / (s * s),
+                    4.0 * (1.0 - 3.0 * rho * rho) / (s * s * s),
+                )
+            }
+            IndexProfile::Table(t) => {
+                let (n, slope) = t.eval(rho);
+                (rho * n * n, n * (n + 2.0 * rho * slope))
+            }
+        }
+    }
+
+    /// Whether n is smooth inside the lens: the built-in formulas are; a table's spline is C²,
+    /// its third derivative jumping at the knots.
+    pub fn is_smooth(&self) -> bool {
+        !matches!(self, IndexProfile::Table(_))
     }
 
     pub fn name(&self) -> &'static str {
@@ -182,6 +208,8 @@ fn spline_curvature(x: &[f64], y: &[f64]) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
+    use glam::DVec3;
+
     use super::*;
 
     fn luneburg_table(points: usize) -> TableProfile {
@@ -234,8 +262,32 @@ mod tests {
                 n2(x + DVec3::Y * h) - n2(x - DVec3::Y * h),
                 n2(x + DVec3::Z * h) - n2(x - DVec3::Z * h),
             ) / (2.0 * h);
-            assert!((p.force(x) - numeric).length() < 1e-7, "{}", p.name());
+            let (n2, factor) = p.n_squared_and_force(x.length_squared());
+            assert!((factor * x - numeric).length() < 1e-7, "{}", p.name());
+            assert!((n2 - p.n(x.length()).powi(2)).abs() < 1e-14, "{}", p.name());
         }
+    }
+
+    #[test]
+    fn rho_n_squared_and_its_slope_follow_n() {
+        let profiles = [
+            IndexProfile::Luneburg,
+            IndexProfile::Eaton,
+            IndexProfile::MaxwellFisheye,
+            IndexProfile::Table(luneburg_table(11)),
+        ];
+        for p in &profiles {
+            for rho in [0.1, 0.37, 0.8, 1.0] {
+                let value = |r: f64| r * p.n(r).powi(2);
+                let h = 1e-6;
+                let numeric = (value(rho + h) - value(rho - h)) / (2.0 * h);
+                let (v, slope) = p.rho_n_squared(rho);
+                assert!((v - value(rho)).abs() < 1e-14, "{} {rho}", p.name());
+                assert!((slope - numeric).abs() < 1e-7, "{} {rho}", p.name());
+            }
+        }
+        assert_eq!(IndexProfile::Eaton.rho_n_squared(0.0), (2.0, -1.0));
+        assert_eq!(IndexProfile::Luneburg.rho_n_squared(0.0).0, 0.0);
     }
 
     #[test]
