@@ -76,8 +76,9 @@ lattice() {
         printf 'surface = { type = "matt", colour = [0.63, 0.35, 0.07] }\n'
     done; done; done
 }
-# Chequer as the anchor's: floor(x) + floor(y) + floor(z) odd (y = -0.02) is 0.9, else 0.3; on
-# the plane (u, v) = (z, x) and on the mesh (x, z), so tiles with floor(u) + floor(v) even are 0.3.
+# Chequer as the anchor's: floor(x) + floor(y) + floor(z) odd is 0.3, else 0.9; floor(y) = -1 on
+# the floor, and on the plane (u, v) = (z, x), on the mesh (x, z), so tiles with
+# floor(u) + floor(v) even are 0.3.
 floor_surface='{ type = "chequerboard", surfaces = [{ type = "matt", colour = [0.21, 0.21, 0.21] }, { type = "matt", colour = [0.63, 0.63, 0.63] }] }'
 lf_view=("[-6, 9, -9]" "[8.5, -7, 11.5]")
 m_view=("[0.6, 1, -3.4]" "[-0.6, -1, 3.4]")
@@ -141,9 +142,14 @@ timbre_render() { # item scene threads [--mrays] [timbre options...]
         record "${item}_build" "$(sed -n 's/.*BVH built in \([0-9.]*\) s.*/\1/p' <<<"$out")"
     fi
 }
-wall() { # command... -> wall seconds
+wall() { # command... -> wall seconds (nothing, and a warning, if the command fails)
     local t0 t1
-    t0=$(date +%s.%N); "$@" >/dev/null 2>&1; t1=$(date +%s.%N)
+    t0=$(date +%s.%N)
+    if ! "$@" >/dev/null 2>&1; then
+        echo "warning: failed: $*" >&2
+        return
+    fi
+    t1=$(date +%s.%N)
     awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.4f", b - a }'
 }
 pov() { # scene threads
@@ -173,7 +179,7 @@ for rep in $(seq 1 "$reps"); do
         timbre_render studio_moving studio "$threads" --mrays --set 'camera.beta=[0,0,0.99]'
         timbre_render studio_aperture studio "$threads" --mrays --spp 8 \
             --set camera.aperture_radius=0.02 --set camera.focus_distance=15
-        "$embree" --reps 1 --no-build --scenes L,M --methods 1,8 --threads "$threads" --qualities high 2>/dev/null |
+        "$embree" --reps 1 --no-build --scenes L,M --methods 1,8 --threads "$threads" --qualities medium 2>/dev/null |
             awk -F, '/^CSV,render/ { print $3 "," $5 "," $7 }' | while IFS=, read -r scene method mrays; do
                 echo "$rep,$threads,embree_rtc${method}_$scene,$(awk -v r="$mrays" 'BEGIN { print 2073600 / (r * 1e6) }')"
             done >>"$raw"

@@ -19,8 +19,8 @@
 //!
 //! - `intersect` (nearest-hit and occlusion queries) keeps the first payload in the query's own
 //!   context, reports "no hit", and reports "no hit" without calling Rust for the rest of that
-//!   query; [`Scene::intersect`], [`Scene::occluded`] and [`Scene::intersect8`] resume it with
-//!   [`std::panic::resume_unwind`] as soon as Embree returns;
+//!   query; [`Scene::intersect`], [`Scene::occluded`], [`Scene::intersect8`] and
+//!   [`Scene::occluded8`] resume it with [`std::panic::resume_unwind`] as soon as Embree returns;
 //! - `bounds` keeps the first payload with the user geometry and reports an empty box (Embree
 //!   leaves the primitive out); [`SceneBuilder::commit`] resumes it once the build is done;
 //! - the error callback keeps the payload with the device; the next check of the device's
@@ -107,6 +107,14 @@ fn f32_above(x: f64) -> f32 {
 pub struct ExactRay {
     pub origin: DVec3,
     pub direction: DVec3,
+}
+
+impl ExactRay {
+    /// A ray to fill unused places with (a packet's inactive lanes).
+    pub const PLACEHOLDER: ExactRay = ExactRay {
+        origin: DVec3::ZERO,
+        direction: DVec3::Z,
+    };
 }
 
 /// Analytic primitives whose intersections Embree delegates to Rust.
@@ -560,7 +568,7 @@ impl Scene {
             prim_id: 0,
             inst_id: 0,
         }; 8];
-        // SAFETY: all four arrays have 8 elements as the shim expects; `query` outlives the
+        // SAFETY: the three arrays have 8 elements as the shim expects; `query` outlives the
         // call. Embree requires 32-byte alignment only for its own packet struct, which the shim
         // builds on its stack.
         unsafe {
@@ -582,7 +590,7 @@ impl Scene {
     pub fn occluded8(&self, segments: &[(ExactRay, f64, f64)], mask: u32) -> [bool; 8] {
         assert!(segments.len() <= 8, "a packet holds at most 8 rays");
         let rays: [ExactRay; 8] =
-            std::array::from_fn(|i| segments.get(i).map_or(FALLBACK_RAY, |s| s.0));
+            std::array::from_fn(|i| segments.get(i).map_or(ExactRay::PLACEHOLDER, |s| s.0));
         let best: [Best; 8] = std::array::from_fn(|_| no_best());
         let query = Query::new(&rays[..segments.len()], &self.instance_offsets, &best);
         let (packet, valid) = packet8(
@@ -591,7 +599,7 @@ impl Scene {
             mask,
         );
         let mut occluded: [c_int; 8] = [0; 8];
-        // SAFETY: all four arrays have 8 elements as the shim expects; `query` outlives the
+        // SAFETY: the three arrays have 8 elements as the shim expects; `query` outlives the
         // call (as in `intersect8`).
         unsafe {
             ffi::timbre_occluded8(
@@ -607,12 +615,6 @@ impl Scene {
     }
 }
 
-/// The ray of a packet's inactive lanes.
-const FALLBACK_RAY: ExactRay = ExactRay {
-    origin: DVec3::ZERO,
-    direction: DVec3::Z,
-};
-
 /// An 8-wide packet and its valid mask: lane i < `n` is `lane(i)` = (ray, t_near, t_far),
 /// with id i (the index of its exact ray in the query); the others are inactive.
 fn packet8<'a>(
@@ -621,7 +623,7 @@ fn packet8<'a>(
     mask: u32,
 ) -> ([ffi::TimbreRay; 8], [c_int; 8]) {
     let (mut packet, mut valid) = (
-        [to_embree(&FALLBACK_RAY, 0.0, f64::INFINITY, mask, 0); 8],
+        [to_embree(&ExactRay::PLACEHOLDER, 0.0, f64::INFINITY, mask, 0); 8],
         [0; 8],
     );
     for i in 0..n {

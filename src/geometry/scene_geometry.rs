@@ -490,7 +490,7 @@ impl SceneGeometry {
         let segments = &segments[..segments.len().min(8)];
         let mut blocked = [false; 8];
         // The lanes left to the BVH, and their segments.
-        let (mut lanes, mut packet, mut n) = ([0; 8], [segments[0]; 8], 0);
+        let (mut lanes, mut packet, mut n) = ([0; 8], [(ExactRay::PLACEHOLDER, 0.0, 0.0); 8], 0);
         for (i, &(ray, t_min, t_max)) in segments.iter().enumerate() {
             if !embree_can_trace(ray.origin) {
                 blocked[i] = self

@@ -28,13 +28,16 @@ struct MeshData {
     removed: usize,
 }
 
-/// A mesh shows its sizes and a digest of its data (FNV-1a over the bits of every coordinate and
-/// index, 64 bits at a time), not its values one by one: the scene hash, taken from the scene's
+/// A mesh shows its sizes and a digest of its data (FNV-1a over the mixed bits of every
+/// coordinate and index, 64 bits at a time), not its values one by one: the scene hash, taken from the scene's
 /// Debug text, stays fast for millions of triangles (formatting them took seconds).
 impl std::fmt::Debug for MeshData {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // Each word is mixed first: a multiply carries changes only upwards, so without it two
+        // sign bits flipped would cancel.
+        let mix = crate::math::random::mix;
         let mut digest = 0xcbf2_9ce4_8422_2325u64;
-        let mut eat = |word: u64| digest = (digest ^ word).wrapping_mul(0x0000_0100_0000_01b3);
+        let mut eat = |word: u64| digest = (digest ^ mix(word)).wrapping_mul(0x0000_0100_0000_01b3);
         let normals = self.normals.iter().flatten();
         for c in self
             .vertices
@@ -273,6 +276,11 @@ mod tests {
         let mut tilted = normals;
         tilted[3] = DVec3::new(0.0, 0.6, 0.8);
         assert_ne!(with_normals, text(v(), t(), Some(tilted)));
+        // Mirrored in x: two sign bits flipped must not cancel.
+        let mut mirrored = v();
+        mirrored[1].x = -1.0;
+        mirrored[3].x = -0.0;
+        assert_ne!(base, text(mirrored, t(), None));
         // Sizes, not values: the text stays short however large the mesh.
         assert!(base.len() < 200, "{base}");
     }

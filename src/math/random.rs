@@ -3,7 +3,7 @@
 //! surface laws with random errors key theirs by the ray.
 
 /// SplitMix64's finaliser: a bijective 64-bit mix with good avalanche.
-fn mix(mut z: u64) -> u64 {
+pub fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)

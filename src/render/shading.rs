@@ -82,21 +82,18 @@ impl Tracer<'_> {
 /// its lane and the light's contribution, added to the lane's colour if nothing blocks it.
 pub(super) struct ShadowRays<'a> {
     geometry: &'a SceneGeometry,
-    lights: [(usize, Colour); 8],
+    /// Each shadow ray's lane and its light's contribution.
+    contributions: [(usize, Colour); 8],
     segments: [(ExactRay, f64, f64); 8],
     n: usize,
 }
 
 impl<'a> ShadowRays<'a> {
     pub fn new(geometry: &'a SceneGeometry) -> Self {
-        let nowhere = ExactRay {
-            origin: DVec3::ZERO,
-            direction: DVec3::Z,
-        };
         ShadowRays {
             geometry,
-            lights: [(0, Colour::ZERO); 8],
-            segments: [(nowhere, 0.0, 0.0); 8],
+            contributions: [(0, Colour::ZERO); 8],
+            segments: [(ExactRay::PLACEHOLDER, 0.0, 0.0); 8],
             n: 0,
         }
     }
@@ -111,7 +108,7 @@ impl<'a> ShadowRays<'a> {
         colours: &mut [Option<Colour>; 8],
         rays: &Cell<u64>,
     ) {
-        (self.lights[self.n], self.segments[self.n]) = ((lane, lit), segment);
+        (self.contributions[self.n], self.segments[self.n]) = ((lane, lit), segment);
         self.n += 1;
         if self.n == 8 {
             self.flush(colours, rays);
@@ -126,7 +123,7 @@ impl<'a> ShadowRays<'a> {
         }
         rays.set(rays.get() + self.n as u64);
         let blocked = self.geometry.shadowed8(&self.segments[..self.n]);
-        for (&(lane, lit), blocked) in self.lights[..self.n].iter().zip(blocked) {
+        for (&(lane, lit), blocked) in self.contributions[..self.n].iter().zip(blocked) {
             if let (Some(colour), false) = (&mut colours[lane], blocked) {
                 *colour += lit;
             }

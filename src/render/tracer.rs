@@ -121,10 +121,7 @@ impl<'a> Tracer<'a> {
             }
             return;
         }
-        let mut packet = [ExactRay {
-            origin: DVec3::ZERO,
-            direction: DVec3::Z,
-        }; 8];
+        let mut packet = [ExactRay::PLACEHOLDER; 8];
         for (p, r) in packet.iter_mut().zip(scene_rays) {
             (p.origin, p.direction) = (r.origin, r.direction);
         }
