@@ -252,12 +252,8 @@ impl Camera {
             }
             Focus::Surface => focus_surface(centre, chief).map(|t| centre + t * chief),
         };
-        // This eye's pupil centre and chief ray (through the common image point).
+        // This eye's pupil centre.
         let eye_centre = centre + self.eye;
-        let eye_chief = match image {
-            Some(i) if self.eye != DVec3::ZERO => (i - eye_centre).normalize(),
-            _ => chief,
-        };
         let pupil_point = if self.aperture_radius > 0.0 {
             let r = self.aperture_radius * pupil[0].sqrt();
             let (s, c) = (std::f64::consts::TAU * pupil[1]).sin_cos();
@@ -271,19 +267,26 @@ impl Camera {
             Some(i) => i - pupil_point,
             None => chief,
         };
-        let geometry = ShutterGeometry {
-            pupil_point,
-            pupil_centre: eye_centre,
-            pixel: eye_centre
-                - self.detector_distance / eye_chief.dot(self.view_direction) * eye_chief,
-            image,
-            chief: eye_chief,
+        // A shutter in the pupil opens at t_s for every ray: no shutter geometry to compute.
+        let time = if self.shutter == Shutter::EntrancePupil {
+            self.shutter_time
+        } else {
+            // This eye's chief ray (through the common image point).
+            let eye_chief = match image {
+                Some(i) if self.eye != DVec3::ZERO => (i - eye_centre).normalize(),
+                _ => chief,
+            };
+            let geometry = ShutterGeometry {
+                pupil_point,
+                pupil_centre: eye_centre,
+                pixel: eye_centre
+                    - self.detector_distance / eye_chief.dot(self.view_direction) * eye_chief,
+                image,
+                chief: eye_chief,
+            };
+            self.shutter.start_time(self.shutter_time, &geometry)
         };
-        Ray::new(
-            pupil_point,
-            direction,
-            self.shutter.start_time(self.shutter_time, &geometry),
-        )
+        Ray::new(pupil_point, direction, time)
     }
 
     /// The scene-frame ray of a camera-frame ray: its origin event (Eq 1, about the camera

@@ -342,11 +342,11 @@ impl SceneGeometry {
                 (raw.t - window).max(t_min),
                 f64::INFINITY,
             );
-            let on_plane = match shape {
+            let on_plane = || match shape {
                 Shape::TriangleMesh(m) => m.plane_distance(prim, origin, direction),
                 _ => None,
             };
-            exact.or(on_plane).unwrap_or(raw.t)
+            exact.or_else(on_plane).unwrap_or(raw.t)
         };
         Hit {
             object,
