@@ -25,6 +25,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 reps="${1:-5}"
 shift || true
+case "$reps" in
+    '' | *[!0-9]* | 0) echo "usage: scripts/bench-anchors.sh [REPS (a positive integer)] [WORKDIR]" >&2; exit 2 ;;
+esac
 anchors="$(cd .. && pwd)/shared/anchors"
 [ -d "$anchors/embree-limit" ] || { echo "no anchors at $anchors" >&2; exit 2; }
 source scripts/workdir.sh "$@"

@@ -549,7 +549,7 @@ impl Scene {
         occluded
     }
 
-    /// Nearest hits of up to 8 rays traced as one coherent packet (native on AVX2); lanes
+    /// Nearest hits of up to 8 rays traced as one packet (native on AVX2); lanes
     /// beyond `rays.len()` are inactive. All rays share `t_near`, `t_far` and `mask`.
     pub fn intersect8(
         &self,
@@ -584,18 +584,20 @@ impl Scene {
         std::array::from_fn(|i| Self::finish(&hits[i], best[i].get()))
     }
 
-    /// Whether anything with a matching mask lies on each of up to 8 ray segments
-    /// (ray, t_near, t_far), traced as one coherent packet (shadow rays of neighbouring
-    /// pixels); lanes beyond `segments.len()` are false.
-    pub fn occluded8(&self, segments: &[(ExactRay, f64, f64)], mask: u32) -> [bool; 8] {
-        assert!(segments.len() <= 8, "a packet holds at most 8 rays");
-        let rays: [ExactRay; 8] =
-            std::array::from_fn(|i| segments.get(i).map_or(ExactRay::PLACEHOLDER, |s| s.0));
+    /// Whether anything with a matching mask lies on each of up to 8 rays within its
+    /// interval (t_near, t_far), traced as one packet (shadow rays of neighbouring pixels);
+    /// lanes beyond `rays.len()` are false.
+    ///
+    /// # Panics
+    /// If there are more than 8 rays, or not one interval per ray.
+    pub fn occluded8(&self, rays: &[ExactRay], intervals: &[(f64, f64)], mask: u32) -> [bool; 8] {
+        assert!(rays.len() <= 8, "a packet holds at most 8 rays");
+        assert_eq!(rays.len(), intervals.len(), "one interval per ray");
         let best: [Best; 8] = std::array::from_fn(|_| no_best());
-        let query = Query::new(&rays[..segments.len()], &self.instance_offsets, &best);
+        let query = Query::new(rays, &self.instance_offsets, &best);
         let (packet, valid) = packet8(
-            segments.len(),
-            |i| (&segments[i].0, segments[i].1, segments[i].2),
+            rays.len(),
+            |i| (&rays[i], intervals[i].0, intervals[i].1),
             mask,
         );
         let mut occluded: [c_int; 8] = [0; 8];

@@ -451,7 +451,7 @@ impl SceneGeometry {
         self.nearest_packet(&rays[..n], t_min, t_max)
     }
 
-    /// Nearest hits of up to 8 rays traced as one Embree packet (coherent rays: neighbouring
+    /// Nearest hits of up to 8 rays traced as one Embree packet (nearby rays: neighbouring
     /// pixels, a finite aperture's samples); entries beyond `rays.len()` are `None`.
     pub fn nearest_packet(&self, rays: &[ExactRay], t_min: f64, t_max: f64) -> [Option<Hit>; 8] {
         let rays = &rays[..rays.len().min(8)];
@@ -489,8 +489,9 @@ impl SceneGeometry {
     pub fn shadowed8(&self, segments: &[(ExactRay, f64, f64)]) -> [bool; 8] {
         let segments = &segments[..segments.len().min(8)];
         let mut blocked = [false; 8];
-        // The lanes left to the BVH, and their segments.
-        let (mut lanes, mut packet, mut n) = ([0; 8], [(ExactRay::PLACEHOLDER, 0.0, 0.0); 8], 0);
+        // The lanes left to the BVH, their rays and intervals.
+        let (mut lanes, mut n) = ([0; 8], 0);
+        let (mut rays, mut intervals) = ([ExactRay::PLACEHOLDER; 8], [(0.0, 0.0); 8]);
         for (i, &(ray, t_min, t_max)) in segments.iter().enumerate() {
             if !embree_can_trace(ray.origin) {
                 blocked[i] = self
@@ -499,14 +500,18 @@ impl SceneGeometry {
             } else if self.unbounded_blocks(&ray, t_min, t_max) {
                 blocked[i] = true;
             } else {
-                (lanes[n], packet[n]) = (i, (ray, t_min, t_max));
+                (lanes[n], rays[n], intervals[n]) = (i, ray, (t_min, t_max));
                 n += 1;
             }
         }
         if n > 0 {
-            let occluded = self.top.bvh.occluded8(&packet[..n], SHADOW_THROWING);
-            for (k, &(ray, t_min, t_max)) in packet[..n].iter().enumerate() {
-                blocked[lanes[k]] = occluded[k] && self.confirmed(&ray, t_min, t_max);
+            let occluded = self
+                .top
+                .bvh
+                .occluded8(&rays[..n], &intervals[..n], SHADOW_THROWING);
+            for k in 0..n {
+                let (t_min, t_max) = intervals[k];
+                blocked[lanes[k]] = occluded[k] && self.confirmed(&rays[k], t_min, t_max);
             }
         }
         blocked
