@@ -63,6 +63,9 @@ impl Tracer<'_> {
         at: &Interaction,
         mut each: impl FnMut(Colour, DVec3, f64),
     ) {
+        if self.scene.lights.points.is_empty() {
+            return;
+        }
         let n = at.frame().w;
         let v = -at.ray.direction;
         let p = at.point();

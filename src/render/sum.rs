@@ -29,20 +29,27 @@ fn fixed(c: f64) -> i128 {
 }
 
 /// `s` rounded to the nearest f64 (ties to even), as `s as f64` does, but without its slow
-/// library call (inlined: the mean of every pixel of every band needs three): a value beyond 63 bits is shifted down to 63, with the bits shifted out
-/// folded into the lowest one (a "sticky" bit, so the rounding still sees whether anything was
-/// below), converted by one instruction and scaled back by a power of two (exact).
+/// library call (inlined: the mean of every pixel of every band needs three). A magnitude of
+/// 64 bits or fewer is converted as a `u64`. A larger one is cut to its top 64 bits, the bits
+/// cut off folded into the lowest one (a "sticky" bit, so that the rounding still sees whether
+/// anything was below); halved the same way to fit an `i64` (one conversion instruction), and
+/// scaled back by a power of two (exact).
 #[inline]
 fn to_f64(s: i128) -> f64 {
-    if let Ok(small) = i64::try_from(s) {
-        return small as f64;
-    }
     let m = s.unsigned_abs();
-    let shift = 128 - m.leading_zeros() - 63;
-    let sticky = (m & ((1u128 << shift) - 1) != 0) as u64;
-    // 2^shift built from its bits (powi with a variable exponent is a library call too).
-    let scale = f64::from_bits((1023 + shift as u64) << 52);
-    let v = ((m >> shift) as u64 | sticky) as f64 * scale;
+    let (high, low) = ((m >> 64) as u64, m as u64);
+    let v = if high == 0 {
+        low as f64
+    } else {
+        let zeros = high.leading_zeros();
+        // (low >> 1 >> 63 - zeros: a shift by 64 when zeros = 0 would overflow.)
+        let top = (high << zeros) | ((low >> 1) >> (63 - zeros));
+        let top = top | ((low << zeros) != 0) as u64;
+        let half = ((top >> 1) | (top & 1)) as i64 as f64;
+        // 2^(65 - zeros) built from its bits (powi with a variable exponent is a library
+        // call too).
+        half * f64::from_bits((1023 + 65 - zeros as u64) << 52)
+    };
     if s < 0 { -v } else { v }
 }
 
@@ -73,7 +80,9 @@ impl Sum {
         // Scaling by 2^-FRACTION_BITS is exact, so multiplying is dividing.
         let [r, g, b] = self.0;
         let unit = 1.0 / SCALE;
-        Colour::new(to_f64(r) * unit, to_f64(g) * unit, to_f64(b) * unit) / count as f64
+        let sum = Colour::new(to_f64(r) * unit, to_f64(g) * unit, to_f64(b) * unit);
+        // One sample (the common case) needs no division.
+        if count == 1 { sum } else { sum / count as f64 }
     }
 }
 
