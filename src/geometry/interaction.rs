@@ -46,6 +46,12 @@ impl Interaction<'_> {
         self.ray.at(self.hit.t)
     }
 
+    /// The hit point relative to the array copy that was hit: in the coordinates of the
+    /// object's own positions (those of its surface law, after the object's transform).
+    pub fn local_point(&self) -> DVec3 {
+        self.point() - self.geometry.offset(self.hit.object, self.hit.element)
+    }
+
     /// The surface frame at the hit (w the outward normal), of the array element that was hit,
     /// as seen by this ray (see [`SceneGeometry::frame_along`]); computed on demand, since some
     /// surfaces (constant colour) never need it.

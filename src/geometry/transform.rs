@@ -100,7 +100,7 @@ impl Transform {
     }
 
     /// The scale factor s > 0 when the linear part is s × an orthogonal matrix.
-    fn uniform_scale(&self) -> Option<f64> {
+    pub fn uniform_scale(&self) -> Option<f64> {
         let m = self.linear();
         let mtm = m.transpose() * m;
         let s2 = mtm.x_axis.x;

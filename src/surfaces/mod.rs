@@ -5,6 +5,7 @@
 
 mod chequerboard;
 mod coloured;
+pub mod ideal_lenses;
 pub mod lenses;
 pub mod metatoys;
 mod mirror;
@@ -13,6 +14,7 @@ mod transparent;
 
 pub use chequerboard::Chequerboard;
 pub use coloured::Coloured;
+pub use ideal_lenses::{Glens, LensletArray, ThinLens, ThinMirror};
 pub use lenses::Lens;
 pub use metatoys::{
     ConfocalLensletArrays, LorentzWindow, MetricInterface, PhaseConjugating, PhaseHologram,
@@ -24,7 +26,7 @@ pub use transparent::Transparent;
 
 use glam::DVec3;
 
-use crate::geometry::{Exit, Interaction, Shape};
+use crate::geometry::{Exit, Interaction, Shape, Transform};
 use crate::math::Colour;
 
 /// What a surface's law does with a ray that meets it: the one place each law is applied, both
@@ -70,6 +72,11 @@ pub enum Surface {
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
     Teleporting(Teleporting),
+    /// Ideal thin lenses, spherical and cylindrical, on any shape.
+    IdealThinLens(ThinLens),
+    IdealThinMirror(ThinMirror),
+    IdealThinLensletArray(LensletArray),
+    Glens(Glens),
 }
 
 impl Surface {
@@ -109,7 +116,67 @@ impl Surface {
             Surface::PhaseConjugating(s) => s.redirect(at),
             Surface::LorentzWindow(s) => s.redirect(at),
             Surface::Teleporting(s) => s.redirect(at),
+            Surface::IdealThinLens(s) => s.redirect(at),
+            Surface::IdealThinMirror(s) => s.redirect(at),
+            Surface::IdealThinLensletArray(s) => s.redirect(at),
+            Surface::Glens(s) => s.redirect(at),
         }
+    }
+
+    /// The surface of an object placed by `t`: the positions and directions of the ideal
+    /// lenses' laws move with the shape, and their focal lengths scale with it (which needs a
+    /// similarity map); the other laws have none.
+    pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
+        if t.is_identity() {
+            return Ok(self.clone());
+        }
+        let scale = || {
+            t.uniform_scale().ok_or_else(|| {
+                "an ideal lens's focal length is defined only under rotations, uniform scaling and translations, so it cannot be scaled non-uniformly".to_string()
+            })
+        };
+        let axis = |a: DVec3| t.vector(a).normalize();
+        let lens = |l: &ThinLens| -> Result<ThinLens, String> {
+            Ok(ThinLens {
+                principal_point: t.point(l.principal_point),
+                optical_axis: axis(l.optical_axis),
+                focal_length: l.focal_length * scale()?,
+                gradient: l.gradient.map(axis),
+                transmission_coefficient: l.transmission_coefficient,
+            })
+        };
+        Ok(match self {
+            Surface::IdealThinLens(l) => Surface::IdealThinLens(lens(l)?),
+            Surface::IdealThinMirror(m) => Surface::IdealThinMirror(ThinMirror {
+                lens: lens(&m.lens)?,
+            }),
+            Surface::IdealThinLensletArray(a) => {
+                let s = scale()?;
+                Surface::IdealThinLensletArray(LensletArray {
+                    centre: t.point(a.centre),
+                    u: axis(a.u),
+                    v: axis(a.v),
+                    period: a.period * s,
+                    focal_length: a.focal_length * s,
+                    transmission_coefficient: a.transmission_coefficient,
+                })
+            }
+            Surface::Glens(g) => {
+                let s = scale()?;
+                Surface::Glens(Glens {
+                    principal_point: t.point(g.principal_point),
+                    optical_axis: axis(g.optical_axis),
+                    focal_length_negative: g.focal_length_negative * s,
+                    focal_length_positive: g.focal_length_positive * s,
+                    transmission_coefficient: g.transmission_coefficient,
+                })
+            }
+            Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
+                tile_width: c.tile_width,
+                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+            }),
+            other => other.clone(),
+        })
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a

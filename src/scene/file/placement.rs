@@ -437,6 +437,12 @@ impl Placer {
                     format!("{}: {e}", super::object_label(&name)),
                 )
             })?;
+            let surface = surface.transformed(&own).map_err(|e| {
+                source.error(
+                    transform_span.clone().or(Some(surface_span.clone())),
+                    format!("{}: {e}", super::object_label(&name)),
+                )
+            })?;
             placed.objects.push(SceneObject {
                 name: if part.is_empty() {
                     name.clone()
@@ -444,7 +450,7 @@ impl Placer {
                     format!("{name}/{part}")
                 },
                 shape,
-                surface: surface.clone(),
+                surface,
                 shadow_throwing: o.shadow_throwing,
                 frame: FrameName::or(o.frame, frame),
             });

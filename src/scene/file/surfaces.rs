@@ -13,9 +13,9 @@ use crate::math::{Colour, LorentzTransform};
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
 use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
 use crate::surfaces::{
-    Chequerboard, Coloured, ConfocalLensletArrays, LorentzWindow, MetricInterface, Mirror,
-    PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive, Surface, Teleporting,
-    Transparent,
+    Chequerboard, Coloured, ConfocalLensletArrays, Glens, LensletArray, LorentzWindow,
+    MetricInterface, Mirror, PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive,
+    Surface, Teleporting, ThinLens, ThinMirror, Transparent,
 };
 
 #[derive(Debug, Deserialize)]
@@ -135,6 +135,54 @@ pub(super) enum SurfaceSection {
     #[serde(alias = "lorentz_window")]
     LorentzWindow {
         beta: Vector,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_thin_lens")]
+    IdealThinLens {
+        #[serde(flatten)]
+        lens: ThinLensKeys,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_thin_cylindrical_lens")]
+    IdealThinCylindricalLens {
+        #[serde(flatten)]
+        lens: ThinLensKeys,
+        gradient_direction: Direction,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_thin_mirror")]
+    IdealThinMirror {
+        #[serde(flatten)]
+        lens: ThinLensKeys,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_thin_cylindrical_mirror")]
+    IdealThinCylindricalMirror {
+        #[serde(flatten)]
+        lens: ThinLensKeys,
+        gradient_direction: Direction,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_thin_lenslet_array")]
+    IdealThinLensletArray {
+        focal_length: NonZero,
+        centre: Vector,
+        u_direction: Direction,
+        v_direction: Direction,
+        period: [Positive; 2],
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
+    },
+    Glens {
+        principal_point: Vector,
+        optical_axis: Direction,
+        focal_length_negative: NonZero,
+        focal_length_positive: NonZero,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
@@ -261,6 +309,44 @@ fn confocal_lenslet_arrays(
         delta,
         transmission_coefficient,
     }))
+}
+
+/// The keys of every ideal thin lens and mirror.
+#[derive(Debug, Deserialize)]
+pub(super) struct ThinLensKeys {
+    focal_length: NonZero,
+    principal_point: Vector,
+    optical_axis: Direction,
+}
+
+impl ThinLensKeys {
+    /// The lens, cylindrical if a gradient direction is given (made perpendicular to the
+    /// optical axis, along which it must not lie).
+    fn lens(
+        self,
+        name: &str,
+        gradient: Option<Direction>,
+        coefficient: f64,
+    ) -> Result<ThinLens, String> {
+        let a = self.optical_axis.0;
+        let gradient = match gradient {
+            None => None,
+            Some(g) if a.cross(g.0).length() < 1e-9 => {
+                return Err(format!(
+                    "{name}: gradient_direction = {} must not be parallel to optical_axis = {a}",
+                    g.0
+                ));
+            }
+            Some(g) => Some((g.0 - g.0.dot(a) * a).normalize()),
+        };
+        Ok(ThinLens {
+            principal_point: self.principal_point.0,
+            optical_axis: a,
+            focal_length: self.focal_length.0,
+            gradient,
+            transmission_coefficient: coefficient,
+        })
+    }
 }
 
 /// A teleporting surface, linked to its destination once every object is placed.
@@ -501,6 +587,80 @@ impl SurfaceSection {
                         beta.0
                     )
                 })?,
+                transmission_coefficient: coefficient(transmission_coefficient),
+            }),
+            SurfaceSection::IdealThinLens {
+                lens,
+                transmission_coefficient,
+            } => Surface::IdealThinLens(lens.lens(
+                "ideal-thin-lens",
+                None,
+                coefficient(transmission_coefficient),
+            )?),
+            SurfaceSection::IdealThinCylindricalLens {
+                lens,
+                gradient_direction,
+                transmission_coefficient,
+            } => Surface::IdealThinLens(lens.lens(
+                "ideal-thin-cylindrical-lens",
+                Some(gradient_direction),
+                coefficient(transmission_coefficient),
+            )?),
+            SurfaceSection::IdealThinMirror {
+                lens,
+                reflection_coefficient,
+            } => Surface::IdealThinMirror(ThinMirror {
+                lens: lens.lens(
+                    "ideal-thin-mirror",
+                    None,
+                    coefficient(reflection_coefficient),
+                )?,
+            }),
+            SurfaceSection::IdealThinCylindricalMirror {
+                lens,
+                gradient_direction,
+                reflection_coefficient,
+            } => Surface::IdealThinMirror(ThinMirror {
+                lens: lens.lens(
+                    "ideal-thin-cylindrical-mirror",
+                    Some(gradient_direction),
+                    coefficient(reflection_coefficient),
+                )?,
+            }),
+            SurfaceSection::IdealThinLensletArray {
+                focal_length,
+                centre,
+                u_direction,
+                v_direction,
+                period,
+                transmission_coefficient,
+            } => {
+                let (u, v) = (u_direction.0, v_direction.0);
+                if u.cross(v).length() < 1e-9 {
+                    return Err(format!(
+                        "ideal-thin-lenslet-array: v_direction = {v} must not be parallel to u_direction = {u}"
+                    ));
+                }
+                Surface::IdealThinLensletArray(LensletArray {
+                    centre: centre.0,
+                    u,
+                    v,
+                    period: DVec2::new(period[0].0, period[1].0),
+                    focal_length: focal_length.0,
+                    transmission_coefficient: coefficient(transmission_coefficient),
+                })
+            }
+            SurfaceSection::Glens {
+                principal_point,
+                optical_axis,
+                focal_length_negative,
+                focal_length_positive,
+                transmission_coefficient,
+            } => Surface::Glens(Glens {
+                principal_point: principal_point.0,
+                optical_axis: optical_axis.0,
+                focal_length_negative: focal_length_negative.0,
+                focal_length_positive: focal_length_positive.0,
                 transmission_coefficient: coefficient(transmission_coefficient),
             }),
             SurfaceSection::Teleporting {

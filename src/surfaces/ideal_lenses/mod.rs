@@ -1,0 +1,26 @@
+//! Ideal thin lenses and what generalises them: surfaces that image every point of space
+//! exactly, whatever the shape they sit on (Dr TIM's `IdealThinLensSurface`, `GlensSurface`
+//! and their cylindrical, mirror and lenslet-array relatives).
+//!
+//! Each law is a pure function of the ray direction d and the point S where the ray meets the
+//! surface, in the object's own coordinates ([`Interaction::local_point`]), so it is well
+//! defined on any shape: on a plane through the principal point, perpendicular to the optical
+//! axis, it is the textbook element; elsewhere it still sends every ray through the principal
+//! (nodal) point undeviated and makes parallel rays meet in the focal plane. Like Dr TIM, the
+//! law is applied to the backward-traced ray; on the lens plane that is exactly what light does
+//! (the laws are reciprocal there).
+//!
+//! Positions and directions are given like the shape's own (before the object's transform,
+//! which moves them with the shape, [`Surface::transformed`](super::Surface::transformed)).
+//!
+//! [`Interaction::local_point`]: crate::geometry::Interaction::local_point
+
+mod glens;
+mod lenslet_array;
+mod thin_lens;
+mod thin_mirror;
+
+pub use glens::Glens;
+pub use lenslet_array::LensletArray;
+pub use thin_lens::ThinLens;
+pub use thin_mirror::ThinMirror;
