@@ -63,3 +63,39 @@ impl Glens {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surfaces::ThinLens;
+
+    #[test]
+    fn a_glens_with_focal_lengths_minus_f_and_f_is_the_ideal_thin_lens() {
+        let (p, a, f) = (DVec3::new(0.1, 0.2, 3.0), DVec3::new(0.0, 0.6, 0.8), 1.7);
+        let glens = Glens {
+            principal_point: p,
+            optical_axis: a,
+            focal_length_negative: -f,
+            focal_length_positive: f,
+            transmission_coefficient: 1.0,
+        };
+        assert_eq!(glens.nodal_point(), p);
+        let lens = ThinLens {
+            principal_point: p,
+            optical_axis: -a,
+            focal_length: f,
+            gradient: None,
+            transmission_coefficient: 1.0,
+        };
+        for (d, s) in [
+            (DVec3::new(0.3, 0.1, 1.0), DVec3::new(0.5, 0.0, 3.0)),
+            (DVec3::new(-0.2, -0.9, -0.4), DVec3::new(-1.0, 2.0, 1.5)),
+        ] {
+            let (g, l) = (
+                glens.direction(d, s).normalize(),
+                lens.direction(d, s).normalize(),
+            );
+            assert!((g - l).length() < 1e-15, "{g} {l}");
+        }
+    }
+}

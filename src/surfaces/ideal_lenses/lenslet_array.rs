@@ -56,3 +56,40 @@ impl LensletArray {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A parallel beam along the axis is focused, cell by cell, a focal length behind each
+    /// lenslet's centre.
+    #[test]
+    fn each_cell_focuses_on_its_own_centre() {
+        let array = LensletArray {
+            centre: DVec3::new(0.25, 0.0, 2.0),
+            u: DVec3::X,
+            v: DVec3::new(0.0, 1.0, 0.5),
+            period: DVec2::new(1.0, 0.5),
+            focal_length: 0.4,
+            transmission_coefficient: 1.0,
+        };
+        for (s, cell) in [
+            (DVec3::new(1.2, -0.3, 2.0), DVec3::new(1.25, -0.5, 2.0)),
+            (DVec3::new(-0.4, 0.74, 2.0), DVec3::new(-0.75, 0.5, 2.0)),
+            (DVec3::new(0.3, 0.1, 2.0), DVec3::new(0.25, 0.0, 2.0)),
+        ] {
+            let lens = array.lenslet(s, DVec3::Z);
+            assert!(
+                (lens.principal_point - cell).length() < 1e-15,
+                "{s}: {}",
+                lens.principal_point
+            );
+            let out = lens.direction(DVec3::Z, s);
+            let focus = s + out * (0.4 / out.z);
+            assert!(
+                (focus - (cell + 0.4 * DVec3::Z)).length() < 1e-15,
+                "{focus}"
+            );
+        }
+    }
+}
