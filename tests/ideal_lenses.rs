@@ -151,6 +151,40 @@ rays = 10
     assert!((out - (n - q).normalize()).length() < 1e-12, "{out}");
 }
 
+/// A homogeneous glens (focal lengths infinite, f₋/f₊ = ρ) is the limit of the glens equation
+/// f₊/a′ + f₋/a = 1 with f₊ → ∞: a′ = −a/ρ, and the nodal point at infinity along n̂, so Q
+/// is imaged to Q′ = Q + ((a′ − a)/(n̂·â)) n̂, wherever the rays cross the glens.
+#[test]
+fn a_homogeneous_glens_images_by_the_limit_of_the_glens_equation() {
+    let ratio = -0.5;
+    let n = DVec3::new(0.2, -0.1, 1.0).normalize();
+    let q = DVec3::new(0.3, 0.4, 2.0);
+    let text = format!(
+        "studio = \"none\"
+[[object]]
+name = \"homogeneous glens\"
+shadow_throwing = false
+shape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 0, 1] }}
+surface = {{ type = \"glens\", optical_axis = [0, 0, 1], nodal_direction = {}, focal_length_ratio = {ratio:?} }}
+[[ray_trajectory]]
+start = {}
+direction = [0.1, 0.2, 1]
+cone_half_angle_deg = 20
+rays = 10
+",
+        v(n),
+        v(q)
+    );
+    let a = q.z - 5.0;
+    let a_image = -a / ratio;
+    let image = q + n * ((a_image - a) / n.z);
+    for t in &trace(&text) {
+        let (s, out) = after_first_surface(t);
+        let miss = distance_to_line(image, s, out);
+        assert!(miss < 1e-9, "misses the image {image} by {miss}");
+    }
+}
+
 /// A concave ideal mirror (f > 0) sends a parallel bundle through one point of the focal plane
 /// a distance f in front of it: where the reflected chief ray (through the principal point)
 /// meets that plane.
@@ -264,6 +298,14 @@ fn bad_ideal_lens_tables_are_rejected_with_the_line() {
         (
             "{ type = \"glens\", principal_point = [0, 0, 5], optical_axis = [0, 0, 0], focal_length_negative = -1, focal_length_positive = 1 }",
             "zero vector",
+        ),
+        (
+            "{ type = \"glens\", principal_point = [0, 0, 5], optical_axis = [0, 0, 1], focal_length_negative = -1, focal_length_ratio = 2 }",
+            "not a mixture",
+        ),
+        (
+            "{ type = \"glens\", optical_axis = [0, 0, 1], nodal_direction = [1, 0, 0], focal_length_ratio = 2 }",
+            "must not lie in the glens's plane",
         ),
         (
             "{ type = \"ideal-thin-lenslet-array\", focal_length = 1, centre = [0, 0, 5], u_direction = [1, 0, 0], v_direction = [0, 1, 0], period = [1, -1] }",

@@ -14,7 +14,7 @@ mod transparent;
 
 pub use chequerboard::Chequerboard;
 pub use coloured::Coloured;
-pub use ideal_lenses::{Glens, LensletArray, ThinLens, ThinMirror};
+pub use ideal_lenses::{Focus, Glens, LensletArray, ThinLens, ThinMirror};
 pub use lenses::Lens;
 pub use metatoys::{
     ConfocalLensletArrays, LorentzWindow, MetricInterface, PhaseConjugating, PhaseHologram,
@@ -164,10 +164,25 @@ impl Surface {
             Surface::Glens(g) => {
                 let s = scale()?;
                 Surface::Glens(Glens {
-                    principal_point: t.point(g.principal_point),
                     optical_axis: axis(g.optical_axis),
-                    focal_length_negative: g.focal_length_negative * s,
-                    focal_length_positive: g.focal_length_positive * s,
+                    focus: match g.focus {
+                        Focus::Finite {
+                            principal_point,
+                            focal_length_negative,
+                            focal_length_positive,
+                        } => Focus::Finite {
+                            principal_point: t.point(principal_point),
+                            focal_length_negative: focal_length_negative * s,
+                            focal_length_positive: focal_length_positive * s,
+                        },
+                        Focus::Homogeneous {
+                            nodal_direction,
+                            ratio,
+                        } => Focus::Homogeneous {
+                            nodal_direction: axis(nodal_direction),
+                            ratio,
+                        },
+                    },
                     transmission_coefficient: g.transmission_coefficient,
                 })
             }

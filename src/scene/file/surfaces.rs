@@ -13,7 +13,7 @@ use crate::math::{Colour, LorentzTransform};
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
 use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
 use crate::surfaces::{
-    Chequerboard, Coloured, ConfocalLensletArrays, Glens, LensletArray, LorentzWindow,
+    Chequerboard, Coloured, ConfocalLensletArrays, Focus, Glens, LensletArray, LorentzWindow,
     MetricInterface, Mirror, PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive,
     Surface, Teleporting, ThinLens, ThinMirror, Transparent,
 };
@@ -179,10 +179,12 @@ pub(super) enum SurfaceSection {
         transmission_coefficient: Option<Coefficient>,
     },
     Glens {
-        principal_point: Vector,
         optical_axis: Direction,
-        focal_length_negative: NonZero,
-        focal_length_positive: NonZero,
+        principal_point: Option<Vector>,
+        focal_length_negative: Option<NonZero>,
+        focal_length_positive: Option<NonZero>,
+        nodal_direction: Option<Direction>,
+        focal_length_ratio: Option<NonZero>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
@@ -346,6 +348,36 @@ impl ThinLensKeys {
             gradient,
             transmission_coefficient: coefficient,
         })
+    }
+}
+
+/// A glens's focus: finite focal lengths with a principal point, or (homogeneous) a nodal
+/// direction and the ratio f₋/f₊; one set of keys, whole, and not the other.
+fn glens_focus(
+    axis: DVec3,
+    finite: (Option<Vector>, Option<NonZero>, Option<NonZero>),
+    homogeneous: (Option<Direction>, Option<NonZero>),
+) -> Result<Focus, String> {
+    match (finite, homogeneous) {
+        ((Some(p), Some(f_neg), Some(f_pos)), (None, None)) => Ok(Focus::Finite {
+            principal_point: p.0,
+            focal_length_negative: f_neg.0,
+            focal_length_positive: f_pos.0,
+        }),
+        ((None, None, None), (Some(n), Some(ratio))) => {
+            // Directions are unit vectors: a cosine below 1e-9 is perpendicular.
+            if n.0.dot(axis).abs() < 1e-9 {
+                return Err(format!(
+                    "glens: nodal_direction = {} must not lie in the glens's plane (perpendicular to optical_axis = {axis})",
+                    n.0
+                ));
+            }
+            Ok(Focus::Homogeneous {
+                nodal_direction: n.0,
+                ratio: ratio.0,
+            })
+        }
+        _ => Err("glens: give principal_point, focal_length_negative and focal_length_positive (a glens with finite focal lengths), or nodal_direction and focal_length_ratio (a homogeneous glens), not a mixture".into()),
     }
 }
 
@@ -651,16 +683,20 @@ impl SurfaceSection {
                 })
             }
             SurfaceSection::Glens {
-                principal_point,
                 optical_axis,
+                principal_point,
                 focal_length_negative,
                 focal_length_positive,
+                nodal_direction,
+                focal_length_ratio,
                 transmission_coefficient,
             } => Surface::Glens(Glens {
-                principal_point: principal_point.0,
                 optical_axis: optical_axis.0,
-                focal_length_negative: focal_length_negative.0,
-                focal_length_positive: focal_length_positive.0,
+                focus: glens_focus(
+                    optical_axis.0,
+                    (principal_point, focal_length_negative, focal_length_positive),
+                    (nodal_direction, focal_length_ratio),
+                )?,
                 transmission_coefficient: coefficient(transmission_coefficient),
             }),
             SurfaceSection::Teleporting {

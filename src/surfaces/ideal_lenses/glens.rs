@@ -1,6 +1,6 @@
 //! The glens, a generalised lens with different focal lengths on its two sides (Chaplain,
-//! Courtial et al., JOSA A 33, 962 (2016); Dr TIM's `GlensSurface` with finite focal lengths
-//! and `SimpleGlensHologram`).
+//! Courtial et al., JOSA A 33, 962 (2016); Dr TIM's `GlensSurface`, and with finite focal
+//! lengths its `SimpleGlensHologram`).
 //!
 //! The optical axis â points into *positive* space; the focal lengths are f₋ (negative space)
 //! and f₊ (positive space), and the nodal point, through which rays pass undeviated, is
@@ -14,44 +14,81 @@
 //! on the line through Q and N, their axial coordinates a, a′ (from P, along â) obeying
 //! f₊/a′ + f₋/a = 1. The law keeps d·â there (light always goes on into the other space).
 //! An ideal thin lens is the glens with f₋ = −f, f₊ = f.
+//!
+//! A *homogeneous* glens is the limit of infinite focal lengths with their ratio f₋/f₊ = ρ
+//! fixed (Dr TIM's `GlensSurface` with g = ∞): the same law with (f₋, f₊) → (ρ, 1) and
+//! N − S → (ρ + 1) n̂/(n̂·â), for the nodal direction n̂ along which rays pass undeviated. It
+//! does not depend on where the ray meets it.
 
 use glam::DVec3;
 
 use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
+/// A glens's focal lengths and nodal point, finite or at infinity.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Focus {
+    /// f₋ and f₊, finite and non-zero, with the principal point P.
+    Finite {
+        principal_point: DVec3,
+        focal_length_negative: f64,
+        focal_length_positive: f64,
+    },
+    /// A homogeneous glens: f₋/f₊ = `ratio` (finite, non-zero) and the unit nodal direction
+    /// (not perpendicular to the optical axis).
+    Homogeneous { nodal_direction: DVec3, ratio: f64 },
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Glens {
-    pub principal_point: DVec3,
     /// Unit vector along the optical axis, pointing into positive space.
     pub optical_axis: DVec3,
-    /// f₋, finite and non-zero.
-    pub focal_length_negative: f64,
-    /// f₊, finite and non-zero.
-    pub focal_length_positive: f64,
+    pub focus: Focus,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
 }
 
 impl Glens {
-    /// N = P + (f₋ + f₊) â.
-    pub fn nodal_point(&self) -> DVec3 {
-        self.principal_point
-            + (self.focal_length_negative + self.focal_length_positive) * self.optical_axis
+    /// N = P + (f₋ + f₊) â, for finite focal lengths.
+    pub fn nodal_point(&self) -> Option<DVec3> {
+        match self.focus {
+            Focus::Finite {
+                principal_point,
+                focal_length_negative,
+                focal_length_positive,
+            } => Some(
+                principal_point
+                    + (focal_length_negative + focal_length_positive) * self.optical_axis,
+            ),
+            Focus::Homogeneous { .. } => None,
+        }
     }
 
     /// The direction (not normalised) a ray with direction `d` leaves in where it meets the
     /// glens at `s`; a ray along the glens plane (d_a = 0) continues undeviated.
     pub fn direction(&self, d: DVec3, s: DVec3) -> DVec3 {
-        let da = d.dot(self.optical_axis);
+        let a = self.optical_axis;
+        // (f₋, f₊) and N − S, or their homogeneous limits (in units of f₊).
+        let (f_neg, f_pos, to_nodal) = match self.focus {
+            Focus::Finite {
+                principal_point,
+                focal_length_negative: f_neg,
+                focal_length_positive: f_pos,
+            } => (f_neg, f_pos, principal_point + (f_neg + f_pos) * a - s),
+            Focus::Homogeneous {
+                nodal_direction: n,
+                ratio,
+            } => (ratio, 1.0, (ratio + 1.0) / n.dot(a) * n),
+        };
+        let da = d.dot(a);
         let (f_o, f_i) = if da > 0.0 {
-            (self.focal_length_negative, self.focal_length_positive)
+            (f_neg, f_pos)
         } else if da < 0.0 {
-            (self.focal_length_positive, self.focal_length_negative)
+            (f_pos, f_neg)
         } else {
             return d;
         };
-        -(f_o / f_i) * d + (da / f_i) * (self.nodal_point() - s)
+        -(f_o / f_i) * d + (da / f_i) * to_nodal
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
@@ -73,13 +110,15 @@ mod tests {
     fn a_glens_with_focal_lengths_minus_f_and_f_is_the_ideal_thin_lens() {
         let (p, a, f) = (DVec3::new(0.1, 0.2, 3.0), DVec3::new(0.0, 0.6, 0.8), 1.7);
         let glens = Glens {
-            principal_point: p,
             optical_axis: a,
-            focal_length_negative: -f,
-            focal_length_positive: f,
+            focus: Focus::Finite {
+                principal_point: p,
+                focal_length_negative: -f,
+                focal_length_positive: f,
+            },
             transmission_coefficient: 1.0,
         };
-        assert_eq!(glens.nodal_point(), p);
+        assert_eq!(glens.nodal_point(), Some(p));
         let lens = ThinLens {
             principal_point: p,
             optical_axis: -a,
@@ -97,5 +136,47 @@ mod tests {
             );
             assert!((g - l).length() < 1e-15, "{g} {l}");
         }
+    }
+}
+
+#[cfg(test)]
+mod homogeneous {
+    use super::*;
+
+    /// The homogeneous glens is the limit of glenses with focal lengths g ρ and g whose nodal
+    /// point moves off to infinity along n̂ (N = P + g (ρ + 1) n̂/(n̂·â)) as g grows.
+    #[test]
+    fn it_is_the_limit_of_ever_longer_focal_lengths() {
+        let (a, n, ratio) = (
+            DVec3::new(0.0, 0.6, 0.8),
+            DVec3::new(0.3, 0.2, 0.9).normalize(),
+            -0.7,
+        );
+        let homogeneous = Glens {
+            optical_axis: a,
+            focus: Focus::Homogeneous {
+                nodal_direction: n,
+                ratio,
+            },
+            transmission_coefficient: 1.0,
+        };
+        let (d, s) = (DVec3::new(0.2, -0.1, 1.0), DVec3::new(0.4, 0.0, 0.0));
+        let limit = homogeneous.direction(d, s).normalize();
+        // Rays along the nodal direction pass undeviated.
+        assert!((homogeneous.direction(n, s).normalize() - n).length() < 1e-15);
+        let g = 1e7;
+        let finite = Glens {
+            optical_axis: a,
+            focus: Focus::Finite {
+                principal_point: g * (ratio + 1.0) * (n / n.dot(a) - a),
+                focal_length_negative: g * ratio,
+                focal_length_positive: g,
+            },
+            transmission_coefficient: 1.0,
+        };
+        let nodal = finite.nodal_point().unwrap();
+        assert!((nodal.normalize() - n).length() < 1e-12, "{nodal}");
+        let approx = finite.direction(d, s).normalize();
+        assert!((approx - limit).length() < 1e-6, "{approx} {limit}");
     }
 }

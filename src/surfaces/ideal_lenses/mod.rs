@@ -20,7 +20,7 @@ mod lenslet_array;
 mod thin_lens;
 mod thin_mirror;
 
-pub use glens::Glens;
+pub use glens::{Focus, Glens};
 pub use lenslet_array::LensletArray;
 pub use thin_lens::ThinLens;
 pub use thin_mirror::ThinMirror;
