@@ -37,6 +37,13 @@ fn after_first_surface(t: &Trajectory) -> (DVec3, DVec3) {
     (s, next.normalize())
 }
 
+/// A scene of one surface on the plane z = 5, and the trajectory table `rays` (its keys).
+fn on_plane_z5(name: &str, surface: &str, rays: &str) -> String {
+    format!(
+        "studio = \"none\"\n[[object]]\nname = \"{name}\"\nshadow_throwing = false\nshape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 0, 1] }}\nsurface = {surface}\n[[ray_trajectory]]\n{rays}\n"
+    )
+}
+
 /// The object transform used below: rotated 35° about (1, 1, 0.3), then translated.
 const AXIS: [f64; 3] = [1.0, 1.0, 0.3];
 const ANGLE_DEG: f64 = 35.0;
@@ -117,21 +124,16 @@ fn a_glens_images_through_its_nodal_point_by_the_glens_equation() {
     let (f_neg, f_pos) = (-1.2, 2.0);
     let p = DVec3::new(0.2, 0.1, 5.0);
     let q = DVec3::new(-0.4, 0.3, 1.0);
-    let text = format!(
-        "studio = \"none\"
-[[object]]
-name = \"glens\"
-shadow_throwing = false
-shape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 0, 1] }}
-surface = {{ type = \"glens\", principal_point = {}, optical_axis = [0, 0, 1], focal_length_negative = {f_neg:?}, focal_length_positive = {f_pos:?} }}
-[[ray_trajectory]]
-start = {}
-direction = [0.1, -0.05, 1]
-cone_half_angle_deg = 12
-rays = 10
-",
-        v(p),
-        v(q)
+    let text = on_plane_z5(
+        "glens",
+        &format!(
+            "{{ type = \"glens\", principal_point = {}, optical_axis = [0, 0, 1], focal_length_negative = {f_neg:?}, focal_length_positive = {f_pos:?} }}",
+            v(p)
+        ),
+        &format!(
+            "start = {}\ndirection = [0.1, -0.05, 1]\ncone_half_angle_deg = 12\nrays = 10",
+            v(q)
+        ),
     );
     let n = p + (f_neg + f_pos) * DVec3::Z;
     let a = q.z - p.z;
@@ -159,21 +161,16 @@ fn a_homogeneous_glens_images_by_the_limit_of_the_glens_equation() {
     let ratio = -0.5;
     let n = DVec3::new(0.2, -0.1, 1.0).normalize();
     let q = DVec3::new(0.3, 0.4, 2.0);
-    let text = format!(
-        "studio = \"none\"
-[[object]]
-name = \"homogeneous glens\"
-shadow_throwing = false
-shape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 0, 1] }}
-surface = {{ type = \"glens\", optical_axis = [0, 0, 1], nodal_direction = {}, focal_length_ratio = {ratio:?} }}
-[[ray_trajectory]]
-start = {}
-direction = [0.1, 0.2, 1]
-cone_half_angle_deg = 20
-rays = 10
-",
-        v(n),
-        v(q)
+    let text = on_plane_z5(
+        "homogeneous glens",
+        &format!(
+            "{{ type = \"glens\", optical_axis = [0, 0, 1], nodal_direction = {}, focal_length_ratio = {ratio:?} }}",
+            v(n)
+        ),
+        &format!(
+            "start = {}\ndirection = [0.1, 0.2, 1]\ncone_half_angle_deg = 20\nrays = 10",
+            v(q)
+        ),
     );
     let a = q.z - 5.0;
     let a_image = -a / ratio;
@@ -222,20 +219,15 @@ rays = 9
 fn a_cylindrical_lens_images_a_point_to_a_line() {
     let f = 1.0;
     let q = DVec3::new(0.3, 0.2, 2.0);
-    let text = format!(
-        "studio = \"none\"
-[[object]]
-name = \"cylindrical lens\"
-shadow_throwing = false
-shape = {{ type = \"plane\", point = [0, 0, 5], normal = [0, 0, 1] }}
-surface = {{ type = \"ideal-thin-cylindrical-lens\", focal_length = {f:?}, principal_point = [0, 0, 5], optical_axis = [0, 0, 1], gradient_direction = [1, 0, 0.3] }}
-[[ray_trajectory]]
-start = {}
-direction = [0, 0, 1]
-cone_half_angle_deg = 15
-rays = 8
-",
-        v(q)
+    let text = on_plane_z5(
+        "cylindrical lens",
+        &format!(
+            "{{ type = \"ideal-thin-cylindrical-lens\", focal_length = {f:?}, principal_point = [0, 0, 5], optical_axis = [0, 0, 1], gradient_direction = [1, 0, 0.3] }}"
+        ),
+        &format!(
+            "start = {}\ndirection = [0, 0, 1]\ncone_half_angle_deg = 15\nrays = 8",
+            v(q)
+        ),
     );
     let o = 5.0 - q.z;
     let i = 1.0 / (1.0 / f - 1.0 / o);

@@ -92,12 +92,11 @@ impl Glens {
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        Redirection::Leaves {
-            direction: self
-                .direction(at.ray.direction, at.local_point())
-                .normalize(),
-            factor: self.transmission_coefficient,
-        }
+        super::leaving(
+            at,
+            |d, s| self.direction(d, s),
+            self.transmission_coefficient,
+        )
     }
 }
 

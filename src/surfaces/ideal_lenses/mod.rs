@@ -20,7 +20,25 @@ mod lenslet_array;
 mod thin_lens;
 mod thin_mirror;
 
+use glam::DVec3;
+
+use crate::geometry::Interaction;
+use crate::surfaces::Redirection;
+
 pub use glens::{Focus, Glens};
 pub use lenslet_array::LensletArray;
 pub use thin_lens::ThinLens;
 pub use thin_mirror::ThinMirror;
+
+/// The ray met at `at` leaves along `law(d, S)` (S the hit in the object's own positions),
+/// carrying `factor` of the light.
+fn leaving(
+    at: &Interaction,
+    law: impl Fn(DVec3, DVec3) -> DVec3,
+    factor: f64,
+) -> Redirection<'static> {
+    Redirection::Leaves {
+        direction: law(at.ray.direction, at.local_point()).normalize(),
+        factor,
+    }
+}

@@ -49,12 +49,11 @@ impl ThinLens {
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        Redirection::Leaves {
-            direction: self
-                .direction(at.ray.direction, at.local_point())
-                .normalize(),
-            factor: self.transmission_coefficient,
-        }
+        super::leaving(
+            at,
+            |d, s| self.direction(d, s),
+            self.transmission_coefficient,
+        )
     }
 }
 

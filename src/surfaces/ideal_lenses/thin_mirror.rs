@@ -27,11 +27,10 @@ impl ThinMirror {
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        Redirection::Leaves {
-            direction: self
-                .direction(at.ray.direction, at.local_point())
-                .normalize(),
-            factor: self.lens.transmission_coefficient,
-        }
+        super::leaving(
+            at,
+            |d, s| self.direction(d, s),
+            self.lens.transmission_coefficient,
+        )
     }
 }
