@@ -12,8 +12,10 @@ use glam::{DMat3, DVec2, DVec3};
 use timbre::geometry::{AnalyticShape, Shape};
 use timbre::render::Image;
 use timbre::scene::{SceneDescription, file};
-use timbre::surfaces::Surface;
-use timbre::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
+use timbre::surfaces::metatoys::{
+    Basis, Conjugation, Phase, Refraction, RotationAxis, Teleportation,
+};
+use timbre::surfaces::{PhaseConjugating, Surface};
 
 use common::images::{differing, differing_by_more_than, parse, render_description, render_text};
 
@@ -60,10 +62,11 @@ fn the_metatoy_window_studio_is_tims_scene() {
     let Surface::RayRotating(r) = &pane.surface else {
         panic!("{:?}", pane.surface)
     };
-    assert!((r.angle - 60f64.to_radians()).abs() < 1e-15);
+    // Dr TIM's RayRotating(60°) turns rays by −60° about their crossing direction.
+    assert!((r.angle + 60f64.to_radians()).abs() < 1e-15);
     assert_eq!(
-        (r.axis, r.transmission_coefficient),
-        (RotationAxis::Normal, 0.96)
+        (r.axis, r.transmission_coefficient, r.reflection_coefficient),
+        (RotationAxis::Normal, 0.96, 1.0)
     );
 
     let frame: Vec<_> = d
@@ -173,7 +176,7 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
         panic!()
     };
     assert!(
-        (r.angle - 60f64.to_radians()).abs() < 1e-15,
+        (r.angle + 60f64.to_radians()).abs() < 1e-15,
         "TIM's default"
     );
     let Surface::RayRotating(r) = surface_of(
@@ -185,6 +188,35 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
         r.axis,
         RotationAxis::Direction(DVec3::new(1.0, 0.0, 1.0).normalize(), Basis::Local)
     );
+
+    // Total internal reflection loses no light unless a reflection coefficient is given.
+    let reflections = |extra: &str| {
+        [
+            r#"type = "metric-interface""#,
+            r#"type = "gcla", a = [0, 0, 1], u = [1, 0, 0], eta_u = -1, eta_v = -1"#,
+            r#"type = "ray-rotating""#,
+            r#"type = "phase-hologram", phase = { type = "linear", gradient = [0.1, 0] }"#,
+        ]
+        .map(|keys| {
+            match surface_of(&format!("{{ {keys}, transmission = 0.9{extra} }}")) {
+                Surface::MetricInterface(s) => {
+                    (s.transmission_coefficient, s.reflection_coefficient)
+                }
+                Surface::ConfocalLensletArrays(s) => {
+                    (s.transmission_coefficient, s.reflection_coefficient)
+                }
+                Surface::RayRotating(s) => (s.transmission_coefficient, s.reflection_coefficient),
+                Surface::PhaseHologram(s) => (s.transmission_coefficient, s.reflection_coefficient),
+                other => panic!("{other:?}"),
+            }
+        })
+    };
+    assert_eq!(reflections(""), [(0.9, 1.0); 4]);
+    assert_eq!(
+        reflections(", reflection_coefficient = 0.3"),
+        [(0.9, 0.3); 4]
+    );
+    assert_eq!(reflections(", reflection = 0.3"), [(0.9, 0.3); 4]);
 
     let Surface::PhaseHologram(h) = surface_of(
         r#"{ type = "phase-hologram", phase = { type = "cylindrical", focal_length = -2, centre = [1, 1], axis_angle_deg = 90 } }"#,
@@ -201,11 +233,50 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     };
     assert_eq!((focal_length, centre), (-2.0, DVec2::ONE));
     assert!((axis_angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    let Surface::PhaseHologram(h) = surface_of(
+        r#"{ type = "phase-hologram", phase = { type = "lens", focal_length = 3, centre = [1, 0] } }"#,
+    ) else {
+        panic!()
+    };
+    assert_eq!(
+        h.phase,
+        Phase::Lens {
+            focal_length: 3.0,
+            centre: DVec2::X
+        }
+    );
 
-    assert!(matches!(
-        surface_of(r#"{ type = "phase-conjugating", reflection = 0.5 }"#),
-        Surface::PhaseConjugating(p) if p.reflection_coefficient == 0.5
-    ));
+    for (surface, conjugation, coefficient) in [
+        (
+            r#"{ type = "phase-conjugating", reflection = 0.5 }"#,
+            Conjugation::Reflective,
+            0.5,
+        ),
+        (
+            r#"{ type = "phase-conjugating", mode = "reflective", reflection_coefficient = 0.4 }"#,
+            Conjugation::Reflective,
+            0.4,
+        ),
+        (
+            r#"{ type = "phase-conjugating", mode = "transmissive", transmission = 0.3 }"#,
+            Conjugation::Transmissive,
+            0.3,
+        ),
+        (
+            r#"{ type = "phase-conjugating", mode = "transmissive" }"#,
+            Conjugation::Transmissive,
+            1.0,
+        ),
+    ] {
+        assert_eq!(
+            surface_of(surface),
+            Surface::PhaseConjugating(PhaseConjugating {
+                conjugation,
+                coefficient
+            }),
+            "{surface}"
+        );
+    }
     let Surface::LorentzWindow(l) =
         surface_of(r#"{ type = "lorentz-window", beta = [0, 0, 0.6] }"#)
     else {
@@ -224,6 +295,18 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     assert_eq!(t.destination, object(&d, "exit").shape);
     assert_eq!(t.positional_error, 0.01);
     assert!((t.angular_error - 1f64.to_radians()).abs() < 1e-15);
+    assert_eq!(t.teleportation, Teleportation::Perfect);
+    let d = parse(&window_scene(
+        r#"{ type = "teleporting", destination = "exit", teleportation = "holographic", reflection = 0.5 }"#,
+        "[[object]]\nname = \"exit\"\nshape = { type = \"disc\", centre = [0, 0, 20], normal = [0, 0, 1], radius = 1 }\nsurface = { type = \"transparent\" }\n",
+    ));
+    let Surface::Teleporting(t) = &object(&d, "window").surface else {
+        panic!()
+    };
+    assert_eq!(
+        (t.teleportation, t.reflection_coefficient),
+        (Teleportation::Holographic, 0.5)
+    );
 }
 
 #[test]
@@ -289,6 +372,38 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             r#"{ type = "teleporting", destination = "red cylinder 0,0", angular_error_deg = 200 }"#,
             "more than 180",
         ),
+        (
+            r#"{ type = "teleporting", destination = "red cylinder 0,0", teleportation = "holographic", positional_error = 0.1 }"#,
+            "apply to perfect teleportation only",
+        ),
+        (
+            r#"{ type = "teleporting", destination = "red cylinder 0,0", reflection = 0.5 }"#,
+            "applies to teleportation = \"holographic\" only",
+        ),
+        (
+            r#"{ type = "teleporting", destination = "red cylinder 0,0", teleportation = "quantum" }"#,
+            "unknown variant `quantum`",
+        ),
+        (
+            r#"{ type = "phase-conjugating", transmission = 0.5 }"#,
+            "a reflective one has a reflection_coefficient, not a transmission_coefficient",
+        ),
+        (
+            r#"{ type = "phase-conjugating", mode = "transmissive", reflection_coefficient = 0.5 }"#,
+            "has a transmission_coefficient, not a reflection_coefficient",
+        ),
+        (
+            r#"{ type = "phase-conjugating", mode = "sideways" }"#,
+            "unknown variant `sideways`",
+        ),
+        (
+            r#"{ type = "phase-hologram", phase = { type = "lens", focal_length = 0 } }"#,
+            "non-zero",
+        ),
+        (
+            r#"{ type = "ray-rotating", reflection_coefficient = 1.5 }"#,
+            "between 0 and 1",
+        ),
     ] {
         on_line_6(surface, message);
     }
@@ -346,16 +461,27 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
 /// asin(1/10) = 5.74° of the window normal; outside that circle they are totally internally
 /// reflected. A magenta wall behind the camera and a green one behind the window tell the two
 /// apart: window pixels must be magenta exactly outside the circle (up to a pixel's width at the
-/// boundary) and green inside it.
+/// boundary) and green inside it. With transmission 0.5, the green is halved but the magenta
+/// seen by total internal reflection keeps its full brightness (as in Dr TIM), unless a
+/// reflection coefficient is given.
 #[test]
 fn the_n10_metric_window_shows_the_tir_circle() {
+    for (coefficients, reflected) in [
+        ("transmission = 0.5", 1.0),
+        ("transmission = 0.5, reflection = 0.25", 0.25),
+    ] {
+        tir_circle(coefficients, reflected);
+    }
+}
+
+fn tir_circle(coefficients: &str, reflected: f64) {
     let plane = |name: &str, z: f64, normal: f64, colour: &str| {
         format!(
             "[[object]]\nname = \"{name}\"\nshape = {{ type = \"plane\", point = [0, 0, {z}], normal = [0, 0, {normal}], u_direction = [1, 0, 0] }}\nsurface = {{ type = \"constant_colour\", colour = {colour} }}\n"
         )
     };
     let text = format!(
-        "studio = \"none\"\n[render]\nwidth = 400\nheight = 300\n[[object]]\nname = \"n = 10 window\"\nshape = {{ type = \"parallelogram\", corner = [-1.5, -0.98, 10], span_u = [3, 0, 0], span_v = [0, 2, 0] }}\nsurface = {{ type = \"metric-interface\", inside = [[100, 0, 0], [0, 100, 0], [0, 0, 100]] }}\n{}{}",
+        "studio = \"none\"\n[render]\nwidth = 400\nheight = 300\n[[object]]\nname = \"n = 10 window\"\nshape = {{ type = \"parallelogram\", corner = [-1.5, -0.98, 10], span_u = [3, 0, 0], span_v = [0, 2, 0] }}\nsurface = {{ type = \"metric-interface\", inside = [[100, 0, 0], [0, 100, 0], [0, 0, 100]], {coefficients} }}\n{}{}",
         plane("wall behind the camera", -5.0, 1.0, "[1, 0, 1]"),
         plane("wall behind the window", 30.0, -1.0, "[0, 1, 0]"),
     );
@@ -375,8 +501,8 @@ fn the_n10_metric_window_shows_the_tir_circle() {
             }
             let angle = dir.z.acos();
             let c = image.pixel(x, y);
-            let red = c == DVec3::new(1.0, 0.0, 1.0);
-            assert!(red || c == DVec3::Y, "({x}, {y}) sees {c}");
+            let red = c == reflected * DVec3::new(1.0, 0.0, 1.0);
+            assert!(red || c == 0.5 * DVec3::Y, "({x}, {y}) sees {c}");
             if (angle - critical).abs() < 1.5 * pixel {
                 continue;
             }
@@ -438,9 +564,10 @@ fn laws_that_undo_each_other_leave_the_view_unchanged() {
     );
 }
 
-/// Different laws with the same effect render the same: gCLAs with η = −1 and the Veselago
-/// metric interface both reverse the tangential direction; a Lorentz window at rest and a
-/// metric interface between equal metrics change nothing.
+/// Different laws with the same effect render the same: gCLAs with η = −1, the Veselago
+/// metric interface, transmissive phase conjugation and a half turn all reverse the tangential
+/// direction; a Lorentz window at rest and a metric interface between equal metrics change
+/// nothing.
 #[test]
 fn equivalent_laws_render_the_same() {
     let gcla = render_text(&window_scene(
@@ -454,6 +581,18 @@ fn equivalent_laws_render_the_same() {
     let plain = render_text(&window_scene(r#"{ type = "transparent" }"#, ""));
     assert!(differing(&gcla, &veselago) <= 2);
     assert!(differing(&gcla, &plain) > 2000, "the flip shows");
+    // Transmissive phase conjugation, d′ = d∥ − d⊥, reverses the tangential direction too: a
+    // half turn about the normal.
+    let conjugating = render_text(&window_scene(
+        r#"{ type = "phase-conjugating", mode = "transmissive" }"#,
+        "",
+    ));
+    let half_turn = render_text(&window_scene(
+        r#"{ type = "ray-rotating", angle_deg = 180 }"#,
+        "",
+    ));
+    assert!(differing(&conjugating, &gcla) <= 2);
+    assert!(differing(&conjugating, &half_turn) <= 2);
     for same in [
         r#"{ type = "lorentz-window", beta = [0, 0, 0] }"#,
         r#"{ type = "metric-interface", inside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]], outside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]] }"#,

@@ -25,7 +25,7 @@ use glam::{DMat3, DQuat, DVec2, DVec3};
 use timbre::geometry::{Parallelogram, Shape};
 use timbre::math::Frame;
 use timbre::surfaces::metatoys::{
-    Basis, MetricInterface, Phase, Refraction, Teleporting, Telescopelets, flipped,
+    Basis, MetricInterface, Phase, Refraction, Teleportation, Teleporting, Telescopelets, flipped,
     hologram_direction, metric_reflected_direction, metric_refracted_direction, rotated,
 };
 
@@ -550,6 +550,7 @@ fn global_and_local_tensors_agree_on_a_tilted_interface() {
             refraction: Refraction::Positive,
             allow_imaginary: false,
             transmission_coefficient: 1.0,
+            reflection_coefficient: 1.0,
         };
         let global = interface(g, h, Basis::Global);
         let local = interface(
@@ -558,8 +559,13 @@ fn global_and_local_tensors_agree_on_a_tilted_interface() {
             Basis::Local,
         );
         let d = rng.sign() * rng.cone(frame.w, 0.0, 75f64.to_radians());
-        let e = global.direction(d, &lambda);
-        assert_close(e, local.direction(d, &lambda), 1e-12, &format!("d {d}"));
+        let e = global.outgoing(d, &lambda).direction();
+        assert_close(
+            e,
+            local.outgoing(d, &lambda).direction(),
+            1e-12,
+            &format!("d {d}"),
+        );
         assert!((e.length() - 1.0).abs() < 1e-12);
 
         // Fermat along the tilted plane, in global coordinates.
@@ -588,6 +594,7 @@ fn global_and_local_tensors_agree_on_a_tilted_interface() {
             refraction: Refraction::Positive,
             allow_imaginary: false,
             transmission_coefficient: 1.0,
+            reflection_coefficient: 1.0,
         };
         let d = rng.sign() * rng.cone(frame.w, 0.0, 85f64.to_radians());
         let (n1, n2) = if d.dot(frame.w) > 0.0 {
@@ -602,7 +609,7 @@ fn global_and_local_tensors_agree_on_a_tilted_interface() {
         }
         let want = want.unwrap_or_else(|| mirror(d, frame.w));
         assert_close(
-            interface.direction(d, &lambda),
+            interface.outgoing(d, &lambda).direction(),
             want,
             1e-12,
             &format!("d {d}, w {}", frame.w),
@@ -928,9 +935,11 @@ fn teleporting_keeps_surface_coordinates_and_local_direction_components() {
     );
     let teleporter = Teleporting {
         destination: parallelogram(corner, span_u, span_v),
+        teleportation: Teleportation::Perfect,
         positional_error: 0.0,
         angular_error: 0.0,
         transmission_coefficient: 1.0,
+        reflection_coefficient: 1.0,
     };
     let (mut inside, mut outside) = (0, 0);
     for _ in 0..RAYS {
@@ -984,9 +993,11 @@ fn imperfect_teleporting_spreads_exit_points_within_the_positional_error() {
     );
     let perfect = Teleporting {
         destination: destination.clone(),
+        teleportation: Teleportation::Perfect,
         positional_error: 0.0,
         angular_error: 0.0,
         transmission_coefficient: 1.0,
+        reflection_coefficient: 1.0,
     };
     let noisy = Teleporting {
         positional_error: sigma,

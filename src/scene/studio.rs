@@ -169,12 +169,14 @@ pub fn window_pane(surface: Surface) -> SceneObject {
     }
 }
 
-/// The window's default surface: TIM's "Rotating", 60° about the normal, transmission 0.96.
+/// The window's default surface: TIM's "Rotating" (Dr TIM's 60°, −60° here) about the
+/// normal, transmission 0.96.
 pub fn default_window_surface() -> Surface {
     Surface::RayRotating(RayRotating {
         angle: RayRotating::DEFAULT_ANGLE_DEG.to_radians(),
         axis: RotationAxis::Normal,
         transmission_coefficient: 0.96,
+        reflection_coefficient: 1.0,
     })
 }
 

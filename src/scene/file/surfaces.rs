@@ -11,7 +11,9 @@ use super::values::{
 use crate::geometry::Shape;
 use crate::math::{Colour, LorentzTransform};
 use crate::surfaces::lenses::{Ggrin, GradientIndex, IndexProfile, Lens, LensLaw, TableProfile};
-use crate::surfaces::metatoys::{Basis, Phase, Refraction, RotationAxis};
+use crate::surfaces::metatoys::{
+    Basis, Conjugation, Phase, Refraction, RotationAxis, Teleportation,
+};
 use crate::surfaces::{
     Chequerboard, Coloured, ConfocalLensletArrays, Focus, Glens, LensletArray, LorentzWindow,
     MetricInterface, Mirror, PhaseConjugating, PhaseHologram, RayFlipping, RayRotating, Refractive,
@@ -94,6 +96,8 @@ pub(super) enum SurfaceSection {
         allow_imaginary: Option<bool>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
     },
     #[serde(alias = "confocal_lenslet_arrays", alias = "gcla")]
     ConfocalLensletArrays {
@@ -106,6 +110,8 @@ pub(super) enum SurfaceSection {
         delta_v: Option<Finite>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
     },
     #[serde(alias = "ray_rotating")]
     RayRotating {
@@ -114,6 +120,8 @@ pub(super) enum SurfaceSection {
         basis: Option<BasisName>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
     },
     #[serde(alias = "ray_flipping")]
     RayFlipping {
@@ -126,11 +134,16 @@ pub(super) enum SurfaceSection {
         phase: PhaseSection,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
     },
     #[serde(alias = "phase_conjugating")]
     PhaseConjugating {
+        mode: Option<ConjugationName>,
         #[serde(alias = "reflection")]
         reflection_coefficient: Option<Coefficient>,
+        #[serde(alias = "transmission")]
+        transmission_coefficient: Option<Coefficient>,
     },
     #[serde(alias = "lorentz_window")]
     LorentzWindow {
@@ -190,10 +203,13 @@ pub(super) enum SurfaceSection {
     },
     Teleporting {
         destination: String,
+        teleportation: Option<TeleportationName>,
         positional_error: Option<NonNegative>,
         angular_error_deg: Option<NonNegative>,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
+        #[serde(alias = "reflection")]
+        reflection_coefficient: Option<Coefficient>,
     },
 }
 
@@ -211,6 +227,20 @@ pub(super) enum RefractionName {
     Negative,
 }
 
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum ConjugationName {
+    Reflective,
+    Transmissive,
+}
+
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum TeleportationName {
+    Perfect,
+    Holographic,
+}
+
 /// A phase hologram's phase function.
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
@@ -219,6 +249,10 @@ pub(super) enum PhaseSection {
         gradient: Vector2,
     },
     Quadratic {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+    },
+    Lens {
         focal_length: NonZero,
         centre: Option<Vector2>,
     },
@@ -243,6 +277,13 @@ impl PhaseSection {
                 focal_length: focal_length.0,
                 centre: centre(c),
             },
+            PhaseSection::Lens {
+                focal_length,
+                centre: c,
+            } => Phase::Lens {
+                focal_length: focal_length.0,
+                centre: centre(c),
+            },
             PhaseSection::Cylindrical {
                 focal_length,
                 centre: c,
@@ -264,7 +305,7 @@ fn metric_interface(
     basis: Basis,
     refraction: Option<RefractionName>,
     allow_imaginary: bool,
-    transmission_coefficient: f64,
+    [transmission_coefficient, reflection_coefficient]: [f64; 2],
 ) -> Result<Surface, String> {
     let euclidean = MetricTensor(DMat3::IDENTITY);
     let (g, h) = (
@@ -285,6 +326,7 @@ fn metric_interface(
         },
         allow_imaginary,
         transmission_coefficient,
+        reflection_coefficient,
     }))
 }
 
@@ -295,7 +337,7 @@ fn confocal_lenslet_arrays(
     basis: Basis,
     eta: DVec2,
     delta: DVec2,
-    transmission_coefficient: f64,
+    [transmission_coefficient, reflection_coefficient]: [f64; 2],
 ) -> Result<Surface, String> {
     // Directions are unit vectors: a sine below 1e-9 is parallel.
     if a.cross(u).length() < 1e-9 {
@@ -310,6 +352,7 @@ fn confocal_lenslet_arrays(
         eta,
         delta,
         transmission_coefficient,
+        reflection_coefficient,
     }))
 }
 
@@ -381,22 +424,69 @@ fn glens_focus(
     }
 }
 
-/// A teleporting surface, linked to its destination once every object is placed.
+/// A teleporting surface, linked to its destination once every object is placed. Errors
+/// apply to perfect teleportation, hologram reflections to holographic.
 fn teleporting(
+    teleportation: Option<TeleportationName>,
     positional_error: f64,
     angular_error_deg: f64,
     transmission_coefficient: f64,
+    reflection_coefficient: Option<Coefficient>,
 ) -> Result<Surface, String> {
     if angular_error_deg > 180.0 {
         return Err(format!(
             "teleporting: angular_error_deg = {angular_error_deg} is more than 180"
         ));
     }
+    let teleportation = match teleportation {
+        None | Some(TeleportationName::Perfect) => {
+            if reflection_coefficient.is_some() {
+                return Err("teleporting: reflection_coefficient applies to teleportation = \"holographic\" only (perfect teleportation reflects nothing)".into());
+            }
+            Teleportation::Perfect
+        }
+        Some(TeleportationName::Holographic) => {
+            if positional_error > 0.0 || angular_error_deg > 0.0 {
+                return Err("teleporting: positional_error and angular_error_deg apply to perfect teleportation only, not to teleportation = \"holographic\"".into());
+            }
+            Teleportation::Holographic
+        }
+    };
     Ok(Surface::Teleporting(Teleporting {
         destination: unlinked(),
+        teleportation,
         positional_error,
         angular_error: angular_error_deg.to_radians(),
         transmission_coefficient,
+        reflection_coefficient: coefficient(reflection_coefficient),
+    }))
+}
+
+/// A phase-conjugating surface: a reflective one takes a reflection coefficient, a
+/// transmissive one a transmission coefficient.
+fn phase_conjugating(
+    mode: Option<ConjugationName>,
+    reflection_coefficient: Option<Coefficient>,
+    transmission_coefficient: Option<Coefficient>,
+) -> Result<Surface, String> {
+    let (conjugation, coefficient, wrong) = match mode {
+        None | Some(ConjugationName::Reflective) => (
+            Conjugation::Reflective,
+            reflection_coefficient,
+            transmission_coefficient.map(|_| "a reflective one has a reflection_coefficient, not a transmission_coefficient"),
+        ),
+        Some(ConjugationName::Transmissive) => (
+            Conjugation::Transmissive,
+            transmission_coefficient,
+            reflection_coefficient.map(|_| "a transmissive one (mode = \"transmissive\") has a transmission_coefficient, not a reflection_coefficient"),
+        ),
+    };
+    if let Some(wrong) = wrong {
+        return Err(format!("phase-conjugating: {wrong}"));
+    }
+    Ok(Surface::PhaseConjugating(PhaseConjugating {
+        conjugation,
+        coefficient: self::coefficient(coefficient),
     }))
 }
 
@@ -410,6 +500,11 @@ fn basis(b: Option<BasisName>) -> Basis {
 /// A coefficient, 1 (all the light) when not given.
 fn coefficient(c: Option<Coefficient>) -> f64 {
     c.map_or(1.0, |c| c.0)
+}
+
+/// A law's transmission and (total internal) reflection coefficients.
+fn coefficients(transmission: Option<Coefficient>, reflection: Option<Coefficient>) -> [f64; 2] {
+    [coefficient(transmission), coefficient(reflection)]
 }
 
 /// The (u, v, w) components of h whose tangential part h₁₁h₂₂ − h₁₂² must not vanish.
@@ -546,13 +641,14 @@ impl SurfaceSection {
                 refraction,
                 allow_imaginary,
                 transmission_coefficient,
+                reflection_coefficient,
             } => metric_interface(
                 inside,
                 outside,
                 basis(b),
                 refraction,
                 allow_imaginary.unwrap_or(false),
-                coefficient(transmission_coefficient),
+                coefficients(transmission_coefficient, reflection_coefficient),
             )?,
             SurfaceSection::ConfocalLensletArrays {
                 a,
@@ -563,19 +659,21 @@ impl SurfaceSection {
                 delta_u,
                 delta_v,
                 transmission_coefficient,
+                reflection_coefficient,
             } => confocal_lenslet_arrays(
                 a.0,
                 u.0,
                 basis(b),
                 DVec2::new(eta_u.0, eta_v.0),
                 DVec2::new(delta_u.map_or(0.0, |d| d.0), delta_v.map_or(0.0, |d| d.0)),
-                coefficient(transmission_coefficient),
+                coefficients(transmission_coefficient, reflection_coefficient),
             )?,
             SurfaceSection::RayRotating {
                 angle_deg,
                 axis,
                 basis: b,
                 transmission_coefficient,
+                reflection_coefficient,
             } => {
                 let axis = match (axis, b) {
                     (None, None) => RotationAxis::Normal,
@@ -588,6 +686,7 @@ impl SurfaceSection {
                     angle: angle_deg.map_or(RayRotating::DEFAULT_ANGLE_DEG, |a| a.0).to_radians(),
                     axis,
                     transmission_coefficient: coefficient(transmission_coefficient),
+                    reflection_coefficient: coefficient(reflection_coefficient),
                 })
             }
             SurfaceSection::RayFlipping {
@@ -600,15 +699,17 @@ impl SurfaceSection {
             SurfaceSection::PhaseHologram {
                 phase,
                 transmission_coefficient,
+                reflection_coefficient,
             } => Surface::PhaseHologram(PhaseHologram {
                 phase: phase.build(),
                 transmission_coefficient: coefficient(transmission_coefficient),
-            }),
-            SurfaceSection::PhaseConjugating {
-                reflection_coefficient,
-            } => Surface::PhaseConjugating(PhaseConjugating {
                 reflection_coefficient: coefficient(reflection_coefficient),
             }),
+            SurfaceSection::PhaseConjugating {
+                mode,
+                reflection_coefficient,
+                transmission_coefficient,
+            } => phase_conjugating(mode, reflection_coefficient, transmission_coefficient)?,
             SurfaceSection::LorentzWindow {
                 beta,
                 transmission_coefficient,
@@ -701,13 +802,17 @@ impl SurfaceSection {
             }),
             SurfaceSection::Teleporting {
                 destination: _,
+                teleportation,
                 positional_error,
                 angular_error_deg,
                 transmission_coefficient,
+                reflection_coefficient,
             } => teleporting(
+                teleportation,
                 positional_error.map_or(0.0, |e| e.0),
                 angular_error_deg.map_or(0.0, |a| a.0),
                 coefficient(transmission_coefficient),
+                reflection_coefficient,
             )?,
         })
     }

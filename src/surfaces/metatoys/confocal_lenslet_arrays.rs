@@ -16,11 +16,12 @@
 //!
 //! Impossible cases (documented choice): a ray that does not travel along the telescopes'
 //! axis (d·â ≤ 0 for the array it meets first), or whose Eq 39 direction does not leave
-//! through the far side of the sheet, cannot pass through a telescopelet and is reflected.
+//! through the far side of the sheet, cannot pass through a telescopelet and is reflected,
+//! losslessly unless a reflection coefficient is given. (Dr TIM applies Eq 39 to every ray.)
 
 use glam::{DVec2, DVec3};
 
-use super::{Basis, crosses, or_reflected};
+use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
@@ -38,6 +39,8 @@ pub struct ConfocalLensletArrays {
     pub delta: DVec2,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
+    /// Fraction of the light reflected where no ray gets through, in [0, 1].
+    pub reflection_coefficient: f64,
 }
 
 /// The telescopelets' orthonormal basis and parameters at one point, in global coordinates.
@@ -94,10 +97,8 @@ impl ConfocalLensletArrays {
             self.delta,
         )
         .and_then(|t| t.refract(d, frame.w));
-        Redirection::Leaves {
-            direction: or_reflected(out, d, frame.w),
-            factor: self.transmission_coefficient,
-        }
+        Outgoing::or_mirrored(out, d, frame.w)
+            .leaves(self.transmission_coefficient, self.reflection_coefficient)
     }
 }
 

@@ -8,6 +8,11 @@
 //! effects. The law is not reciprocal (aberration by β does not undo itself for reversed rays);
 //! it is applied to rays arriving from either side, and the ray continues in the new direction
 //! whichever side of the window that points to.
+//!
+//! β here is the velocity of the virtual camera. Dr TIM's `LorentzTransformInterface` takes
+//! the apparent velocity of the world seen through the surface, which is −β: its
+//! d′ ∝ d⊥/γ + d∥ + β_DrTIM (for unit d, parts along and across β) is the same direction with
+//! β_DrTIM = −β.
 
 use glam::DVec3;
 
@@ -17,7 +22,7 @@ use crate::surfaces::Redirection;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LorentzWindow {
-    /// The boost of the virtual camera, velocity β (|β| < 1).
+    /// The boost of the virtual camera, velocity β (|β| < 1; Dr TIM's β is −β).
     pub boost: LorentzTransform,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
@@ -69,5 +74,27 @@ mod tests {
         // Looking forwards, the view widens: a ray 10° off the motion was traced from farther.
         let d = DVec3::new(10f64.to_radians().sin(), 0.0, 10f64.to_radians().cos());
         assert!(window.direction(d).z < d.z);
+    }
+
+    /// Dr TIM's definition, d′ ∝ d⊥/γ + d∥ + β_DrTIM, gives the same directions with
+    /// β_DrTIM = −β.
+    #[test]
+    fn dr_tims_beta_is_minus_the_camera_velocity() {
+        let beta = DVec3::new(0.3, -0.5, 0.4);
+        let window = LorentzWindow {
+            boost: LorentzTransform::new(beta).unwrap(),
+            transmission_coefficient: 1.0,
+        };
+        let gamma = 1.0 / (1.0 - beta.length_squared()).sqrt();
+        for d in [
+            DVec3::Z,
+            DVec3::new(0.6, 0.0, -0.8),
+            DVec3::new(0.2, 0.9, 0.1),
+        ] {
+            let d = d.normalize();
+            let along = d.project_onto(beta);
+            let dr_tim = ((d - along) / gamma + along - beta).normalize();
+            assert!((window.direction(d) - dr_tim).length() < 1e-15, "{d}");
+        }
     }
 }

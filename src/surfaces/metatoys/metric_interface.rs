@@ -15,7 +15,9 @@
 //! - Total internal reflection obeys the same condition in the incident metric: the tangential
 //!   part of g e stays that of g d and eᵀ g e = ±1, so e is the other root of Eq 29 with h = g.
 //!   In an isotropic metric this is the mirror image; in an anisotropic one it is the direction
-//!   Fermat's principle gives, which is not.
+//!   Fermat's principle gives, which is not (Dr TIM's `MetricInterface` always mirrors).
+//! - Total internal reflection loses no light unless a reflection coefficient says so, as in
+//!   Dr TIM ("don't multiply by the transmission coefficient, as this is TIR").
 //! - A null incident direction (dᵀ g d = 0) and a tangential metric with h₁₁h₂₂ − h₁₂² = 0 or
 //!   a = 0 (det h = 0) give no unique direction; the ray is reflected (in a degenerate incident
 //!   metric, mirrored). Scene files reject singular tensors, so this can only happen for a
@@ -23,7 +25,7 @@
 
 use glam::{DMat3, DVec2, DVec3};
 
-use super::{Basis, jacobian};
+use super::{Basis, Outgoing, jacobian};
 use crate::geometry::Interaction;
 use crate::surfaces::{Redirection, reflect};
 
@@ -47,8 +49,10 @@ pub struct MetricInterface {
     pub refraction: Refraction,
     /// Whether to use the imaginary-optical-path-length solution of §4.2.
     pub allow_imaginary: bool,
-    /// Fraction of the light transmitted (or totally internally reflected), in [0, 1].
+    /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
+    /// Fraction of the light totally internally reflected, in [0, 1].
+    pub reflection_coefficient: f64,
 }
 
 /// Eqs 22–36: the direction e of the ray leaving the interface z = 0 into metric `h` when it
@@ -120,7 +124,7 @@ fn solve(c: DVec2, h: &DMat3, side: f64, norm: f64) -> Option<DVec3> {
 impl MetricInterface {
     /// The unit direction a ray arriving with direction `d` leaves in, at a point with surface
     /// frame given by the Jacobian `lambda` (Eq 38); either side may be the incident one.
-    pub fn direction(&self, d: DVec3, lambda: &DMat3) -> DVec3 {
+    pub fn outgoing(&self, d: DVec3, lambda: &DMat3) -> Outgoing {
         let (g, h) = match self.basis {
             // Eq 37.
             Basis::Global => (
@@ -132,16 +136,16 @@ impl MetricInterface {
         let d = lambda.transpose() * d;
         // A ray arriving from outside (against w) travels from h into g.
         let (from, to) = if d.z < 0.0 { (&h, &g) } else { (&g, &h) };
-        let e = metric_refracted_direction(d, from, to, self.refraction, self.allow_imaginary)
-            .unwrap_or_else(|| metric_reflected_direction(d, from));
-        (*lambda * e).normalize()
+        let global = |e: DVec3| (*lambda * e).normalize();
+        match metric_refracted_direction(d, from, to, self.refraction, self.allow_imaginary) {
+            Some(e) => Outgoing::Transmitted(global(e)),
+            None => Outgoing::Reflected(global(metric_reflected_direction(d, from))),
+        }
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        Redirection::Leaves {
-            direction: self.direction(at.ray.direction, &jacobian(&at.frame())),
-            factor: self.transmission_coefficient,
-        }
+        self.outgoing(at.ray.direction, &jacobian(&at.frame()))
+            .leaves(self.transmission_coefficient, self.reflection_coefficient)
     }
 }
 
@@ -216,8 +220,11 @@ mod tests {
             refraction: Refraction::Positive,
             allow_imaginary: true,
             transmission_coefficient: 1.0,
+            reflection_coefficient: 1.0,
         };
-        let out = interface.direction(d.normalize(), &DMat3::IDENTITY);
+        let Outgoing::Reflected(out) = interface.outgoing(d.normalize(), &DMat3::IDENTITY) else {
+            panic!("transmitted")
+        };
         assert!(out.is_finite() && out.z < 0.0, "{out}");
     }
 }

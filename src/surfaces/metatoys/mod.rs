@@ -12,7 +12,10 @@
 //! Lorentz window and teleporter are defined by what the camera sees through them.
 //!
 //! Where a law has no transmitted ray (the "impossible" or evanescent cases), the ray is
-//! reflected, as TIM does when refraction fails (total internal reflection, §4.1).
+//! reflected, as TIM does when refraction fails (total internal reflection, §4.1). As in Dr TIM
+//! (`MetricInterface`, `PhaseHologram`: "don't multiply by the transmission coefficient, as this
+//! is TIR"), that reflection is lossless unless the law is given a reflection coefficient; the
+//! transmission coefficient applies to transmitted rays only.
 
 mod confocal_lenslet_arrays;
 mod lorentz_window;
@@ -28,15 +31,16 @@ pub use lorentz_window::LorentzWindow;
 pub use metric_interface::{
     MetricInterface, Refraction, metric_reflected_direction, metric_refracted_direction,
 };
-pub use phase_conjugating::PhaseConjugating;
+pub use phase_conjugating::{Conjugation, PhaseConjugating, phase_conjugated};
 pub use phase_hologram::{Phase, PhaseHologram, hologram_direction};
 pub use ray_flipping::{RayFlipping, flipped};
 pub use ray_rotating::{RayRotating, RotationAxis, rotated};
-pub use teleporting::Teleporting;
+pub use teleporting::{Teleportation, Teleporting};
 
 use glam::{DMat3, DVec3};
 
 use crate::math::Frame;
+use crate::surfaces::Redirection;
 
 /// Whether a law's vectors and tensors are given in the global (x, y, z) basis or in the
 /// surface's local (u, v, w) basis at each point (w the outward normal), which makes a curved
@@ -64,12 +68,67 @@ pub fn jacobian(frame: &Frame) -> DMat3 {
     DMat3::from_cols(frame.u, frame.v, frame.w)
 }
 
-/// The direction `out` if the law gives one, else `d` mirrored in the surface with normal `n`.
-fn or_reflected(out: Option<DVec3>, d: DVec3, n: DVec3) -> DVec3 {
-    out.unwrap_or_else(|| super::reflect(d, n))
+/// A law's outgoing direction: transmitted, or reflected where the law has no transmitted ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Outgoing {
+    Transmitted(DVec3),
+    Reflected(DVec3),
+}
+
+impl Outgoing {
+    /// `out` if the law gives one, else `d` mirrored in the surface with normal `n`.
+    fn or_mirrored(out: Option<DVec3>, d: DVec3, n: DVec3) -> Outgoing {
+        out.map_or_else(
+            || Outgoing::Reflected(super::reflect(d, n)),
+            Outgoing::Transmitted,
+        )
+    }
+
+    pub fn direction(self) -> DVec3 {
+        match self {
+            Outgoing::Transmitted(d) | Outgoing::Reflected(d) => d,
+        }
+    }
+
+    /// The ray leaving along this direction, carrying `transmission` of the light if it is
+    /// transmitted and `reflection` if it is reflected.
+    fn leaves(self, transmission: f64, reflection: f64) -> Redirection<'static> {
+        let (direction, factor) = match self {
+            Outgoing::Transmitted(d) => (d, transmission),
+            Outgoing::Reflected(d) => (d, reflection),
+        };
+        Redirection::Leaves { direction, factor }
+    }
 }
 
 /// Whether `out` leaves the surface with normal `n` on the far side from where `d` arrived.
 fn crosses(d: DVec3, out: DVec3, n: DVec3) -> bool {
     d.dot(n) * out.dot(n) > 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Total internal reflection carries the reflection coefficient, not the transmission
+    /// coefficient: with the default 1 it loses no light.
+    #[test]
+    fn reflected_rays_carry_the_reflection_coefficient() {
+        let d = DVec3::new(0.6, 0.0, 0.8);
+        let leaves = |out| Outgoing::or_mirrored(out, d, DVec3::Z).leaves(0.96, 1.0);
+        assert_eq!(
+            leaves(None),
+            Redirection::Leaves {
+                direction: DVec3::new(0.6, 0.0, -0.8),
+                factor: 1.0
+            }
+        );
+        assert_eq!(
+            leaves(Some(d)),
+            Redirection::Leaves {
+                direction: d,
+                factor: 0.96
+            }
+        );
+    }
 }

@@ -5,21 +5,28 @@
 //! k′_t = k_t + ∇Φ (phase matching). With k = 2π/λ and the phase given as φ = Φ/k (an optical
 //! path length, so holograms do not depend on the wavelength), the unit direction's tangential
 //! part becomes d′_t = d_t + ∇φ, and its normal part keeps its sign with |d′| = 1. If
-//! |d′_t| > 1 the transmitted wave is evanescent and the ray is reflected (as TIR). The same
-//! kick applied to −d′ gives −d, so the law is reciprocal.
+//! |d′_t| > 1 the transmitted wave is evanescent and the ray is reflected (as TIR, losslessly
+//! unless a reflection coefficient is given, as in Dr TIM's `PhaseHologram`). The same kick
+//! applied to −d′ gives −d, so the law is reciprocal.
 //!
 //! Phases, in Cartesian coordinates (u, v) of a flat surface measured from its reference point
 //! (a plane's point, a disc's centre, a parallelogram's corner):
 //! - linear (a prism): φ = g·(u, v), a constant kick g;
 //! - quadratic (a thin lens of focal length f about a centre c): φ = −|r − c|²/(2f), kick
 //!   −(r − c)/f, which focuses a parallel bundle at distance f (paraxially; exactly in the
-//!   limit of small apertures);
+//!   limit of small apertures), Dr TIM's `PhaseHologramOfLens`;
+//! - lens (the exact lens phase): φ = −sign(f)(√(|r − c|² + f²) − |f|), the phase difference
+//!   between a plane wave along the normal and a spherical wave about the focal point at
+//!   distance f from c. Its kick −sign(f)(r − c)/√(|r − c|² + f²) is the tangential part of
+//!   the unit vector from r towards the focal point (away from it for f < 0), so a bundle along
+//!   the normal meets the focus exactly, and rays from a focal point leave exactly parallel,
+//!   at any aperture;
 //! - cylindrical (a cylindrical lens with its axis at an angle ψ from u): φ = −(m·(r − c))²/(2f)
 //!   with m the in-plane unit vector perpendicular to the axis.
 
 use glam::{DVec2, DVec3};
 
-use super::{jacobian, or_reflected};
+use super::{Outgoing, jacobian};
 use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
@@ -30,6 +37,8 @@ pub enum Phase {
     Linear { gradient: DVec2 },
     /// φ = −|r − centre|²/(2 focal_length).
     Quadratic { focal_length: f64, centre: DVec2 },
+    /// φ = −sign(focal_length)(√(|r − centre|² + focal_length²) − |focal_length|).
+    Lens { focal_length: f64, centre: DVec2 },
     /// φ = −(m·(r − centre))²/(2 focal_length), m ⊥ the cylinder axis, which is at
     /// `axis_angle` (radians) from u towards v.
     Cylindrical {
@@ -48,6 +57,14 @@ impl Phase {
                 focal_length,
                 centre,
             } => -(r - centre) / focal_length,
+            Phase::Lens {
+                focal_length,
+                centre,
+            } => {
+                let r = r - centre;
+                -r / (focal_length
+                    * (1.0 + r.length_squared() / (focal_length * focal_length)).sqrt())
+            }
             Phase::Cylindrical {
                 focal_length,
                 centre,
@@ -66,6 +83,8 @@ pub struct PhaseHologram {
     pub phase: Phase,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
+    /// Fraction of the light reflected where the wave is evanescent, in [0, 1].
+    pub reflection_coefficient: f64,
 }
 
 /// The unit direction leaving a hologram with phase gradient `kick` for the unit direction
@@ -87,10 +106,8 @@ impl PhaseHologram {
         };
         let out =
             hologram_direction(lambda.transpose() * d, self.phase.gradient(r)).map(|e| lambda * e);
-        Redirection::Leaves {
-            direction: or_reflected(out, d, frame.w),
-            factor: self.transmission_coefficient,
-        }
+        Outgoing::or_mirrored(out, d, frame.w)
+            .leaves(self.transmission_coefficient, self.reflection_coefficient)
     }
 }
 
@@ -107,6 +124,45 @@ mod tests {
         };
         // Axis along u: only the v offset matters.
         assert_eq!(phase.gradient(DVec2::new(5.0, 1.0)), DVec2::new(0.0, -0.5));
+    }
+
+    /// Rays from the focal point (c, −f) leave the exact lens phase exactly along the normal,
+    /// up to 72° off axis; the quadratic phase bends them by 10° or more from ρ = f on.
+    #[test]
+    fn the_exact_lens_phase_makes_rays_from_the_focal_point_parallel() {
+        let (f, centre) = (2.0, DVec2::new(0.3, -0.4));
+        let exact = Phase::Lens {
+            focal_length: f,
+            centre,
+        };
+        let paraxial = Phase::Quadratic {
+            focal_length: f,
+            centre,
+        };
+        for k in 1..=30 {
+            let rho = 0.2 * k as f64;
+            let azimuth = 0.7 * k as f64;
+            let r = centre + rho * DVec2::new(azimuth.cos(), azimuth.sin());
+            let d = DVec3::new(r.x - centre.x, r.y - centre.y, f).normalize();
+            let out = hologram_direction(d, exact.gradient(r)).unwrap();
+            assert!((out - DVec3::Z).length() < 1e-15, "ρ = {rho}: {out}");
+            if rho >= f {
+                let bent = hologram_direction(d, paraxial.gradient(r))
+                    .map_or(90.0, |e| e.angle_between(DVec3::Z).to_degrees());
+                assert!(bent > 10.0, "ρ = {rho}: {bent}°");
+            }
+        }
+        // A diverging lens: a ray along the normal leaves as if from the focal point in front.
+        let diverging = Phase::Lens {
+            focal_length: -f,
+            centre,
+        };
+        let r = centre + DVec2::new(3.0, 0.0);
+        let out = hologram_direction(DVec3::Z, diverging.gradient(r)).unwrap();
+        assert!(
+            (out - DVec3::new(3.0, 0.0, f).normalize()).length() < 1e-15,
+            "{out}"
+        );
     }
 
     #[test]

@@ -2,15 +2,21 @@
 //! transmitted ray is rotated by an angle α about the surface normal, or about any other axis
 //! direction.
 //!
-//! Derivation of the sense: a passive sheet is reciprocal, so if it turns d into R d it must
-//! turn −R d into −d, i.e. rotate rays crossing the other way by −α about the same axis. A
-//! rotation by α about the axis oriented along the direction of crossing, sign(d·n) â, does
-//! both. About the normal (â = n) the ray always crosses; about another axis a ray whose
-//! rotated direction would not leave through the far side is reflected instead.
+//! The sense: a light ray is rotated by α, right-handed, about the axis oriented along the
+//! direction in which it crosses the sheet, sign(d·n) â. The sheet is then reciprocal: if it
+//! turns d into R d it turns −R d into −d, so a ray traced backwards from the camera turns the
+//! same way. About the normal (â = n) the ray always crosses; about another axis a ray whose
+//! rotated direction would not leave through the far side is reflected instead (losslessly
+//! unless a reflection coefficient is given).
+//!
+//! Dr TIM's `RayRotating` with angle θ multiplies the tangential direction, as the complex
+//! number d_u + i d_v, by e^{−iθ} for a ray crossing along the outward normal and by e^{iθ}
+//! against it: a rotation by −θ about the crossing direction, so α = −θ. Its
+//! `RayRotatingAboutArbitraryAxisDirection` rotates by its angle as α here.
 
 use glam::{DQuat, DVec3};
 
-use super::{Basis, crosses, or_reflected};
+use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
 use crate::math::Frame;
 use crate::surfaces::Redirection;
@@ -31,6 +37,8 @@ pub struct RayRotating {
     pub axis: RotationAxis,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
+    /// Fraction of the light reflected where the rotated ray would not cross, in [0, 1].
+    pub reflection_coefficient: f64,
 }
 
 /// `d` rotated by `angle` (right-handed) about the unit vector `axis` oriented along the
@@ -42,24 +50,22 @@ pub fn rotated(d: DVec3, axis: DVec3, angle: f64, n: DVec3) -> Option<DVec3> {
 }
 
 impl RayRotating {
-    /// The rotation angle of TIM's "Rotating" window, in degrees.
-    pub const DEFAULT_ANGLE_DEG: f64 = 60.0;
+    /// The rotation angle of TIM's "Rotating" METATOY window (Dr TIM's θ = 60°), in degrees.
+    pub const DEFAULT_ANGLE_DEG: f64 = -60.0;
 
     /// The unit direction a ray with direction `d` leaves in where the surface frame is
     /// `frame`.
-    pub fn direction(&self, d: DVec3, frame: &Frame) -> DVec3 {
+    pub fn outgoing(&self, d: DVec3, frame: &Frame) -> Outgoing {
         let axis = match self.axis {
             RotationAxis::Normal => frame.w,
             RotationAxis::Direction(a, basis) => basis.to_global(a, frame).normalize(),
         };
-        or_reflected(rotated(d, axis, self.angle, frame.w), d, frame.w)
+        Outgoing::or_mirrored(rotated(d, axis, self.angle, frame.w), d, frame.w)
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        Redirection::Leaves {
-            direction: self.direction(at.ray.direction, &at.frame()),
-            factor: self.transmission_coefficient,
-        }
+        self.outgoing(at.ray.direction, &at.frame())
+            .leaves(self.transmission_coefficient, self.reflection_coefficient)
     }
 }
 
@@ -75,6 +81,28 @@ mod tests {
         // Crossing the other way, the sense reverses (reciprocity): back along −out gives −d.
         let back = rotated(-out, DVec3::Z, 90f64.to_radians(), DVec3::Z).unwrap();
         assert!((back + d).length() < 1e-15, "{back}");
+    }
+
+    /// Dr TIM's METATOY window: `RayRotating` with θ = 60° on a pane with (u, v, w) = (x, y, z),
+    /// seen from the inside. A ray traced from the camera crosses along w, so its d_u + i d_v
+    /// is divided by e^{iθ}: (0.6, 0, 0.8) leaves along (0.6 cos θ, −0.6 sin θ, 0.8), turned
+    /// from +x towards −y.
+    #[test]
+    fn the_default_turns_a_traced_ray_as_dr_tims_window_does() {
+        let frame = Frame::from_normal_and_u(DVec3::Z, DVec3::X);
+        assert_eq!(frame.v, DVec3::Y);
+        let window = RayRotating {
+            angle: RayRotating::DEFAULT_ANGLE_DEG.to_radians(),
+            axis: RotationAxis::Normal,
+            transmission_coefficient: 0.96,
+            reflection_coefficient: 1.0,
+        };
+        let theta = 60f64.to_radians();
+        let want = DVec3::new(0.6 * theta.cos(), -0.6 * theta.sin(), 0.8);
+        let Outgoing::Transmitted(out) = window.outgoing(DVec3::new(0.6, 0.0, 0.8), &frame) else {
+            panic!("reflected")
+        };
+        assert!((out - want).length() < 1e-15, "{out}");
     }
 
     #[test]
@@ -95,17 +123,18 @@ mod tests {
             angle: 0.7,
             axis,
             transmission_coefficient: 1.0,
+            reflection_coefficient: 1.0,
         };
         let d = DVec3::new(0.1, 0.5, 0.8).normalize();
-        let by_local = rotating(RotationAxis::Direction(local, Basis::Local)).direction(d, &frame);
-        let by_global =
-            rotating(RotationAxis::Direction(global, Basis::Global)).direction(d, &frame);
+        let turned = |axis| rotating(axis).outgoing(d, &frame).direction();
+        let by_local = turned(RotationAxis::Direction(local, Basis::Local));
+        let by_global = turned(RotationAxis::Direction(global, Basis::Global));
         assert!(
             (by_local - by_global).length() < 1e-15,
             "{by_local} {by_global}"
         );
         // Reading the local components as global ones would be another rotation.
-        let wrong = rotating(RotationAxis::Direction(local, Basis::Global)).direction(d, &frame);
+        let wrong = turned(RotationAxis::Direction(local, Basis::Global));
         assert!((wrong - by_global).length() > 1e-3);
         assert!((by_global.dot(global.normalize()) - d.dot(global.normalize())).abs() < 1e-15);
     }

@@ -12,27 +12,55 @@
 //! disc of radius `positional_error`, and turns the direction by a random angle uniform within
 //! a cone of half-angle `angular_error` (uniform over the cone's solid angle, kept on the same
 //! side of the destination). The noise is keyed by the ray, so renders are reproducible.
+//!
+//! Holographic teleportation (Dr TIM's type HOLOGRAPHIC, after Bryngdahl, J. Opt. Soc. Am. 64,
+//! 1092 (1974)) makes the link with two phase holograms. Where a ray meets the origin at P₁,
+//! with P₂ the destination's point of the same surface coordinates and ĉ the unit vector from
+//! P₁ to P₂, the origin's hologram turns a ray along its normal into ĉ (tangential kick ĉ
+//! less its normal part, at P₁); the ray, so kicked, goes on to where it meets the destination,
+//! Q, whose hologram turns a ray along ĉ into the destination's normal (kick −ĉ less its normal
+//! part at P₂, applied at Q, as in Dr TIM). The defining property: a ray along the origin's
+//! normal arrives at exactly P₂ and leaves along the destination's normal; other rays are
+//! teleported imperfectly. As in Dr TIM, the passage between the holograms is not traced
+//! (nothing blocks it, it takes no time); a kicked ray that misses the destination goes on
+//! from P₁, and an evanescent wave is reflected by that hologram (carrying the reflection
+//! coefficient, times the transmission coefficient at the second).
 
 use glam::{DQuat, DVec2, DVec3};
 
+use super::{hologram_direction, jacobian};
 use crate::geometry::Exit;
 use crate::geometry::Interaction;
 use crate::geometry::Shape;
 use crate::math::Frame;
 use crate::math::random::uniform_keyed;
-use crate::surfaces::Redirection;
+use crate::surfaces::{Redirection, reflect};
+
+/// How a teleporting surface sends rays to its destination.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Teleportation {
+    /// Same surface coordinates, same local direction components.
+    #[default]
+    Perfect,
+    /// Through a pair of phase holograms (see the module notes).
+    Holographic,
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Teleporting {
     /// The linked surface rays leave from (analytic shapes; meshes have no inverse
     /// coordinates).
     pub destination: Shape,
+    pub teleportation: Teleportation,
     /// Radius of the random surface-coordinate error (0 for perfect teleportation).
     pub positional_error: f64,
     /// Half-angle of the random direction error, in radians.
     pub angular_error: f64,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
+    /// Fraction of the light reflected by a hologram that gives an evanescent wave
+    /// (holographic teleportation), in [0, 1].
+    pub reflection_coefficient: f64,
 }
 
 impl Teleporting {
@@ -73,9 +101,53 @@ impl Teleporting {
         Some((p, out))
     }
 
+    /// Holographic teleportation of a ray with unit direction `d` that meets the origin at
+    /// `p`, with surface coordinates `c` and frame `frame` there.
+    pub fn holographic(&self, p: DVec3, c: DVec2, d: DVec3, frame: &Frame) -> Redirection<'static> {
+        let Some(p2) = self.destination.point_at(c) else {
+            return Redirection::Lost;
+        };
+        let Some(design) = (p2 - p).try_normalize() else {
+            return Redirection::Lost;
+        };
+        let tangential = |v: DVec3| DVec2::new(v.x, v.y);
+        let (origin, exit) = (jacobian(frame), jacobian(&self.destination.frame(p2, 0)));
+        let kick = tangential(origin.transpose() * design);
+        let Some(between) = hologram_direction(origin.transpose() * d, kick).map(|e| origin * e)
+        else {
+            return Redirection::Leaves {
+                direction: reflect(d, frame.w),
+                factor: self.reflection_coefficient,
+            };
+        };
+        let Some((t, _)) = self.destination.intersect(p, between, 0.0, f64::INFINITY) else {
+            return Redirection::Leaves {
+                direction: between,
+                factor: self.transmission_coefficient,
+            };
+        };
+        let kick = -tangential(exit.transpose() * design);
+        let (direction, factor) = match hologram_direction(exit.transpose() * between, kick) {
+            Some(e) => (exit * e, self.transmission_coefficient),
+            None => (
+                reflect(between, exit.z_axis),
+                self.transmission_coefficient * self.reflection_coefficient,
+            ),
+        };
+        let exit = Exit {
+            point: p + t * between,
+            direction,
+            path: 0.0,
+        };
+        Redirection::Jumps { exit, factor }
+    }
+
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let d = at.ray.direction;
         let p = at.point();
+        if self.teleportation == Teleportation::Holographic {
+            return self.holographic(p, at.coordinates(), d, &at.frame());
+        }
         let key = [
             p.x.to_bits(),
             p.y.to_bits(),
@@ -106,6 +178,81 @@ mod tests {
     use super::*;
     use crate::geometry::Parallelogram;
 
+    fn parallelogram(corner: DVec3, span_u: DVec3, span_v: DVec3) -> Shape {
+        Shape::Parallelogram(Parallelogram::new(corner, span_u, span_v).unwrap())
+    }
+
+    /// Holographic teleportation from the 2 × 1 rectangle z = 0 to a tilted, moved 1.5 × 1
+    /// one. The Bryngdahl pair's defining property: a ray along the origin's normal arrives at
+    /// exactly the point with its surface coordinates and leaves along the destination's
+    /// normal. An oblique ray is kicked by the same tangential vectors at both holograms
+    /// (phase matching, checked here with the plane's equation), so it arrives elsewhere:
+    /// the teleportation is imperfect. A kick past grazing is reflected, without loss.
+    #[test]
+    fn holographic_teleporting_images_normal_rays_point_to_point() {
+        let origin = parallelogram(DVec3::ZERO, 2.0 * DVec3::X, DVec3::Y);
+        let tilt = DQuat::from_axis_angle(DVec3::new(1.0, 1.0, 0.0).normalize(), 0.4);
+        let destination = parallelogram(
+            DVec3::new(0.2, -0.3, 4.0),
+            tilt * DVec3::new(1.5, 0.0, 0.0),
+            tilt * DVec3::Y,
+        );
+        let teleporter = Teleporting {
+            destination: destination.clone(),
+            teleportation: Teleportation::Holographic,
+            positional_error: 0.0,
+            angular_error: 0.0,
+            transmission_coefficient: 0.9,
+            reflection_coefficient: 1.0,
+        };
+        let n2 = tilt * DVec3::Z;
+        let frame = Frame::from_normal_and_u(DVec3::Z, DVec3::X);
+        for c in [
+            DVec2::new(0.4, 0.3),
+            DVec2::new(1.1, 0.7),
+            DVec2::new(0.7, 0.5),
+        ] {
+            let p1 = origin.point_at(c).unwrap();
+            let Redirection::Jumps { exit, factor } =
+                teleporter.holographic(p1, c, DVec3::Z, &frame)
+            else {
+                panic!("c {c}: not teleported")
+            };
+            assert_eq!(factor, 0.9);
+            let p2 = destination.point_at(c).unwrap();
+            assert!((exit.point - p2).length() < 1e-14, "c {c}: {}", exit.point);
+            assert!((destination.coordinates(exit.point) - c).length() < 1e-14);
+            assert!((exit.direction - n2).length() < 1e-15, "{}", exit.direction);
+
+            let d = DVec3::new(0.03, -0.02, 1.0).normalize();
+            let Redirection::Jumps { exit, .. } = teleporter.holographic(p1, c, d, &frame) else {
+                panic!("c {c}: oblique ray not teleported")
+            };
+            let design = (p2 - p1).normalize();
+            let t = DVec2::new(d.x + design.x, d.y + design.y);
+            let between = DVec3::new(t.x, t.y, (1.0 - t.length_squared()).sqrt());
+            let q = p1 + between * (p2 - p1).dot(n2) / between.dot(n2);
+            assert!((exit.point - q).length() < 1e-12, "{} {q}", exit.point);
+            assert!((exit.point - p2).length() > 0.05, "imperfect");
+            let kick = exit.direction - between + design;
+            assert!(
+                kick.cross(n2).length() < 1e-12,
+                "phase matching at the second"
+            );
+            assert!((exit.direction.length() - 1.0).abs() < 1e-15);
+        }
+
+        let c = DVec2::new(1.4, 0.5);
+        let d = DVec3::new(0.9, 0.0, 0.1).normalize();
+        assert_eq!(
+            teleporter.holographic(origin.point_at(c).unwrap(), c, d, &frame),
+            Redirection::Leaves {
+                direction: DVec3::new(d.x, d.y, -d.z),
+                factor: 1.0
+            }
+        );
+    }
+
     /// The angular error is uniform over the cone's solid angle: every angle is within σ, and
     /// cos α is uniform on [cos σ, 1] (mean 1 − (1 − cos σ)/2, a quarter of them within σ/2
     /// for small σ).
@@ -116,12 +263,14 @@ mod tests {
             destination: Shape::Parallelogram(
                 Parallelogram::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap(),
             ),
+            teleportation: Teleportation::Perfect,
             positional_error: 0.0,
             angular_error: sigma,
             transmission_coefficient: 1.0,
+            reflection_coefficient: 1.0,
         };
         let frame = Frame::from_normal_and_u(DVec3::Z, DVec3::X);
-        let d = DVec3::new(0.2, -0.1, 0.9).normalize();
+        let d = DVec3::new(0.03, -0.02, 1.0).normalize();
         let n = 20_000;
         let mut cosines = Vec::with_capacity(n);
         let mut azimuths = DVec3::ZERO;
