@@ -151,14 +151,12 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_thin_lens")]
     IdealThinLens {
         #[serde(flatten)]
         lens: ThinLensKeys,
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_thin_cylindrical_lens")]
     IdealThinCylindricalLens {
         #[serde(flatten)]
         lens: ThinLensKeys,
@@ -166,14 +164,12 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_thin_mirror")]
     IdealThinMirror {
         #[serde(flatten)]
         lens: ThinLensKeys,
         #[serde(alias = "reflection")]
         reflection_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_thin_cylindrical_mirror")]
     IdealThinCylindricalMirror {
         #[serde(flatten)]
         lens: ThinLensKeys,
@@ -181,7 +177,6 @@ pub(super) enum SurfaceSection {
         #[serde(alias = "reflection")]
         reflection_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_thin_lenslet_array")]
     IdealThinLensletArray {
         focal_length: NonZero,
         centre: Vector,
