@@ -183,6 +183,7 @@ pub fn run(
         start: p.samples.start,
         end: p.samples.end,
         first: &first,
+        sums: p.sums || dir.is_some(),
     };
     let interval = job.checkpointing.as_ref().and_then(|c| c.interval);
     let mut last_save = Instant::now();
@@ -203,12 +204,14 @@ pub fn run(
         Ok(())
     };
     let mut rays = 0;
-    // The colours of a band, in one buffer for all.
+    // The colours of a band added to earlier samples, in one buffer for all.
     let mut colours = Vec::new();
     let stop = &signals.stop;
     let finish = io::write_streaming(&job.output, p, |write| {
         let mut sink = |mut rows: Rows| -> Result<(), JobError> {
             let group = group_of(&bounds, rows.bounds.y0);
+            // The rendered means are the whole story unless samples are added to kept ones.
+            let mut means = &rows.means;
             if let Some(k) = kept.get(&group) {
                 if restored.as_ref().is_none_or(|r| r.0 != group) {
                     restored = Some((group, checkpoint::read(k)?));
@@ -217,12 +220,13 @@ pub fn run(
                 for y in rows.bounds.y0..rows.bounds.y1 {
                     rows.add_row(from, y);
                 }
+                colours.clear();
+                colours.extend(rows.sums.iter().map(|s| s.mean(count)));
+                means = &colours;
             }
-            colours.clear();
-            colours.extend(rows.sums.iter().map(|s| s.mean(count)));
             write(&Block {
                 y0: rows.bounds.y0,
-                colours: &colours,
+                colours: means,
                 aovs: rows.aovs.as_deref(),
                 sums: p.sums.then_some(&rows.sums[..]),
             })?;

@@ -145,12 +145,17 @@ impl std::fmt::Display for PixelBounds {
     }
 }
 
-/// Finished whole rows of a render: the exact sum of each pixel's samples ([`Sum`]) and, if
-/// asked for, its AOVs, row-major over `bounds`.
+/// Finished whole rows of a render: the mean colour of each pixel's samples, the exact sum of
+/// them ([`Sum`]) where it is kept, and, if asked for, its AOVs, row-major over `bounds`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Rows {
     pub bounds: PixelBounds,
+    /// Empty unless the render keeps them ([`Samples::sums`], or samples added to earlier ones).
     pub sums: Vec<Sum>,
+    /// The mean of the samples rendered here, computed from the sums (or, for one sample,
+    /// without them: [`Sum::mean_of_one`]) by the thread that rendered them; empty in rows
+    /// that were not rendered (read from a checkpoint or a file).
+    pub means: Vec<Colour>,
     pub aovs: Option<Vec<AovSample>>,
     /// Rays traced for these rows.
     pub rays: u64,
@@ -164,6 +169,20 @@ impl Rows {
         Rows {
             bounds,
             sums: vec![Sum::default(); n],
+            means: Vec::new(),
+            aovs: aovs.then(|| vec![AovSample::MISS; n]),
+            rays: 0,
+        }
+    }
+
+    /// Rows `at` of a render, to be filled in tile by tile: means, the sums if `sums`, the AOVs
+    /// if `aovs`.
+    fn rendered(at: PixelBounds, sums: bool, aovs: bool) -> Rows {
+        let n = at.pixels() as usize;
+        Rows {
+            bounds: at,
+            sums: vec![Sum::default(); if sums { n } else { 0 }],
+            means: vec![Colour::ZERO; n],
             aovs: aovs.then(|| vec![AovSample::MISS; n]),
             rays: 0,
         }
@@ -199,12 +218,16 @@ impl Rows {
         }
     }
 
-    /// Copies a tile (inside these rows) in.
+    /// Copies a tile (inside these rows, rendered with the same sums kept or not) in.
     fn insert(&mut self, at: PixelBounds, tile: &pipeline::Tile) {
         let w = at.width() as usize;
         for (r, y) in (at.y0..at.y1).enumerate() {
             let k = self.index(at.x0, y);
-            self.sums[k..k + w].copy_from_slice(&tile.sums[r * w..(r + 1) * w]);
+            let row = r * w..(r + 1) * w;
+            self.means[k..k + w].copy_from_slice(&tile.means[row.clone()]);
+            if !tile.sums.is_empty() {
+                self.sums[k..k + w].copy_from_slice(&tile.sums[row]);
+            }
             if let (Some(to), Some(from)) = (self.aovs.as_mut(), tile.aovs.as_ref()) {
                 to[k..k + w].copy_from_slice(&from[r * w..(r + 1) * w]);
             }
@@ -221,24 +244,32 @@ pub struct Samples<'a> {
     pub start: u32,
     pub end: u32,
     pub first: &'a (dyn Fn(u32) -> u32 + Sync),
+    /// Whether every band keeps the exact sums of its samples (for checkpoints, or a file of
+    /// sums); bands whose samples are added to earlier ones keep them anyway.
+    pub sums: bool,
 }
 
-/// Renders the pixels `tile` with samples `samples` (`aovs`: also the AOVs).
+/// Renders the pixels `tile` with samples `samples` (`sums`: keeping their sums; `aovs`: also
+/// the AOVs).
 fn render_tile(
     scene: &Scene,
     camera: &Camera,
     s: &RenderSettings,
     samples: std::ops::Range<u32>,
+    sums: bool,
     aovs: bool,
     tile: PixelBounds,
 ) -> pipeline::Tile {
     let tracer = Tracer::new(scene, camera, s.shadows);
     let n = tile.pixels() as usize;
     let mut out = pipeline::Tile {
-        sums: vec![Sum::default(); n],
+        sums: vec![Sum::default(); if sums { n } else { 0 }],
+        means: vec![Colour::ZERO; n],
         aovs: aovs.then(|| vec![AovSample::MISS; n]),
         rays: 0,
     };
+    // One sample's mean needs no sum.
+    let one = samples.len() == 1;
     let focus = |origin, direction| {
         let surface = scene.focus_surface.as_ref()?;
         surface
@@ -278,7 +309,8 @@ fn render_tile(
                 }
             }
             let block = &block[..n];
-            let mut sums = [Sum::default(); 8];
+            let mut block_sums = [Sum::default(); 8];
+            let mut last = [Colour::ZERO; 8];
             let mut firsts = [None; 8];
             for sample in samples.clone() {
                 // Written field by field: rays built by a closure, or copied whole, went through
@@ -291,13 +323,24 @@ fn render_tile(
                 let record = (record_first && sample == 0).then_some(&mut firsts[..]);
                 let mut colours = [Colour::ZERO; 8];
                 tracer.trace_packet(&rays[..n], s.max_trace_level, &mut colours, record);
-                for (sum, colour) in sums.iter_mut().zip(colours) {
-                    sum.add_colour(colour);
+                if one && !sums {
+                    last = colours;
+                } else {
+                    for (sum, colour) in block_sums.iter_mut().zip(colours) {
+                        sum.add_colour(colour);
+                    }
                 }
             }
             for (i, &(x, y)) in block.iter().enumerate() {
                 let k = (y - tile.y0) as usize * tile.width() as usize + (x - tile.x0) as usize;
-                out.sums[k] = sums[i];
+                out.means[k] = if one && !sums {
+                    Sum::mean_of_one(last[i])
+                } else {
+                    block_sums[i].mean(samples.len() as u32)
+                };
+                if sums {
+                    out.sums[k] = block_sums[i];
+                }
                 if let Some(aovs) = out.aovs.as_mut() {
                     // The surface seen through the pixel centre (the sample itself when spp = 1).
                     let found = if record_first {
@@ -353,8 +396,17 @@ pub fn render_rows<E: Send>(
     let tile = |t: PixelBounds| {
         let band_y0 = bounds.y0 + (t.y0 - bounds.y0) / BAND * BAND;
         let first = (samples.first)(band_y0);
-        let aovs = s.aovs && first == samples.start;
-        render_tile(scene, camera, s, first..samples.end, aovs, t)
+        let fresh = first == samples.start;
+        let aovs = s.aovs && fresh;
+        render_tile(
+            scene,
+            camera,
+            s,
+            first..samples.end,
+            samples.sums || !fresh,
+            aovs,
+            t,
+        )
     };
     if bounds.is_empty() {
         return Ok(Ok(Outcome {
@@ -391,13 +443,12 @@ pub fn render(
         start: 0,
         end: settings.spp,
         first: &|_| 0,
+        sums: false,
     };
     let width = settings.width as usize;
     let mut sink = |rows: Rows| -> Result<(), std::convert::Infallible> {
         let k = rows.bounds.y0 as usize * width;
-        for (p, sum) in pixels[k..k + rows.sums.len()].iter_mut().zip(&rows.sums) {
-            *p = sum.mean(settings.spp);
-        }
+        pixels[k..k + rows.means.len()].copy_from_slice(&rows.means);
         if let (Some(to), Some(from)) = (aovs.as_mut(), rows.aovs) {
             to[k..k + from.len()].copy_from_slice(&from);
         }

@@ -10,15 +10,17 @@ use std::sync::{Condvar, Mutex};
 use std::time::Duration;
 
 use super::{AovSample, BAND, PixelBounds, Rows, Sum};
+use crate::math::Colour;
 
 /// Columns per tile (a multiple of the ray packets' width): a tile is big enough (16 Ki
 /// pixels) that handing it over costs little, and bands of images up to this wide are one
 /// tile, handed on without a copy.
 pub const TILE_W: u32 = 2048;
 
-/// A rendered tile: its sums and AOVs, row-major, and the rays traced.
+/// A rendered tile: its means, sums (if kept) and AOVs, row-major, and the rays traced.
 pub(super) struct Tile {
     pub sums: Vec<Sum>,
+    pub means: Vec<Colour>,
     pub aovs: Option<Vec<AovSample>>,
     pub rays: u64,
 }
@@ -143,16 +145,23 @@ pub(super) fn run<E: Send>(
                 let at = tiling.tile(expected);
                 if tiling.per_band == 1 {
                     // (A band kept from a checkpoint has no AOVs rendered: they come later.)
-                    let n = tile.sums.len();
+                    let n = tile.means.len();
                     band = Some(Rows {
                         bounds: at,
                         sums: tile.sums,
+                        means: tile.means,
                         aovs: tile.aovs.or_else(|| aovs.then(|| vec![AovSample::MISS; n])),
                         rays: tile.rays,
                     });
                 } else {
-                    let rows = band
-                        .get_or_insert_with(|| Rows::new(bounds.x0, bounds.x1, at.y0, at.y1, aovs));
+                    let rows = band.get_or_insert_with(|| {
+                        let rows = PixelBounds {
+                            x0: bounds.x0,
+                            x1: bounds.x1,
+                            ..at
+                        };
+                        Rows::rendered(rows, !tile.sums.is_empty(), aovs)
+                    });
                     rows.insert(at, &tile);
                     rows.rays += tile.rays;
                 }

@@ -72,6 +72,20 @@ impl Sum {
         }
     }
 
+    /// The mean of one sample `c`: exactly `Sum` of `c` alone, then [`Sum::mean`] of 1, but
+    /// without either where that gives `c` back: where each channel is +0 (−0 comes back as
+    /// +0) or a multiple of 2⁻⁸⁰ (|c| ≥ 2⁻²⁸ has no bits below 2⁻⁸⁰) below the range's end 2⁴⁷.
+    pub fn mean_of_one(c: Colour) -> Colour {
+        let exact =
+            |x: f64| x.to_bits() == 0 || (x.abs() >= 2f64.powi(-28) && x.abs() < 2f64.powi(47));
+        if c.to_array().into_iter().all(exact) {
+            return c;
+        }
+        let mut sum = Sum::default();
+        sum.add_colour(c);
+        sum.mean(1)
+    }
+
     /// The mean colour of `count` samples with this sum (black for none).
     pub fn mean(&self, count: u32) -> Colour {
         if count == 0 {
@@ -167,6 +181,45 @@ mod tests {
         }
         for v in values {
             assert_eq!(to_f64(v).to_bits(), (v as f64).to_bits(), "{v}");
+        }
+    }
+
+    #[test]
+    fn the_mean_of_one_sample_is_its_sum_s_mean() {
+        let mut x = 0x2545_f491_4f6c_dd1d_u64;
+        let mut values = vec![
+            0.0,
+            -0.0,
+            1.0,
+            2f64.powi(-28),
+            2f64.powi(-28) * 1.5,
+            2f64.powi(-29) * 1.5,
+            2f64.powi(47),
+            -2f64.powi(47),
+            2f64.powi(47) * (1.0 - f64::EPSILON),
+            1e-300,
+            5e-324,
+            f64::NAN,
+            f64::INFINITY,
+            -f64::INFINITY,
+        ];
+        for _ in 0..20_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Random bits: every exponent, sign and mantissa (NaNs included).
+            values.push(f64::from_bits(x));
+        }
+        for c in values {
+            let colour = Colour::new(c, 0.5, -c);
+            let mut sum = Sum::default();
+            sum.add_colour(colour);
+            let (fast, plain) = (Sum::mean_of_one(colour), sum.mean(1));
+            assert_eq!(
+                fast.to_array().map(f64::to_bits),
+                plain.to_array().map(f64::to_bits),
+                "{c:e}"
+            );
         }
     }
 
