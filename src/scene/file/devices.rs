@@ -1,0 +1,109 @@
+//! The `[[device]]` entries: devices made of ideal thin lenses (`crate::devices`), with the
+//! parameters Dr TIM's editable objects take, each expanding into one scene object per part.
+
+use serde::Deserialize;
+
+use super::parts::Spanned;
+use super::placement::{ArraySection, FrameName, TransformSection};
+use super::surfaces::SurfaceSection;
+use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
+use crate::devices::{Edges, LensStar, Part};
+use crate::math::Colour;
+use crate::surfaces::{Coloured, Surface};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DeviceSection {
+    pub name: Option<String>,
+    /// Whether the lenses throw shadows (edges always do).
+    #[serde(default)]
+    pub shadow_throwing: bool,
+    pub frame: Option<FrameName>,
+    pub transform: Option<Spanned<TransformSection>>,
+    pub array: Option<Spanned<ArraySection>>,
+    lenses: Spanned<LensesSection>,
+    #[serde(default)]
+    show_edges: bool,
+    edge_radius: Option<Positive>,
+    edge_surface: Option<Spanned<SurfaceSection>>,
+}
+
+/// Dr TIM's defaults for edges: radius 0.01, shiny red.
+const EDGE_RADIUS: f64 = 0.01;
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+enum LensesSection {
+    #[serde(alias = "lens_star")]
+    LensStar {
+        number_of_lenses: u32,
+        focal_length: NonZero,
+        principal_point_distance: Option<Finite>,
+        centre: Vector,
+        intersection_direction: Direction,
+        point_on_lens1: Vector,
+        star_radius: Positive,
+        star_length: Positive,
+        lens_transmission_coefficient: Option<Coefficient>,
+        shown_lenses_start_index: Option<i64>,
+        number_of_shown_lenses: Option<u32>,
+    },
+}
+
+impl DeviceSection {
+    /// Where the device's `lenses` table is, for errors about the whole device.
+    pub(super) fn span(&self) -> std::ops::Range<usize> {
+        self.lenses.span()
+    }
+
+    /// The device's parts, or the span of the table at fault and what is wrong.
+    pub(super) fn parts(&mut self) -> Result<Vec<Part>, (std::ops::Range<usize>, String)> {
+        let edges = if self.show_edges {
+            let surface = match self.edge_surface.take() {
+                Some(s) => {
+                    let span = s.span();
+                    s.into_inner().build().map_err(|e| (span, e))?
+                }
+                None => Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
+            };
+            Some(Edges {
+                radius: self.edge_radius.as_ref().map_or(EDGE_RADIUS, |r| r.0),
+                surface,
+            })
+        } else {
+            None
+        };
+        let span = self.lenses.span();
+        let device = match self.lenses.get_ref() {
+            LensesSection::LensStar {
+                number_of_lenses,
+                focal_length,
+                principal_point_distance,
+                centre,
+                intersection_direction,
+                point_on_lens1,
+                star_radius,
+                star_length,
+                lens_transmission_coefficient,
+                shown_lenses_start_index,
+                number_of_shown_lenses,
+            } => LensStar {
+                number_of_lenses: *number_of_lenses,
+                focal_length: focal_length.0,
+                principal_point_distance: principal_point_distance.map_or(0.0, |d| d.0),
+                centre: centre.0,
+                intersection_direction: intersection_direction.0,
+                point_on_lens1: point_on_lens1.0,
+                star_radius: star_radius.0,
+                star_length: star_length.0,
+                lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
+                shown_lenses: match (shown_lenses_start_index, number_of_shown_lenses) {
+                    (None, None) => None,
+                    (start, n) => Some((start.unwrap_or(0), n.unwrap_or(*number_of_lenses))),
+                },
+            }
+            .parts(edges.as_ref()),
+        };
+        device.map_err(|e| (span, format!("lens-star: {e}")))
+    }
+}

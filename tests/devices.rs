@@ -1,0 +1,167 @@
+//! Devices made of ideal thin lenses (`[[device]]`), checked against independent derivations.
+//!
+//! Lens star. Take the lens plane through the star's axis, in coordinates (x along the lens
+//! plane perpendicular to the axis, y along the optical axis, z along the star's axis) with the
+//! principal point at the origin. An ideal thin lens is the projective map, in homogeneous
+//! coordinates (x, y, z, 1), that fixes the lens plane y = 0 point by point and sends the focal
+//! plane y = −f to infinity: M = [[I₃, 0], [(0, 1/f, 0), 1]]. Lens i is Rⁱ M R⁻ⁱ with R the
+//! rotation by 2π/N about the axis, so a full loop through the N lenses is (R⁻¹M)ᴺ (up to R^N =
+//! I). Writing R⁻¹M = [[A, 0], [B, I₂]] in the blocks (x, y) and (z, w), with A the rotation by
+//! −2π/N, (R⁻¹M)ᴺ = [[Aᴺ, 0], [B(I + A + … + Aᴺ⁻¹), I₂]] = I, because Aᴺ = I and the powers
+//! of a rotation by a whole fraction of a turn sum to zero: every point is imaged to itself, so
+//! every ray that goes once round the star continues along the line it started on. With the
+//! principal points a distance d off the axis, M is conjugated by a shift along x, A becomes
+//! rotation·shear of trace 2cos(2π/N) + sin(2π/N) d/f, Aᴺ ≠ I, and the loop does not close.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+use timbre::trajectories::{self, Trajectory};
+
+use common::cli::{location, path_str, timbre, write};
+
+/// A TOML vector with every digit of the f64s.
+fn v(p: DVec3) -> String {
+    format!("[{:?}, {:?}, {:?}]", p.x, p.y, p.z)
+}
+
+/// `d` rotated by `angle` (radians) about the unit `axis`, right-handed (Rodrigues).
+fn rotate(d: DVec3, axis: DVec3, angle: f64) -> DVec3 {
+    d * angle.cos() + axis.cross(d) * angle.sin() + axis * axis.dot(d) * (1.0 - angle.cos())
+}
+
+/// The device's placement in the tests: rotated about (1, 1, 0) by 30°, then shifted.
+const TRANSFORM: &str = "transform = { rotate = { axis = [1, 1, 0], angle_deg = 30 }, \
+                         translate = [0.5, -1, 2] }";
+
+fn place(p: DVec3) -> DVec3 {
+    rotate(p, DVec3::new(1.0, 1.0, 0.0).normalize(), 30f64.to_radians())
+        + DVec3::new(0.5, -1.0, 2.0)
+}
+
+/// A lens star of `n` lenses of focal length `f` about the z axis (lens 1 along +x), placed by
+/// [`TRANSFORM`], and the trajectory of one ray that starts between lens N and lens 1 near the
+/// regular-polygon loop (vertices 2f tan(π/N) from the axis on the lenses), perturbed off it and
+/// off the plane of the loop, followed through N + 1 lenses.
+fn star_trajectory(n: u32, f: f64, principal_point_distance: f64) -> Trajectory {
+    let rho = 2.0 * f * (PI / n as f64).tan();
+    let last = rho
+        * DVec3::new(
+            (-2.0 * PI / n as f64).cos(),
+            (-2.0 * PI / n as f64).sin(),
+            0.0,
+        );
+    let first = rho * DVec3::X;
+    let start = 0.5 * (first + last) + DVec3::new(0.02, -0.03, -0.5);
+    let direction = ((first - last).normalize() + DVec3::new(0.03, 0.02, 0.08)).normalize();
+    let text = format!(
+        r#"studio = "none"
+[[device]]
+name = "star"
+{TRANSFORM}
+lenses = {{ type = "lens-star", number_of_lenses = {n}, focal_length = {f:?}, principal_point_distance = {principal_point_distance:?}, centre = [0, 0, 0], intersection_direction = [0, 0, 1], point_on_lens1 = [1, 0, 0], star_radius = 4, star_length = 6 }}
+
+[[ray_trajectory]]
+start = {}
+direction = {}
+max_interactions = {}
+"#,
+        v(place(start)),
+        v(place(direction) - place(DVec3::ZERO)),
+        n + 1
+    );
+    let description = common::images::parse(&text);
+    let mut traced = trajectories::trace(common::rays::device(), &description).expect("trace");
+    assert_eq!(traced.len(), 1);
+    let t = traced.remove(0);
+    // The ray meets lens 1, 2, …, N and lens 1 again, in that order.
+    let names: Vec<&str> = t.points[1..]
+        .iter()
+        .map(|p| {
+            description.objects[p.object.expect("a surface point")]
+                .name
+                .as_str()
+        })
+        .collect();
+    let expected: Vec<String> = (0..=n)
+        .map(|k| format!("star/lens {}", k % n + 1))
+        .collect();
+    assert_eq!(names, expected, "n = {n}, f = {f}");
+    t
+}
+
+#[test]
+fn a_full_loop_round_a_lens_star_returns_every_ray_to_itself() {
+    for (n, f) in [(5, 1.0), (3, 0.6), (4, 1.3), (8, 2.0)] {
+        let t = star_trajectory(n, f, 0.0);
+        let p = |k: usize| t.points[k].position;
+        // After N lenses the ray is back on its first line: it meets lens 1 where it did first,
+        // in the direction it had then.
+        let back = (p(n as usize + 1) - p(1)).length();
+        assert!(
+            back < 1e-9,
+            "n = {n}, f = {f}: missed the first hit by {back}"
+        );
+        let first = (p(1) - p(0)).normalize();
+        let again = (p(n as usize + 1) - p(n as usize)).normalize();
+        let turn = first.cross(again).length();
+        assert!(
+            turn < 1e-9 && first.dot(again) > 0.0,
+            "n = {n}, f = {f}: turned by {turn}"
+        );
+    }
+}
+
+#[test]
+fn with_principal_points_off_the_axis_the_loop_does_not_close() {
+    let n = 5;
+    let t = star_trajectory(n, 1.0, 0.2);
+    let back = (t.points[n as usize + 1].position - t.points[1].position).length();
+    assert!(back > 1e-3, "closed anyway, to {back}");
+}
+
+#[test]
+fn a_lens_star_has_its_lenses_and_edges_as_objects() {
+    let d = common::images::parse(
+        r#"studio = "none"
+[[group]]
+name = "g"
+[[group.device]]
+name = "star"
+show_edges = true
+edge_radius = 0.02
+lenses = { type = "lens-star", number_of_lenses = 3, focal_length = 1, centre = [0, 0, 0], intersection_direction = [0, 1, 0], point_on_lens1 = [1, 0, 0], star_radius = 2, star_length = 1, lens_transmission_coefficient = 0.9, shown_lenses_start_index = 2, number_of_shown_lenses = 2 }
+"#,
+    );
+    let names: Vec<&str> = d.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "g/star/lens 1",
+            "g/star/top edge 1",
+            "g/star/outer edge 1",
+            "g/star/bottom edge 1",
+            "g/star/lens 3",
+            "g/star/top edge 3",
+            "g/star/outer edge 3",
+            "g/star/bottom edge 3",
+            "g/star/axial edge",
+        ]
+    );
+    for o in &d.objects {
+        // Lenses throw no shadows unless asked; edges do.
+        assert_eq!(o.shadow_throwing, !o.name.contains("/lens "), "{}", o.name);
+    }
+}
+
+#[test]
+fn a_star_with_its_lens_on_the_axis_is_refused_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "studio = \"none\"\n\n[[device]]\nname = \"s\"\nlenses = { type = \"lens-star\", number_of_lenses = 4, focal_length = 1, centre = [0, 0, 0], intersection_direction = [0, 0, 1], point_on_lens1 = [0, 0, 3], star_radius = 1, star_length = 1 }\n";
+    let path = write(dir.path(), "bad.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["'s'", "lens-star", "point_on_lens1", "on the star's axis"]);
+    assert_eq!(location(&run.stderr, &path).0, 5);
+}
