@@ -165,3 +165,181 @@ fn a_star_with_its_lens_on_the_axis_is_refused_with_file_and_line() {
     run.assert_bad_input(&["'s'", "lens-star", "point_on_lens1", "on the star's axis"]);
     assert_eq!(location(&run.stderr, &path).0, 5);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Lens simplicial complexes. Every cell of a consistent complex appears, from outside, as the
+// tetrahedron of its vertices' virtual positions, and the outside appears as itself. So (i) a
+// ray that crosses the complex leaves it on the straight line it came in on, and (ii) the rays
+// from one point of a cell leave the complex on lines through one point, its virtual position,
+// which lies inside the cell's virtual tetrahedron (a projective map that takes the vertices
+// of a tetrahedron to those of another, without sending a point of it to infinity, takes its
+// inside to the other's inside).
+// ---------------------------------------------------------------------------------------------
+
+/// Dr TIM's default lens simplicial complex (`EditableLensSimplicialComplex`'s
+/// `initialiseToOmnidirectionalLens`): a tetrahedron on a triangular base with two inner
+/// vertices on its axis, which virtual space moves up by 0.2.
+const VERTICES: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.6],
+    [0.0, 0.0, 11.2],
+    [0.0, 0.0, 12.0],
+];
+const VERTICES_V: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.8],
+    [0.0, 0.0, 11.4],
+    [0.0, 0.0, 12.0],
+];
+const EDGES: &str = "[[0, 1], [1, 2], [2, 0], [3, 0], [3, 1], [3, 2], [4, 0], [4, 1], [4, 2], \
+                     [5, 0], [5, 1], [5, 2], [3, 4], [4, 5]]";
+
+fn list(points: &[[f64; 3]]) -> String {
+    let items: Vec<String> = points.iter().map(|p| v(DVec3::from(*p))).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// A scene with the complex (virtual positions `vertices_v`) placed by [`TRANSFORM`], and
+/// `rays` (start, direction, in the complex's coordinates) as ray trajectories.
+fn complex_scene(vertices_v: &[[f64; 3]], rays: &[(DVec3, DVec3)]) -> String {
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"lsc\"\n{TRANSFORM}\nlenses = {{ type = \"lens-simplicial-complex\", vertices = {}, vertices_v = {}, edges = {EDGES} }}\n",
+        list(&VERTICES),
+        list(vertices_v)
+    );
+    for (start, direction) in rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    text
+}
+
+/// Each ray's last lens crossing and the direction it leaves in, mapped back into the
+/// complex's coordinates, with the number of lenses it crossed.
+fn exits(text: &str) -> Vec<(DVec3, DVec3, usize)> {
+    let description = common::images::parse(text);
+    let traced = trajectories::trace(common::rays::device(), &description).expect("trace");
+    let axis = DVec3::new(1.0, 1.0, 0.0).normalize();
+    let unplace = |p: DVec3| rotate(p - DVec3::new(0.5, -1.0, 2.0), axis, -30f64.to_radians());
+    traced
+        .iter()
+        .map(|t| {
+            let hits: Vec<DVec3> = t
+                .points
+                .iter()
+                .filter(|p| p.object.is_some())
+                .map(|p| p.position)
+                .collect();
+            let last = *hits.last().expect("the ray meets the complex");
+            (
+                unplace(last),
+                unplace(t.direction) - unplace(DVec3::ZERO),
+                hits.len(),
+            )
+        })
+        .collect()
+}
+
+/// Distance of `x` from the line through `a` along unit `d`.
+fn off_line(x: DVec3, a: DVec3, d: DVec3) -> f64 {
+    (x - a).reject_from_normalized(d).length()
+}
+
+#[test]
+fn a_ray_crossing_a_lens_simplicial_complex_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, 0.2, 7.0), DVec3::new(0.02, -0.03, 1.0)),
+        (DVec3::new(-3.0, 0.3, 10.9), DVec3::new(1.0, 0.05, 0.1)),
+        (DVec3::new(2.0, 2.0, 13.0), DVec3::new(-0.6, -0.7, -0.8)),
+        (DVec3::new(0.2, -3.0, 10.5), DVec3::new(-0.05, 1.0, 0.3)),
+    ];
+    let out = exits(&complex_scene(&VERTICES_V, &rays));
+    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(out) {
+        let d = d.normalize();
+        assert!(
+            crossed >= 3,
+            "ray from {start} crossed only {crossed} lenses"
+        );
+        let miss = off_line(last, *start, d);
+        let turn = leaving.cross(d).length();
+        assert!(
+            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+            "ray from {start}: left {miss} off its line, turned by {turn}"
+        );
+    }
+}
+
+#[test]
+fn rays_from_a_point_in_a_cell_leave_as_if_from_one_point_of_its_virtual_cell() {
+    let [p0, p1, _, p3, p4, _] = VERTICES.map(DVec3::from);
+    let [v0, v1, _, v3, v4, _] = VERTICES_V.map(DVec3::from);
+    // A point of the cell 0-1-3-4.
+    let x = 0.2 * p0 + 0.3 * p1 + 0.25 * p3 + 0.25 * p4;
+    let rays: Vec<(DVec3, DVec3)> = [
+        DVec3::new(0.0, 0.0, -1.0),
+        DVec3::new(0.3, 0.2, 1.0),
+        DVec3::new(-1.0, -0.2, 0.1),
+        DVec3::new(0.1, 1.0, -0.2),
+        DVec3::new(0.5, -1.0, 0.4),
+    ]
+    .map(|d| (x, d))
+    .to_vec();
+    let out = exits(&complex_scene(&VERTICES_V, &rays));
+    // The point nearest to all the leaving lines (least squares).
+    let (mut a, mut b) = (glam::DMat3::ZERO, DVec3::ZERO);
+    for (last, d, _) in &out {
+        let d = d.normalize();
+        let m = glam::DMat3::IDENTITY - glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+        a += m;
+        b += m * *last;
+    }
+    let image = a.inverse() * b;
+    for (last, d, _) in &out {
+        let miss = off_line(image, *last, d.normalize());
+        assert!(
+            miss < 1e-9,
+            "a leaving line misses the image {image} by {miss}"
+        );
+    }
+    assert!((image - x).length() > 1e-2, "the complex did not move {x}");
+    // Inside the virtual tetrahedron 0-1-3-4: positive barycentric coordinates.
+    let m = glam::DMat3::from_cols(v1 - v0, v3 - v0, v4 - v0);
+    let w = m.inverse() * (image - v0);
+    assert!(
+        w.min_element() > 0.0 && w.element_sum() < 1.0,
+        "image {image} is outside the virtual cell ({w})"
+    );
+}
+
+#[test]
+fn virtual_positions_no_ideal_lenses_can_realise_are_refused() {
+    let parse = |vertices_v: &[[f64; 3]]| {
+        timbre::scene::file::parse(&complex_scene(vertices_v, &[]), "lsc.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    // An inner vertex moved off the axis: the cells round face 0-1-4 disagree on its plane.
+    let mut sideways = VERTICES_V;
+    sideways[3][0] = 0.1;
+    let e = parse(&sideways);
+    assert!(e.starts_with("lsc.toml:5:"), "{e}");
+    assert!(
+        e.contains("face 0-1-4") && e.contains("cannot realise"),
+        "{e}"
+    );
+    // An outer vertex moved: the outside is seen as itself, so it cannot move.
+    let mut outer = VERTICES_V;
+    outer[0][0] = -1.6;
+    let e = parse(&outer);
+    assert!(
+        e.contains("vertex 0") && e.contains("must keep their physical positions"),
+        "{e}"
+    );
+}

@@ -7,7 +7,7 @@ use super::parts::Spanned;
 use super::placement::{ArraySection, FrameName, TransformSection};
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
-use crate::devices::{Edges, LensStar, Part};
+use crate::devices::{Edges, LensSimplicialComplex, LensStar, Part};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -48,6 +48,13 @@ enum LensesSection {
         shown_lenses_start_index: Option<i64>,
         number_of_shown_lenses: Option<u32>,
     },
+    #[serde(alias = "lens_simplicial_complex")]
+    LensSimplicialComplex {
+        vertices: Vec<Vector>,
+        vertices_v: Vec<Vector>,
+        edges: Vec<[usize; 2]>,
+        lens_transmission_coefficient: Option<Coefficient>,
+    },
 }
 
 impl DeviceSection {
@@ -74,7 +81,8 @@ impl DeviceSection {
             None
         };
         let span = self.lenses.span();
-        let device = match self.lenses.get_ref() {
+        let lenses = self.lenses.get_ref();
+        let device = match lenses {
             LensesSection::LensStar {
                 number_of_lenses,
                 focal_length,
@@ -103,7 +111,29 @@ impl DeviceSection {
                 },
             }
             .parts(edges.as_ref()),
+            LensesSection::LensSimplicialComplex {
+                vertices,
+                vertices_v,
+                edges: joined,
+                lens_transmission_coefficient,
+            } => LensSimplicialComplex {
+                vertices: vertices.iter().map(|v| v.0).collect(),
+                vertices_v: vertices_v.iter().map(|v| v.0).collect(),
+                edges: joined.clone(),
+                lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
         };
-        device.map_err(|e| (span, format!("lens-star: {e}")))
+        device.map_err(|e| (span, format!("{}: {e}", lenses.name())))
+    }
+}
+
+impl LensesSection {
+    /// The device's `type`, for messages.
+    fn name(&self) -> &'static str {
+        match self {
+            LensesSection::LensStar { .. } => "lens-star",
+            LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
+        }
     }
 }
