@@ -343,3 +343,122 @@ fn virtual_positions_no_ideal_lenses_can_realise_are_refused() {
         "{e}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// The ideal-lens cloak: it images outside space to itself, so rays cross it on their own line
+// and the scene behind it looks as without it, while the lower inner pyramid, squashed into the
+// height h₁′ → 0 in EM space, hides what is inside it.
+// ---------------------------------------------------------------------------------------------
+
+/// Dr TIM's cloak (a regular tetrahedron of height 2 on the floor, `EditableIdealLensCloak`'s
+/// default, moved to z = 7.5, in front of the lattice) with EM-space lower-inner-vertex height
+/// `h1e`, placed by `transform`.
+fn cloak(h1e: f64, transform: &str) -> String {
+    format!(
+        "[[device]]\nname = \"cloak\"\n{transform}\nlenses = {{ type = \"ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.3333333333333333, height = 2, height_lower_inner_vertex_p = 0.6666666666666666, height_upper_inner_vertex_p = 1.3333333333333333, height_lower_inner_vertex_e = {h1e:?} }}\n"
+    )
+}
+
+#[test]
+fn a_ray_crossing_the_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, -0.5, 3.5), DVec3::new(0.01, 0.02, 1.0)),
+        (DVec3::new(-3.0, -0.6, 7.6), DVec3::new(1.0, -0.02, 0.05)),
+        (DVec3::new(0.5, 2.0, 6.5), DVec3::new(-0.2, -1.0, 0.3)),
+        (DVec3::new(2.0, -0.9, 9.5), DVec3::new(-0.7, 0.1, -0.8)),
+    ];
+    // (As h₁′ → 0 the focal lengths shrink with it and rounding errors grow: at h₁′ = 0.001
+    // the ray leaves 2e-5 off its direction, so the 1e-9 check uses moderate squashing.)
+    for h1e in [-1.0, 0.0666, 0.2] {
+        let mut text = format!("studio = \"none\"\n{}", cloak(h1e, TRANSFORM));
+        for (start, direction) in &rays {
+            text += &format!(
+                "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+                v(place(*start)),
+                v(place(*direction) - place(DVec3::ZERO))
+            );
+        }
+        for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
+            let d = d.normalize();
+            assert!(
+                crossed >= 2,
+                "h1e = {h1e}: ray from {start} crossed {crossed} lenses"
+            );
+            let miss = off_line(last, *start, d);
+            let turn = leaving.cross(d).length();
+            assert!(
+                miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+                "h1e = {h1e}, ray from {start}: left {miss} off its line, turned by {turn}"
+            );
+        }
+    }
+}
+
+/// TIM's lattice studio at 160 × 120 with `objects`.
+fn lattice(objects: &str) -> String {
+    format!("studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n{objects}")
+}
+
+/// A white ball inside the lower inner pyramid (which reaches 2/3 up), throwing no shadow.
+const BALL: &str = "[[object]]\nname = \"ball\"\nshadow_throwing = false\nshape = { type = \"sphere\", centre = [0, -0.73, 7.5], radius = 0.15 }\nsurface = { type = \"shiny\", colour = [1, 1, 1] }\n";
+
+#[test]
+fn the_lattice_seen_through_the_ideal_lens_cloak_looks_as_without_it() {
+    let without = common::images::render_text(&lattice(""));
+    let with = common::images::render_text(&lattice(&cloak(0.0666, "")));
+    // Tolerance: a pixel in a thousand may differ by more than two levels (rays that graze the
+    // lenses' edges, where the f32 intersection and the f64 law part ways).
+    let differing = common::images::differing_by_more_than(&with, &without, 2);
+    assert!(
+        differing * 1000 <= 160 * 120,
+        "{differing} pixels differ by more than 2 levels"
+    );
+    // The cloak is in view: dimmed lenses change the picture.
+    let dimmed = lattice(&cloak(0.0666, "").replace(
+        "height_lower_inner_vertex_e",
+        "interface_transmission_coefficient = 0.5, height_lower_inner_vertex_e",
+    ));
+    let dim = common::images::render_text(&dimmed);
+    assert!(common::images::differing_by_more_than(&dim, &without, 2) > 1000);
+}
+
+#[test]
+fn an_object_in_the_cloaked_region_is_hidden() {
+    let render =
+        |objects: &str| timbre::io::to_rgb8(&common::images::render_text(&lattice(objects)));
+    let plain = render("");
+    let ball = render(BALL);
+    // Where the ball is seen without the cloak.
+    let footprint: Vec<(u32, u32)> = plain
+        .enumerate_pixels()
+        .filter(|(x, y, p)| {
+            ball.get_pixel(*x, *y)
+                .0
+                .iter()
+                .zip(p.0)
+                .any(|(a, b)| a.abs_diff(b) > 2)
+        })
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    assert!(
+        footprint.len() > 30,
+        "the ball covers only {} pixels",
+        footprint.len()
+    );
+    // With the cloak (h₁′ = 0.001 h₁), those pixels show what they show without the ball.
+    let cloaked = render(&cloak(0.000666, ""));
+    let cloaked_ball = render(&(cloak(0.000666, "") + BALL));
+    let seen = footprint
+        .iter()
+        .filter(|(x, y)| {
+            let (a, b) = (cloaked.get_pixel(*x, *y), cloaked_ball.get_pixel(*x, *y));
+            a.0.iter().zip(b.0).any(|(p, q)| p.abs_diff(q) > 2)
+        })
+        .count();
+    assert_eq!(
+        seen,
+        0,
+        "of the ball's {} pixels, {seen} still show it",
+        footprint.len()
+    );
+}

@@ -7,7 +7,7 @@ use super::parts::Spanned;
 use super::placement::{ArraySection, FrameName, TransformSection};
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
-use crate::devices::{Edges, LensSimplicialComplex, LensStar, Part};
+use crate::devices::{Edges, IdealLensCloak, LensSimplicialComplex, LensStar, Part};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -54,6 +54,19 @@ enum LensesSection {
         vertices_v: Vec<Vector>,
         edges: Vec<[usize; 2]>,
         lens_transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "ideal_lens_cloak")]
+    IdealLensCloak {
+        base_centre: Vector,
+        front_direction: Direction,
+        right_direction: Direction,
+        top_direction: Direction,
+        base_radius: Positive,
+        height: Positive,
+        height_lower_inner_vertex_p: Finite,
+        height_upper_inner_vertex_p: Finite,
+        height_lower_inner_vertex_e: Finite,
+        interface_transmission_coefficient: Option<Coefficient>,
     },
 }
 
@@ -123,6 +136,31 @@ impl DeviceSection {
                 lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
+            LensesSection::IdealLensCloak {
+                base_centre,
+                front_direction,
+                right_direction,
+                top_direction,
+                base_radius,
+                height,
+                height_lower_inner_vertex_p,
+                height_upper_inner_vertex_p,
+                height_lower_inner_vertex_e,
+                interface_transmission_coefficient,
+            } => IdealLensCloak {
+                base_centre: base_centre.0,
+                front_direction: front_direction.0,
+                right_direction: right_direction.0,
+                top_direction: top_direction.0,
+                base_radius: base_radius.0,
+                height: height.0,
+                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
+                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
+                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
+                interface_transmission_coefficient: interface_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
         };
         device.map_err(|e| (span, format!("{}: {e}", lenses.name())))
     }
@@ -134,6 +172,7 @@ impl LensesSection {
         match self {
             LensesSection::LensStar { .. } => "lens-star",
             LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
+            LensesSection::IdealLensCloak { .. } => "ideal-lens-cloak",
         }
     }
 }
