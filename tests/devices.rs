@@ -394,6 +394,36 @@ fn a_ray_crossing_the_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
     }
 }
 
+#[test]
+fn a_ray_crossing_a_hexagonal_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, -0.5, 3.5), DVec3::new(0.01, 0.02, 1.0)),
+        (DVec3::new(-3.0, -0.6, 7.6), DVec3::new(1.0, -0.02, 0.05)),
+        (DVec3::new(0.5, 2.0, 6.5), DVec3::new(-0.2, -1.0, 0.3)),
+        (DVec3::new(0.3, -3.0, 7.4), DVec3::new(0.02, 1.0, 0.01)),
+    ];
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\n{TRANSFORM}\nlenses = {{ type = \"polygonal-ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.5, no_of_base_vertices = 6, height = 2, height_lower_inner_vertex_p = 0.5, height_upper_inner_vertex_p = 1.2, height_lower_inner_vertex_e = 0.1 }}\n"
+    );
+    for (start, direction) in &rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
+        let d = d.normalize();
+        assert!(crossed >= 2, "ray from {start} crossed {crossed} lenses");
+        let miss = off_line(last, *start, d);
+        let turn = leaving.cross(d).length();
+        assert!(
+            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+            "ray from {start}: left {miss} off its line, turned by {turn}"
+        );
+    }
+}
+
 /// TIM's lattice studio at 160 × 120 with `objects`.
 fn lattice(objects: &str) -> String {
     format!("studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n{objects}")

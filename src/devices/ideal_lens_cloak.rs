@@ -87,31 +87,12 @@ impl IdealLensCloak {
             self.height_upper_inner_vertex_p,
             self.height_lower_inner_vertex_e,
         );
-        if !(0.0 < h1 && h1 < h2 && h2 < h) {
-            return Err(format!(
-                "the inner vertices must lie inside, 0 < height_lower_inner_vertex_p < height_upper_inner_vertex_p < height, got {h1}, {h2} and {h}"
-            ));
-        }
-        let denominator = h1 * (h1e - h) - h2 * (h1e - h1);
-        if denominator.abs() <= 1e-12 * h * h {
-            return Err(format!(
-                "with height_lower_inner_vertex_e = {h1e} the upper inner vertex would be seen at infinity"
-            ));
-        }
-        let h2e = h2 * h1e * (h1 - h) / denominator;
-        let top = self.top_direction.normalize();
-        let front = self.front_direction.reject_from_normalized(top);
-        let right = self
-            .right_direction
-            .reject_from_normalized(top)
-            .reject_from(front);
-        if front.length() <= 1e-12 || right.length() <= 1e-12 {
-            return Err(
-                "front_direction, right_direction and top_direction must not lie in one plane"
-                    .into(),
-            );
-        }
-        let (front, right) = (front.normalize(), right.normalize());
+        let h2e = upper_inner_height_e(h, h1, h2, h1e)?;
+        let (front, right, top) = axes(
+            self.front_direction,
+            self.right_direction,
+            self.top_direction,
+        )?;
         let (sin, cos) = 120f64.to_radians().sin_cos();
         let r = self.base_radius;
         let c = self.base_centre;
@@ -132,15 +113,57 @@ impl IdealLensCloak {
             lens_transmission_coefficient: self.interface_transmission_coefficient,
         };
         let mut parts = complex.parts(edges)?;
-        for p in &mut parts {
-            if let Some((_, name)) = FACES
-                .iter()
-                .find(|(f, _)| p.name == format!("face {}-{}-{}", f[0], f[1], f[2]))
-            {
-                p.name = name.to_string();
-            }
-        }
+        rename(
+            &mut parts,
+            FACES.iter().map(|(f, name)| (*f, name.to_string())),
+        );
         Ok(parts)
+    }
+}
+
+/// h₂′, the EM-space height of the upper inner vertex (module comment), after checking that
+/// 0 < h₁ < h₂ < h.
+pub(super) fn upper_inner_height_e(h: f64, h1: f64, h2: f64, h1e: f64) -> Result<f64, String> {
+    if !(0.0 < h1 && h1 < h2 && h2 < h) {
+        return Err(format!(
+            "the inner vertices must lie inside, 0 < height_lower_inner_vertex_p < height_upper_inner_vertex_p < height, got {h1}, {h2} and {h}"
+        ));
+    }
+    let denominator = h1 * (h1e - h) - h2 * (h1e - h1);
+    if denominator.abs() <= 1e-12 * h * h {
+        return Err(format!(
+            "with height_lower_inner_vertex_e = {h1e} the upper inner vertex would be seen at infinity"
+        ));
+    }
+    Ok(h2 * h1e * (h1 - h) / denominator)
+}
+
+/// Unit front, right and top directions: top as given, then front and right made
+/// perpendicular to it and to each other, in this order (Dr TIM's `setDirections`).
+pub(super) fn axes(
+    front: DVec3,
+    right: DVec3,
+    top: DVec3,
+) -> Result<(DVec3, DVec3, DVec3), String> {
+    let top = top.normalize();
+    let front = front.reject_from_normalized(top);
+    let right = right.reject_from_normalized(top).reject_from(front);
+    if front.length() <= 1e-12 || right.length() <= 1e-12 {
+        return Err(
+            "front_direction, right_direction and top_direction must not lie in one plane".into(),
+        );
+    }
+    Ok((front.normalize(), right.normalize(), top))
+}
+
+/// Gives the faces named in `names` (by their vertices, in any order) those names.
+pub(super) fn rename(parts: &mut [Part], names: impl Iterator<Item = ([usize; 3], String)>) {
+    for (mut face, name) in names {
+        face.sort_unstable();
+        let complex_name = format!("face {}-{}-{}", face[0], face[1], face[2]);
+        if let Some(p) = parts.iter_mut().find(|p| p.name == complex_name) {
+            p.name = name;
+        }
     }
 }
 

@@ -6,7 +6,7 @@
 //! 17872 (2018)).
 //!
 //! Faces are the triangles of the edges and cells the tetrahedra of four mutually joined
-//! vertices that contain no other vertex (Dr TIM's `inferFacesFromEdges`,
+//! vertices that contain no other vertex, not even on their surface (Dr TIM's `inferFacesFromEdges`,
 //! `inferSimplicesFromFaces`). In homogeneous coordinates X̃ = (X, 1), an ideal thin lens in the
 //! plane φ·X̃ = 0 (unit normal n) is the elation L = I + u φᵀ with φ·u = 0: it fixes its plane
 //! point by point, moves points along lines through its principal point C = u_xyz/u_w, and has
@@ -56,6 +56,10 @@ impl LensSimplicialComplex {
         let complex = Complex::new(self)?;
         let mut parts = Vec::new();
         for (f, face) in complex.faces.iter().enumerate() {
+            // A triangle of edges that bounds no cell has outside space on both sides.
+            if complex.sides[f].is_empty() {
+                continue;
+            }
             let Some(lens) = complex.lens(f)? else {
                 continue;
             };
@@ -174,17 +178,11 @@ impl Complex {
             }
             cell_faces.push(own);
         }
-        for (f, face) in faces.iter().enumerate() {
-            let name = face_name(*face);
-            match sides[f].len() {
-                0 => return Err(format!("{name} is a face of no cell (tetrahedron)")),
-                1 | 2 => {}
-                _ => {
-                    return Err(format!(
-                        "{name} is a face of more than two cells, which overlap"
-                    ));
-                }
-            }
+        if let Some(f) = (0..faces.len()).find(|&f| sides[f].len() > 2) {
+            return Err(format!(
+                "{} is a face of more than two cells, which overlap",
+                face_name(faces[f])
+            ));
         }
         let mut complex = Complex {
             centre,
@@ -370,13 +368,15 @@ fn volume(p: &[DVec3], cell: [usize; 4]) -> f64 {
     (b - a).cross(c - a).dot(d - a)
 }
 
-/// Whether `x` is strictly inside the tetrahedron `cell` (Dr TIM's `pointIsInsideSimplex`).
+/// Whether `x` is inside the tetrahedron `cell` or on its surface (Dr TIM's
+/// `pointIsInsideSimplex`): a cell with another vertex on a face or edge is no simplex of the
+/// complex.
 fn inside(p: &[DVec3], cell: [usize; 4], x: DVec3) -> bool {
     let whole = volume(p, cell);
     (0..4).all(|i| {
         let mut corners = cell.map(|j| p[j]);
         corners[i] = x;
         let [a, b, c, d] = corners;
-        (b - a).cross(c - a).dot(d - a) / whole > TOLERANCE
+        (b - a).cross(c - a).dot(d - a) / whole >= -TOLERANCE
     })
 }

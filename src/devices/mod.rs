@@ -5,10 +5,12 @@
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
+mod polygonal_ideal_lens_cloak;
 
 pub use ideal_lens_cloak::IdealLensCloak;
 pub use lens_simplicial_complex::LensSimplicialComplex;
 pub use lens_star::LensStar;
+pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
 
 use crate::geometry::{Cylinder, Shape};
 use crate::surfaces::Surface;

@@ -7,7 +7,9 @@ use super::parts::Spanned;
 use super::placement::{ArraySection, FrameName, TransformSection};
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
-use crate::devices::{Edges, IdealLensCloak, LensSimplicialComplex, LensStar, Part};
+use crate::devices::{
+    Edges, IdealLensCloak, LensSimplicialComplex, LensStar, Part, PolygonalIdealLensCloak,
+};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -62,6 +64,20 @@ enum LensesSection {
         right_direction: Direction,
         top_direction: Direction,
         base_radius: Positive,
+        height: Positive,
+        height_lower_inner_vertex_p: Finite,
+        height_upper_inner_vertex_p: Finite,
+        height_lower_inner_vertex_e: Finite,
+        interface_transmission_coefficient: Option<Coefficient>,
+    },
+    #[serde(alias = "polygonal_ideal_lens_cloak")]
+    PolygonalIdealLensCloak {
+        base_centre: Vector,
+        front_direction: Direction,
+        right_direction: Direction,
+        top_direction: Direction,
+        base_radius: Positive,
+        no_of_base_vertices: usize,
         height: Positive,
         height_lower_inner_vertex_p: Finite,
         height_upper_inner_vertex_p: Finite,
@@ -161,6 +177,33 @@ impl DeviceSection {
                     .map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
+            LensesSection::PolygonalIdealLensCloak {
+                base_centre,
+                front_direction,
+                right_direction,
+                top_direction,
+                base_radius,
+                no_of_base_vertices,
+                height,
+                height_lower_inner_vertex_p,
+                height_upper_inner_vertex_p,
+                height_lower_inner_vertex_e,
+                interface_transmission_coefficient,
+            } => PolygonalIdealLensCloak {
+                base_centre: base_centre.0,
+                front_direction: front_direction.0,
+                right_direction: right_direction.0,
+                top_direction: top_direction.0,
+                base_radius: base_radius.0,
+                no_of_base_vertices: *no_of_base_vertices,
+                height: height.0,
+                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
+                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
+                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
+                interface_transmission_coefficient: interface_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
         };
         device.map_err(|e| (span, format!("{}: {e}", lenses.name())))
     }
@@ -173,6 +216,7 @@ impl LensesSection {
             LensesSection::LensStar { .. } => "lens-star",
             LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
             LensesSection::IdealLensCloak { .. } => "ideal-lens-cloak",
+            LensesSection::PolygonalIdealLensCloak { .. } => "polygonal-ideal-lens-cloak",
         }
     }
 }
