@@ -18,6 +18,7 @@
 
 use glam::DVec3;
 
+use super::lens_simplicial_complex::face_name;
 use super::{Edges, LensSimplicialComplex, Part};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -160,7 +161,7 @@ pub(super) fn axes(
 pub(super) fn rename(parts: &mut [Part], names: impl Iterator<Item = ([usize; 3], String)>) {
     for (mut face, name) in names {
         face.sort_unstable();
-        let complex_name = format!("face {}-{}-{}", face[0], face[1], face[2]);
+        let complex_name = face_name(face);
         if let Some(p) = parts.iter_mut().find(|p| p.name == complex_name) {
             p.name = name;
         }

@@ -6,8 +6,8 @@
 //! 17872 (2018)).
 //!
 //! Faces are the triangles of the edges and cells the tetrahedra of four mutually joined
-//! vertices that contain no other vertex, not even on their surface (Dr TIM's `inferFacesFromEdges`,
-//! `inferSimplicesFromFaces`). In homogeneous coordinates X̃ = (X, 1), an ideal thin lens in the
+//! vertices that contain no other vertex, not even on their surface (Dr TIM's
+//! `inferFacesFromEdges`, `inferSimplicesFromFaces`). In homogeneous coordinates X̃ = (X, 1), an ideal thin lens in the
 //! plane φ·X̃ = 0 (unit normal n) is the elation L = I + u φᵀ with φ·u = 0: it fixes its plane
 //! point by point, moves points along lines through its principal point C = u_xyz/u_w, and has
 //! focal length f = 1/u_w for light crossing along n (1/z′ − 1/z = 1/f). Each cell K has a map
@@ -65,7 +65,7 @@ impl LensSimplicialComplex {
             };
             let corners = face.map(|i| self.vertices[i]);
             parts.push(Part {
-                name: format!("face {}-{}-{}", face[0], face[1], face[2]),
+                name: face_name(*face),
                 shape: Shape::TriangleMesh(
                     TriangleMesh::new(corners.to_vec(), vec![[0, 1, 2]])
                         .map_err(|e| format!("{}: {e}", face_name(*face)))?,
@@ -95,7 +95,8 @@ struct Complex {
     v: Vec<DVec3>,
     edges: BTreeSet<[usize; 2]>,
     faces: Vec<[usize; 3]>,
-    /// The cells on either side of each face (one for a face on the outside).
+    /// The cells on either side of each face (one for a face on the outside, none for a
+    /// triangle of edges that bounds no cell).
     sides: Vec<Vec<usize>>,
     cells: Vec<[usize; 4]>,
     /// The four faces of each cell.
@@ -353,7 +354,8 @@ impl Complex {
     }
 }
 
-fn face_name(face: [usize; 3]) -> String {
+/// `face I-J-K`, how parts and messages name a face.
+pub(super) fn face_name(face: [usize; 3]) -> String {
     format!("face {}-{}-{}", face[0], face[1], face[2])
 }
 

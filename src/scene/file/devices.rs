@@ -98,6 +98,9 @@ impl DeviceSection {
             let surface = match self.edge_surface.take() {
                 Some(s) => {
                     let span = s.span();
+                    if s.get_ref().destination().is_some() {
+                        return Err((span, "edge_surface cannot be a teleporting surface".into()));
+                    }
                     s.into_inner().build().map_err(|e| (span, e))?
                 }
                 None => Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
