@@ -36,7 +36,6 @@ const EDGE_RADIUS: f64 = 0.01;
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
 enum LensesSection {
-    #[serde(alias = "lens_star")]
     LensStar {
         number_of_lenses: u32,
         focal_length: NonZero,
@@ -50,14 +49,12 @@ enum LensesSection {
         shown_lenses_start_index: Option<i64>,
         number_of_shown_lenses: Option<u32>,
     },
-    #[serde(alias = "lens_simplicial_complex")]
     LensSimplicialComplex {
         vertices: Vec<Vector>,
         vertices_v: Vec<Vector>,
         edges: Vec<[usize; 2]>,
         lens_transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "ideal_lens_cloak")]
     IdealLensCloak {
         base_centre: Vector,
         front_direction: Direction,
@@ -70,7 +67,6 @@ enum LensesSection {
         height_lower_inner_vertex_e: Finite,
         interface_transmission_coefficient: Option<Coefficient>,
     },
-    #[serde(alias = "polygonal_ideal_lens_cloak")]
     PolygonalIdealLensCloak {
         base_centre: Vector,
         front_direction: Direction,
