@@ -424,6 +424,50 @@ fn a_ray_crossing_a_hexagonal_ideal_lens_cloak_leaves_on_the_line_it_came_in_on(
     }
 }
 
+/// The 4π lens: inside space (the cell between L1 and the closer inner vertex) is seen from
+/// outside, whichever lenses the light leaves through, where L1 alone images it. L1 is an ideal
+/// thin lens of focal length f = −`focal_length_outwards` (Dr TIM's `Editable4PiLens`) at the
+/// principal point C; in the projective form above, light crossing it along the unit normal n
+/// sees X at C + (X − C)/(1 + y/f), y = (X − C)·n.
+#[test]
+fn a_four_pi_lens_images_inside_space_as_its_principal_plane_lens_does_in_every_direction() {
+    let f_out = 0.8;
+    let x = DVec3::new(0.1, -0.05, 0.2);
+    let rays: Vec<(DVec3, DVec3)> = [
+        DVec3::new(0.05, 0.02, -1.0),
+        DVec3::new(0.3, 0.1, 1.0),
+        DVec3::new(1.0, 0.2, 0.1),
+        DVec3::new(-0.5, 1.0, 0.3),
+        DVec3::new(0.2, -1.0, -0.05),
+    ]
+    .map(|d| (x, d))
+    .to_vec();
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"4pi\"\n{TRANSFORM}\nlenses = {{ type = \"four-pi-lens\", principal_point = [0, 0, 0], optical_axis_direction = [0, 0, 1], focal_length_outwards = {f_out:?}, transverse_direction1 = [1, 0, 0], transverse_direction2 = [0, 1, 0], radius = 1.5, length = 2, closer_inner_vertex_distance = 0.6, farther_inner_vertex_distance = 1.2 }}\n"
+    );
+    for (start, direction) in &rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    // Inside space lies on the +z side of L1 (z = 0): light leaves it along n = −z.
+    let y = -x.z;
+    let image = x / (1.0 + y / -f_out);
+    let out = exits(&text);
+    for ((_, d), (last, leaving, crossed)) in rays.iter().zip(&out) {
+        let miss = off_line(image, *last, leaving.normalize());
+        assert!(
+            miss < 1e-9,
+            "the ray leaving along {d} after {crossed} lenses misses L1's image {image} by {miss}"
+        );
+    }
+    // Some rays leave through L1, others through the lenses R1 round it.
+    assert!(out.iter().any(|(_, _, crossed)| *crossed == 1));
+    assert!(out.iter().any(|(_, _, crossed)| *crossed > 1));
+}
+
 /// TIM's lattice studio at 160 × 120 with `objects`.
 fn lattice(objects: &str) -> String {
     format!("studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n{objects}")

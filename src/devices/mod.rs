@@ -2,11 +2,13 @@
 //! parameters of Dr TIM's editable object to its parts, every face an ideal thin lens with its
 //! positions in the device's own coordinates, and the edges (Dr TIM's frames) cylinders.
 
+mod four_pi_lens;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod polygonal_ideal_lens_cloak;
 
+pub use four_pi_lens::FourPiLens;
 pub use ideal_lens_cloak::IdealLensCloak;
 pub use lens_simplicial_complex::LensSimplicialComplex;
 pub use lens_star::LensStar;

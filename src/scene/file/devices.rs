@@ -8,7 +8,8 @@ use super::placement::{ArraySection, FrameName, TransformSection};
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use crate::devices::{
-    Edges, IdealLensCloak, LensSimplicialComplex, LensStar, Part, PolygonalIdealLensCloak,
+    Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part,
+    PolygonalIdealLensCloak,
 };
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
@@ -79,6 +80,20 @@ enum LensesSection {
         height_upper_inner_vertex_p: Finite,
         height_lower_inner_vertex_e: Finite,
         interface_transmission_coefficient: Option<Coefficient>,
+    },
+    FourPiLens {
+        principal_point: Vector,
+        optical_axis_direction: Direction,
+        focal_length_outwards: NonZero,
+        transverse_direction1: Direction,
+        transverse_direction2: Direction,
+        radius: Positive,
+        length: Positive,
+        closer_inner_vertex_distance: Finite,
+        farther_inner_vertex_distance: Finite,
+        individual_lens_transmission_coefficient: Option<Coefficient>,
+        show_l1: Option<bool>,
+        show_r1: Option<bool>,
     },
 }
 
@@ -203,6 +218,35 @@ impl DeviceSection {
                     .map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
+            LensesSection::FourPiLens {
+                principal_point,
+                optical_axis_direction,
+                focal_length_outwards,
+                transverse_direction1,
+                transverse_direction2,
+                radius,
+                length,
+                closer_inner_vertex_distance,
+                farther_inner_vertex_distance,
+                individual_lens_transmission_coefficient,
+                show_l1,
+                show_r1,
+            } => FourPiLens {
+                principal_point: principal_point.0,
+                optical_axis_direction: optical_axis_direction.0,
+                focal_length_outwards: focal_length_outwards.0,
+                transverse_direction1: transverse_direction1.0,
+                transverse_direction2: transverse_direction2.0,
+                radius: radius.0,
+                length: length.0,
+                closer_inner_vertex_distance: closer_inner_vertex_distance.0,
+                farther_inner_vertex_distance: farther_inner_vertex_distance.0,
+                individual_lens_transmission_coefficient: individual_lens_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+                show_l1: show_l1.unwrap_or(true),
+                show_r1: show_r1.unwrap_or(true),
+            }
+            .parts(edges.as_ref()),
         };
         device.map_err(|e| (span, format!("{}: {e}", lenses.name())))
     }
@@ -216,6 +260,7 @@ impl LensesSection {
             LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
             LensesSection::IdealLensCloak { .. } => "ideal-lens-cloak",
             LensesSection::PolygonalIdealLensCloak { .. } => "polygonal-ideal-lens-cloak",
+            LensesSection::FourPiLens { .. } => "four-pi-lens",
         }
     }
 }
