@@ -5,6 +5,7 @@
 //! Courtial); equation numbers in doc comments refer to it.
 
 pub mod cameras;
+pub mod devices;
 // The one exception to `unsafe_code = "deny"` (Cargo.toml's lints): the Embree binding calls C,
 // and its safe API is the boundary that keeps every other module free of `unsafe`.
 #[allow(unsafe_code)]

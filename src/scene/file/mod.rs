@@ -6,6 +6,7 @@
 //! (`placement.rs`); `--set key=value` overrides any value (`overrides.rs`).
 
 mod camera;
+mod devices;
 mod overrides;
 mod parts;
 mod placement;
@@ -28,6 +29,7 @@ use crate::geometry::{Shape, Transform};
 use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
 use camera::CameraSection;
+use devices::DeviceSection;
 pub use overrides::Override;
 use parts::Spanned;
 pub use placement::MAX_ARRAY_ELEMENTS;
@@ -313,6 +315,8 @@ struct File {
     #[serde(default)]
     object: Vec<ObjectSection>,
     #[serde(default)]
+    device: Vec<DeviceSection>,
+    #[serde(default)]
     group: Vec<GroupSection>,
     #[serde(default)]
     include: Vec<IncludeSection>,
@@ -348,6 +352,7 @@ impl File {
         one(&mut self.window, next.window, "window")?;
         self.light.extend(next.light);
         self.object.extend(next.object);
+        self.device.extend(next.device);
         self.group.extend(next.group);
         self.include.extend(next.include);
         self.ray_trajectory.extend(next.ray_trajectory);
@@ -357,6 +362,7 @@ impl File {
     fn items(self) -> Items {
         Items {
             object: self.object,
+            device: self.device,
             group: self.group,
             include: self.include,
         }
@@ -530,6 +536,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
     let studio_objects = scene.objects.len();
     let items = Items {
         object: file.object,
+        device: file.device,
         group: file.group,
         include: file.include,
     };

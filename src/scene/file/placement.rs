@@ -1,4 +1,5 @@
-//! Where objects go: `[[object]]`, `[[group]]` and `[[include]]` entries, each with an optional
+//! Where objects go: `[[object]]`, `[[device]]`, `[[group]]` and `[[include]]` entries, each
+//! with an optional
 //! `transform` (scale, then rotate, then translate) and `array` (copies on a 1-, 2- or 3-D
 //! grid).
 //!
@@ -14,13 +15,15 @@ use super::parts::Spanned;
 use glam::DVec3;
 use serde::{Deserialize, Deserializer, de};
 
+use super::devices::DeviceSection;
 use super::shapes::ShapeSection;
 use super::surfaces::SurfaceSection;
 use super::values::{Finite, Vector};
 use super::{SceneFileError, Source};
-use crate::geometry::{ObjectArray, Transform};
+use crate::geometry::{ObjectArray, Shape, Transform};
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
+use crate::surfaces::Surface;
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
@@ -69,6 +72,8 @@ pub(super) struct GroupSection {
     #[serde(default)]
     object: Vec<ObjectSection>,
     #[serde(default)]
+    device: Vec<DeviceSection>,
+    #[serde(default)]
     group: Vec<GroupSection>,
     #[serde(default)]
     include: Vec<IncludeSection>,
@@ -87,7 +92,7 @@ pub(super) struct IncludeSection {
 /// The frame an object, group or include is at rest in; members inherit their group's.
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-enum FrameName {
+pub(super) enum FrameName {
     Scene,
     Camera,
 }
@@ -106,13 +111,14 @@ impl FrameName {
 #[derive(Debug, Default)]
 pub(super) struct Items {
     pub object: Vec<ObjectSection>,
+    pub device: Vec<DeviceSection>,
     pub group: Vec<GroupSection>,
     pub include: Vec<IncludeSection>,
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct TransformSection {
+pub(super) struct TransformSection {
     scale: Option<Scale>,
     rotate: Option<RotateSection>,
     translate: Option<Vector>,
@@ -155,7 +161,7 @@ impl<'de> Deserialize<'de> for Scale {
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct ArraySection {
+pub(super) struct ArraySection {
     vectors: Vec<Vector>,
     counts: Vec<Count>,
     #[serde(default)]
@@ -318,11 +324,19 @@ impl Placer {
                 .check_size()
                 .map_err(|e| source.error(Some(span), e))?;
         }
+        for d in items.device {
+            let span = d.span();
+            placed.append(self.device(source, d, parent, frame, prefix)?);
+            placed
+                .check_size()
+                .map_err(|e| source.error(Some(span), e))?;
+        }
         for g in items.group {
             let name = join(prefix, g.name.as_deref());
             let (own, offsets) = self.placement(source, g.transform, g.array, parent, &name)?;
             let members = Items {
                 object: g.object,
+                device: g.device,
                 group: g.group,
                 include: g.include,
             };
@@ -431,29 +445,70 @@ impl Placer {
                     format!("{}: {e}", super::object_label(&name)),
                 )
             })?;
-            let shape = own.shape(&shape).map_err(|e| {
-                source.error(
-                    transform_span.clone().or(Some(shape_span.clone())),
-                    format!("{}: {e}", super::object_label(&name)),
-                )
-            })?;
-            let surface = surface.transformed(&own).map_err(|e| {
-                source.error(
-                    transform_span.clone().or(Some(surface_span.clone())),
-                    format!("{}: {e}", super::object_label(&name)),
-                )
-            })?;
-            placed.objects.push(SceneObject {
-                name: if part.is_empty() {
-                    name.clone()
-                } else {
-                    format!("{name}/{part}")
+            placed.objects.push(place(
+                source,
+                &own,
+                PartSpans {
+                    transform: transform_span.clone(),
+                    shape: shape_span.clone(),
+                    surface: surface_span.clone(),
                 },
-                shape,
-                surface,
-                shadow_throwing: o.shadow_throwing,
-                frame: FrameName::or(o.frame, frame),
-            });
+                SceneObject {
+                    name: if part.is_empty() {
+                        name.clone()
+                    } else {
+                        format!("{name}/{part}")
+                    },
+                    shape,
+                    surface: surface.clone(),
+                    shadow_throwing: o.shadow_throwing,
+                    frame: FrameName::or(o.frame, frame),
+                },
+            )?);
+        }
+        self.repeat(source, placed, offsets, &name)
+    }
+
+    /// A device's parts as objects `NAME/part`, placed like an object's parts.
+    fn device(
+        &mut self,
+        source: &Source,
+        mut d: DeviceSection,
+        parent: &Transform,
+        frame: ReferenceFrame,
+        prefix: &str,
+    ) -> Result<Placed, SceneFileError> {
+        self.count += 1;
+        let own_name = d
+            .name
+            .take()
+            .unwrap_or_else(|| format!("device {}", self.count));
+        let name = join(prefix, Some(&own_name));
+        let span = d.span();
+        let transform_span = d.transform.as_ref().map(Spanned::span);
+        let parts = d.parts().map_err(|(at, e)| {
+            source.error(Some(at), format!("{}: {e}", super::object_label(&name)))
+        })?;
+        let (own, offsets) =
+            self.placement(source, d.transform.take(), d.array.take(), parent, &name)?;
+        let mut placed = Placed::default();
+        for p in parts {
+            placed.objects.push(place(
+                source,
+                &own,
+                PartSpans {
+                    transform: transform_span.clone(),
+                    shape: span.clone(),
+                    surface: span.clone(),
+                },
+                SceneObject {
+                    name: format!("{name}/{}", p.name),
+                    shape: p.shape,
+                    surface: p.surface,
+                    shadow_throwing: p.edge || d.shadow_throwing,
+                    frame: FrameName::or(d.frame, frame),
+                },
+            )?);
         }
         self.repeat(source, placed, offsets, &name)
     }
@@ -506,6 +561,39 @@ impl Placer {
             None => Ok(placed),
         }
     }
+}
+
+/// Where in the file a part's transform, shape and surface are given, for errors.
+struct PartSpans {
+    transform: Option<Range<usize>>,
+    shape: Range<usize>,
+    surface: Range<usize>,
+}
+
+/// `object`, whose shape and surface are in its entry's coordinates, placed by `own`: the
+/// shape moved and the surface's positions moved with it (`Surface::transformed`).
+fn place(
+    source: &Source,
+    own: &Transform,
+    at: PartSpans,
+    object: SceneObject,
+) -> Result<SceneObject, SceneFileError> {
+    let label = super::object_label(&object.name);
+    let shape: Shape = own.shape(&object.shape).map_err(|e| {
+        source.error(
+            at.transform.clone().or(Some(at.shape)),
+            format!("{label}: {e}"),
+        )
+    })?;
+    let surface: Surface = object
+        .surface
+        .transformed(own)
+        .map_err(|e| source.error(at.transform.or(Some(at.surface)), format!("{label}: {e}")))?;
+    Ok(SceneObject {
+        shape,
+        surface,
+        ..object
+    })
 }
 
 fn join(prefix: &str, name: Option<&str>) -> String {

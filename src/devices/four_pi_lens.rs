@@ -1,0 +1,73 @@
+//! The 4π lens (Dr TIM's `Editable4PiLens`; Courtial et al., "Ray-optical transformation optics
+//! with ideal thin lenses makes omnidirectional lenses", Opt. Express 26, 17872 (2018)): a
+//! lens, L1, in the principal plane (an equilateral triangle of circumradius `radius` about the
+//! principal point), and lenses R1 that close it into a tetrahedron of length `length` along
+//! the optical axis, with two inner vertices on the axis. "Inside space", the cell between L1
+//! and the closer inner vertex, is imaged to outside space as L1 alone images it, whichever
+//! lenses the light leaves through: the whole device is one lens in every direction.
+//!
+//! It is the tetrahedral ideal-lens cloak (`ideal_lens_cloak.rs`) with base centre, top
+//! direction and base vertices set by the principal point, optical axis and transverse
+//! directions, and the closer inner vertex seen from outside where L1 images it: with Dr
+//! TIM's base focal length f₀₀ = −`focal_length_outwards`, at h₁′ = f₀₀ h₁ / (f₀₀ − h₁)
+//! (the inverse of f₀₀ = h₁ h₁′ / (h₁′ − h₁)).
+
+use glam::DVec3;
+
+use super::{Edges, IdealLensCloak, Part};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct FourPiLens {
+    pub principal_point: DVec3,
+    pub optical_axis_direction: DVec3,
+    /// The focal length from inside space to outside space (Dr TIM's sign).
+    pub focal_length_outwards: f64,
+    pub transverse_direction1: DVec3,
+    pub transverse_direction2: DVec3,
+    /// Distance of L1's vertices from the principal point.
+    pub radius: f64,
+    /// Distance of the tip from the principal point, along the optical axis.
+    pub length: f64,
+    pub closer_inner_vertex_distance: f64,
+    pub farther_inner_vertex_distance: f64,
+    pub individual_lens_transmission_coefficient: f64,
+    /// Dr TIM's `showL1` and `showR1`: which lenses are made.
+    pub show_l1: bool,
+    pub show_r1: bool,
+}
+
+impl FourPiLens {
+    /// The lenses, named as the cloak's (L1 is `base outer lens`), and with `edges` its frames.
+    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        let f00 = -self.focal_length_outwards;
+        let h1 = self.closer_inner_vertex_distance;
+        if f00 == h1 {
+            return Err(format!(
+                "with focal_length_outwards = {} inside space would be seen at infinity",
+                self.focal_length_outwards
+            ));
+        }
+        let cloak = IdealLensCloak {
+            base_centre: self.principal_point,
+            front_direction: -self.transverse_direction1,
+            right_direction: -self.transverse_direction2,
+            top_direction: self.optical_axis_direction,
+            base_radius: self.radius,
+            height: self.length,
+            height_lower_inner_vertex_p: h1,
+            height_upper_inner_vertex_p: self.farther_inner_vertex_distance,
+            height_lower_inner_vertex_e: f00 * h1 / (f00 - h1),
+            interface_transmission_coefficient: self.individual_lens_transmission_coefficient,
+        };
+        let mut parts = cloak.parts(edges)?;
+        parts.retain(|p| {
+            p.edge
+                || if p.name == "base outer lens" {
+                    self.show_l1
+                } else {
+                    self.show_r1
+                }
+        });
+        Ok(parts)
+    }
+}

@@ -1,0 +1,384 @@
+//! A lens simplicial complex (Dr TIM's `EditableLensSimplicialComplex` and
+//! `IdealThinLensSimplicialComplex`): tetrahedral cells whose triangular faces are ideal thin
+//! lenses, designed so that each cell, seen from outside through the lenses, appears as the
+//! tetrahedron of the vertices' virtual-space positions (Courtial et al., "Ray-optical
+//! transformation optics with ideal thin lenses makes omnidirectional lenses", Opt. Express 26,
+//! 17872 (2018)).
+//!
+//! Faces are the triangles of the edges and cells the tetrahedra of four mutually joined
+//! vertices that contain no other vertex, not even on their surface (Dr TIM's
+//! `inferFacesFromEdges`, `inferSimplicesFromFaces`). In homogeneous coordinates X̃ = (X, 1), an ideal thin lens in the
+//! plane φ·X̃ = 0 (unit normal n) is the elation L = I + u φᵀ with φ·u = 0: it fixes its plane
+//! point by point, moves points along lines through its principal point C = u_xyz/u_w, and has
+//! focal length f = 1/u_w for light crossing along n (1/z′ − 1/z = 1/f). Each cell K has a map
+//! M_K to outside (virtual) space, the identity outside. As Dr TIM does, faces are worked out
+//! from the outside inwards: the lens of the face between a known cell k and a new cell K
+//! must image the physical position P of K's vertex off the face to Q = M_k⁻¹ V, where V is
+//! that vertex's virtual position, which gives u = Q̃/(φ·Q̃) − P̃/(φ·P̃) and M_K = M_k L.
+//! Every face, also those met from both sides, then needs M_K2⁻¹ M_K1 to be such a lens, and
+//! every cell must take its vertices to their virtual positions; positions for which this
+//! fails cannot be realised by ideal lenses and are refused.
+
+use std::collections::{BTreeSet, HashMap, VecDeque};
+
+use glam::{DMat4, DVec3, DVec4};
+
+use super::{Edges, Part};
+use crate::geometry::{Shape, TriangleMesh};
+use crate::surfaces::{Surface, ThinLens};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct LensSimplicialComplex {
+    /// Physical-space vertex positions.
+    pub vertices: Vec<DVec3>,
+    /// Virtual-space positions of the same vertices.
+    pub vertices_v: Vec<DVec3>,
+    /// Pairs of vertex indices.
+    pub edges: Vec<[usize; 2]>,
+    pub lens_transmission_coefficient: f64,
+}
+
+/// Most vertices and edges a complex may have (Dr TIM's have tens): finding its faces and
+/// cells takes time that grows faster than their numbers.
+const MAX_VERTICES: usize = 500;
+const MAX_EDGES: usize = 2000;
+
+/// Tolerance of the consistency checks, in coordinates scaled to the complex's size.
+const TOLERANCE: f64 = 1e-9;
+
+/// A face's lens: `None` where the cells on either side see space alike (no lens is needed).
+type FaceLens = Option<ThinLens>;
+
+impl LensSimplicialComplex {
+    /// The faces `face I-J-K` (vertex indices, from 0) that need a lens and, with `edges`, the
+    /// edges `edge I-J`.
+    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        let complex = Complex::new(self)?;
+        let mut parts = Vec::new();
+        for (f, face) in complex.faces.iter().enumerate() {
+            // A triangle of edges that bounds no cell has outside space on both sides.
+            if complex.sides[f].is_empty() {
+                continue;
+            }
+            let Some(lens) = complex.lens(f)? else {
+                continue;
+            };
+            let corners = face.map(|i| self.vertices[i]);
+            parts.push(Part {
+                name: face_name(*face),
+                shape: Shape::TriangleMesh(
+                    TriangleMesh::new(corners.to_vec(), vec![[0, 1, 2]])
+                        .map_err(|e| format!("{}: {e}", face_name(*face)))?,
+                ),
+                surface: Surface::IdealThinLens(ThinLens {
+                    transmission_coefficient: self.lens_transmission_coefficient,
+                    ..lens
+                }),
+                edge: false,
+            });
+        }
+        if let Some(e) = edges {
+            for &[i, j] in &complex.edges {
+                parts.push(e.part(format!("edge {i}-{j}"), self.vertices[i], self.vertices[j])?);
+            }
+        }
+        Ok(parts)
+    }
+}
+
+/// The complex in coordinates centred on the physical vertices and scaled by their extent,
+/// with its faces, cells and the cells' maps to outside space.
+struct Complex {
+    centre: DVec3,
+    scale: f64,
+    p: Vec<DVec3>,
+    v: Vec<DVec3>,
+    edges: BTreeSet<[usize; 2]>,
+    faces: Vec<[usize; 3]>,
+    /// The cells on either side of each face (one for a face on the outside, none for a
+    /// triangle of edges that bounds no cell).
+    sides: Vec<Vec<usize>>,
+    cells: Vec<[usize; 4]>,
+    /// The four faces of each cell.
+    cell_faces: Vec<[usize; 4]>,
+    maps: Vec<DMat4>,
+}
+
+impl Complex {
+    fn new(c: &LensSimplicialComplex) -> Result<Complex, String> {
+        let n = c.vertices.len();
+        if c.vertices_v.len() != n {
+            return Err(format!(
+                "there are {n} vertices but {} vertices_v",
+                c.vertices_v.len()
+            ));
+        }
+        if n > MAX_VERTICES || c.edges.len() > MAX_EDGES {
+            return Err(format!(
+                "a complex may have at most {MAX_VERTICES} vertices and {MAX_EDGES} edges, not {n} and {}",
+                c.edges.len()
+            ));
+        }
+        let mut edges = BTreeSet::new();
+        for &[i, j] in &c.edges {
+            if i >= n || j >= n || i == j {
+                return Err(format!(
+                    "edge [{i}, {j}] must join two different vertices of the {n}"
+                ));
+            }
+            edges.insert([i.min(j), i.max(j)]);
+        }
+        let centre = c.vertices.iter().sum::<DVec3>() / n.max(1) as f64;
+        let scale = c
+            .vertices
+            .iter()
+            .map(|p| (*p - centre).length())
+            .fold(0.0, f64::max);
+        if scale == 0.0 {
+            return Err("the vertices must not all coincide".into());
+        }
+        let p: Vec<DVec3> = c.vertices.iter().map(|x| (*x - centre) / scale).collect();
+        let v: Vec<DVec3> = c.vertices_v.iter().map(|x| (*x - centre) / scale).collect();
+        let joined = |i: usize, j: usize| edges.contains(&[i.min(j), i.max(j)]);
+        let mut faces = Vec::new();
+        for &[i, j] in &edges {
+            for k in j + 1..n {
+                if joined(i, k) && joined(j, k) {
+                    if (p[j] - p[i]).cross(p[k] - p[i]).length() <= TOLERANCE {
+                        return Err(format!("face {i}-{j}-{k}: its vertices are in a line"));
+                    }
+                    faces.push([i, j, k]);
+                }
+            }
+        }
+        let mut cells = Vec::new();
+        for &[i, j, k] in &faces {
+            for l in k + 1..n {
+                let cell = [i, j, k, l];
+                if joined(i, l)
+                    && joined(j, l)
+                    && joined(k, l)
+                    && volume(&p, cell).abs() > TOLERANCE
+                    && !(0..n).any(|x| !cell.contains(&x) && inside(&p, cell, p[x]))
+                {
+                    cells.push(cell);
+                }
+            }
+        }
+        let index: HashMap<[usize; 3], usize> = faces
+            .iter()
+            .enumerate()
+            .map(|(f, face)| (*face, f))
+            .collect();
+        let mut sides = vec![Vec::new(); faces.len()];
+        let mut cell_faces = Vec::with_capacity(cells.len());
+        for (k, &[i, j, l, m]) in cells.iter().enumerate() {
+            let own = [[i, j, l], [i, j, m], [i, l, m], [j, l, m]].map(|face| index[&face]);
+            for f in own {
+                sides[f].push(k);
+            }
+            cell_faces.push(own);
+        }
+        if let Some(f) = (0..faces.len()).find(|&f| sides[f].len() > 2) {
+            return Err(format!(
+                "{} is a face of more than two cells, which overlap",
+                face_name(faces[f])
+            ));
+        }
+        let mut complex = Complex {
+            centre,
+            scale,
+            p,
+            v,
+            edges,
+            faces,
+            sides,
+            cells,
+            cell_faces,
+            maps: Vec::new(),
+        };
+        complex.maps = complex.cell_maps()?;
+        complex.check_vertices()?;
+        Ok(complex)
+    }
+
+    /// The cells' maps to outside space, worked out from the outside inwards.
+    fn cell_maps(&self) -> Result<Vec<DMat4>, String> {
+        let mut maps: Vec<Option<DMat4>> = vec![None; self.cells.len()];
+        let mut queue = VecDeque::new();
+        // (face, known side: a cell or the outside)
+        let mut next: Vec<(usize, Option<usize>)> = (0..self.faces.len())
+            .filter(|&f| self.sides[f].len() == 1)
+            .map(|f| (f, None))
+            .collect();
+        loop {
+            for (f, known) in next.drain(..) {
+                let outer = known.map_or(DMat4::IDENTITY, |k| maps[k].expect("known"));
+                for &k in &self.sides[f] {
+                    if Some(k) != known && maps[k].is_none() {
+                        maps[k] = Some(outer * self.lens_into(f, k, outer)?);
+                        queue.push_back(k);
+                    }
+                }
+            }
+            let Some(k) = queue.pop_front() else { break };
+            next = self.cell_faces[k]
+                .into_iter()
+                .filter(|&f| self.sides[f].len() == 2)
+                .map(|f| (f, Some(k)))
+                .collect();
+        }
+        maps.into_iter()
+            .enumerate()
+            .map(|(k, m)| {
+                m.ok_or_else(|| format!("cell {:?} cannot be reached from outside", self.cells[k]))
+            })
+            .collect()
+    }
+
+    /// The lens of face `f` that images the vertex of cell `k` off the face to where the map
+    /// `outer` of the other side needs it: the elation I + u φᵀ taking P̃ to Q̃ = outer⁻¹ Ṽ.
+    fn lens_into(&self, f: usize, k: usize, outer: DMat4) -> Result<DMat4, String> {
+        let face = self.faces[f];
+        let d = self.cells[k]
+            .into_iter()
+            .find(|x| !face.contains(x))
+            .expect("a cell has a vertex off each of its faces");
+        let phi = self.plane(f);
+        let p = self.p[d].extend(1.0);
+        let q = outer.inverse() * self.v[d].extend(1.0);
+        let (zp, zq) = (phi.dot(p), phi.dot(q));
+        if zq.abs() <= TOLERANCE * q.length() {
+            return Err(format!(
+                "{}: vertex {d}'s virtual position, seen through the lenses outside this face, would lie in the face's plane, where no lens can image it",
+                face_name(face)
+            ));
+        }
+        let u = q / zq - p / zp;
+        Ok(DMat4::IDENTITY + outer_product(u, phi))
+    }
+
+    /// φ = (n, −n·A) of face `f`'s plane, n its unit normal (either way).
+    fn plane(&self, f: usize) -> DVec4 {
+        let [a, b, c] = self.faces[f].map(|i| self.p[i]);
+        let n = (b - a).cross(c - a).normalize();
+        n.extend(-n.dot(a))
+    }
+
+    /// Refuses virtual positions the cells' maps do not reach.
+    fn check_vertices(&self) -> Result<(), String> {
+        for (k, cell) in self.cells.iter().enumerate() {
+            for &x in cell {
+                let w = self.maps[k] * self.p[x].extend(1.0);
+                let image = w.truncate() / w.w;
+                if !(image - self.v[x])
+                    .length()
+                    .le(&(TOLERANCE * (1.0 + self.v[x].length())))
+                {
+                    return Err(format!(
+                        "vertex {x}: the lenses image it to {}, not to its virtual position {} (in cell {cell:?}); {}",
+                        self.centre + self.scale * image,
+                        self.centre + self.scale * self.v[x],
+                        if self
+                            .sides
+                            .iter()
+                            .zip(&self.faces)
+                            .any(|(s, f)| s.len() == 1 && f.contains(&x))
+                        {
+                            "vertices on the outside of the complex must keep their physical positions"
+                        } else {
+                            "ideal lenses cannot realise these virtual positions"
+                        }
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Face `f`'s lens: M₂⁻¹ M₁ (cell 1 to the other side) must be an elation of its plane.
+    fn lens(&self, f: usize) -> Result<FaceLens, String> {
+        let face = self.faces[f];
+        let k1 = self.sides[f][0];
+        let m2 = self.sides[f]
+            .get(1)
+            .map_or(DMat4::IDENTITY, |&k| self.maps[k]);
+        let l = m2.inverse() * self.maps[k1];
+        // φ with n pointing out of cell 1, so that f = 1/u_w for light leaving cell 1.
+        let mut phi = self.plane(f);
+        let d = self.cells[k1]
+            .into_iter()
+            .find(|x| !face.contains(x))
+            .expect("a vertex off the face");
+        if phi.dot(self.p[d].extend(1.0)) > 0.0 {
+            phi = -phi;
+        }
+        let a = self.p[face[0]].extend(1.0);
+        let s = (l * a).w;
+        let name = face_name(face);
+        let refuse = |why: &str| {
+            format!(
+                "{name}: the cells on either side would need it to {why}, which no ideal thin lens does; ideal lenses cannot realise these virtual vertex positions"
+            )
+        };
+        if s.abs() <= TOLERANCE {
+            return Err(refuse("move its own plane"));
+        }
+        let nl = l * (1.0 / s) - DMat4::IDENTITY;
+        let off = (self.p[face[0]] + phi.truncate()).extend(1.0);
+        let u = nl * off;
+        let residue = nl - outer_product(u, phi);
+        let largest = residue
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        if largest > TOLERANCE * (1.0 + u.length()) {
+            return Err(refuse("map its own plane differently on either side"));
+        }
+        if u.length() <= TOLERANCE {
+            return Ok(None);
+        }
+        if phi.dot(u).abs() > TOLERANCE * u.length() {
+            return Err(refuse("image through a centre off its plane (a homology)"));
+        }
+        if u.w.abs() <= TOLERANCE * u.length() {
+            return Err(refuse("shift space parallel to its plane"));
+        }
+        Ok(Some(ThinLens {
+            principal_point: self.centre + self.scale * (u.truncate() / u.w),
+            optical_axis: phi.truncate(),
+            focal_length: self.scale / u.w,
+            gradient: None,
+            transmission_coefficient: 1.0,
+        }))
+    }
+}
+
+/// `face I-J-K`, how parts and messages name a face.
+pub(super) fn face_name(face: [usize; 3]) -> String {
+    format!("face {}-{}-{}", face[0], face[1], face[2])
+}
+
+/// u φᵀ.
+fn outer_product(u: DVec4, phi: DVec4) -> DMat4 {
+    DMat4::from_cols(u * phi.x, u * phi.y, u * phi.z, u * phi.w)
+}
+
+/// Six times the signed volume of the tetrahedron `cell`.
+fn volume(p: &[DVec3], cell: [usize; 4]) -> f64 {
+    let [a, b, c, d] = cell.map(|i| p[i]);
+    (b - a).cross(c - a).dot(d - a)
+}
+
+/// Whether `x` is inside the tetrahedron `cell` or on its surface (Dr TIM's
+/// `pointIsInsideSimplex`): a cell with another vertex on a face or edge is no simplex of the
+/// complex.
+fn inside(p: &[DVec3], cell: [usize; 4], x: DVec3) -> bool {
+    let whole = volume(p, cell);
+    (0..4).all(|i| {
+        let mut corners = cell.map(|j| p[j]);
+        corners[i] = x;
+        let [a, b, c, d] = corners;
+        (b - a).cross(c - a).dot(d - a) / whole >= -TOLERANCE
+    })
+}

@@ -1,0 +1,140 @@
+//! The lens star (Dr TIM's `EditableLensStar`): N ideal thin lenses of focal length f, each a
+//! rectangle with one side on the star's axis (through `centre`, along
+//! `intersection_direction`) and the opposite side on the cylinder of radius `star_radius`
+//! about it, turned by 2π/N from one to the next. Lens i lies in the half-plane of the radial
+//! direction r̂ᵢ = cos φᵢ û + sin φᵢ v̂ (φᵢ = 2πi/N, û towards `point_on_lens1`), its principal
+//! point at `centre` + `principal_point_distance` r̂ᵢ and its optical axis the tangential
+//! direction −sin φᵢ û + cos φᵢ v̂.
+//!
+//! With the principal points on the axis (`principal_point_distance` = 0), the lenses of a full
+//! loop image every point to itself (each lens's map fixes the axis; see `tests/devices.rs`),
+//! so every ray that goes once round the star closes on itself; the regular-polygon
+//! trajectory's inscribed circle has radius 2f sin(π/N).
+
+use glam::DVec3;
+
+use super::{Edges, Part};
+use crate::geometry::{Parallelogram, Shape};
+use crate::surfaces::{Surface, ThinLens};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct LensStar {
+    /// N ≥ 1.
+    pub number_of_lenses: u32,
+    /// f of every lens; non-zero.
+    pub focal_length: f64,
+    /// Distance of each lens's principal point from the axis.
+    pub principal_point_distance: f64,
+    pub centre: DVec3,
+    /// Direction of the axis along which the lenses meet; non-zero.
+    pub intersection_direction: DVec3,
+    /// A point on lens 1 (off the axis), which sets the star's rotation about its axis.
+    pub point_on_lens1: DVec3,
+    pub star_radius: f64,
+    pub star_length: f64,
+    pub lens_transmission_coefficient: f64,
+    /// `None` shows every lens; `Some((start, n))` shows n lenses from index `start`
+    /// (modulo N; Dr TIM's `shownLensesStartIndex` and `numberOfShownLenses`).
+    pub shown_lenses: Option<(i64, u32)>,
+}
+
+impl LensStar {
+    /// The lenses `lens 1` … `lens N` and, with `edges`, the edges of the shown lenses
+    /// (`top edge i`, `outer edge i`, `bottom edge i`) and the common `axial edge`.
+    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        let n = self.number_of_lenses;
+        if n == 0 {
+            return Err("number_of_lenses must be at least 1".into());
+        }
+        let w = self.intersection_direction.normalize();
+        let u = (self.point_on_lens1 - self.centre).reject_from_normalized(w);
+        if u.length() <= 1e-12 * (self.point_on_lens1 - self.centre).length() {
+            return Err(format!(
+                "point_on_lens1 = {} lies on the star's axis (through centre = {} along {})",
+                self.point_on_lens1, self.centre, self.intersection_direction
+            ));
+        }
+        let u = u.normalize();
+        let v = w.cross(u);
+        let axial = w * self.star_length;
+        let top = self.centre - 0.5 * axial;
+        let shown = |i: u32| match self.shown_lenses {
+            None => true,
+            Some((start, count)) => (i as i64 - start).rem_euclid(n as i64) < count.min(n) as i64,
+        };
+        let mut parts = Vec::new();
+        for i in 0..n {
+            if !shown(i) {
+                continue;
+            }
+            let phi = std::f64::consts::TAU * i as f64 / n as f64;
+            let (sin, cos) = phi.sin_cos();
+            let radial = cos * u + sin * v;
+            let outer = radial * self.star_radius;
+            let name = |what: &str| format!("{what} {}", i + 1);
+            parts.push(Part {
+                name: name("lens"),
+                shape: Shape::Parallelogram(
+                    Parallelogram::new(top, axial, outer)
+                        .map_err(|e| format!("{}: {e}", name("lens")))?,
+                ),
+                surface: Surface::IdealThinLens(ThinLens {
+                    principal_point: self.centre + self.principal_point_distance * radial,
+                    optical_axis: -sin * u + cos * v,
+                    focal_length: self.focal_length,
+                    gradient: None,
+                    transmission_coefficient: self.lens_transmission_coefficient,
+                }),
+                edge: false,
+            });
+            if let Some(e) = edges {
+                parts.push(e.part(name("top edge"), top, top + outer)?);
+                parts.push(e.part(name("outer edge"), top + outer, top + outer + axial)?);
+                parts.push(e.part(name("bottom edge"), top + outer + axial, top + axial)?);
+            }
+        }
+        if let Some(e) = edges {
+            parts.push(e.part("axial edge".into(), top, top + axial)?);
+        }
+        Ok(parts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn star() -> LensStar {
+        LensStar {
+            number_of_lenses: 5,
+            focal_length: 1.0,
+            principal_point_distance: 0.0,
+            centre: DVec3::new(0.0, 0.0, 10.0),
+            intersection_direction: DVec3::Y,
+            point_on_lens1: DVec3::new(1.0, 0.0, 10.0),
+            star_radius: 2.0,
+            star_length: 1.0,
+            lens_transmission_coefficient: 0.96,
+            shown_lenses: None,
+        }
+    }
+
+    #[test]
+    fn shown_lenses_wrap_round() {
+        let s = LensStar {
+            shown_lenses: Some((-1, 2)),
+            ..star()
+        };
+        let names: Vec<String> = s.parts(None).unwrap().into_iter().map(|p| p.name).collect();
+        assert_eq!(names, ["lens 1", "lens 5"]);
+    }
+
+    #[test]
+    fn a_point_on_the_axis_is_refused() {
+        let s = LensStar {
+            point_on_lens1: DVec3::new(0.0, 3.0, 10.0),
+            ..star()
+        };
+        assert!(s.parts(None).unwrap_err().contains("point_on_lens1"));
+    }
+}

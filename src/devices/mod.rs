@@ -1,0 +1,50 @@
+//! Devices made of ideal thin lenses (issue 20, Part 2): each a pure function from the
+//! parameters of Dr TIM's editable object to its parts, every face an ideal thin lens with its
+//! positions in the device's own coordinates, and the edges (Dr TIM's frames) cylinders.
+
+mod four_pi_lens;
+mod ideal_lens_cloak;
+mod lens_simplicial_complex;
+mod lens_star;
+mod polygonal_ideal_lens_cloak;
+
+pub use four_pi_lens::FourPiLens;
+pub use ideal_lens_cloak::IdealLensCloak;
+pub use lens_simplicial_complex::LensSimplicialComplex;
+pub use lens_star::LensStar;
+pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
+
+use crate::geometry::{Cylinder, Shape};
+use crate::surfaces::Surface;
+
+/// One scene object of a device.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Part {
+    /// The part's name within the device, e.g. `lens 1`.
+    pub name: String,
+    pub shape: Shape,
+    pub surface: Surface,
+    /// An edge (a frame cylinder) rather than a lens: opaque, so it throws shadows.
+    pub edge: bool,
+}
+
+/// How a device's edges are drawn, if they are shown: cylinders of this radius and surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Edges {
+    pub radius: f64,
+    pub surface: Surface,
+}
+
+impl Edges {
+    /// The edge from `start` to `end`, named `name`.
+    fn part(&self, name: String, start: glam::DVec3, end: glam::DVec3) -> Result<Part, String> {
+        Ok(Part {
+            name: name.clone(),
+            shape: Shape::Cylinder(
+                Cylinder::new(start, end, self.radius).map_err(|e| format!("{name}: {e}"))?,
+            ),
+            surface: self.surface.clone(),
+            edge: true,
+        })
+    }
+}

@@ -1,0 +1,266 @@
+//! The `[[device]]` entries: devices made of ideal thin lenses (`crate::devices`), with the
+//! parameters Dr TIM's editable objects take, each expanding into one scene object per part.
+
+use serde::Deserialize;
+
+use super::parts::Spanned;
+use super::placement::{ArraySection, FrameName, TransformSection};
+use super::surfaces::SurfaceSection;
+use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
+use crate::devices::{
+    Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part,
+    PolygonalIdealLensCloak,
+};
+use crate::math::Colour;
+use crate::surfaces::{Coloured, Surface};
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DeviceSection {
+    pub name: Option<String>,
+    /// Whether the lenses throw shadows (edges always do).
+    #[serde(default)]
+    pub shadow_throwing: bool,
+    pub frame: Option<FrameName>,
+    pub transform: Option<Spanned<TransformSection>>,
+    pub array: Option<Spanned<ArraySection>>,
+    lenses: Spanned<LensesSection>,
+    #[serde(default)]
+    show_edges: bool,
+    edge_radius: Option<Positive>,
+    edge_surface: Option<Spanned<SurfaceSection>>,
+}
+
+/// Dr TIM's defaults for edges: radius 0.01, shiny red.
+const EDGE_RADIUS: f64 = 0.01;
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+enum LensesSection {
+    LensStar {
+        number_of_lenses: u32,
+        focal_length: NonZero,
+        principal_point_distance: Option<Finite>,
+        centre: Vector,
+        intersection_direction: Direction,
+        point_on_lens1: Vector,
+        star_radius: Positive,
+        star_length: Positive,
+        lens_transmission_coefficient: Option<Coefficient>,
+        shown_lenses_start_index: Option<i64>,
+        number_of_shown_lenses: Option<u32>,
+    },
+    LensSimplicialComplex {
+        vertices: Vec<Vector>,
+        vertices_v: Vec<Vector>,
+        edges: Vec<[usize; 2]>,
+        lens_transmission_coefficient: Option<Coefficient>,
+    },
+    IdealLensCloak {
+        base_centre: Vector,
+        front_direction: Direction,
+        right_direction: Direction,
+        top_direction: Direction,
+        base_radius: Positive,
+        height: Positive,
+        height_lower_inner_vertex_p: Finite,
+        height_upper_inner_vertex_p: Finite,
+        height_lower_inner_vertex_e: Finite,
+        interface_transmission_coefficient: Option<Coefficient>,
+    },
+    PolygonalIdealLensCloak {
+        base_centre: Vector,
+        front_direction: Direction,
+        right_direction: Direction,
+        top_direction: Direction,
+        base_radius: Positive,
+        no_of_base_vertices: usize,
+        height: Positive,
+        height_lower_inner_vertex_p: Finite,
+        height_upper_inner_vertex_p: Finite,
+        height_lower_inner_vertex_e: Finite,
+        interface_transmission_coefficient: Option<Coefficient>,
+    },
+    FourPiLens {
+        principal_point: Vector,
+        optical_axis_direction: Direction,
+        focal_length_outwards: NonZero,
+        transverse_direction1: Direction,
+        transverse_direction2: Direction,
+        radius: Positive,
+        length: Positive,
+        closer_inner_vertex_distance: Finite,
+        farther_inner_vertex_distance: Finite,
+        individual_lens_transmission_coefficient: Option<Coefficient>,
+        show_l1: Option<bool>,
+        show_r1: Option<bool>,
+    },
+}
+
+impl DeviceSection {
+    /// Where the device's `lenses` table is, for errors about the whole device.
+    pub(super) fn span(&self) -> std::ops::Range<usize> {
+        self.lenses.span()
+    }
+
+    /// The device's parts, or the span of the table at fault and what is wrong.
+    pub(super) fn parts(&mut self) -> Result<Vec<Part>, (std::ops::Range<usize>, String)> {
+        let edges = if self.show_edges {
+            let surface = match self.edge_surface.take() {
+                Some(s) => {
+                    let span = s.span();
+                    if s.get_ref().destination().is_some() {
+                        return Err((span, "edge_surface cannot be a teleporting surface".into()));
+                    }
+                    s.into_inner().build().map_err(|e| (span, e))?
+                }
+                None => Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
+            };
+            Some(Edges {
+                radius: self.edge_radius.as_ref().map_or(EDGE_RADIUS, |r| r.0),
+                surface,
+            })
+        } else {
+            None
+        };
+        let span = self.lenses.span();
+        let lenses = self.lenses.get_ref();
+        let device = match lenses {
+            LensesSection::LensStar {
+                number_of_lenses,
+                focal_length,
+                principal_point_distance,
+                centre,
+                intersection_direction,
+                point_on_lens1,
+                star_radius,
+                star_length,
+                lens_transmission_coefficient,
+                shown_lenses_start_index,
+                number_of_shown_lenses,
+            } => LensStar {
+                number_of_lenses: *number_of_lenses,
+                focal_length: focal_length.0,
+                principal_point_distance: principal_point_distance.map_or(0.0, |d| d.0),
+                centre: centre.0,
+                intersection_direction: intersection_direction.0,
+                point_on_lens1: point_on_lens1.0,
+                star_radius: star_radius.0,
+                star_length: star_length.0,
+                lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
+                shown_lenses: match (shown_lenses_start_index, number_of_shown_lenses) {
+                    (None, None) => None,
+                    (start, n) => Some((start.unwrap_or(0), n.unwrap_or(*number_of_lenses))),
+                },
+            }
+            .parts(edges.as_ref()),
+            LensesSection::LensSimplicialComplex {
+                vertices,
+                vertices_v,
+                edges: joined,
+                lens_transmission_coefficient,
+            } => LensSimplicialComplex {
+                vertices: vertices.iter().map(|v| v.0).collect(),
+                vertices_v: vertices_v.iter().map(|v| v.0).collect(),
+                edges: joined.clone(),
+                lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
+            LensesSection::IdealLensCloak {
+                base_centre,
+                front_direction,
+                right_direction,
+                top_direction,
+                base_radius,
+                height,
+                height_lower_inner_vertex_p,
+                height_upper_inner_vertex_p,
+                height_lower_inner_vertex_e,
+                interface_transmission_coefficient,
+            } => IdealLensCloak {
+                base_centre: base_centre.0,
+                front_direction: front_direction.0,
+                right_direction: right_direction.0,
+                top_direction: top_direction.0,
+                base_radius: base_radius.0,
+                height: height.0,
+                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
+                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
+                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
+                interface_transmission_coefficient: interface_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
+            LensesSection::PolygonalIdealLensCloak {
+                base_centre,
+                front_direction,
+                right_direction,
+                top_direction,
+                base_radius,
+                no_of_base_vertices,
+                height,
+                height_lower_inner_vertex_p,
+                height_upper_inner_vertex_p,
+                height_lower_inner_vertex_e,
+                interface_transmission_coefficient,
+            } => PolygonalIdealLensCloak {
+                base_centre: base_centre.0,
+                front_direction: front_direction.0,
+                right_direction: right_direction.0,
+                top_direction: top_direction.0,
+                base_radius: base_radius.0,
+                no_of_base_vertices: *no_of_base_vertices,
+                height: height.0,
+                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
+                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
+                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
+                interface_transmission_coefficient: interface_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
+            LensesSection::FourPiLens {
+                principal_point,
+                optical_axis_direction,
+                focal_length_outwards,
+                transverse_direction1,
+                transverse_direction2,
+                radius,
+                length,
+                closer_inner_vertex_distance,
+                farther_inner_vertex_distance,
+                individual_lens_transmission_coefficient,
+                show_l1,
+                show_r1,
+            } => FourPiLens {
+                principal_point: principal_point.0,
+                optical_axis_direction: optical_axis_direction.0,
+                focal_length_outwards: focal_length_outwards.0,
+                transverse_direction1: transverse_direction1.0,
+                transverse_direction2: transverse_direction2.0,
+                radius: radius.0,
+                length: length.0,
+                closer_inner_vertex_distance: closer_inner_vertex_distance.0,
+                farther_inner_vertex_distance: farther_inner_vertex_distance.0,
+                individual_lens_transmission_coefficient: individual_lens_transmission_coefficient
+                    .map_or(1.0, |c| c.0),
+                show_l1: show_l1.unwrap_or(true),
+                show_r1: show_r1.unwrap_or(true),
+            }
+            .parts(edges.as_ref()),
+        };
+        device.map_err(|e| (span, format!("{}: {e}", lenses.name())))
+    }
+}
+
+impl LensesSection {
+    /// The device's `type`, for messages.
+    fn name(&self) -> &'static str {
+        match self {
+            LensesSection::LensStar { .. } => "lens-star",
+            LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
+            LensesSection::IdealLensCloak { .. } => "ideal-lens-cloak",
+            LensesSection::PolygonalIdealLensCloak { .. } => "polygonal-ideal-lens-cloak",
+            LensesSection::FourPiLens { .. } => "four-pi-lens",
+        }
+    }
+}

@@ -1,0 +1,538 @@
+//! Devices made of ideal thin lenses (`[[device]]`), checked against independent derivations.
+//!
+//! Lens star. Take the lens plane through the star's axis, in coordinates (x along the lens
+//! plane perpendicular to the axis, y along the optical axis, z along the star's axis) with the
+//! principal point at the origin. An ideal thin lens is the projective map, in homogeneous
+//! coordinates (x, y, z, 1), that fixes the lens plane y = 0 point by point and sends the focal
+//! plane y = −f to infinity: M = [[I₃, 0], [(0, 1/f, 0), 1]]. Lens i is Rⁱ M R⁻ⁱ with R the
+//! rotation by 2π/N about the axis, so a full loop through the N lenses is (R⁻¹M)ᴺ (up to R^N =
+//! I). Writing R⁻¹M = [[A, 0], [B, I₂]] in the blocks (x, y) and (z, w), with A the rotation by
+//! −2π/N, (R⁻¹M)ᴺ = [[Aᴺ, 0], [B(I + A + … + Aᴺ⁻¹), I₂]] = I, because Aᴺ = I and the powers
+//! of a rotation by a whole fraction of a turn sum to zero: every point is imaged to itself, so
+//! every ray that goes once round the star continues along the line it started on. With the
+//! principal points a distance d off the axis, M is conjugated by a shift along x, A becomes
+//! rotation·shear of trace 2cos(2π/N) + sin(2π/N) d/f, Aᴺ ≠ I, and the loop does not close.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+use timbre::trajectories::{self, Trajectory};
+
+use common::cli::{location, path_str, timbre, write};
+
+/// A TOML vector with every digit of the f64s.
+fn v(p: DVec3) -> String {
+    format!("[{:?}, {:?}, {:?}]", p.x, p.y, p.z)
+}
+
+/// `d` rotated by `angle` (radians) about the unit `axis`, right-handed (Rodrigues).
+fn rotate(d: DVec3, axis: DVec3, angle: f64) -> DVec3 {
+    d * angle.cos() + axis.cross(d) * angle.sin() + axis * axis.dot(d) * (1.0 - angle.cos())
+}
+
+/// The device's placement in the tests: rotated about (1, 1, 0) by 30°, then shifted.
+const TRANSFORM: &str = "transform = { rotate = { axis = [1, 1, 0], angle_deg = 30 }, \
+                         translate = [0.5, -1, 2] }";
+
+fn place(p: DVec3) -> DVec3 {
+    rotate(p, DVec3::new(1.0, 1.0, 0.0).normalize(), 30f64.to_radians())
+        + DVec3::new(0.5, -1.0, 2.0)
+}
+
+/// A lens star of `n` lenses of focal length `f` about the z axis (lens 1 along +x), placed by
+/// [`TRANSFORM`], and the trajectory of one ray that starts between lens N and lens 1 near the
+/// regular-polygon loop (vertices 2f tan(π/N) from the axis on the lenses), perturbed off it and
+/// off the plane of the loop, followed through N + 1 lenses.
+fn star_trajectory(n: u32, f: f64, principal_point_distance: f64) -> Trajectory {
+    let rho = 2.0 * f * (PI / n as f64).tan();
+    let last = rho
+        * DVec3::new(
+            (-2.0 * PI / n as f64).cos(),
+            (-2.0 * PI / n as f64).sin(),
+            0.0,
+        );
+    let first = rho * DVec3::X;
+    let start = 0.5 * (first + last) + DVec3::new(0.02, -0.03, -0.5);
+    let direction = ((first - last).normalize() + DVec3::new(0.03, 0.02, 0.08)).normalize();
+    let text = format!(
+        r#"studio = "none"
+[[device]]
+name = "star"
+{TRANSFORM}
+lenses = {{ type = "lens-star", number_of_lenses = {n}, focal_length = {f:?}, principal_point_distance = {principal_point_distance:?}, centre = [0, 0, 0], intersection_direction = [0, 0, 1], point_on_lens1 = [1, 0, 0], star_radius = 4, star_length = 6 }}
+
+[[ray_trajectory]]
+start = {}
+direction = {}
+max_interactions = {}
+"#,
+        v(place(start)),
+        v(place(direction) - place(DVec3::ZERO)),
+        n + 1
+    );
+    let description = common::images::parse(&text);
+    let mut traced = trajectories::trace(common::rays::device(), &description).expect("trace");
+    assert_eq!(traced.len(), 1);
+    let t = traced.remove(0);
+    // The ray meets lens 1, 2, …, N and lens 1 again, in that order.
+    let names: Vec<&str> = t.points[1..]
+        .iter()
+        .map(|p| {
+            description.objects[p.object.expect("a surface point")]
+                .name
+                .as_str()
+        })
+        .collect();
+    let expected: Vec<String> = (0..=n)
+        .map(|k| format!("star/lens {}", k % n + 1))
+        .collect();
+    assert_eq!(names, expected, "n = {n}, f = {f}");
+    t
+}
+
+#[test]
+fn a_full_loop_round_a_lens_star_returns_every_ray_to_itself() {
+    for (n, f) in [(5, 1.0), (3, 0.6), (4, 1.3), (8, 2.0)] {
+        let t = star_trajectory(n, f, 0.0);
+        let p = |k: usize| t.points[k].position;
+        // After N lenses the ray is back on its first line: it meets lens 1 where it did first,
+        // in the direction it had then.
+        let back = (p(n as usize + 1) - p(1)).length();
+        assert!(
+            back < 1e-9,
+            "n = {n}, f = {f}: missed the first hit by {back}"
+        );
+        let first = (p(1) - p(0)).normalize();
+        let again = (p(n as usize + 1) - p(n as usize)).normalize();
+        let turn = first.cross(again).length();
+        assert!(
+            turn < 1e-9 && first.dot(again) > 0.0,
+            "n = {n}, f = {f}: turned by {turn}"
+        );
+    }
+}
+
+#[test]
+fn with_principal_points_off_the_axis_the_loop_does_not_close() {
+    let n = 5;
+    let t = star_trajectory(n, 1.0, 0.2);
+    let back = (t.points[n as usize + 1].position - t.points[1].position).length();
+    assert!(back > 1e-3, "closed anyway, to {back}");
+}
+
+#[test]
+fn a_lens_star_has_its_lenses_and_edges_as_objects() {
+    let d = common::images::parse(
+        r#"studio = "none"
+[[group]]
+name = "g"
+[[group.device]]
+name = "star"
+show_edges = true
+edge_radius = 0.02
+lenses = { type = "lens-star", number_of_lenses = 3, focal_length = 1, centre = [0, 0, 0], intersection_direction = [0, 1, 0], point_on_lens1 = [1, 0, 0], star_radius = 2, star_length = 1, lens_transmission_coefficient = 0.9, shown_lenses_start_index = 2, number_of_shown_lenses = 2 }
+"#,
+    );
+    let names: Vec<&str> = d.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "g/star/lens 1",
+            "g/star/top edge 1",
+            "g/star/outer edge 1",
+            "g/star/bottom edge 1",
+            "g/star/lens 3",
+            "g/star/top edge 3",
+            "g/star/outer edge 3",
+            "g/star/bottom edge 3",
+            "g/star/axial edge",
+        ]
+    );
+    for o in &d.objects {
+        // Lenses throw no shadows unless asked; edges do.
+        assert_eq!(o.shadow_throwing, !o.name.contains("/lens "), "{}", o.name);
+    }
+}
+
+#[test]
+fn a_star_with_its_lens_on_the_axis_is_refused_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "studio = \"none\"\n\n[[device]]\nname = \"s\"\nlenses = { type = \"lens-star\", number_of_lenses = 4, focal_length = 1, centre = [0, 0, 0], intersection_direction = [0, 0, 1], point_on_lens1 = [0, 0, 3], star_radius = 1, star_length = 1 }\n";
+    let path = write(dir.path(), "bad.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["'s'", "lens-star", "point_on_lens1", "on the star's axis"]);
+    assert_eq!(location(&run.stderr, &path).0, 5);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lens simplicial complexes. Every cell of a consistent complex appears, from outside, as the
+// tetrahedron of its vertices' virtual positions, and the outside appears as itself. So (i) a
+// ray that crosses the complex leaves it on the straight line it came in on, and (ii) the rays
+// from one point of a cell leave the complex on lines through one point, its virtual position,
+// which lies inside the cell's virtual tetrahedron (a projective map that takes the vertices
+// of a tetrahedron to those of another, without sending a point of it to infinity, takes its
+// inside to the other's inside).
+// ---------------------------------------------------------------------------------------------
+
+/// Dr TIM's default lens simplicial complex (`EditableLensSimplicialComplex`'s
+/// `initialiseToOmnidirectionalLens`): a tetrahedron on a triangular base with two inner
+/// vertices on its axis, which virtual space moves up by 0.2.
+const VERTICES: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.6],
+    [0.0, 0.0, 11.2],
+    [0.0, 0.0, 12.0],
+];
+const VERTICES_V: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.8],
+    [0.0, 0.0, 11.4],
+    [0.0, 0.0, 12.0],
+];
+const EDGES: &str = "[[0, 1], [1, 2], [2, 0], [3, 0], [3, 1], [3, 2], [4, 0], [4, 1], [4, 2], \
+                     [5, 0], [5, 1], [5, 2], [3, 4], [4, 5]]";
+
+fn list(points: &[[f64; 3]]) -> String {
+    let items: Vec<String> = points.iter().map(|p| v(DVec3::from(*p))).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// A scene with the complex (virtual positions `vertices_v`) placed by [`TRANSFORM`], and
+/// `rays` (start, direction, in the complex's coordinates) as ray trajectories.
+fn complex_scene(vertices_v: &[[f64; 3]], rays: &[(DVec3, DVec3)]) -> String {
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"lsc\"\n{TRANSFORM}\nlenses = {{ type = \"lens-simplicial-complex\", vertices = {}, vertices_v = {}, edges = {EDGES} }}\n",
+        list(&VERTICES),
+        list(vertices_v)
+    );
+    for (start, direction) in rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    text
+}
+
+/// Each ray's last lens crossing and the direction it leaves in, mapped back into the
+/// complex's coordinates, with the number of lenses it crossed.
+fn exits(text: &str) -> Vec<(DVec3, DVec3, usize)> {
+    let description = common::images::parse(text);
+    let traced = trajectories::trace(common::rays::device(), &description).expect("trace");
+    let axis = DVec3::new(1.0, 1.0, 0.0).normalize();
+    let unplace = |p: DVec3| rotate(p - DVec3::new(0.5, -1.0, 2.0), axis, -30f64.to_radians());
+    traced
+        .iter()
+        .map(|t| {
+            let hits: Vec<DVec3> = t
+                .points
+                .iter()
+                .filter(|p| p.object.is_some())
+                .map(|p| p.position)
+                .collect();
+            let last = *hits.last().expect("the ray meets the complex");
+            (
+                unplace(last),
+                unplace(t.direction) - unplace(DVec3::ZERO),
+                hits.len(),
+            )
+        })
+        .collect()
+}
+
+/// Distance of `x` from the line through `a` along unit `d`.
+fn off_line(x: DVec3, a: DVec3, d: DVec3) -> f64 {
+    (x - a).reject_from_normalized(d).length()
+}
+
+#[test]
+fn a_ray_crossing_a_lens_simplicial_complex_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, 0.2, 7.0), DVec3::new(0.02, -0.03, 1.0)),
+        (DVec3::new(-3.0, 0.3, 10.9), DVec3::new(1.0, 0.05, 0.1)),
+        (DVec3::new(2.0, 2.0, 13.0), DVec3::new(-0.6, -0.7, -0.8)),
+        (DVec3::new(0.2, -3.0, 10.5), DVec3::new(-0.05, 1.0, 0.3)),
+    ];
+    let out = exits(&complex_scene(&VERTICES_V, &rays));
+    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(out) {
+        let d = d.normalize();
+        assert!(
+            crossed >= 3,
+            "ray from {start} crossed only {crossed} lenses"
+        );
+        let miss = off_line(last, *start, d);
+        let turn = leaving.cross(d).length();
+        assert!(
+            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+            "ray from {start}: left {miss} off its line, turned by {turn}"
+        );
+    }
+}
+
+#[test]
+fn rays_from_a_point_in_a_cell_leave_as_if_from_one_point_of_its_virtual_cell() {
+    let [p0, p1, _, p3, p4, _] = VERTICES.map(DVec3::from);
+    let [v0, v1, _, v3, v4, _] = VERTICES_V.map(DVec3::from);
+    // A point of the cell 0-1-3-4.
+    let x = 0.2 * p0 + 0.3 * p1 + 0.25 * p3 + 0.25 * p4;
+    let rays: Vec<(DVec3, DVec3)> = [
+        DVec3::new(0.0, 0.0, -1.0),
+        DVec3::new(0.3, 0.2, 1.0),
+        DVec3::new(-1.0, -0.2, 0.1),
+        DVec3::new(0.1, 1.0, -0.2),
+        DVec3::new(0.5, -1.0, 0.4),
+    ]
+    .map(|d| (x, d))
+    .to_vec();
+    let out = exits(&complex_scene(&VERTICES_V, &rays));
+    // The point nearest to all the leaving lines (least squares).
+    let (mut a, mut b) = (glam::DMat3::ZERO, DVec3::ZERO);
+    for (last, d, _) in &out {
+        let d = d.normalize();
+        let m = glam::DMat3::IDENTITY - glam::DMat3::from_cols(d * d.x, d * d.y, d * d.z);
+        a += m;
+        b += m * *last;
+    }
+    let image = a.inverse() * b;
+    for (last, d, _) in &out {
+        let miss = off_line(image, *last, d.normalize());
+        assert!(
+            miss < 1e-9,
+            "a leaving line misses the image {image} by {miss}"
+        );
+    }
+    assert!((image - x).length() > 1e-2, "the complex did not move {x}");
+    // Inside the virtual tetrahedron 0-1-3-4: positive barycentric coordinates.
+    let m = glam::DMat3::from_cols(v1 - v0, v3 - v0, v4 - v0);
+    let w = m.inverse() * (image - v0);
+    assert!(
+        w.min_element() > 0.0 && w.element_sum() < 1.0,
+        "image {image} is outside the virtual cell ({w})"
+    );
+}
+
+#[test]
+fn virtual_positions_no_ideal_lenses_can_realise_are_refused() {
+    let parse = |vertices_v: &[[f64; 3]]| {
+        timbre::scene::file::parse(&complex_scene(vertices_v, &[]), "lsc.toml")
+            .unwrap_err()
+            .to_string()
+    };
+    // An inner vertex moved off the axis: the cells round face 0-1-4 disagree on its plane.
+    let mut sideways = VERTICES_V;
+    sideways[3][0] = 0.1;
+    let e = parse(&sideways);
+    assert!(e.starts_with("lsc.toml:5:"), "{e}");
+    assert!(
+        e.contains("face 0-1-4") && e.contains("cannot realise"),
+        "{e}"
+    );
+    // An outer vertex moved: the outside is seen as itself, so it cannot move.
+    let mut outer = VERTICES_V;
+    outer[0][0] = -1.6;
+    let e = parse(&outer);
+    assert!(
+        e.contains("vertex 0") && e.contains("must keep their physical positions"),
+        "{e}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The ideal-lens cloak: it images outside space to itself, so rays cross it on their own line
+// and the scene behind it looks as without it, while the lower inner pyramid, squashed into the
+// height h₁′ → 0 in EM space, hides what is inside it.
+// ---------------------------------------------------------------------------------------------
+
+/// Dr TIM's cloak (a regular tetrahedron of height 2 on the floor, `EditableIdealLensCloak`'s
+/// default, moved to z = 7.5, in front of the lattice) with EM-space lower-inner-vertex height
+/// `h1e`, placed by `transform`.
+fn cloak(h1e: f64, transform: &str) -> String {
+    format!(
+        "[[device]]\nname = \"cloak\"\n{transform}\nlenses = {{ type = \"ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.3333333333333333, height = 2, height_lower_inner_vertex_p = 0.6666666666666666, height_upper_inner_vertex_p = 1.3333333333333333, height_lower_inner_vertex_e = {h1e:?} }}\n"
+    )
+}
+
+#[test]
+fn a_ray_crossing_the_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, -0.5, 3.5), DVec3::new(0.01, 0.02, 1.0)),
+        (DVec3::new(-3.0, -0.6, 7.6), DVec3::new(1.0, -0.02, 0.05)),
+        (DVec3::new(0.5, 2.0, 6.5), DVec3::new(-0.2, -1.0, 0.3)),
+        (DVec3::new(2.0, -0.9, 9.5), DVec3::new(-0.7, 0.1, -0.8)),
+    ];
+    // (As h₁′ → 0 the focal lengths shrink with it and rounding errors grow: at h₁′ = 0.001
+    // the ray leaves 2e-5 off its direction, so the 1e-9 check uses moderate squashing.)
+    for h1e in [-1.0, 0.0666, 0.2] {
+        let mut text = format!("studio = \"none\"\n{}", cloak(h1e, TRANSFORM));
+        for (start, direction) in &rays {
+            text += &format!(
+                "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+                v(place(*start)),
+                v(place(*direction) - place(DVec3::ZERO))
+            );
+        }
+        for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
+            let d = d.normalize();
+            assert!(
+                crossed >= 2,
+                "h1e = {h1e}: ray from {start} crossed {crossed} lenses"
+            );
+            let miss = off_line(last, *start, d);
+            let turn = leaving.cross(d).length();
+            assert!(
+                miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+                "h1e = {h1e}, ray from {start}: left {miss} off its line, turned by {turn}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_ray_crossing_a_hexagonal_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
+    let rays = [
+        (DVec3::new(0.1, -0.5, 3.5), DVec3::new(0.01, 0.02, 1.0)),
+        (DVec3::new(-3.0, -0.6, 7.6), DVec3::new(1.0, -0.02, 0.05)),
+        (DVec3::new(0.5, 2.0, 6.5), DVec3::new(-0.2, -1.0, 0.3)),
+        (DVec3::new(0.3, -3.0, 7.4), DVec3::new(0.02, 1.0, 0.01)),
+    ];
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\n{TRANSFORM}\nlenses = {{ type = \"polygonal-ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.5, no_of_base_vertices = 6, height = 2, height_lower_inner_vertex_p = 0.5, height_upper_inner_vertex_p = 1.2, height_lower_inner_vertex_e = 0.1 }}\n"
+    );
+    for (start, direction) in &rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
+        let d = d.normalize();
+        assert!(crossed >= 2, "ray from {start} crossed {crossed} lenses");
+        let miss = off_line(last, *start, d);
+        let turn = leaving.cross(d).length();
+        assert!(
+            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+            "ray from {start}: left {miss} off its line, turned by {turn}"
+        );
+    }
+}
+
+/// The 4π lens: inside space (the cell between L1 and the closer inner vertex) is seen from
+/// outside, whichever lenses the light leaves through, where L1 alone images it. L1 is an ideal
+/// thin lens of focal length f = −`focal_length_outwards` (Dr TIM's `Editable4PiLens`) at the
+/// principal point C; in the projective form above, light crossing it along the unit normal n
+/// sees X at C + (X − C)/(1 + y/f), y = (X − C)·n.
+#[test]
+fn a_four_pi_lens_images_inside_space_as_its_principal_plane_lens_does_in_every_direction() {
+    let f_out = 0.8;
+    let x = DVec3::new(0.1, -0.05, 0.2);
+    let rays: Vec<(DVec3, DVec3)> = [
+        DVec3::new(0.05, 0.02, -1.0),
+        DVec3::new(0.3, 0.1, 1.0),
+        DVec3::new(1.0, 0.2, 0.1),
+        DVec3::new(-0.5, 1.0, 0.3),
+        DVec3::new(0.2, -1.0, -0.05),
+    ]
+    .map(|d| (x, d))
+    .to_vec();
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"4pi\"\n{TRANSFORM}\nlenses = {{ type = \"four-pi-lens\", principal_point = [0, 0, 0], optical_axis_direction = [0, 0, 1], focal_length_outwards = {f_out:?}, transverse_direction1 = [1, 0, 0], transverse_direction2 = [0, 1, 0], radius = 1.5, length = 2, closer_inner_vertex_distance = 0.6, farther_inner_vertex_distance = 1.2 }}\n"
+    );
+    for (start, direction) in &rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 40\n",
+            v(place(*start)),
+            v(place(*direction) - place(DVec3::ZERO))
+        );
+    }
+    // Inside space lies on the +z side of L1 (z = 0): light leaves it along n = −z.
+    let y = -x.z;
+    let image = x / (1.0 + y / -f_out);
+    let out = exits(&text);
+    for ((_, d), (last, leaving, crossed)) in rays.iter().zip(&out) {
+        let miss = off_line(image, *last, leaving.normalize());
+        assert!(
+            miss < 1e-9,
+            "the ray leaving along {d} after {crossed} lenses misses L1's image {image} by {miss}"
+        );
+    }
+    // Some rays leave through L1, others through the lenses R1 round it.
+    assert!(out.iter().any(|(_, _, crossed)| *crossed == 1));
+    assert!(out.iter().any(|(_, _, crossed)| *crossed > 1));
+}
+
+/// TIM's lattice studio at 160 × 120 with `objects`.
+fn lattice(objects: &str) -> String {
+    format!("studio = \"lattice\"\n[render]\nwidth = 160\nheight = 120\n{objects}")
+}
+
+/// A white ball inside the lower inner pyramid (which reaches 2/3 up), throwing no shadow.
+const BALL: &str = "[[object]]\nname = \"ball\"\nshadow_throwing = false\nshape = { type = \"sphere\", centre = [0, -0.73, 7.5], radius = 0.15 }\nsurface = { type = \"shiny\", colour = [1, 1, 1] }\n";
+
+#[test]
+fn the_lattice_seen_through_the_ideal_lens_cloak_looks_as_without_it() {
+    let without = common::images::render_text(&lattice(""));
+    let with = common::images::render_text(&lattice(&cloak(0.0666, "")));
+    // Tolerance: a pixel in a thousand may differ by more than two levels (rays that graze the
+    // lenses' edges, where the f32 intersection and the f64 law part ways).
+    let differing = common::images::differing_by_more_than(&with, &without, 2);
+    assert!(
+        differing * 1000 <= 160 * 120,
+        "{differing} pixels differ by more than 2 levels"
+    );
+    // The cloak is in view: dimmed lenses change the picture.
+    let dimmed = lattice(&cloak(0.0666, "").replace(
+        "height_lower_inner_vertex_e",
+        "interface_transmission_coefficient = 0.5, height_lower_inner_vertex_e",
+    ));
+    let dim = common::images::render_text(&dimmed);
+    assert!(common::images::differing_by_more_than(&dim, &without, 2) > 1000);
+}
+
+#[test]
+fn an_object_in_the_cloaked_region_is_hidden() {
+    let render =
+        |objects: &str| timbre::io::to_rgb8(&common::images::render_text(&lattice(objects)));
+    let plain = render("");
+    let ball = render(BALL);
+    // Where the ball is seen without the cloak.
+    let footprint: Vec<(u32, u32)> = plain
+        .enumerate_pixels()
+        .filter(|(x, y, p)| {
+            ball.get_pixel(*x, *y)
+                .0
+                .iter()
+                .zip(p.0)
+                .any(|(a, b)| a.abs_diff(b) > 2)
+        })
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    assert!(
+        footprint.len() > 30,
+        "the ball covers only {} pixels",
+        footprint.len()
+    );
+    // With the cloak (h₁′ = 0.001 h₁), those pixels show what they show without the ball.
+    let cloaked = render(&cloak(0.000666, ""));
+    let cloaked_ball = render(&(cloak(0.000666, "") + BALL));
+    let seen = footprint
+        .iter()
+        .filter(|(x, y)| {
+            let (a, b) = (cloaked.get_pixel(*x, *y), cloaked_ball.get_pixel(*x, *y));
+            a.0.iter().zip(b.0).any(|(p, q)| p.abs_diff(q) > 2)
+        })
+        .count();
+    assert_eq!(
+        seen,
+        0,
+        "of the ball's {} pixels, {seen} still show it",
+        footprint.len()
+    );
+}
