@@ -536,3 +536,72 @@ fn an_object_in_the_cloaked_region_is_hidden() {
         footprint.len()
     );
 }
+
+/// A Platonic lens: the three lenses of a tetrahedral one that meet along the line from the
+/// centre to a vertex make a lens star about that line (120° apart, principal points on it, at
+/// the centre), so a ray sent round it through each of them once, in the plane through the
+/// centre perpendicular to the line (which the other three lenses touch only at the centre),
+/// meets the first lens again where it first did, in the same direction. The ray starts near
+/// the side of the star's regular triangular orbit (inscribed radius 2f sin(π/3)) between two
+/// lenses, found from the vertex's neighbours as Dr TIM's `PlatonicSolidType` lists them (six
+/// digits); as a lens star, also a ray off that orbit closes.
+#[test]
+fn a_ray_round_a_vertex_of_a_tetrahedral_platonic_lens_closes_on_itself() {
+    let vertex = DVec3::Z;
+    let neighbours = [
+        DVec3::new(-0.471405, -0.816497, -0.333333),
+        DVec3::new(-0.471405, 0.816497, -0.333333),
+        DVec3::new(0.942809, 0.0, -0.333333),
+    ];
+    let (centre, radius, f) = (DVec3::new(0.2, -0.1, 6.0), 2.0, 0.1);
+    let a = vertex;
+    let e1 = neighbours[0].reject_from_normalized(a).normalize();
+    let e2 = a.cross(e1);
+    let next = neighbours[1..]
+        .iter()
+        .map(|&p| {
+            let r = p.reject_from_normalized(a);
+            r.dot(e2).atan2(r.dot(e1)).rem_euclid(2.0 * PI)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!((next - 2.0 * PI / 3.0).abs() < 1e-5, "{next}");
+    let (sin, cos) = (0.5 * next).sin_cos();
+    let rho = 2.0 * f * (PI / 3.0).sin();
+    for (off_orbit, turn) in [(1.0, 0.0), (1.15, 0.1), (0.9, -0.15)] {
+        let start = centre + off_orbit * rho * (cos * e1 + sin * e2);
+        let direction = rotate(-sin * e1 + cos * e2, a, turn);
+        let text = format!(
+            "studio = \"none\"
+[[device]]
+name = \"platonic lens\"
+lenses = {{ type = \"platonic-lens\", platonic_solid = \"tetrahedron\", centre = {}, radius = {radius:?}, focal_length = {f:?} }}
+[[ray_trajectory]]
+start = {}
+direction = {}
+max_interactions = 4
+",
+            v(centre),
+            v(start),
+            v(direction),
+        );
+        let description = common::images::parse(&text);
+        let t = trajectories::trace(common::rays::device(), &description).expect("trace");
+        let t = &t[0];
+        assert_eq!(t.points.len(), 5, "{:?}", t.points);
+        let p = |k: usize| t.points[k].position;
+        // The three lenses about the vertex's line, in turn (lens 0-1, 0-2 and 0-3 are the
+        // device's first three objects).
+        let lenses: Vec<_> = (1..=4).map(|k| t.points[k].object.unwrap()).collect();
+        let mut round = lenses[..3].to_vec();
+        round.sort();
+        assert_eq!((round, lenses[3]), (vec![0, 1, 2], lenses[0]), "{lenses:?}");
+        let back = (p(4) - p(1)).length();
+        assert!(back < 1e-9, "missed the first hit by {back}");
+        let first = (p(2) - p(1)).normalize();
+        assert!(
+            first.cross(t.direction).length() < 1e-9 && first.dot(t.direction) > 0.0,
+            "leaves along {}, first along {first}",
+            t.direction
+        );
+    }
+}

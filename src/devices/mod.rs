@@ -6,12 +6,14 @@ mod four_pi_lens;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
+mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 
 pub use four_pi_lens::FourPiLens;
 pub use ideal_lens_cloak::IdealLensCloak;
 pub use lens_simplicial_complex::LensSimplicialComplex;
 pub use lens_star::LensStar;
+pub use platonic_lens::{PlatonicLens, PlatonicSolid};
 pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
 
 use crate::geometry::{Cylinder, Shape};

@@ -7,9 +7,11 @@ use super::parts::Spanned;
 use super::placement::{ArraySection, FrameName, TransformSection};
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
+use glam::DVec3;
+
 use crate::devices::{
-    Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part,
-    PolygonalIdealLensCloak,
+    Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part, PlatonicLens,
+    PlatonicSolid, PolygonalIdealLensCloak,
 };
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
@@ -81,6 +83,15 @@ enum LensesSection {
         height_lower_inner_vertex_e: Finite,
         interface_transmission_coefficient: Option<Coefficient>,
     },
+    PlatonicLens {
+        platonic_solid: SolidName,
+        centre: Vector,
+        radius: Positive,
+        basis_vector_1: Option<Direction>,
+        basis_vector_2: Option<Direction>,
+        focal_length: NonZero,
+        lens_transmission_coefficient: Option<Coefficient>,
+    },
     FourPiLens {
         principal_point: Vector,
         optical_axis_direction: Direction,
@@ -95,6 +106,17 @@ enum LensesSection {
         show_l1: Option<bool>,
         show_r1: Option<bool>,
     },
+}
+
+/// The Platonic solid of a Platonic lens.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum SolidName {
+    Tetrahedron,
+    Cube,
+    Octahedron,
+    Dodecahedron,
+    Icosahedron,
 }
 
 impl DeviceSection {
@@ -218,6 +240,30 @@ impl DeviceSection {
                     .map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
+            LensesSection::PlatonicLens {
+                platonic_solid,
+                centre,
+                radius,
+                basis_vector_1,
+                basis_vector_2,
+                focal_length,
+                lens_transmission_coefficient,
+            } => PlatonicLens {
+                platonic_solid: match platonic_solid {
+                    SolidName::Tetrahedron => PlatonicSolid::Tetrahedron,
+                    SolidName::Cube => PlatonicSolid::Cube,
+                    SolidName::Octahedron => PlatonicSolid::Octahedron,
+                    SolidName::Dodecahedron => PlatonicSolid::Dodecahedron,
+                    SolidName::Icosahedron => PlatonicSolid::Icosahedron,
+                },
+                centre: centre.0,
+                radius: radius.0,
+                basis_vector_1: basis_vector_1.map_or(DVec3::X, |b| b.0),
+                basis_vector_2: basis_vector_2.map_or(DVec3::Y, |b| b.0),
+                focal_length: focal_length.0,
+                lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
+            }
+            .parts(edges.as_ref()),
             LensesSection::FourPiLens {
                 principal_point,
                 optical_axis_direction,
@@ -260,6 +306,7 @@ impl LensesSection {
             LensesSection::LensSimplicialComplex { .. } => "lens-simplicial-complex",
             LensesSection::IdealLensCloak { .. } => "ideal-lens-cloak",
             LensesSection::PolygonalIdealLensCloak { .. } => "polygonal-ideal-lens-cloak",
+            LensesSection::PlatonicLens { .. } => "platonic-lens",
             LensesSection::FourPiLens { .. } => "four-pi-lens",
         }
     }
