@@ -267,6 +267,21 @@ direction = [1.3, -0.5, 3]
     assert!((out - DVec3::new(1.3, -0.5, 3.0).normalize()).length() > 1e-3);
 }
 
+/// Where a lenslet array's directions, made perpendicular to the surface normal, are parallel
+/// there is no lattice: the ray is lost (the law's direction is not a number), not traced on
+/// as a NaN ray.
+#[test]
+fn a_lenslet_array_without_a_lattice_at_the_hit_loses_the_ray() {
+    let text = on_plane_z5(
+        "array",
+        "{ type = \"ideal-thin-lenslet-array\", focal_length = 1, centre = [0, 0, 5], u_direction = [1, 0, 0], v_direction = [1, 0, 1], period = [0.5, 0.5] }",
+        "start = [0.1, 0.2, 0]\ndirection = [0, 0, 1]",
+    );
+    let t = &trace(&text)[0];
+    assert_eq!(t.end, trajectories::End::Lost, "{t:?}");
+    assert_eq!(t.points.len(), 2);
+}
+
 #[test]
 fn bad_ideal_lens_tables_are_rejected_with_the_line() {
     let scene = |surface: &str| {
@@ -278,6 +293,10 @@ fn bad_ideal_lens_tables_are_rejected_with_the_line() {
         (
             "{ type = \"ideal-thin-lens\", focal_length = 0, principal_point = [0, 0, 5], optical_axis = [0, 0, 1] }",
             "non-zero",
+        ),
+        (
+            "{ type = \"ideal-thin-lens\", focal_length = 1e-20, principal_point = [0, 0, 5], optical_axis = [0, 0, 1] }",
+            "magnitude at least 1e-15",
         ),
         (
             "{ type = \"ideal-thin-lens\", focal_length = 1, optical_axis = [0, 0, 1] }",

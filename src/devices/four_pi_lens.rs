@@ -39,6 +39,15 @@ pub struct FourPiLens {
 impl FourPiLens {
     /// The lenses, named as the cloak's (L1 is `base outer lens`), and with `edges` its frames.
     pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        // Directions are unit vectors: a triple product below 1e-9 is a plane.
+        let (a, t1, t2) = (
+            self.optical_axis_direction,
+            self.transverse_direction1,
+            self.transverse_direction2,
+        );
+        if a.cross(t1).dot(t2).abs() < 1e-9 {
+            return Err("optical_axis_direction, transverse_direction1 and transverse_direction2 must not lie in one plane".into());
+        }
         let f00 = -self.focal_length_outwards;
         let h1 = self.closer_inner_vertex_distance;
         if f00 == h1 {

@@ -17,6 +17,10 @@ use super::{Edges, Part};
 use crate::geometry::{Parallelogram, Shape};
 use crate::surfaces::{Surface, ThinLens};
 
+/// Most lenses a star may have: with their edges, a quarter of a scene's objects at most
+/// (checked before any is made).
+pub const MAX_LENSES: u32 = 250_000;
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct LensStar {
     /// N ≥ 1.
@@ -43,8 +47,10 @@ impl LensStar {
     /// (`top edge i`, `outer edge i`, `bottom edge i`) and the common `axial edge`.
     pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let n = self.number_of_lenses;
-        if n == 0 {
-            return Err("number_of_lenses must be at least 1".into());
+        if n == 0 || n > MAX_LENSES {
+            return Err(format!(
+                "number_of_lenses = {n} must be from 1 to {MAX_LENSES}"
+            ));
         }
         let w = self.intersection_direction.normalize();
         let u = (self.point_on_lens1 - self.centre).reject_from_normalized(w);

@@ -100,7 +100,7 @@ impl Surface {
         at: &Interaction,
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
-        match self {
+        let redirection = match self {
             Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
@@ -120,6 +120,18 @@ impl Surface {
             Surface::IdealThinMirror(s) => s.redirect(at),
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
+        };
+        // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
+        // no light on, rather than a NaN ray.
+        let finite = |exit: &Exit| exit.point.is_finite() && exit.direction.is_finite();
+        match redirection {
+            Redirection::Leaves { direction, .. } if !direction.is_finite() => Redirection::Lost,
+            Redirection::Crosses { exit, .. } | Redirection::Jumps { exit, .. }
+                if !finite(&exit) =>
+            {
+                Redirection::Lost
+            }
+            r => r,
         }
     }
 

@@ -486,9 +486,9 @@ impl Placer {
         let name = join(prefix, Some(&own_name));
         let span = d.span();
         let transform_span = d.transform.as_ref().map(Spanned::span);
-        let parts = d.parts().map_err(|(at, e)| {
-            source.error(Some(at), format!("{}: {e}", super::object_label(&name)))
-        })?;
+        let parts = d
+            .parts()
+            .map_err(|(at, e)| source.error(Some(at), format!("device '{name}': {e}")))?;
         let (own, offsets) =
             self.placement(source, d.transform.take(), d.array.take(), parent, &name)?;
         let mut placed = Placed::default();

@@ -182,7 +182,7 @@ pub(super) enum SurfaceSection {
         centre: Vector,
         u_direction: Direction,
         v_direction: Direction,
-        period: [Positive; 2],
+        period: [NonZero; 2],
         #[serde(alias = "transmission")]
         transmission_coefficient: Option<Coefficient>,
     },
@@ -764,6 +764,12 @@ impl SurfaceSection {
                 transmission_coefficient,
             } => {
                 let (u, v) = (u_direction.0, v_direction.0);
+                if period[0].0 <= 0.0 || period[1].0 <= 0.0 {
+                    return Err(format!(
+                        "ideal-thin-lenslet-array: period = [{}, {}] must be positive",
+                        period[0].0, period[1].0
+                    ));
+                }
                 if u.cross(v).length() < 1e-9 {
                     return Err(format!(
                         "ideal-thin-lenslet-array: v_direction = {v} must not be parallel to u_direction = {u}"

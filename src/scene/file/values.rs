@@ -124,17 +124,26 @@ impl<'de> Deserialize<'de> for InnerRadius {
     }
 }
 
-/// A finite, non-zero number (a focal length, a focal-length ratio η).
+/// Smallest magnitude of a [`NonZero`] number: far below any scene's scale, and large enough
+/// that a scene's lengths divided by it stay finite.
+pub(super) const MIN_MAGNITUDE: f64 = 1e-15;
+
+/// A finite, non-zero number of magnitude at least [`MIN_MAGNITUDE`] (a focal length, a
+/// focal-length ratio η: laws divide by it).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct NonZero(pub f64);
 
 impl<'de> Deserialize<'de> for NonZero {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = Finite::deserialize(d)?.0;
-        if x != 0.0 {
+        if x.abs() >= MIN_MAGNITUDE {
             Ok(NonZero(x))
-        } else {
+        } else if x == 0.0 {
             Err(de::Error::custom("expected a non-zero number, got 0"))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a non-zero number of magnitude at least {MIN_MAGNITUDE:e}, got {x:e}"
+            )))
         }
     }
 }

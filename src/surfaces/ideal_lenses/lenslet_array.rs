@@ -4,9 +4,11 @@
 //! and whose optical axis is the surface normal at the hit.
 //!
 //! With the array's centre C (a lenslet's principal point), the unit directions û, v̂ made
-//! perpendicular to the surface normal n at the hit, and r = S − C, the cell centres are at
-//! u_c = p_u ⌊(r·û)/p_u + ½⌋ (likewise v), and the lenslet's principal point is
-//! C + u_c û + v_c v̂.
+//! perpendicular to the surface normal n at the hit, and r = S − C = α û + β v̂ + γ n (the
+//! coordinates in that basis, which need not be orthogonal, as Dr TIM's `toBasis`), the cell
+//! centres are at u_c = p_u ⌊α/p_u + ½⌋ (likewise v), and the lenslet's principal point is
+//! C + u_c û + v_c v̂. Where û and v̂ become parallel on a curved surface there is no lenslet
+//! (the ray is lost).
 
 use glam::{DVec2, DVec3};
 
@@ -35,11 +37,16 @@ impl LensletArray {
         let along = |a: DVec3| (a - a.dot(n) * n).normalize_or_zero();
         let (u, v) = (along(self.u), along(self.v));
         let r = s - self.centre;
+        // (α, β) from the Gram system [1 g; g 1] (α, β) = (r·û, r·v̂), g = û·v̂.
+        let g = u.dot(v);
+        let det = 1.0 - g * g;
+        let (ru, rv) = (r.dot(u), r.dot(v));
+        let (alpha, beta) = ((ru - g * rv) / det, (rv - g * ru) / det);
         let cell = |x: f64, p: f64| p * (x / p + 0.5).floor();
         ThinLens {
             principal_point: self.centre
-                + cell(r.dot(u), self.period.x) * u
-                + cell(r.dot(v), self.period.y) * v,
+                + cell(alpha, self.period.x) * u
+                + cell(beta, self.period.y) * v,
             optical_axis: n,
             focal_length: self.focal_length,
             gradient: None,
@@ -91,5 +98,28 @@ mod tests {
                 "{focus}"
             );
         }
+    }
+
+    /// With oblique directions the cells are those of the (û, v̂) lattice: S = (1, −1, 0) has
+    /// coordinates (2, −√2) along û = x̂ and v̂ = (x̂ + ŷ)/√2, so it lies in cell (2, −1),
+    /// whose centre is 2û − v̂ (Dr TIM's `toBasis`, not the projections r·û, r·v̂).
+    #[test]
+    fn oblique_directions_make_an_oblique_lattice() {
+        let v = DVec3::new(1.0, 1.0, 0.0).normalize();
+        let array = LensletArray {
+            centre: DVec3::ZERO,
+            u: DVec3::X,
+            v,
+            period: DVec2::ONE,
+            focal_length: 1.0,
+            transmission_coefficient: 1.0,
+        };
+        let lens = array.lenslet(DVec3::new(1.0, -1.0, 0.0), DVec3::Z);
+        let expected = 2.0 * DVec3::X - v;
+        assert!(
+            (lens.principal_point - expected).length() < 1e-15,
+            "{}",
+            lens.principal_point
+        );
     }
 }
