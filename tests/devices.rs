@@ -252,6 +252,30 @@ fn off_line(x: DVec3, a: DVec3, d: DVec3) -> f64 {
     (x - a).reject_from_normalized(d).length()
 }
 
+/// Each ray (start, direction) crossed at least `lenses` lenses and left ([`exits`]) on the line
+/// it came in on, in its own direction, to 1e-9; `label` names the case in messages.
+#[track_caller]
+fn assert_on_their_lines(
+    label: &str,
+    rays: &[(DVec3, DVec3)],
+    out: Vec<(DVec3, DVec3, usize)>,
+    lenses: usize,
+) {
+    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(out) {
+        let d = d.normalize();
+        assert!(
+            crossed >= lenses,
+            "{label}ray from {start} crossed only {crossed} lenses"
+        );
+        let miss = off_line(last, *start, d);
+        let turn = leaving.cross(d).length();
+        assert!(
+            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
+            "{label}ray from {start}: left {miss} off its line, turned by {turn}"
+        );
+    }
+}
+
 #[test]
 fn a_ray_crossing_a_lens_simplicial_complex_leaves_on_the_line_it_came_in_on() {
     let rays = [
@@ -260,20 +284,7 @@ fn a_ray_crossing_a_lens_simplicial_complex_leaves_on_the_line_it_came_in_on() {
         (DVec3::new(2.0, 2.0, 13.0), DVec3::new(-0.6, -0.7, -0.8)),
         (DVec3::new(0.2, -3.0, 10.5), DVec3::new(-0.05, 1.0, 0.3)),
     ];
-    let out = exits(&complex_scene(&VERTICES_V, &rays));
-    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(out) {
-        let d = d.normalize();
-        assert!(
-            crossed >= 3,
-            "ray from {start} crossed only {crossed} lenses"
-        );
-        let miss = off_line(last, *start, d);
-        let turn = leaving.cross(d).length();
-        assert!(
-            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
-            "ray from {start}: left {miss} off its line, turned by {turn}"
-        );
-    }
+    assert_on_their_lines("", &rays, exits(&complex_scene(&VERTICES_V, &rays)), 3);
 }
 
 #[test]
@@ -378,19 +389,7 @@ fn a_ray_crossing_the_ideal_lens_cloak_leaves_on_the_line_it_came_in_on() {
                 v(place(*direction) - place(DVec3::ZERO))
             );
         }
-        for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
-            let d = d.normalize();
-            assert!(
-                crossed >= 2,
-                "h1e = {h1e}: ray from {start} crossed {crossed} lenses"
-            );
-            let miss = off_line(last, *start, d);
-            let turn = leaving.cross(d).length();
-            assert!(
-                miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
-                "h1e = {h1e}, ray from {start}: left {miss} off its line, turned by {turn}"
-            );
-        }
+        assert_on_their_lines(&format!("h1e = {h1e}: "), &rays, exits(&text), 2);
     }
 }
 
@@ -412,16 +411,7 @@ fn a_ray_crossing_a_hexagonal_ideal_lens_cloak_leaves_on_the_line_it_came_in_on(
             v(place(*direction) - place(DVec3::ZERO))
         );
     }
-    for ((start, d), (last, leaving, crossed)) in rays.iter().zip(exits(&text)) {
-        let d = d.normalize();
-        assert!(crossed >= 2, "ray from {start} crossed {crossed} lenses");
-        let miss = off_line(last, *start, d);
-        let turn = leaving.cross(d).length();
-        assert!(
-            miss < 1e-9 && turn < 1e-9 && leaving.dot(d) > 0.0,
-            "ray from {start}: left {miss} off its line, turned by {turn}"
-        );
-    }
+    assert_on_their_lines("", &rays, exits(&text), 2);
 }
 
 /// The 4π lens: inside space (the cell between L1 and the closer inner vertex) is seen from

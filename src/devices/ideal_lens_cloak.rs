@@ -171,7 +171,6 @@ pub(super) fn rename(parts: &mut [Part], names: impl Iterator<Item = ([usize; 3]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surfaces::Surface;
 
     fn cloak(h1e: f64) -> IdealLensCloak {
         // Dr TIM's default (a regular tetrahedron), but with the EM-space height h1e.
@@ -232,21 +231,8 @@ mod tests {
             ];
             let parts = c.parts(None).unwrap();
             for (name, f, nodal_height) in expected {
-                let part = parts.iter().find(|p| p.name == name).unwrap();
-                let Surface::IdealThinLens(lens) = &part.surface else {
-                    panic!("{name} is no lens")
-                };
-                assert!(
-                    (lens.focal_length.abs() - f.abs()).abs() < 1e-9 * f.abs().max(1.0),
-                    "h1e = {h1e}, {name}: f = {}, Dr TIM's {f}",
-                    lens.focal_length
-                );
                 let nodal = DVec3::new(0.0, -1.0 + nodal_height, 10.0);
-                assert!(
-                    (lens.principal_point - nodal).length() < 1e-9,
-                    "h1e = {h1e}, {name}: principal point {}",
-                    lens.principal_point
-                );
+                crate::devices::checks::lens(&parts, name, f, nodal, &format!("h1e = {h1e}"));
             }
         }
     }

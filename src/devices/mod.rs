@@ -19,6 +19,39 @@ pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
 use crate::geometry::{Cylinder, Shape};
 use crate::surfaces::Surface;
 
+/// Checks for the cloaks' unit tests.
+#[cfg(test)]
+pub(crate) mod checks {
+    use glam::DVec3;
+
+    use super::Part;
+    use crate::surfaces::Surface;
+
+    /// The part `name` of `parts` is an ideal thin lens of focal length ±`f` (each cloak picks
+    /// its own face orientation) with its principal point at the nodal point `nodal`, to 1e-9;
+    /// `label` names the case in messages.
+    #[track_caller]
+    pub fn lens(parts: &[Part], name: &str, f: f64, nodal: DVec3, label: &str) {
+        let part = parts
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("{label}: no {name}"));
+        let Surface::IdealThinLens(lens) = &part.surface else {
+            panic!("{label}: {name} is no lens")
+        };
+        assert!(
+            (lens.focal_length.abs() - f.abs()).abs() < 1e-9 * f.abs().max(1.0),
+            "{label}, {name}: f = {}, Dr TIM's {f}",
+            lens.focal_length
+        );
+        assert!(
+            (lens.principal_point - nodal).length() < 1e-9,
+            "{label}, {name}: principal point {}",
+            lens.principal_point
+        );
+    }
+}
+
 /// One scene object of a device.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Part {

@@ -102,7 +102,6 @@ impl PolygonalIdealLensCloak {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surfaces::Surface;
 
     /// Every lens against the focal lengths and nodal points of Dr TIM's
     /// `EditablePolygonalIdealLensCloak.addLenses` (magnitudes, as in `ideal_lens_cloak.rs`).
@@ -148,24 +147,9 @@ mod tests {
                     (format!("upper vertical lens #{i}"), upper_vertical, h3),
                     (format!("lower vertical lens #{i}"), lower_vertical, h1),
                 ] {
-                    let part = parts
-                        .iter()
-                        .find(|p| p.name == name)
-                        .unwrap_or_else(|| panic!("n = {n}: no {name}"));
-                    let Surface::IdealThinLens(lens) = &part.surface else {
-                        panic!("{name} is no lens")
-                    };
-                    assert!(
-                        (lens.focal_length.abs() - f.abs()).abs() < 1e-9 * f.abs().max(1.0),
-                        "n = {n}, h1e = {h1e}, {name}: f = {}, Dr TIM's {f}",
-                        lens.focal_length
-                    );
                     let nodal = DVec3::new(0.0, -1.0 + nodal_height, 10.0);
-                    assert!(
-                        (lens.principal_point - nodal).length() < 1e-9,
-                        "n = {n}, {name}: principal point {}",
-                        lens.principal_point
-                    );
+                    let label = format!("n = {n}, h1e = {h1e}");
+                    crate::devices::checks::lens(&parts, &name, f, nodal, &label);
                 }
             }
             // Nothing else: the cuts through the axis need no lens.
