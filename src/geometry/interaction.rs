@@ -60,6 +60,12 @@ impl Interaction<'_> {
             .frame_along(&self.hit, self.point(), self.ray.direction)
     }
 
+    /// The outward normal of [`Self::frame`], alone.
+    pub fn normal(&self) -> DVec3 {
+        self.geometry
+            .normal_along(&self.hit, self.point(), self.ray.direction)
+    }
+
     /// The element's surface coordinates at the hit.
     pub fn coordinates(&self) -> DVec2 {
         self.geometry.coordinates(&self.hit, self.point())

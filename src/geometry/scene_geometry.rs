@@ -297,6 +297,16 @@ impl SceneGeometry {
         }
     }
 
+    /// The outward normal w of [`Self::frame_along`], without the rest of the frame (shading
+    /// needs no more): for a mesh without vertex normals, the triangle's own normal whichever
+    /// way the ray comes, as `frame_along` has it on both of its branches.
+    pub fn normal_along(&self, hit: &Hit, p: DVec3, direction: DVec3) -> DVec3 {
+        match &self.shapes[hit.object] {
+            Shape::TriangleMesh(m) if m.normals().is_none() => m.face_normal(hit.prim).normalize(),
+            _ => self.frame_along(hit, p, direction).w,
+        }
+    }
+
     /// Surface coordinates of world point `p` of a hit, on the hit element.
     pub fn coordinates(&self, hit: &Hit, p: DVec3) -> DVec2 {
         self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element))

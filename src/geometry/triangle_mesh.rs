@@ -153,6 +153,7 @@ impl TriangleMesh {
         Ok(mesh)
     }
 
+    #[inline]
     fn corners(&self, prim: u32) -> [DVec3; 3] {
         self.data.triangles[prim as usize].map(|i| self.data.vertices[i as usize])
     }
@@ -205,6 +206,7 @@ impl TriangleMesh {
     }
 
     /// The normal of triangle `prim` from its winding (not normalised).
+    #[inline]
     pub fn face_normal(&self, prim: u32) -> DVec3 {
         let [v0, v1, v2] = self.corners(prim);
         (v1 - v0).cross(v2 - v0)

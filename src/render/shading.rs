@@ -66,7 +66,7 @@ impl Tracer<'_> {
         if self.scene.lights.points.is_empty() {
             return;
         }
-        let n = at.frame().w;
+        let n = at.normal();
         let v = -at.ray.direction;
         let p = at.point();
         for light in &self.scene.lights.points {

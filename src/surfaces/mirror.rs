@@ -19,7 +19,7 @@ pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 impl Mirror {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
-            direction: reflect(at.ray.direction, at.frame().w),
+            direction: reflect(at.ray.direction, at.normal()),
             factor: self.reflection_coefficient,
         }
     }

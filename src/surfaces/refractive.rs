@@ -42,7 +42,7 @@ pub fn refract(d: DVec3, n: DVec3, index_ratio: f64) -> Option<DVec3> {
 impl Refractive {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let d = at.ray.direction;
-        let n = at.frame().w;
+        let n = at.normal();
         Redirection::Leaves {
             direction: refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n)),
             factor: self.transmission_coefficient,

@@ -56,7 +56,7 @@ impl LensletArray {
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let s = at.local_point();
-        let lens = self.lenslet(s, at.frame().w);
+        let lens = self.lenslet(s, at.normal());
         Redirection::Leaves {
             direction: lens.direction(at.ray.direction, s).normalize(),
             factor: self.transmission_coefficient,

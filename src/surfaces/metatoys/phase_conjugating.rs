@@ -41,7 +41,7 @@ pub fn phase_conjugated(d: DVec3, n: DVec3, conjugation: Conjugation) -> DVec3 {
 impl PhaseConjugating {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
-            direction: phase_conjugated(at.ray.direction, at.frame().w, self.conjugation),
+            direction: phase_conjugated(at.ray.direction, at.normal(), self.conjugation),
             factor: self.coefficient,
         }
     }
