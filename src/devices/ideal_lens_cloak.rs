@@ -78,7 +78,37 @@ const EDGES: [[usize; 2]; 14] = [
     [4, 5],
 ];
 
+/// A cloak's unit front, right and top directions and its upper inner vertex's EM-space height
+/// h₂′, checked.
+pub(super) struct Layout {
+    pub front: DVec3,
+    pub right: DVec3,
+    pub top: DVec3,
+    pub h2e: f64,
+}
+
 impl IdealLensCloak {
+    /// The directions and h₂′ of this cloak (and of a polygonal one with its parameters).
+    pub(super) fn layout(&self) -> Result<Layout, String> {
+        let h2e = upper_inner_height_e(
+            self.height,
+            self.height_lower_inner_vertex_p,
+            self.height_upper_inner_vertex_p,
+            self.height_lower_inner_vertex_e,
+        )?;
+        let (front, right, top) = axes(
+            self.front_direction,
+            self.right_direction,
+            self.top_direction,
+        )?;
+        Ok(Layout {
+            front,
+            right,
+            top,
+            h2e,
+        })
+    }
+
     /// The lenses, named as in Dr TIM (`base outer lens`, ...), and with `edges` its frames
     /// `edge I-J` (vertex numbers above).
     pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
@@ -88,12 +118,12 @@ impl IdealLensCloak {
             self.height_upper_inner_vertex_p,
             self.height_lower_inner_vertex_e,
         );
-        let h2e = upper_inner_height_e(h, h1, h2, h1e)?;
-        let (front, right, top) = axes(
-            self.front_direction,
-            self.right_direction,
-            self.top_direction,
-        )?;
+        let Layout {
+            front,
+            right,
+            top,
+            h2e,
+        } = self.layout()?;
         let (sin, cos) = 120f64.to_radians().sin_cos();
         let r = self.base_radius;
         let c = self.base_centre;
@@ -124,7 +154,7 @@ impl IdealLensCloak {
 
 /// h₂′, the EM-space height of the upper inner vertex (module comment), after checking that
 /// 0 < h₁ < h₂ < h.
-pub(super) fn upper_inner_height_e(h: f64, h1: f64, h2: f64, h1e: f64) -> Result<f64, String> {
+fn upper_inner_height_e(h: f64, h1: f64, h2: f64, h1e: f64) -> Result<f64, String> {
     if !(0.0 < h1 && h1 < h2 && h2 < h) {
         return Err(format!(
             "the inner vertices must lie inside, 0 < height_lower_inner_vertex_p < height_upper_inner_vertex_p < height, got {h1}, {h2} and {h}"
@@ -141,11 +171,7 @@ pub(super) fn upper_inner_height_e(h: f64, h1: f64, h2: f64, h1e: f64) -> Result
 
 /// Unit front, right and top directions: top as given, then front and right made
 /// perpendicular to it and to each other, in this order (Dr TIM's `setDirections`).
-pub(super) fn axes(
-    front: DVec3,
-    right: DVec3,
-    top: DVec3,
-) -> Result<(DVec3, DVec3, DVec3), String> {
+fn axes(front: DVec3, right: DVec3, top: DVec3) -> Result<(DVec3, DVec3, DVec3), String> {
     let top = top.normalize();
     let front = front.reject_from_normalized(top);
     let right = right.reject_from_normalized(top).reject_from(front);

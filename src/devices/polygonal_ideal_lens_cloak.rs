@@ -11,24 +11,16 @@
 
 use glam::DVec3;
 
-use super::ideal_lens_cloak::{axes, rename, upper_inner_height_e};
-use super::{Edges, LensSimplicialComplex, Part};
+use super::ideal_lens_cloak::{Layout, rename};
+use super::{Edges, IdealLensCloak, LensSimplicialComplex, Part};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolygonalIdealLensCloak {
-    pub base_centre: DVec3,
-    pub front_direction: DVec3,
-    pub right_direction: DVec3,
-    pub top_direction: DVec3,
-    /// R: distance of the base vertices from the base centre.
-    pub base_radius: f64,
+    /// The tetrahedral cloak's parameters (its `base_radius` R is the distance of the base
+    /// vertices from the base centre).
+    pub cloak: IdealLensCloak,
     /// N ≥ 3.
     pub no_of_base_vertices: usize,
-    pub height: f64,
-    pub height_lower_inner_vertex_p: f64,
-    pub height_upper_inner_vertex_p: f64,
-    pub height_lower_inner_vertex_e: f64,
-    pub interface_transmission_coefficient: f64,
 }
 
 /// Most base vertices (Dr TIM's cloaks have a few).
@@ -45,20 +37,21 @@ impl PolygonalIdealLensCloak {
                 "no_of_base_vertices must be from 3 to {MAX_BASE_VERTICES}, got {n}"
             ));
         }
+        let cloak = &self.cloak;
         let (h, h1, h2, h1e) = (
-            self.height,
-            self.height_lower_inner_vertex_p,
-            self.height_upper_inner_vertex_p,
-            self.height_lower_inner_vertex_e,
+            cloak.height,
+            cloak.height_lower_inner_vertex_p,
+            cloak.height_upper_inner_vertex_p,
+            cloak.height_lower_inner_vertex_e,
         );
-        let h2e = upper_inner_height_e(h, h1, h2, h1e)?;
-        let (front, right, top) = axes(
-            self.front_direction,
-            self.right_direction,
-            self.top_direction,
-        )?;
-        let c = self.base_centre;
-        let r = self.base_radius;
+        let Layout {
+            front,
+            right,
+            top,
+            h2e,
+        } = cloak.layout()?;
+        let c = cloak.base_centre;
+        let r = cloak.base_radius;
         let above = |height: f64| c + height * top;
         let mut vertices: Vec<DVec3> = (0..n)
             .map(|i| {
@@ -80,7 +73,7 @@ impl PolygonalIdealLensCloak {
             vertices,
             vertices_v,
             edges: joined,
-            lens_transmission_coefficient: self.interface_transmission_coefficient,
+            lens_transmission_coefficient: cloak.interface_transmission_coefficient,
         };
         let mut parts = complex.parts(edges)?;
         let names = (0..n).flat_map(|i| {
@@ -110,17 +103,19 @@ mod tests {
         for (n, h1e) in [(3, -1.0), (4, 0.1), (6, 0.3), (7, -0.5)] {
             let (h1, h2, h3, r) = (0.6, 1.3, 2.0, 1.5);
             let cloak = PolygonalIdealLensCloak {
-                base_centre: DVec3::new(0.0, -1.0, 10.0),
-                front_direction: DVec3::new(0.0, 0.0, -1.0),
-                right_direction: DVec3::X,
-                top_direction: DVec3::Y,
-                base_radius: r,
+                cloak: IdealLensCloak {
+                    base_centre: DVec3::new(0.0, -1.0, 10.0),
+                    front_direction: DVec3::new(0.0, 0.0, -1.0),
+                    right_direction: DVec3::X,
+                    top_direction: DVec3::Y,
+                    base_radius: r,
+                    height: h3,
+                    height_lower_inner_vertex_p: h1,
+                    height_upper_inner_vertex_p: h2,
+                    height_lower_inner_vertex_e: h1e,
+                    interface_transmission_coefficient: 1.0,
+                },
                 no_of_base_vertices: n,
-                height: h3,
-                height_lower_inner_vertex_p: h1,
-                height_upper_inner_vertex_p: h2,
-                height_lower_inner_vertex_e: h1e,
-                interface_transmission_coefficient: 1.0,
             };
             let f00 = h1 * h1e / (h1e - h1);
             let pi_n = std::f64::consts::PI / n as f64;

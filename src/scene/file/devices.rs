@@ -59,29 +59,13 @@ enum LensesSection {
         lens_transmission_coefficient: Option<Coefficient>,
     },
     IdealLensCloak {
-        base_centre: Vector,
-        front_direction: Direction,
-        right_direction: Direction,
-        top_direction: Direction,
-        base_radius: Positive,
-        height: Positive,
-        height_lower_inner_vertex_p: Finite,
-        height_upper_inner_vertex_p: Finite,
-        height_lower_inner_vertex_e: Finite,
-        interface_transmission_coefficient: Option<Coefficient>,
+        #[serde(flatten)]
+        cloak: CloakKeys,
     },
     PolygonalIdealLensCloak {
-        base_centre: Vector,
-        front_direction: Direction,
-        right_direction: Direction,
-        top_direction: Direction,
-        base_radius: Positive,
+        #[serde(flatten)]
+        cloak: CloakKeys,
         no_of_base_vertices: usize,
-        height: Positive,
-        height_lower_inner_vertex_p: Finite,
-        height_upper_inner_vertex_p: Finite,
-        height_lower_inner_vertex_e: Finite,
-        interface_transmission_coefficient: Option<Coefficient>,
     },
     PlatonicLens {
         platonic_solid: SolidName,
@@ -106,6 +90,40 @@ enum LensesSection {
         show_l1: Option<bool>,
         show_r1: Option<bool>,
     },
+}
+
+/// The keys of the tetrahedral and the polygonal ideal-lens cloak.
+#[derive(Debug, Deserialize)]
+struct CloakKeys {
+    base_centre: Vector,
+    front_direction: Direction,
+    right_direction: Direction,
+    top_direction: Direction,
+    base_radius: Positive,
+    height: Positive,
+    height_lower_inner_vertex_p: Finite,
+    height_upper_inner_vertex_p: Finite,
+    height_lower_inner_vertex_e: Finite,
+    interface_transmission_coefficient: Option<Coefficient>,
+}
+
+impl CloakKeys {
+    fn cloak(&self) -> IdealLensCloak {
+        IdealLensCloak {
+            base_centre: self.base_centre.0,
+            front_direction: self.front_direction.0,
+            right_direction: self.right_direction.0,
+            top_direction: self.top_direction.0,
+            base_radius: self.base_radius.0,
+            height: self.height.0,
+            height_lower_inner_vertex_p: self.height_lower_inner_vertex_p.0,
+            height_upper_inner_vertex_p: self.height_upper_inner_vertex_p.0,
+            height_lower_inner_vertex_e: self.height_lower_inner_vertex_e.0,
+            interface_transmission_coefficient: self
+                .interface_transmission_coefficient
+                .map_or(1.0, |c| c.0),
+        }
+    }
 }
 
 /// The Platonic solid of a Platonic lens.
@@ -188,56 +206,13 @@ impl DeviceSection {
                 lens_transmission_coefficient: lens_transmission_coefficient.map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
-            LensesSection::IdealLensCloak {
-                base_centre,
-                front_direction,
-                right_direction,
-                top_direction,
-                base_radius,
-                height,
-                height_lower_inner_vertex_p,
-                height_upper_inner_vertex_p,
-                height_lower_inner_vertex_e,
-                interface_transmission_coefficient,
-            } => IdealLensCloak {
-                base_centre: base_centre.0,
-                front_direction: front_direction.0,
-                right_direction: right_direction.0,
-                top_direction: top_direction.0,
-                base_radius: base_radius.0,
-                height: height.0,
-                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
-                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
-                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
-                interface_transmission_coefficient: interface_transmission_coefficient
-                    .map_or(1.0, |c| c.0),
-            }
-            .parts(edges.as_ref()),
+            LensesSection::IdealLensCloak { cloak } => cloak.cloak().parts(edges.as_ref()),
             LensesSection::PolygonalIdealLensCloak {
-                base_centre,
-                front_direction,
-                right_direction,
-                top_direction,
-                base_radius,
+                cloak,
                 no_of_base_vertices,
-                height,
-                height_lower_inner_vertex_p,
-                height_upper_inner_vertex_p,
-                height_lower_inner_vertex_e,
-                interface_transmission_coefficient,
             } => PolygonalIdealLensCloak {
-                base_centre: base_centre.0,
-                front_direction: front_direction.0,
-                right_direction: right_direction.0,
-                top_direction: top_direction.0,
-                base_radius: base_radius.0,
+                cloak: cloak.cloak(),
                 no_of_base_vertices: *no_of_base_vertices,
-                height: height.0,
-                height_lower_inner_vertex_p: height_lower_inner_vertex_p.0,
-                height_upper_inner_vertex_p: height_upper_inner_vertex_p.0,
-                height_lower_inner_vertex_e: height_lower_inner_vertex_e.0,
-                interface_transmission_coefficient: interface_transmission_coefficient
-                    .map_or(1.0, |c| c.0),
             }
             .parts(edges.as_ref()),
             LensesSection::PlatonicLens {
