@@ -446,8 +446,12 @@ fn sphere_elements_have_their_own_frames() {
         assert!(frame.u.dot(frame.w).abs() < 1e-12 && frame.v.dot(frame.w).abs() < 1e-12);
         // The same as the frame and coordinates of a sphere placed there on its own.
         let moved = Sphere::new(c, r).unwrap();
-        assert!((frame.u - moved.frame(p).u).length() < 1e-12, "{frame:?}");
-        let (uv, expected_uv): (DVec2, DVec2) = (scene.coordinates(&hit, p), moved.coordinates(p));
+        assert!(
+            (frame.u - moved.frame(p, 0).u).length() < 1e-12,
+            "{frame:?}"
+        );
+        let (uv, expected_uv): (DVec2, DVec2) =
+            (scene.coordinates(&hit, p), moved.coordinates(p, 0));
         assert!((uv - expected_uv).length() < 1e-9, "{uv} vs {expected_uv}");
         // A shadow ray towards the element is shadowed, one stopping short of it is not.
         assert!(scene.shadowed(origin, d, 0.0, f64::INFINITY));

@@ -29,12 +29,12 @@ impl UserGeometry for Fragile {
         }
     }
 
-    fn intersect(&self, _prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64> {
+    fn intersect(&self, _prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<(f64, u32)> {
         if ray.direction.x < 0.0 {
             panic!("intersect with a ray going left, t_far {t_far}");
         }
         let t = (-1.0 - ray.origin.z) / ray.direction.z;
-        (t_near < t && t < t_far).then_some(t)
+        (t_near < t && t < t_far).then_some((t, 0))
     }
 }
 

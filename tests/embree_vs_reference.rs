@@ -384,8 +384,10 @@ impl UserGeometry for UnitSphere {
         Bounds::enclosing(DVec3::splat(-1.0), DVec3::splat(1.0))
     }
 
-    fn intersect(&self, _prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64> {
-        unit_sphere_hit(ray.origin, ray.direction, t_near, t_far)
+    /// Part 1 on the upper half (z > 0), part 0 on the lower.
+    fn intersect(&self, _prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<(f64, u32)> {
+        let t = unit_sphere_hit(ray.origin, ray.direction, t_near, t_far)?;
+        Some((t, (ray.origin.z + t * ray.direction.z > 0.0) as u32))
     }
 }
 
@@ -527,6 +529,8 @@ fn check_instances(a: Affine, b: Affine, seed: u64) -> Result<(), TestCaseError>
                         "{} off the sphere",
                         local
                     );
+                    // The part the user geometry reported comes back with the hit.
+                    prop_assert_eq!(h.part, (local.z > 0.0) as u32, "{:?} at {}", h, local);
                 } else {
                     let margin = (local.x - 2.0)
                         .min(3.0 - local.x)

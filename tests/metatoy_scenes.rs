@@ -57,7 +57,7 @@ fn the_metatoy_window_studio_is_tims_scene() {
             DVec3::Y * 2.0
         )
     );
-    assert_eq!(p.frame(p.corner()).w, DVec3::Z, "outward normal +z");
+    assert_eq!(p.frame(p.corner(), 0).w, DVec3::Z, "outward normal +z");
     assert!(!pane.shadow_throwing);
     let Surface::RayRotating(r) = &pane.surface else {
         panic!("{:?}", pane.surface)

@@ -398,9 +398,9 @@ fn a_reflection_keeps_the_outward_normal_of_parallelograms_and_meshes() {
         let sep = if prefix.ends_with('/') { "" } else { " " };
         let p = parallelogram(&scene, &format!("{prefix}{sep}tile"));
         assert!(
-            (p.frame(p.corner()).w - normal).length() < 1e-9,
+            (p.frame(p.corner(), 0).w - normal).length() < 1e-9,
             "{prefix} tile faces {}, not {normal}",
-            p.frame(p.corner()).w
+            p.frame(p.corner(), 0).w
         );
         let m = mesh(&scene, &format!("{prefix}{sep}tri"));
         assert!(
@@ -1181,31 +1181,39 @@ shape = {{ type = "sphere", centre = [0, 0, 0], radius = 1 }}
 }
 
 #[test]
-fn round_shapes_cannot_be_scaled_non_uniformly() {
+fn round_shapes_scaled_non_uniformly_become_exact_transformed_shapes() {
     for shape in [
         r#"{ type = "sphere", centre = [0, 0, 0], radius = 1 }"#,
         r#"{ type = "disc", centre = [0, 0, 0], normal = [0, 0, 1], radius = 1 }"#,
         r#"{ type = "cylinder", start = [0, 0, 0], end = [0, 0, 1], radius = 1 }"#,
     ] {
-        let kind = shape.split('"').nth(1).unwrap();
-        let text = format!(
-            "studio = \"none\"\n[[object]]\nname = \"round\"\nshape = {shape}\n{MATT}\ntransform = {{ scale = [1, 2, 1] }}\n"
-        );
-        assert_error_at(
-            &text,
-            "transform =",
-            &[&format!("{kind} cannot be scaled non-uniformly"), "'round'"],
-        );
-
-        // Through a group's scale.
-        let text = format!(
-            "studio = \"none\"\n[[group]]\nname = \"squash\"\ntransform = {{ scale = [2, 1, 1] }}\n[[group.object]]\nname = \"round\"\nshape = {shape}\n{MATT}\n"
-        );
-        let e = parse_error(&text);
-        assert!(
-            e.contains(&format!("{kind} cannot be scaled non-uniformly")),
-            "{e}"
-        );
+        for text in [
+            format!(
+                "studio = \"none\"\n[[object]]\nname = \"round\"\nshape = {shape}\n{MATT}\ntransform = {{ scale = [3, 2, 1] }}\n"
+            ),
+            // Through a group's scale.
+            format!(
+                "studio = \"none\"\n[[group]]\nname = \"squash\"\ntransform = {{ scale = [3, 2, 1] }}\n[[group.object]]\nname = \"round\"\nshape = {shape}\n{MATT}\n"
+            ),
+        ] {
+            let scene = parse(&text);
+            let s = &scene.objects[0].shape;
+            assert!(matches!(s, Shape::Transformed(_)), "{s:?}");
+            // The sphere becomes the ellipsoid x²/9 + y²/4 + z² = 1, the disc the ellipse
+            // x²/9 + y²/4 ≤ 1 at z = 0, the cylinder the elliptic one over that ellipse.
+            let hit = |o: DVec3, d: DVec3| s.intersect(o, d, 0.0, f64::INFINITY).map(|h| h.0);
+            let down = v(0.0, 0.0, -1.0);
+            if shape.contains("sphere") {
+                let t = hit(v(10.0, 0.0, 0.2), v(-1.0, 0.0, 0.0)).unwrap();
+                assert!((10.0 - t - 3.0 * 0.96f64.sqrt()).abs() < 1e-12, "t {t}");
+            } else {
+                let t = hit(v(2.9, 0.0, 5.0), down).unwrap();
+                let top = if shape.contains("disc") { 0.0 } else { 1.0 };
+                assert!((5.0 - t - top).abs() < 1e-12, "{shape}: t {t}");
+                assert_eq!(hit(v(3.01, 0.0, 5.0), down), None, "{shape}");
+                assert_eq!(hit(v(0.0, 2.01, 5.0), down), None, "{shape}");
+            }
+        }
 
         // Uniform scales, also negative ones, are fine.
         let text = format!(

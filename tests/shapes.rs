@@ -976,7 +976,7 @@ proptest! {
         if let (RefShape::Plane { normal, u_dir, .. }, Shape::Plane(p)) = (&case.shape, shape) {
             let n = normal.normalize();
             if let Some(u) = (*u_dir - u_dir.dot(n) * n).try_normalize() {
-                let frame = p.frame(p.point());
+                let frame = p.frame(p.point(), 0);
                 prop_assert!((frame.u - u).length() < 1e-12, "{frame:?} vs {u}");
             }
         }

@@ -123,8 +123,9 @@ pub trait UserGeometry: Send + Sync {
     fn primitive_count(&self) -> u32;
     /// Bounds of primitive `prim`.
     fn bounds(&self, prim: u32) -> Bounds;
-    /// Nearest intersection of primitive `prim` with the ray at `t_near < t < t_far`.
-    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64>;
+    /// Nearest intersection of primitive `prim` with the ray at `t_near < t < t_far`: its
+    /// distance and which part of the primitive it is on (returned in [`RawHit::part`]).
+    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<(f64, u32)>;
 }
 
 /// The nearest hit of a query. `t` is exact (f64, computed by the user geometry on the exact
@@ -138,6 +139,8 @@ pub struct RawHit {
     pub inst_id: Option<u32>,
     pub t: f64,
     pub exact: bool,
+    /// The part of the primitive the user geometry reported (0 for triangles).
+    pub part: u32,
 }
 
 struct DeviceInner {
@@ -441,12 +444,23 @@ impl Drop for Scene {
     }
 }
 
-/// The latest user-geometry hit a callback accepted for one ray: its exact distance and
-/// (instance, geometry, primitive) ids.
-type Best = Cell<(f64, u32, u32, u32)>;
+/// The latest user-geometry hit a callback accepted for one ray: its exact distance, the part
+/// of the primitive, and the (instance, geometry, primitive) ids.
+#[derive(Clone, Copy)]
+struct BestHit {
+    t: f64,
+    part: u32,
+    ids: (u32, u32, u32),
+}
+
+type Best = Cell<BestHit>;
 
 fn no_best() -> Best {
-    Cell::new((f64::INFINITY, INVALID_ID, INVALID_ID, INVALID_ID))
+    Cell::new(BestHit {
+        t: f64::INFINITY,
+        part: 0,
+        ids: (INVALID_ID, INVALID_ID, INVALID_ID),
+    })
 }
 
 /// Per-query data handed through Embree to the callbacks: the exact rays (indexed by the
@@ -491,18 +505,19 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
 }
 
 impl Scene {
-    fn finish(raw: &ffi::TimbreHit, best: (f64, u32, u32, u32)) -> Option<RawHit> {
+    fn finish(raw: &ffi::TimbreHit, best: BestHit) -> Option<RawHit> {
         if raw.geom_id == INVALID_ID {
             return None;
         }
         let inst_id = (raw.inst_id != INVALID_ID).then_some(raw.inst_id);
-        let exact = (best.1, best.2, best.3) == (raw.inst_id, raw.geom_id, raw.prim_id);
+        let exact = best.ids == (raw.inst_id, raw.geom_id, raw.prim_id);
         Some(RawHit {
             geom_id: raw.geom_id,
             prim_id: raw.prim_id,
             inst_id,
-            t: if exact { best.0 } else { raw.t as f64 },
+            t: if exact { best.t } else { raw.t as f64 },
             exact,
+            part: if exact { best.part } else { 0 },
         })
     }
 
@@ -729,10 +744,14 @@ fn intersect_exact(
     // On the exact ray, a hit must also beat the exact distance of the hit accepted so far:
     // Embree's f32 tfar cannot separate hits less than an f32 step apart.
     let best = exact.and_then(|_| query.best.get(id));
-    let t_far = best.map_or(ray.tfar as f64, |b| b.get().0.min(ray.tfar as f64));
-    let t = geometry.intersect(prim, &r, ray.tnear as f64, t_far)?;
+    let t_far = best.map_or(ray.tfar as f64, |b| b.get().t.min(ray.tfar as f64));
+    let (t, part) = geometry.intersect(prim, &r, ray.tnear as f64, t_far)?;
     if let Some(best) = best {
-        best.set((t, inst_id, geom_id, prim));
+        best.set(BestHit {
+            t,
+            part,
+            ids: (inst_id, geom_id, prim),
+        });
     }
     Some(t)
 }

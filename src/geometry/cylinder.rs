@@ -6,9 +6,9 @@
 //! so the quadratic only sees the perpendicular geometry, and it is solved about the line's
 //! closest point to the axis, which keeps precision when the cylinder is seen broadside from afar.
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -19,6 +19,9 @@ pub struct Cylinder {
     /// Unit vector from start to end.
     axis: DVec3,
     length: f64,
+    /// Unit vectors across the axis: the directions of angles 0 and 90° of the surface
+    /// coordinates.
+    across: (DVec3, DVec3),
 }
 
 impl Cylinder {
@@ -32,13 +35,24 @@ impl Cylinder {
                 "cylinder start and end coincide (or are too far apart)".into(),
             ));
         }
+        let axis = (end - start) / length;
+        let f = Frame::from_normal(axis);
         Ok(Cylinder {
             start,
             end,
             radius,
-            axis: (end - start) / length,
+            axis,
             length,
+            across: (f.u, f.v),
         })
+    }
+
+    /// This cylinder (the image of `original` under a map whose orthogonal part is
+    /// `rotation`) with `original`'s directions across the axis turned by `rotation`, so its
+    /// surface-coordinate pattern turns with it.
+    pub fn across_from(mut self, original: &Cylinder, rotation: DMat3) -> Cylinder {
+        self.across = (rotation * original.across.0, rotation * original.across.1);
+        self
     }
 
     pub fn start(&self) -> DVec3 {
@@ -60,7 +74,13 @@ impl Cylinder {
 }
 
 impl AnalyticShape for Cylinder {
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         let a = self.axis;
         let oc = origin - self.start;
         let (oc_axial, d_axial) = (oc.dot(a), direction.dot(a));
@@ -78,12 +98,12 @@ impl AnalyticShape for Cylinder {
             let r = oc_perp + t * d_perp;
             (t.is_finite() && r.length_squared() <= self.radius * self.radius).then_some(t)
         });
-        nearest_in(mantle.chain(caps), t_min, t_max)
+        nearest_in(mantle.chain(caps), t_min, t_max).map(|t| (t, 0))
     }
 
     /// Frame at a surface point: on the mantle w is radial, u = axis × w, v = axis; on a cap w
     /// is ∓axis. A point belongs to whichever part it is nearer to.
-    fn frame(&self, p: DVec3) -> Frame {
+    fn frame(&self, p: DVec3, _part: u32) -> Frame {
         let s = (p - self.start).dot(self.axis);
         let radial = (p - self.start) - s * self.axis;
         let to_mantle = (radial.length() - self.radius).abs();
@@ -101,10 +121,10 @@ impl AnalyticShape for Cylinder {
     }
 
     /// (r φ, s): arc length around the axis and distance along it from `start`.
-    fn coordinates(&self, p: DVec3) -> DVec2 {
-        let f = Frame::from_normal(self.axis);
+    fn coordinates(&self, p: DVec3, _part: u32) -> DVec2 {
+        let (u, v) = self.across;
         let d = p - self.start;
-        DVec2::new(self.radius * d.dot(f.v).atan2(d.dot(f.u)), d.dot(self.axis))
+        DVec2::new(self.radius * d.dot(v).atan2(d.dot(u)), d.dot(self.axis))
     }
 
     /// The mantle point with surface coordinates `c` (inverse of [`Self::coordinates`]);
@@ -114,9 +134,9 @@ impl AnalyticShape for Cylinder {
         if !(0.0..=self.length).contains(&c.y) || !angle.is_finite() {
             return None;
         }
-        let f = Frame::from_normal(self.axis);
+        let (u, v) = self.across;
         let (s, co) = angle.sin_cos();
-        Some(self.start + c.y * self.axis + self.radius * (co * f.u + s * f.v))
+        Some(self.start + c.y * self.axis + self.radius * (co * u + s * v))
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
@@ -124,5 +144,53 @@ impl AnalyticShape for Cylinder {
         let a = self.axis;
         let e = self.radius * (DVec3::ONE - a * a).max(DVec3::ZERO).sqrt();
         Some((self.start.min(self.end) - e, self.start.max(self.end) + e))
+    }
+
+    fn solid(&self) -> Option<&dyn ConvexSolid> {
+        Some(self)
+    }
+}
+
+impl ConvexSolid for Cylinder {
+    /// The stretch inside the infinite cylinder, cut to the slab between the end planes.
+    fn chord(&self, origin: DVec3, direction: DVec3) -> Option<Span> {
+        let a = self.axis;
+        let oc = origin - self.start;
+        let (oc_axial, d_axial) = (oc.dot(a), direction.dot(a));
+        let oc_perp = oc - oc_axial * a;
+        let d_perp = direction - d_axial * a;
+        let (t0, t1) = match circle_crossings(oc_perp, d_perp, self.radius) {
+            Some(ts) => ts,
+            // Parallel to the axis (or as good as): inside the mantle throughout or never.
+            None if oc_perp.length_squared() < self.radius * self.radius => {
+                (f64::NEG_INFINITY, f64::INFINITY)
+            }
+            None => return None,
+        };
+        let (s0, s1) = (
+            (0.0 - oc_axial) / d_axial,
+            (self.length - oc_axial) / d_axial,
+        );
+        let slab = if d_axial == 0.0 {
+            if !(0.0..=self.length).contains(&oc_axial) {
+                return None;
+            }
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            (s0.min(s1), s0.max(s1))
+        };
+        let enter = t0.max(slab.0);
+        let exit = t1.min(slab.1);
+        (enter < exit).then_some(Span {
+            enter: (enter, 0),
+            exit: (exit, 0),
+        })
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        let d = p - self.start;
+        let s = d.dot(self.axis);
+        (0.0..=self.length).contains(&s)
+            && (d - s * self.axis).length_squared() <= self.radius * self.radius
     }
 }

@@ -1,6 +1,6 @@
 //! Disc: the points of a plane within `radius` of `centre`.
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 
 use super::plane::plane_distance;
 use super::{AnalyticShape, GeometryError};
@@ -26,6 +26,26 @@ impl Disc {
         })
     }
 
+    /// The same disc with its frame (and so its surface-coordinate pattern) turned by the
+    /// orthogonal matrix `rotation`.
+    pub fn rotated(mut self, rotation: DMat3) -> Disc {
+        let f = self.frame;
+        self.frame = Frame {
+            u: rotation * f.u,
+            v: rotation * f.v,
+            w: rotation * f.w,
+        };
+        self
+    }
+
+    /// The disc moved to `centre` with radius `radius`, its frame kept.
+    pub fn placed(self, centre: DVec3, radius: f64) -> Result<Disc, GeometryError> {
+        Ok(Disc {
+            frame: self.frame,
+            ..Disc::new(centre, self.frame.w, radius)?
+        })
+    }
+
     pub fn centre(&self) -> DVec3 {
         self.centre
     }
@@ -36,15 +56,21 @@ impl Disc {
 }
 
 impl AnalyticShape for Disc {
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         let t = plane_distance(self.centre, self.frame.w, origin, direction)?;
         let inside =
             (origin + t * direction - self.centre).length_squared() <= self.radius * self.radius;
-        (t > t_min && t < t_max && inside).then_some(t)
+        (t > t_min && t < t_max && inside).then_some((t, 0))
     }
 
     /// Cartesian coordinates along u and v from the centre.
-    fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3, _part: u32) -> DVec2 {
         let d = p - self.centre;
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
     }
@@ -56,7 +82,7 @@ impl AnalyticShape for Disc {
     }
 
     /// w is the unit outward normal; u, v span the disc.
-    fn frame(&self, _p: DVec3) -> Frame {
+    fn frame(&self, _p: DVec3, _part: u32) -> Frame {
         self.frame
     }
 
@@ -68,7 +94,7 @@ impl AnalyticShape for Disc {
     }
 
     /// The surface coordinates, which are Cartesian.
-    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
-        Some(self.coordinates(p))
+    fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
+        Some(self.coordinates(p, part))
     }
 }

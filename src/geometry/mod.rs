@@ -4,6 +4,7 @@
 //! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
 //! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
 
+mod csg;
 mod cylinder;
 mod disc;
 mod interaction;
@@ -12,11 +13,13 @@ mod plane;
 mod scene_geometry;
 mod sphere;
 mod transform;
+mod transformed;
 mod triangle_mesh;
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
+pub use csg::{Csg, CsgOperation};
 pub use cylinder::Cylinder;
 pub use disc::Disc;
 pub use interaction::{Exit, Interaction};
@@ -25,6 +28,7 @@ pub use plane::Plane;
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
 pub use sphere::Sphere;
 pub use transform::Transform;
+pub use transformed::Transformed;
 pub use triangle_mesh::TriangleMesh;
 
 use crate::math::Frame;
@@ -58,6 +62,22 @@ fn check_point(what: &'static str, value: DVec3) -> Result<(), GeometryError> {
     }
 }
 
+/// A finite linear map with an inverse that does not lose all precision.
+fn check_invertible(m: DMat3) -> Result<(), GeometryError> {
+    let size = m
+        .to_cols_array()
+        .iter()
+        .fold(0.0, |a: f64, e| a.max(e.abs()));
+    if m.is_finite() && m.determinant().abs() > 1e-12 * size.powi(3) {
+        Ok(())
+    } else {
+        Err(GeometryError::Degenerate(format!(
+            "singular transform: the matrix {:?} (rows) has no inverse",
+            m.transpose().to_cols_array_2d()
+        )))
+    }
+}
+
 /// A finite, non-zero vector, normalised.
 fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryError> {
     check_point(what, value)?;
@@ -66,31 +86,83 @@ fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryEr
         .ok_or(GeometryError::ZeroVector { what })
 }
 
-/// What every analytic shape gives: exact f64 hits of its one primitive, the surface frame and
-/// coordinates, and bounds. A new shape implements it in its own file and is added to
-/// [`Shape`] and to `dispatch!` below, one line each.
+/// What every analytic shape gives: exact f64 hits, the surface frame and coordinates, and
+/// bounds. A new shape implements it in its own file and is added to [`Shape`] and to
+/// `dispatch!` below, one line each.
+///
+/// A shape may have several *parts* (the faces of a polyhedron, the pieces of a CSG solid):
+/// `intersect` says which part it met, and the frame and coordinates there are the part's.
 pub trait AnalyticShape {
-    /// The nearest t in (t_min, t_max) where `origin + t direction` meets the surface.
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64>;
+    /// The nearest t in (t_min, t_max) where `origin + t direction` meets the surface, and the
+    /// part met there (0 for shapes of one part). `direction` need not be a unit vector (a
+    /// linear map hands its shape a stretched one); t is in units of it.
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)>;
 
-    /// The surface frame at surface point `p` (u, v, w; w the outward normal).
-    fn frame(&self, p: DVec3) -> Frame;
+    /// The surface frame at surface point `p` of part `part` (u, v, w; w the outward normal).
+    fn frame(&self, p: DVec3, part: u32) -> Frame;
 
-    /// The surface coordinates of surface point `p` (units of length; see each shape).
-    fn coordinates(&self, p: DVec3) -> DVec2;
+    /// The surface coordinates of surface point `p` of part `part` (units of length; see each
+    /// shape).
+    fn coordinates(&self, p: DVec3, part: u32) -> DVec2;
 
     /// The point with surface coordinates `c` (the inverse of [`Self::coordinates`]), or
-    /// `None` if no point of the shape has them.
-    fn point_at(&self, c: DVec2) -> Option<DVec3>;
+    /// `None` if no point of the shape has them (or the shape has several parts).
+    fn point_at(&self, _c: DVec2) -> Option<DVec3> {
+        None
+    }
 
     /// Cartesian coordinates of `p` along the frame's u and v from a flat shape's reference
     /// point; `None` for curved shapes.
-    fn plane_coordinates(&self, _p: DVec3) -> Option<DVec2> {
+    fn plane_coordinates(&self, _p: DVec3, _part: u32) -> Option<DVec2> {
         None
     }
 
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     fn bounds(&self) -> Option<(DVec3, DVec3)>;
+
+    /// The convex solid this shape bounds, if it is one; constructive solid geometry combines
+    /// only these (and its own results).
+    fn solid(&self) -> Option<&dyn ConvexSolid> {
+        None
+    }
+}
+
+/// A shape that is the whole surface of a convex solid (a sphere, a capped cylinder, a
+/// polyhedron; a plane bounds the half-space behind it).
+pub trait ConvexSolid {
+    /// Where the whole line `origin + t direction` (every real t) is inside the solid:
+    /// entering and leaving, each with the part crossed; `None` if the line misses it. A
+    /// half-space's span reaches ±∞ (part [`Span::NO_PART`] there).
+    fn chord(&self, origin: DVec3, direction: DVec3) -> Option<Span>;
+
+    /// Whether `p` is inside (points on the surface may go either way).
+    fn contains(&self, p: DVec3) -> bool;
+}
+
+/// A stretch of a line inside a solid: from `enter` to `exit` (distances along the line, the
+/// first below the second), with the parts of the surface crossed there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Span {
+    pub enter: (f64, u32),
+    pub exit: (f64, u32),
+}
+
+impl Span {
+    /// The part at an infinite end, where no surface is crossed.
+    pub const NO_PART: u32 = u32::MAX;
+
+    /// The nearer of the span's two crossings inside (t_min, t_max).
+    pub fn nearest(&self, t_min: f64, t_max: f64) -> Option<(f64, u32)> {
+        [self.enter, self.exit]
+            .into_iter()
+            .find(|&(t, part)| t > t_min && t < t_max && part != Span::NO_PART)
+    }
 }
 
 /// `$analytic` with `$s` bound to the analytic shape inside a [`Shape`], or `$mesh` with `$m`
@@ -103,6 +175,8 @@ macro_rules! dispatch {
             Shape::Disc($s) => $analytic,
             Shape::Cylinder($s) => $analytic,
             Shape::Parallelogram($s) => $analytic,
+            Shape::Csg($s) => $analytic,
+            Shape::Transformed($s) => $analytic,
             Shape::TriangleMesh($m) => $mesh,
         }
     };
@@ -116,12 +190,16 @@ pub enum Shape {
     Disc(Disc),
     Cylinder(Cylinder),
     Parallelogram(Parallelogram),
+    /// Solids combined by constructive solid geometry.
+    Csg(Csg),
+    /// An analytic shape under a general linear map.
+    Transformed(Transformed),
     TriangleMesh(TriangleMesh),
 }
 
 impl Shape {
     /// Nearest hit (t, primitive) with t_min < t < t_max; primitives are a mesh's triangles,
-    /// every other shape has the single primitive 0.
+    /// or an analytic shape's parts.
     pub fn intersect(
         &self,
         origin: DVec3,
@@ -130,11 +208,11 @@ impl Shape {
         t_max: f64,
     ) -> Option<(f64, u32)> {
         dispatch!(self,
-            s => s.intersect(origin, direction, t_min, t_max).map(|t| (t, 0)),
+            s => s.intersect(origin, direction, t_min, t_max),
             m => m.intersect(origin, direction, t_min, t_max))
     }
 
-    /// Nearest hit of primitive `prim`.
+    /// Nearest hit of primitive `prim` (a mesh's triangle; an analytic shape as a whole).
     pub fn intersect_primitive(
         &self,
         prim: u32,
@@ -144,18 +222,19 @@ impl Shape {
         t_max: f64,
     ) -> Option<f64> {
         dispatch!(self,
-            s => s.intersect(origin, direction, t_min, t_max),
+            s => s.intersect(origin, direction, t_min, t_max).map(|h| h.0),
             m => m.intersect_triangle(prim, origin, direction, t_min, t_max))
     }
 
     /// Surface frame at surface point `p` of primitive `prim`.
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
-        dispatch!(self, s => s.frame(p), m => m.frame(p, prim))
+        dispatch!(self, s => s.frame(p, prim), m => m.frame(p, prim))
     }
 
-    /// Surface coordinates of surface point `p` (units of length; see each shape).
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        dispatch!(self, s => s.coordinates(p), m => m.coordinates(p))
+    /// Surface coordinates of surface point `p` of primitive `prim` (units of length; see
+    /// each shape).
+    pub fn coordinates(&self, p: DVec3, prim: u32) -> DVec2 {
+        dispatch!(self, s => s.coordinates(p, prim), m => m.coordinates(p))
     }
 
     /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]; a cylinder's
@@ -167,12 +246,37 @@ impl Shape {
     /// Cartesian coordinates of `p` along the frame's u and v, from a flat shape's reference
     /// point (a plane's point, a disc's centre, a parallelogram's corner); `None` for curved
     /// shapes and meshes.
-    pub fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
-        dispatch!(self, s => s.plane_coordinates(p), _m => None)
+    pub fn plane_coordinates(&self, p: DVec3, prim: u32) -> Option<DVec2> {
+        dispatch!(self, s => s.plane_coordinates(p, prim), _m => None)
     }
 
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         dispatch!(self, s => s.bounds(), m => Some(m.bounds()))
+    }
+
+    /// The convex solid the shape bounds, if it is one.
+    pub fn analytic_solid(&self) -> Option<&dyn ConvexSolid> {
+        dispatch!(self, s => s.solid(), _m => None)
+    }
+
+    /// Whether the shape bounds a solid that constructive solid geometry can combine: a
+    /// convex solid or a CSG result.
+    pub fn is_solid(&self) -> bool {
+        matches!(self, Shape::Csg(_)) || self.analytic_solid().is_some()
+    }
+
+    /// The shape's kind as scene files name it ("sphere", "union", ...), for reports.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Sphere(_) => "sphere",
+            Shape::Plane(_) => "plane",
+            Shape::Disc(_) => "disc",
+            Shape::Cylinder(_) => "cylinder",
+            Shape::Parallelogram(_) => "parallelogram",
+            Shape::Csg(c) => c.operation().name(),
+            Shape::Transformed(t) => t.inner().kind(),
+            Shape::TriangleMesh(_) => "triangle mesh",
+        }
     }
 }

@@ -65,17 +65,23 @@ impl Parallelogram {
 }
 
 impl AnalyticShape for Parallelogram {
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         let t = plane_distance(self.corner, self.frame.w, origin, direction)?;
         if !(t > t_min && t < t_max) {
             return None;
         }
         let ab = self.span_coordinates(origin + t * direction);
-        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y)).then_some(t)
+        ((0.0..=1.0).contains(&ab.x) && (0.0..=1.0).contains(&ab.y)).then_some((t, 0))
     }
 
     /// Coordinates along the span vectors in units of length: (α |span_u|, β |span_v|).
-    fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3, _part: u32) -> DVec2 {
         self.span_coordinates(p) * DVec2::new(self.span_u.length(), self.span_v.length())
     }
 
@@ -87,13 +93,13 @@ impl AnalyticShape for Parallelogram {
     }
 
     /// Cartesian coordinates along the frame's u and v from the corner.
-    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
+    fn plane_coordinates(&self, p: DVec3, _part: u32) -> Option<DVec2> {
         let d = p - self.corner;
         Some(DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v)))
     }
 
     /// w = span_u × span_v normalised (the outward side), u along span_u.
-    fn frame(&self, _p: DVec3) -> Frame {
+    fn frame(&self, _p: DVec3, _part: u32) -> Frame {
         self.frame
     }
 

@@ -3,7 +3,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -37,19 +37,25 @@ impl Plane {
 
 impl AnalyticShape for Plane {
     /// Surface frame: w is the unit outward normal, u and v the in-plane coordinate axes.
-    fn frame(&self, _p: DVec3) -> Frame {
+    fn frame(&self, _p: DVec3, _part: u32) -> Frame {
         self.frame
     }
 
     /// The t where the line meets the plane, if in (t_min, t_max).
     #[inline]
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
         let t = plane_distance(self.point, self.frame.w, origin, direction)?;
-        (t > t_min && t < t_max).then_some(t)
+        (t > t_min && t < t_max).then_some((t, 0))
     }
 
     /// In-plane Cartesian coordinates along u and v, measured from `point`.
-    fn coordinates(&self, p: DVec3) -> DVec2 {
+    fn coordinates(&self, p: DVec3, _part: u32) -> DVec2 {
         let d = p - self.point;
         DVec2::new(d.dot(self.frame.u), d.dot(self.frame.v))
     }
@@ -65,8 +71,37 @@ impl AnalyticShape for Plane {
     }
 
     /// The surface coordinates, which are Cartesian.
-    fn plane_coordinates(&self, p: DVec3) -> Option<DVec2> {
-        Some(self.coordinates(p))
+    fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
+        Some(self.coordinates(p, part))
+    }
+
+    fn solid(&self) -> Option<&dyn ConvexSolid> {
+        Some(self)
+    }
+}
+
+/// The half-space behind the plane (opposite its normal).
+impl ConvexSolid for Plane {
+    fn chord(&self, origin: DVec3, direction: DVec3) -> Option<Span> {
+        let outwards = direction.dot(self.frame.w);
+        match plane_distance(self.point, self.frame.w, origin, direction) {
+            Some(t) if outwards > 0.0 => Some(Span {
+                enter: (f64::NEG_INFINITY, Span::NO_PART),
+                exit: (t, 0),
+            }),
+            Some(t) => Some(Span {
+                enter: (t, 0),
+                exit: (f64::INFINITY, Span::NO_PART),
+            }),
+            None => self.contains(origin).then_some(Span {
+                enter: (f64::NEG_INFINITY, Span::NO_PART),
+                exit: (f64::INFINITY, Span::NO_PART),
+            }),
+        }
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        (p - self.point).dot(self.frame.w) <= 0.0
     }
 }
 

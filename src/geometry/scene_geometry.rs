@@ -38,7 +38,8 @@ pub struct Hit {
     /// Which copy of an object in an array was hit (index into the array's offsets; 0 for
     /// objects in no array).
     pub element: u32,
-    /// Primitive within the object (triangle index for meshes, else 0).
+    /// Primitive within the object: a mesh's triangle, or the part of an analytic shape
+    /// (a face, a piece of a CSG solid; 0 for shapes of one part).
     pub prim: u32,
     /// Distance along the ray direction.
     pub t: f64,
@@ -73,14 +74,8 @@ impl UserGeometry for AnalyticGroup {
         Bounds::enclosing(lo - self.pad, hi + self.pad)
     }
 
-    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<f64> {
-        self.shapes[self.members[prim as usize]].intersect_primitive(
-            0,
-            ray.origin,
-            ray.direction,
-            t_near,
-            t_far,
-        )
+    fn intersect(&self, prim: u32, ray: &ExactRay, t_near: f64, t_far: f64) -> Option<(f64, u32)> {
+        self.shapes[self.members[prim as usize]].intersect(ray.origin, ray.direction, t_near, t_far)
     }
 }
 
@@ -309,12 +304,13 @@ impl SceneGeometry {
 
     /// Surface coordinates of world point `p` of a hit, on the hit element.
     pub fn coordinates(&self, hit: &Hit, p: DVec3) -> DVec2 {
-        self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element))
+        self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element), hit.prim)
     }
 
     /// Flat-surface coordinates (see [`Shape::plane_coordinates`]) of world point `p` of a hit.
     pub fn plane_coordinates(&self, hit: &Hit, p: DVec3) -> Option<DVec2> {
-        self.shapes[hit.object].plane_coordinates(p - self.offset(hit.object, hit.element))
+        self.shapes[hit.object]
+            .plane_coordinates(p - self.offset(hit.object, hit.element), hit.prim)
     }
 
     /// Turns Embree's hit into an exact f64 hit.
@@ -333,7 +329,7 @@ impl SceneGeometry {
             None => (&self.top.geometries, 0),
         };
         let (object, prim) = match &geometries[raw.geom_id as usize] {
-            Geometry::Analytic(members) => (members[raw.prim_id as usize], 0),
+            Geometry::Analytic(members) => (members[raw.prim_id as usize], raw.part),
             Geometry::Mesh(object) => (*object, raw.prim_id),
             Geometry::Instance { .. } => unreachable!("Embree reports the instanced geometry"),
         };
@@ -415,9 +411,7 @@ impl SceneGeometry {
         let origin = ray.origin - self.offset(object, element);
         let hit = match &self.shapes[object] {
             // Inlined: the usual unbounded shape, which every ray tests.
-            Shape::Plane(p) => p
-                .intersect(origin, ray.direction, t_min, t_max)
-                .map(|t| (t, 0)),
+            Shape::Plane(p) => p.intersect(origin, ray.direction, t_min, t_max),
             s => s.intersect(origin, ray.direction, t_min, t_max),
         };
         hit.map(|(t, prim)| Hit {

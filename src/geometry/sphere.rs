@@ -1,21 +1,28 @@
 //! Sphere: |p − centre| = radius.
 
-use glam::{DVec2, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 
-use super::{AnalyticShape, GeometryError};
-use crate::math::{Frame, circle_crossings, nearest_in};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use crate::math::{Frame, circle_crossings};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
     centre: DVec3,
     radius: f64,
+    /// The sphere's own x, y (pole) and z (zero longitude) axes as columns, once it has been
+    /// rotated (its surface coordinates turn with it); `None`: the world's.
+    axes: Option<DMat3>,
 }
 
 impl Sphere {
     pub fn new(centre: DVec3, radius: f64) -> Result<Sphere, GeometryError> {
         super::check_point("sphere centre", centre)?;
         super::check_positive("sphere radius", radius)?;
-        Ok(Sphere { centre, radius })
+        Ok(Sphere {
+            centre,
+            radius,
+            axes: None,
+        })
     }
 
     pub fn centre(&self) -> DVec3 {
@@ -25,23 +32,51 @@ impl Sphere {
     pub fn radius(&self) -> f64 {
         self.radius
     }
+
+    /// The sphere moved to `centre` with radius `radius`, its axes kept.
+    pub fn placed(&self, centre: DVec3, radius: f64) -> Result<Sphere, GeometryError> {
+        Ok(Sphere {
+            axes: self.axes,
+            ..Sphere::new(centre, radius)?
+        })
+    }
+
+    /// The same sphere with its axes (and so its surface-coordinate pattern) turned by the
+    /// orthogonal matrix `rotation`.
+    pub fn rotated(mut self, rotation: DMat3) -> Sphere {
+        self.axes = Some(rotation * self.axes.unwrap_or(DMat3::IDENTITY));
+        self
+    }
+
+    fn pole(&self) -> DVec3 {
+        self.axes.map_or(DVec3::Y, |a| a.y_axis)
+    }
 }
 
 impl AnalyticShape for Sphere {
     /// Nearest t in (t_min, t_max) with |o + t d − c| = r.
-    fn intersect(&self, origin: DVec3, direction: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
-        let (t0, t1) = circle_crossings(origin - self.centre, direction, self.radius)?;
-        nearest_in([t0, t1], t_min, t_max)
+    fn intersect(
+        &self,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
+        self.chord(origin, direction)?.nearest(t_min, t_max)
     }
 
-    fn frame(&self, p: DVec3) -> Frame {
+    fn frame(&self, p: DVec3, _part: u32) -> Frame {
         let w = p - self.centre;
-        Frame::from_normal_and_u(w, DVec3::Y.cross(w))
+        Frame::from_normal_and_u(w, self.pole().cross(w))
     }
 
-    /// (r φ, r θ): arc lengths along longitude φ (about y) and polar angle θ (from +y).
-    fn coordinates(&self, p: DVec3) -> DVec2 {
-        let d = (p - self.centre) / self.radius;
+    /// (r φ, r θ): arc lengths along longitude φ (about the pole, y unless rotated) and polar
+    /// angle θ (from the pole).
+    fn coordinates(&self, p: DVec3, _part: u32) -> DVec2 {
+        let mut d = (p - self.centre) / self.radius;
+        if let Some(axes) = self.axes {
+            d = axes.transpose() * d;
+        }
         let phi = d.x.atan2(d.z);
         let theta = d.y.clamp(-1.0, 1.0).acos();
         self.radius * DVec2::new(phi, theta)
@@ -59,7 +94,7 @@ impl AnalyticShape for Sphere {
             theta.cos(),
             theta.sin() * phi.cos(),
         );
-        Some(self.centre + self.radius * d)
+        Some(self.centre + self.radius * self.axes.map_or(d, |a| a * d))
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
@@ -67,5 +102,23 @@ impl AnalyticShape for Sphere {
             self.centre - DVec3::splat(self.radius),
             self.centre + DVec3::splat(self.radius),
         ))
+    }
+
+    fn solid(&self) -> Option<&dyn ConvexSolid> {
+        Some(self)
+    }
+}
+
+impl ConvexSolid for Sphere {
+    fn chord(&self, origin: DVec3, direction: DVec3) -> Option<Span> {
+        let (t0, t1) = circle_crossings(origin - self.centre, direction, self.radius)?;
+        Some(Span {
+            enter: (t0, 0),
+            exit: (t1, 0),
+        })
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        (p - self.centre).length_squared() <= self.radius * self.radius
     }
 }

@@ -2,15 +2,15 @@
 //! then translation), composable for groups.
 //!
 //! Meshes, parallelograms and planes take any non-singular map. Spheres, discs and cylinders
-//! stay what they are only under similarity maps (rotation, uniform scale, translation,
-//! reflection), so a non-uniform scale of one is an error. A map with negative determinant (a
-//! reflection) keeps the outward side outward: mesh windings are reversed and a parallelogram's
-//! first span vector is negated.
+//! stay what they are under similarity maps (rotation, uniform scale, translation, reflection)
+//! and become [`Transformed`] shapes under any other; so does every other analytic shape under
+//! any map. A map with negative determinant (a reflection) keeps the outward side outward: mesh
+//! windings are reversed and a parallelogram's first span vector is negated.
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::{
-    AnalyticShape, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere,
+    AnalyticShape, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Transformed,
     check_direction, check_point,
 };
 
@@ -65,6 +65,14 @@ impl Transform {
         })
     }
 
+    /// The general linear map `m` (non-uniform scales, shears); it must be invertible.
+    pub fn from_matrix(m: DMat3) -> Result<Transform, GeometryError> {
+        super::check_invertible(m)?;
+        Ok(Transform {
+            affine: DAffine3::from_mat3(m),
+        })
+    }
+
     pub fn translation(t: DVec3) -> Transform {
         Transform {
             affine: DAffine3::from_translation(t),
@@ -112,40 +120,63 @@ impl Transform {
             .then(|| s2.sqrt())
     }
 
-    /// The shape placed by this map.
+    /// The orthogonal part R of a similarity map with uniform scale `k` (R = linear part / k,
+    /// a rotation or a reflection), or `None` when it turns nothing (a uniform scale by k > 0).
+    fn rotation(&self, k: f64) -> Option<DMat3> {
+        let m = self.linear();
+        (m != DMat3::from_diagonal(DVec3::splat(m.x_axis.x)) || m.x_axis.x <= 0.0)
+            .then(|| m * (1.0 / k))
+    }
+
+    /// The shape placed by this map. Spheres, discs and cylinders stay themselves under
+    /// similarity maps, turning their surface-coordinate patterns with them; under any other
+    /// map they, like every other analytic shape but planes and parallelograms, become
+    /// [`Transformed`]. A CSG shape is transformed leaf by leaf.
     pub fn shape(&self, shape: &Shape) -> Result<Shape, GeometryError> {
-        let similar = |what: &str| {
-            self.uniform_scale().ok_or_else(|| {
-                GeometryError::Degenerate(format!(
-                    "a {what} cannot be scaled non-uniformly (only meshes, parallelograms and planes can)"
-                ))
-            })
-        };
+        if self.is_identity() {
+            return Ok(shape.clone());
+        }
+        let general = || Transformed::new(shape.clone(), self.affine).map(Shape::Transformed);
         Ok(match shape {
-            Shape::Sphere(s) => {
-                let k = similar("sphere")?;
-                Shape::Sphere(Sphere::new(self.point(s.centre()), k * s.radius())?)
-            }
-            Shape::Disc(d) => {
-                let k = similar("disc")?;
-                Shape::Disc(Disc::new(
-                    self.point(d.centre()),
-                    self.normal(d.frame(d.centre()).w),
-                    k * d.radius(),
-                )?)
-            }
-            Shape::Cylinder(c) => {
-                let k = similar("cylinder")?;
-                Shape::Cylinder(Cylinder::new(
-                    self.point(c.start()),
-                    self.point(c.end()),
-                    k * c.radius(),
-                )?)
-            }
+            Shape::Sphere(s) => match self.uniform_scale() {
+                None => general()?,
+                Some(k) => {
+                    let moved = s.placed(self.point(s.centre()), k * s.radius())?;
+                    Shape::Sphere(match self.rotation(k) {
+                        Some(r) => moved.rotated(r),
+                        None => moved,
+                    })
+                }
+            },
+            Shape::Disc(d) => match self.uniform_scale() {
+                None => general()?,
+                Some(k) => Shape::Disc(match self.rotation(k) {
+                    Some(r) => d
+                        .clone()
+                        .rotated(r)
+                        .placed(self.point(d.centre()), k * d.radius())?,
+                    None => Disc::new(
+                        self.point(d.centre()),
+                        self.normal(d.frame(d.centre(), 0).w),
+                        k * d.radius(),
+                    )?,
+                }),
+            },
+            Shape::Cylinder(c) => match self.uniform_scale() {
+                None => general()?,
+                Some(k) => {
+                    let moved =
+                        Cylinder::new(self.point(c.start()), self.point(c.end()), k * c.radius())?;
+                    Shape::Cylinder(match self.rotation(k) {
+                        Some(r) => moved.across_from(c, r),
+                        None => moved,
+                    })
+                }
+            },
             Shape::Plane(p) => Shape::Plane(Plane::new(
                 self.point(p.point()),
-                self.normal(p.frame(p.point()).w),
-                self.vector(p.frame(p.point()).u),
+                self.normal(p.frame(p.point(), 0).w),
+                self.vector(p.frame(p.point(), 0).u),
             )?),
             Shape::Parallelogram(p) => {
                 let (corner, u, v) = (
@@ -159,7 +190,9 @@ impl Transform {
                     Parallelogram::new(corner, u, v)?
                 })
             }
+            Shape::Csg(c) => Shape::Csg(c.map_leaves(|leaf| self.shape(leaf))?),
             Shape::TriangleMesh(m) => Shape::TriangleMesh(m.transformed(self)?),
+            _ => general()?,
         })
     }
 
@@ -172,6 +205,7 @@ impl Transform {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Sphere;
     use std::f64::consts::FRAC_PI_2;
 
     #[test]
@@ -188,18 +222,44 @@ mod tests {
     }
 
     #[test]
-    fn singular_and_non_uniform_maps_are_refused_where_they_must_be() {
+    fn singular_maps_are_refused_and_non_uniform_ones_become_general_transforms() {
         let e = Transform::new(DVec3::new(1.0, 0.0, 1.0), DVec3::Z, 0.0, DVec3::ZERO);
         assert!(e.unwrap_err().to_string().contains("singular"));
         let squash = Transform::new(DVec3::new(1.0, 2.0, 1.0), DVec3::Z, 0.3, DVec3::ZERO).unwrap();
         let sphere = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
-        let e = squash.shape(&sphere).unwrap_err().to_string();
-        assert!(e.contains("sphere cannot be scaled non-uniformly"), "{e}");
+        assert!(matches!(squash.shape(&sphere), Ok(Shape::Transformed(_))));
         let uniform = Transform::new(DVec3::splat(-2.0), DVec3::X, 1.0, DVec3::Z).unwrap();
         let Shape::Sphere(s) = uniform.shape(&sphere).unwrap() else {
             unreachable!()
         };
         assert!((s.radius() - 2.0).abs() < 1e-12 && (s.centre() - DVec3::Z).length() < 1e-12);
+    }
+
+    #[test]
+    fn rotations_turn_the_surface_coordinates_of_spheres_discs_and_cylinders() {
+        // A quarter turn about z takes the world point q to R q; the turned shape's surface
+        // coordinates at R q are the original's at q.
+        let turn = Transform::new(DVec3::ONE, DVec3::Z, FRAC_PI_2, DVec3::ZERO).unwrap();
+        let q = DVec3::new(0.6, 0.0, 0.8);
+        let shapes = [
+            Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap()),
+            Shape::Disc(Disc::new(DVec3::ZERO, DVec3::Y, 2.0).unwrap()),
+            Shape::Cylinder(Cylinder::new(DVec3::NEG_Y, DVec3::Y, 1.0).unwrap()),
+        ];
+        for shape in shapes {
+            let turned = turn.shape(&shape).unwrap();
+            let (before, after) = (
+                shape.coordinates(q, 0),
+                turned.coordinates(turn.point(q), 0),
+            );
+            assert!(
+                (before - after).length() < 1e-12,
+                "{shape:?}: {before} -> {after}"
+            );
+            // Without the turn of the pattern, a point's coordinates would change: the
+            // original's coordinates at R q differ.
+            assert!((shape.coordinates(turn.point(q), 0) - before).length() > 0.1);
+        }
     }
 
     #[test]
@@ -213,7 +273,7 @@ mod tests {
             unreachable!()
         };
         let expected = DVec3::new(0.5, 1.0, 0.0).normalize();
-        assert!((p.frame(p.point()).w - expected).length() < 1e-12);
+        assert!((p.frame(p.point(), 0).w - expected).length() < 1e-12);
     }
 
     #[test]
@@ -225,7 +285,7 @@ mod tests {
             unreachable!()
         };
         // The mirror image of a surface facing +z (at z = 0) faces -z.
-        assert!((q.frame(q.corner()).w - DVec3::NEG_Z).length() < 1e-12);
+        assert!((q.frame(q.corner(), 0).w - DVec3::NEG_Z).length() < 1e-12);
         assert_eq!(q.bounds(), Some((DVec3::ZERO, DVec3::new(1.0, 1.0, 0.0))));
     }
 }

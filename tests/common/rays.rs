@@ -46,7 +46,7 @@ pub fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
     match shape {
         Shape::Sphere(s) => s.centre() + s.radius() * rng.f().cbrt() * rng.unit(),
         Shape::Plane(p) => {
-            let f = p.frame(p.point());
+            let f = p.frame(p.point(), 0);
             p.point() + rng.range(-5.0, 5.0) * f.u + rng.range(-5.0, 5.0) * f.v
         }
         Shape::Disc(d) => {
@@ -54,7 +54,7 @@ pub fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
                 d.radius() * rng.f().sqrt(),
                 rng.range(0.0, std::f64::consts::TAU),
             );
-            let f = d.frame(d.centre());
+            let f = d.frame(d.centre(), 0);
             d.centre() + rho * (phi.cos() * f.u + phi.sin() * f.v)
         }
         Shape::Cylinder(c) => {
@@ -70,6 +70,11 @@ pub fn sample_point(shape: &Shape, rng: &mut Rng) -> DVec3 {
                 m.triangles()[rng.index(m.triangles().len())].map(|i| m.vertices()[i as usize]);
             let (s, u) = (rng.f().sqrt(), rng.f());
             a * (1.0 - s) + b * (s * (1.0 - u)) + c * (s * u)
+        }
+        // Any other bounded shape: a point of its bounding box.
+        other => {
+            let (lo, hi) = other.bounds().expect("a bounded shape");
+            lo + (hi - lo) * DVec3::new(rng.f(), rng.f(), rng.f())
         }
     }
 }

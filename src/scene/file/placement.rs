@@ -12,7 +12,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use super::parts::Spanned;
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
 use super::devices::DeviceSection;
@@ -119,6 +119,8 @@ pub(super) struct Items {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct TransformSection {
+    /// A general linear map, applied first: its rows.
+    matrix: Option<[[Finite; 3]; 3]>,
     scale: Option<Scale>,
     rotate: Option<RotateSection>,
     translate: Option<Vector>,
@@ -605,16 +607,24 @@ fn join(prefix: &str, name: Option<&str>) -> String {
 }
 
 impl TransformSection {
-    fn build(self) -> Result<Transform, crate::geometry::GeometryError> {
+    /// The map: `matrix`, then `scale`, then `rotate`, then `translate`.
+    pub(super) fn build(self) -> Result<Transform, crate::geometry::GeometryError> {
         let (axis, angle) = self
             .rotate
             .map_or((DVec3::Z, 0.0), |r| (r.axis.0, r.angle_deg.0.to_radians()));
-        Transform::new(
+        let placed = Transform::new(
             self.scale.map_or(DVec3::ONE, |s| s.0),
             axis,
             angle,
             self.translate.map_or(DVec3::ZERO, |t| t.0),
-        )
+        )?;
+        match self.matrix {
+            Some(rows) => {
+                let m = DMat3::from_cols_array_2d(&rows.map(|r| r.map(|e| e.0))).transpose();
+                Ok(Transform::from_matrix(m)?.then(&placed))
+            }
+            None => Ok(placed),
+        }
     }
 }
 

@@ -4,9 +4,11 @@ use std::path::Path;
 
 use serde::Deserialize;
 
+use super::placement::TransformSection;
 use super::values::{Positive, Vector};
 use crate::geometry::{
-    Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere, TriangleMesh,
+    Csg, CsgOperation, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere,
+    TriangleMesh,
 };
 use crate::mesh;
 
@@ -41,6 +43,27 @@ pub(super) enum ShapeSection {
     TriangleMesh {
         vertices: Vec<Vector>,
         triangles: Vec<[u32; 3]>,
+    },
+    /// Constructive solid geometry: inside any member.
+    Union {
+        of: Vec<ShapeSection>,
+    },
+    /// Inside every member.
+    Intersection {
+        of: Vec<ShapeSection>,
+    },
+    /// Inside the first member and outside the others.
+    Difference {
+        of: Vec<ShapeSection>,
+    },
+    /// Outside the member.
+    Inverse {
+        of: Box<ShapeSection>,
+    },
+    /// A shape under its own transform (in the coordinates of the entry it is in).
+    Transformed {
+        of: Box<ShapeSection>,
+        transform: TransformSection,
     },
     /// A mesh file (OBJ or PLY), relative to the scene file.
     Mesh {
@@ -97,9 +120,35 @@ impl ShapeSection {
                 vertices.into_iter().map(|v| v.0).collect(),
                 triangles,
             )?),
+            ShapeSection::Union { of } => csg(CsgOperation::Union, of)?,
+            ShapeSection::Intersection { of } => csg(CsgOperation::Intersection, of)?,
+            ShapeSection::Difference { of } => csg(CsgOperation::Difference, of)?,
+            ShapeSection::Inverse { of } => csg(CsgOperation::Inverse, vec![*of])?,
+            ShapeSection::Transformed { of, transform } => {
+                transform.build()?.shape(&of.member("transformed")?)?
+            }
             ShapeSection::Mesh { .. } => unreachable!("mesh files are loaded by `build`"),
         })
     }
+
+    /// The analytic shape a CSG operation or a transform takes (mesh files are refused).
+    fn member(self, of: &str) -> Result<Shape, GeometryError> {
+        match self {
+            ShapeSection::Mesh { file, .. } => Err(GeometryError::Degenerate(format!(
+                "a mesh file ('{file}') cannot be a member of a {of} shape"
+            ))),
+            other => other.build_analytic(),
+        }
+    }
+}
+
+/// `operation` on the members' shapes.
+fn csg(operation: CsgOperation, of: Vec<ShapeSection>) -> Result<Shape, GeometryError> {
+    let members = of
+        .into_iter()
+        .map(|m| m.member(operation.name()))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Shape::Csg(Csg::new(operation, members)?))
 }
 
 /// The parts of a mesh file as triangle meshes.

@@ -221,7 +221,7 @@ mod tests {
             assert_eq!(factor, 0.9);
             let p2 = destination.point_at(c).unwrap();
             assert!((exit.point - p2).length() < 1e-14, "c {c}: {}", exit.point);
-            assert!((destination.coordinates(exit.point) - c).length() < 1e-14);
+            assert!((destination.coordinates(exit.point, 0) - c).length() < 1e-14);
             assert!((exit.direction - n2).length() < 1e-15, "{}", exit.direction);
 
             let d = DVec3::new(0.03, -0.02, 1.0).normalize();
