@@ -61,6 +61,9 @@ type Spans = SmallVec<[Span; 4]>;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Csg {
     operation: CsgOperation,
+    /// What the shape is called in reports: the operation's name, or the scene-file type of a
+    /// shape built from CSG (a tube, a lens).
+    kind: &'static str,
     /// Convex solids.
     leaves: Vec<Shape>,
     /// Whether each leaf enters the tree complemented.
@@ -90,6 +93,7 @@ impl Csg {
         }
         let mut csg = Csg {
             operation,
+            kind: operation.name(),
             leaves: Vec::new(),
             complemented: Vec::new(),
             root: Node::Union(Vec::new()),
@@ -166,6 +170,17 @@ impl Csg {
 
     pub fn operation(&self) -> CsgOperation {
         self.operation
+    }
+
+    /// The operation's name, or the kind given by [`Self::called`].
+    pub fn kind(&self) -> &'static str {
+        self.kind
+    }
+
+    /// The same shape, called `kind` in reports (a shape built from CSG).
+    pub fn called(mut self, kind: &'static str) -> Csg {
+        self.kind = kind;
+        self
     }
 
     /// The convex solids the shape is built from.

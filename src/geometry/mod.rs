@@ -8,6 +8,7 @@ mod csg;
 mod cylinder;
 mod disc;
 mod interaction;
+mod lenses;
 mod parallelogram;
 mod plane;
 mod scene_geometry;
@@ -23,6 +24,7 @@ pub use csg::{Csg, CsgOperation};
 pub use cylinder::Cylinder;
 pub use disc::Disc;
 pub use interaction::{Exit, Interaction};
+pub use lenses::{FresnelLens, SphericalLens};
 pub use parallelogram::Parallelogram;
 pub use plane::Plane;
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
@@ -274,7 +276,7 @@ impl Shape {
             Shape::Disc(_) => "disc",
             Shape::Cylinder(_) => "cylinder",
             Shape::Parallelogram(_) => "parallelogram",
-            Shape::Csg(c) => c.operation().name(),
+            Shape::Csg(c) => c.kind(),
             Shape::Transformed(t) => t.inner().kind(),
             Shape::TriangleMesh(_) => "triangle mesh",
         }

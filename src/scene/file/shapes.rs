@@ -5,10 +5,10 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::placement::TransformSection;
-use super::values::{Positive, Vector};
+use super::values::{Finite, Positive, Vector};
 use crate::geometry::{
-    Csg, CsgOperation, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Sphere,
-    TriangleMesh,
+    Csg, CsgOperation, Cylinder, Disc, FresnelLens, GeometryError, Parallelogram, Plane, Shape,
+    Sphere, SphericalLens, TriangleMesh,
 };
 use crate::mesh;
 
@@ -43,6 +43,24 @@ pub(super) enum ShapeSection {
     TriangleMesh {
         vertices: Vec<Vector>,
         triangles: Vec<[u32; 3]>,
+    },
+    /// A thick lens with spherical or flat surfaces.
+    SphericalLens {
+        centre: Vector,
+        axis: Vector,
+        front_radius: Option<Finite>,
+        back_radius: Option<Finite>,
+        thickness: Positive,
+        aperture_radius: Positive,
+    },
+    /// A plano-convex Fresnel lens.
+    FresnelLens {
+        centre: Vector,
+        axis: Vector,
+        radius_of_curvature: Positive,
+        aperture_radius: Positive,
+        zones: u32,
+        thickness: Positive,
     },
     /// Constructive solid geometry: inside any member.
     Union {
@@ -120,6 +138,38 @@ impl ShapeSection {
                 vertices.into_iter().map(|v| v.0).collect(),
                 triangles,
             )?),
+            ShapeSection::SphericalLens {
+                centre,
+                axis,
+                front_radius,
+                back_radius,
+                thickness,
+                aperture_radius,
+            } => SphericalLens {
+                centre: centre.0,
+                axis: axis.0,
+                front_radius: front_radius.map(|r| r.0),
+                back_radius: back_radius.map(|r| r.0),
+                thickness: thickness.0,
+                aperture_radius: aperture_radius.0,
+            }
+            .shape()?,
+            ShapeSection::FresnelLens {
+                centre,
+                axis,
+                radius_of_curvature,
+                aperture_radius,
+                zones,
+                thickness,
+            } => FresnelLens {
+                centre: centre.0,
+                axis: axis.0,
+                radius_of_curvature: radius_of_curvature.0,
+                aperture_radius: aperture_radius.0,
+                zones,
+                thickness: thickness.0,
+            }
+            .shape()?,
             ShapeSection::Union { of } => csg(CsgOperation::Union, of)?,
             ShapeSection::Intersection { of } => csg(CsgOperation::Intersection, of)?,
             ShapeSection::Difference { of } => csg(CsgOperation::Difference, of)?,
