@@ -400,3 +400,30 @@ fn a_hollow_glass_shell_refracts_at_its_inner_surface_out_of_the_glass() {
         t.direction
     );
 }
+
+#[test]
+fn check_reports_each_kind_of_shape() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let scene = common::cli::write(
+        dir.path(),
+        "s.toml",
+        r#"studio = "none"
+[[object]]
+shape = { type = "spherical-lens", centre = [0, 0, 10], axis = [0, 0, 1], front_radius = 3, thickness = 0.5, aperture_radius = 1 }
+surface = { type = "refractive", index_ratio = 1.5 }
+[[object]]
+shape = { type = "difference", of = [{ type = "sphere", centre = [3, 0, 10], radius = 1 }, { type = "plane", point = [3, 0, 10], normal = [0, 1, 0] }] }
+surface = { type = "matt", colour = [1, 1, 1] }
+[[object]]
+shape = { type = "sphere", centre = [0, 0, 0], radius = 1 }
+surface = { type = "matt", colour = [1, 1, 1] }
+transform = { scale = [1, 2, 3], translate = [-3, 0, 10] }
+"#,
+    );
+    let run = common::cli::timbre(dir.path(), &["check", common::cli::path_str(&scene)]);
+    run.assert_success();
+    assert_eq!(
+        run.field("shapes"),
+        "1 spherical-lens, 1 difference, 1 transformed sphere"
+    );
+}

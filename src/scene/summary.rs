@@ -83,6 +83,30 @@ impl SceneDescription {
     }
 }
 
+/// How many objects of each kind of shape the scene has, in order of first appearance:
+/// "3 sphere, 1 difference, 2 transformed cone".
+fn shape_counts(d: &SceneDescription) -> String {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for o in &d.objects {
+        let kind = match &o.shape {
+            Shape::Transformed(t) => format!("transformed {}", t.inner().kind()),
+            s => s.kind().to_string(),
+        };
+        match counts.iter_mut().find(|(k, _)| *k == kind) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((kind, 1)),
+        }
+    }
+    if counts.is_empty() {
+        return "none".into();
+    }
+    counts
+        .iter()
+        .map(|(k, n)| format!("{n} {k}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A scene description in words (see [`SceneDescription::report`]).
 pub struct Report<'a>(&'a SceneDescription);
 
@@ -116,6 +140,7 @@ impl fmt::Display for Report<'_> {
                 )?
             }
         }
+        writeln!(f, "  shapes:       {}", shape_counts(d))?;
         writeln!(f, "  point lights: {}", d.lights.points.len())?;
         if !d.trajectories.is_empty() {
             let rays: usize = d.trajectories.iter().map(|t| t.rays().len()).sum();
