@@ -93,6 +93,10 @@ impl AnalyticShape for Disc {
         Some((self.centre - e, self.centre + e))
     }
 
+    fn is_flat(&self) -> bool {
+        true
+    }
+
     /// The surface coordinates, which are Cartesian.
     fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
         Some(self.coordinates(p, part))

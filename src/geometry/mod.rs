@@ -125,6 +125,11 @@ pub trait AnalyticShape {
         None
     }
 
+    /// Whether the shape is flat (one plane), with [`Self::plane_coordinates`] everywhere.
+    fn is_flat(&self) -> bool {
+        false
+    }
+
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     fn bounds(&self) -> Option<(DVec3, DVec3)>;
 
@@ -255,6 +260,11 @@ impl Shape {
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         dispatch!(self, s => s.bounds(), m => Some(m.bounds()))
+    }
+
+    /// Whether the shape is flat (see [`AnalyticShape::is_flat`]); meshes count as curved.
+    pub fn is_flat(&self) -> bool {
+        dispatch!(self, s => s.is_flat(), _m => false)
     }
 
     /// The convex solid the shape bounds, if it is one.

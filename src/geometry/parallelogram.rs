@@ -92,6 +92,10 @@ impl AnalyticShape for Parallelogram {
             .then(|| self.corner + ab.x * self.span_u + ab.y * self.span_v)
     }
 
+    fn is_flat(&self) -> bool {
+        true
+    }
+
     /// Cartesian coordinates along the frame's u and v from the corner.
     fn plane_coordinates(&self, p: DVec3, _part: u32) -> Option<DVec2> {
         let d = p - self.corner;

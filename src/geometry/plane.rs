@@ -70,6 +70,10 @@ impl AnalyticShape for Plane {
         None
     }
 
+    fn is_flat(&self) -> bool {
+        true
+    }
+
     /// The surface coordinates, which are Cartesian.
     fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
         Some(self.coordinates(p, part))

@@ -106,6 +106,10 @@ impl AnalyticShape for Transformed {
         ))
     }
 
+    fn is_flat(&self) -> bool {
+        self.inner.is_flat()
+    }
+
     /// The box around the images of the corners of the shape's own box.
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let (lo, hi) = self.inner.bounds()?;

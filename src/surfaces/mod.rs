@@ -215,10 +215,10 @@ impl Surface {
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
-            (Surface::PhaseHologram(_), Shape::Plane(_) | Shape::Disc(_))
-            | (Surface::PhaseHologram(_), Shape::Parallelogram(_)) => Ok(()),
+            (Surface::PhaseHologram(_), s) if s.is_flat() => Ok(()),
             (Surface::PhaseHologram(_), _) => Err(
-                "a phase-hologram surface needs a flat shape (plane, disc or parallelogram)"
+                "a phase-hologram surface needs a flat shape (plane, disc, parallelogram, \
+                 convex polygon, or one of them transformed)"
                     .to_string(),
             ),
             (Surface::Chequerboard(c), _) => {
