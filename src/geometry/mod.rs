@@ -207,6 +207,7 @@ pub enum Shape {
 impl Shape {
     /// Nearest hit (t, primitive) with t_min < t < t_max; primitives are a mesh's triangles,
     /// or an analytic shape's parts.
+    #[inline]
     pub fn intersect(
         &self,
         origin: DVec3,
@@ -234,6 +235,7 @@ impl Shape {
     }
 
     /// Surface frame at surface point `p` of primitive `prim`.
+    #[inline]
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
         dispatch!(self, s => s.frame(p, prim), m => m.frame(p, prim))
     }

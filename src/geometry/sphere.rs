@@ -3,7 +3,7 @@
 use glam::{DMat3, DVec2, DVec3};
 
 use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
-use crate::math::{Frame, circle_crossings};
+use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
@@ -62,7 +62,8 @@ impl AnalyticShape for Sphere {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        self.chord(origin, direction)?.nearest(t_min, t_max)
+        let (t0, t1) = circle_crossings(origin - self.centre, direction, self.radius)?;
+        nearest_in([t0, t1], t_min, t_max).map(|t| (t, 0))
     }
 
     fn frame(&self, p: DVec3, _part: u32) -> Frame {

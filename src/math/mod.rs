@@ -100,6 +100,7 @@ pub fn circle_crossings(offset: DVec3, direction: DVec3, radius: f64) -> Option<
 }
 
 /// The smallest of the candidate distances inside the open interval (t_min, t_max).
+#[inline]
 pub fn nearest_in(
     candidates: impl IntoIterator<Item = f64>,
     t_min: f64,
