@@ -9,7 +9,7 @@ mod common;
 
 use glam::DVec3;
 use proptest::prelude::*;
-use timbre::geometry::{Csg, CsgOperation, Cylinder, Plane, Shape, Sphere};
+use timbre::geometry::{Csg, CsgOperation, Cylinder, Masked, Plane, Shape, Sphere};
 use timbre::trajectories::{self, Trajectory};
 
 use common::{point_in, unit_vector};
@@ -426,4 +426,46 @@ transform = { scale = [1, 2, 3], translate = [-3, 0, 10] }
         run.field("shapes"),
         "1 spherical-lens, 1 difference, 1 transformed sphere"
     );
+}
+
+proptest! {
+    #![proptest_config(common::config(256))]
+
+    #[test]
+    fn a_plane_masked_by_a_cylinder_is_a_disc_and_by_its_inverse_a_plane_with_a_hole(
+        o in point_in(4.0),
+        target in point_in(1.5),
+    ) {
+        let Some(d) = (target - o).try_normalize() else { return Ok(()) };
+        let (c, n) = (DVec3::new(0.2, -0.1, 0.3), DVec3::new(1.0, 2.0, 2.0) / 3.0);
+        let plane = Shape::Plane(Plane::new(c, n, DVec3::X).unwrap());
+        let rod = Shape::Cylinder(Cylinder::new(c - 2.0 * n, c + 2.0 * n, 1.1).unwrap());
+        let hole = Shape::Csg(Csg::new(CsgOperation::Inverse, vec![rod.clone()]).unwrap());
+        let disc = Shape::Disc(timbre::geometry::Disc::new(c, n, 1.1).unwrap());
+        let window = Shape::Masked(Masked::new(plane.clone(), rod).unwrap());
+        let holed = Shape::Masked(Masked::new(plane.clone(), hole).unwrap());
+        let hit = |s: &Shape| s.intersect(o, d, 0.0, f64::INFINITY).map(|h| h.0);
+        let on_plane = hit(&plane);
+        // Away from the rim, where membership is ambiguous.
+        let rim = on_plane.is_some_and(|t| ((o + t * d - c).reject_from(n).length() - 1.1).abs() < 1e-9);
+        if !rim {
+            prop_assert_eq!(hit(&window), hit(&disc));
+            prop_assert_eq!(hit(&holed), on_plane.filter(|_| hit(&disc).is_none()));
+        }
+        if let Some((t, part)) = window.intersect(o, d, 0.0, f64::INFINITY) {
+            prop_assert_eq!(window.frame(o + t * d, part).w, n.normalize());
+        }
+    }
+}
+
+#[test]
+fn masks_that_are_not_solids_or_leave_nothing_are_refused() {
+    let plane = || Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
+    let disc = Shape::Disc(timbre::geometry::Disc::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap());
+    let e = Masked::new(plane(), disc).unwrap_err();
+    assert!(e.to_string().contains("mask is a disc"), "{e}");
+    let ball = Shape::Sphere(Sphere::new(DVec3::new(0.0, 0.0, 5.0), 1.0).unwrap());
+    let small = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
+    let e = Masked::new(small, ball).unwrap_err();
+    assert!(e.to_string().contains("does not overlap"), "{e}");
 }

@@ -9,6 +9,7 @@ mod cylinder;
 mod disc;
 mod interaction;
 mod lenses;
+mod masked;
 mod parallelogram;
 mod plane;
 mod scene_geometry;
@@ -25,6 +26,7 @@ pub use cylinder::Cylinder;
 pub use disc::Disc;
 pub use interaction::{Exit, Interaction};
 pub use lenses::{FresnelLens, SphericalLens};
+pub use masked::Masked;
 pub use parallelogram::Parallelogram;
 pub use plane::Plane;
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
@@ -184,6 +186,7 @@ macro_rules! dispatch {
             Shape::Parallelogram($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
+            Shape::Masked($s) => $analytic,
             Shape::TriangleMesh($m) => $mesh,
         }
     };
@@ -201,6 +204,8 @@ pub enum Shape {
     Csg(Csg),
     /// An analytic shape under a general linear map.
     Transformed(Transformed),
+    /// A surface cut to the part inside a solid.
+    Masked(Masked),
     TriangleMesh(TriangleMesh),
 }
 
@@ -280,6 +285,15 @@ impl Shape {
         matches!(self, Shape::Csg(_)) || self.analytic_solid().is_some()
     }
 
+    /// Whether `p` is inside the solid the shape bounds (false for shapes that bound none;
+    /// points on the surface may go either way).
+    pub fn contains(&self, p: DVec3) -> bool {
+        match self {
+            Shape::Csg(c) => c.contains(p),
+            s => s.analytic_solid().is_some_and(|s| s.contains(p)),
+        }
+    }
+
     /// The shape's kind as scene files name it ("sphere", "union", ...), for reports.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -290,6 +304,7 @@ impl Shape {
             Shape::Parallelogram(_) => "parallelogram",
             Shape::Csg(c) => c.kind(),
             Shape::Transformed(t) => t.inner().kind(),
+            Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",
         }
     }

@@ -191,6 +191,7 @@ impl Transform {
                 })
             }
             Shape::Csg(c) => Shape::Csg(c.map_leaves(|leaf| self.shape(leaf))?),
+            Shape::Masked(m) => Shape::Masked(m.map(|s| self.shape(s))?),
             Shape::TriangleMesh(m) => Shape::TriangleMesh(m.transformed(self)?),
             _ => general()?,
         })

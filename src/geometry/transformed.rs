@@ -24,7 +24,7 @@ impl Transformed {
     pub fn new(inner: Shape, map: DAffine3) -> Result<Transformed, GeometryError> {
         let (inner, map) = match inner {
             Shape::Transformed(t) => (*t.inner, map * t.to_world),
-            Shape::TriangleMesh(_) | Shape::Csg(_) => {
+            Shape::TriangleMesh(_) | Shape::Csg(_) | Shape::Masked(_) => {
                 return Err(GeometryError::Degenerate(format!(
                     "a {} is transformed piece by piece, not as a whole",
                     inner.kind()

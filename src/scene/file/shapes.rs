@@ -7,8 +7,8 @@ use serde::Deserialize;
 use super::placement::TransformSection;
 use super::values::{Finite, Positive, Vector};
 use crate::geometry::{
-    Csg, CsgOperation, Cylinder, Disc, FresnelLens, GeometryError, Parallelogram, Plane, Shape,
-    Sphere, SphericalLens, TriangleMesh,
+    Csg, CsgOperation, Cylinder, Disc, FresnelLens, GeometryError, Masked, Parallelogram, Plane,
+    Shape, Sphere, SphericalLens, TriangleMesh,
 };
 use crate::mesh;
 
@@ -77,6 +77,11 @@ pub(super) enum ShapeSection {
     /// Outside the member.
     Inverse {
         of: Box<ShapeSection>,
+    },
+    /// A surface where it lies inside a solid.
+    Masked {
+        of: Box<ShapeSection>,
+        mask: Box<ShapeSection>,
     },
     /// A shape under its own transform (in the coordinates of the entry it is in).
     Transformed {
@@ -174,6 +179,9 @@ impl ShapeSection {
             ShapeSection::Intersection { of } => csg(CsgOperation::Intersection, of)?,
             ShapeSection::Difference { of } => csg(CsgOperation::Difference, of)?,
             ShapeSection::Inverse { of } => csg(CsgOperation::Inverse, vec![*of])?,
+            ShapeSection::Masked { of, mask } => {
+                Shape::Masked(Masked::new(of.member("masked")?, mask.member("masked")?)?)
+            }
             ShapeSection::Transformed { of, transform } => {
                 transform.build()?.shape(&of.member("transformed")?)?
             }
