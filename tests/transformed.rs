@@ -108,9 +108,17 @@ proptest! {
         let (t, part) = shape.intersect(o, d, 0.0, f64::INFINITY).expect("aimed inside");
         let p = o + t * d;
         prop_assert!(!inside(p - 1e-7 * d) && inside(p + 1e-7 * d), "t {}", t);
-        // The normal points out of the mapped solid.
+        // The normal points out of the mapped solid, along the gradient of the implicit
+        // function of the piece hit: the mantle x² + y² − 1 or a cap ±z − 1 (local).
         let w = shape.frame(p, part).w;
         prop_assert!(!inside(p + 1e-6 * w) && inside(p - 1e-6 * w), "w {}", w);
+        let q = local(p);
+        let g = if (q.z.abs() - 1.0).abs() < 1e-9 {
+            gradient(|x| q.z.signum() * local(x).z - 1.0, p)
+        } else {
+            gradient(|x| local(x).truncate().length_squared() - 1.0, p)
+        };
+        prop_assert!((w - g.normalize()).length() < 1e-6, "w {} gradient {}", w, g);
     }
 }
 
