@@ -216,9 +216,12 @@ impl Surface {
                 l.law.name()
             )),
             (Surface::PhaseHologram(_), Shape::Plane(_) | Shape::Disc(_))
-            | (Surface::PhaseHologram(_), Shape::Parallelogram(_)) => Ok(()),
+            | (Surface::PhaseHologram(_), Shape::Parallelogram(_) | Shape::ConvexPolygon(_)) => {
+                Ok(())
+            }
             (Surface::PhaseHologram(_), _) => Err(
-                "a phase-hologram surface needs a flat shape (plane, disc or parallelogram)"
+                "a phase-hologram surface needs a flat shape (plane, disc, parallelogram or \
+                 convex polygon)"
                     .to_string(),
             ),
             (Surface::Chequerboard(c), _) => {
