@@ -13,7 +13,7 @@ pub use four_pi_lens::FourPiLens;
 pub use ideal_lens_cloak::IdealLensCloak;
 pub use lens_simplicial_complex::LensSimplicialComplex;
 pub use lens_star::LensStar;
-pub use platonic_lens::{PlatonicLens, PlatonicSolid};
+pub use platonic_lens::PlatonicLens;
 pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
 
 use crate::geometry::{Cylinder, Shape};

@@ -4,36 +4,52 @@
 //! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
 //! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
 
+mod bilinear_surface;
+mod convex_polygon;
 mod csg;
+mod cuboid;
 mod cylinder;
 mod disc;
 mod interaction;
 mod lenses;
 mod masked;
+mod parallelepiped;
 mod parallelogram;
 mod plane;
+mod platonic_solid;
+mod polyhedron;
 mod scene_geometry;
 mod sphere;
 mod transform;
 mod transformed;
 mod triangle_mesh;
+mod triangular_prism;
+mod wedge;
 
 use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
+pub use bilinear_surface::BilinearSurface;
+pub use convex_polygon::ConvexPolygon;
 pub use csg::{Csg, CsgOperation};
+pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use disc::Disc;
 pub use interaction::{Exit, Interaction};
 pub use lenses::{FresnelLens, SphericalLens};
 pub use masked::Masked;
+pub use parallelepiped::Parallelepiped;
 pub use parallelogram::Parallelogram;
 pub use plane::Plane;
+pub use platonic_solid::{PlatonicKind, PlatonicSolid};
+pub use polyhedron::{Polyhedral, Polyhedron};
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
 pub use sphere::Sphere;
 pub use transform::Transform;
 pub use transformed::Transformed;
 pub use triangle_mesh::TriangleMesh;
+pub use triangular_prism::TriangularPrism;
+pub use wedge::Wedge;
 
 use crate::math::Frame;
 
@@ -88,6 +104,15 @@ fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryEr
     value
         .try_normalize()
         .ok_or(GeometryError::ZeroVector { what })
+}
+
+/// The smallest box around `points`.
+fn point_bounds(points: &[DVec3]) -> (DVec3, DVec3) {
+    points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        })
 }
 
 /// What every analytic shape gives: exact f64 hits, the surface frame and coordinates, and
@@ -184,6 +209,13 @@ macro_rules! dispatch {
             Shape::Disc($s) => $analytic,
             Shape::Cylinder($s) => $analytic,
             Shape::Parallelogram($s) => $analytic,
+            Shape::Cuboid($s) => $analytic,
+            Shape::Parallelepiped($s) => $analytic,
+            Shape::TriangularPrism($s) => $analytic,
+            Shape::Wedge($s) => $analytic,
+            Shape::PlatonicSolid($s) => $analytic,
+            Shape::ConvexPolygon($s) => $analytic,
+            Shape::BilinearSurface($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::Masked($s) => $analytic,
@@ -200,6 +232,13 @@ pub enum Shape {
     Disc(Disc),
     Cylinder(Cylinder),
     Parallelogram(Parallelogram),
+    Cuboid(Cuboid),
+    Parallelepiped(Parallelepiped),
+    TriangularPrism(TriangularPrism),
+    Wedge(Wedge),
+    PlatonicSolid(PlatonicSolid),
+    ConvexPolygon(ConvexPolygon),
+    BilinearSurface(BilinearSurface),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -302,6 +341,13 @@ impl Shape {
             Shape::Disc(_) => "disc",
             Shape::Cylinder(_) => "cylinder",
             Shape::Parallelogram(_) => "parallelogram",
+            Shape::Cuboid(_) => "cuboid",
+            Shape::Parallelepiped(_) => "parallelepiped",
+            Shape::TriangularPrism(_) => "triangular-prism",
+            Shape::Wedge(_) => "wedge",
+            Shape::PlatonicSolid(_) => "platonic-solid",
+            Shape::ConvexPolygon(_) => "convex-polygon",
+            Shape::BilinearSurface(_) => "bilinear-surface",
             Shape::Csg(c) => c.kind(),
             Shape::Transformed(t) => t.inner().kind(),
             Shape::Masked(_) => "masked",

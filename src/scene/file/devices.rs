@@ -5,13 +5,14 @@ use serde::Deserialize;
 
 use super::parts::Spanned;
 use super::placement::{ArraySection, FrameName, TransformSection};
+use super::shapes::SolidName;
 use super::surfaces::SurfaceSection;
 use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use glam::DVec3;
 
 use crate::devices::{
     Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part, PlatonicLens,
-    PlatonicSolid, PolygonalIdealLensCloak,
+    PolygonalIdealLensCloak,
 };
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
@@ -126,17 +127,6 @@ impl CloakKeys {
     }
 }
 
-/// The Platonic solid of a Platonic lens.
-#[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-enum SolidName {
-    Tetrahedron,
-    Cube,
-    Octahedron,
-    Dodecahedron,
-    Icosahedron,
-}
-
 impl DeviceSection {
     /// Where the device's `lenses` table is, for errors about the whole device.
     pub(super) fn span(&self) -> std::ops::Range<usize> {
@@ -224,13 +214,7 @@ impl DeviceSection {
                 focal_length,
                 lens_transmission_coefficient,
             } => PlatonicLens {
-                platonic_solid: match platonic_solid {
-                    SolidName::Tetrahedron => PlatonicSolid::Tetrahedron,
-                    SolidName::Cube => PlatonicSolid::Cube,
-                    SolidName::Octahedron => PlatonicSolid::Octahedron,
-                    SolidName::Dodecahedron => PlatonicSolid::Dodecahedron,
-                    SolidName::Icosahedron => PlatonicSolid::Icosahedron,
-                },
+                platonic_solid: platonic_solid.kind(),
                 centre: centre.0,
                 radius: radius.0,
                 basis_vector_1: basis_vector_1.map_or(DVec3::X, |b| b.0),

@@ -2,13 +2,15 @@
 
 use std::path::Path;
 
+use glam::DVec3;
 use serde::Deserialize;
 
 use super::placement::TransformSection;
-use super::values::{Finite, Positive, Vector};
+use super::values::{Direction, Finite, Positive, Vector};
 use crate::geometry::{
-    Csg, CsgOperation, Cylinder, Disc, FresnelLens, GeometryError, Masked, Parallelogram, Plane,
-    Shape, Sphere, SphericalLens, TriangleMesh,
+    BilinearSurface, ConvexPolygon, Csg, CsgOperation, Cuboid, Cylinder, Disc, FresnelLens,
+    GeometryError, Masked, Parallelepiped, Parallelogram, Plane, PlatonicKind, PlatonicSolid,
+    Shape, Sphere, SphericalLens, TriangleMesh, TriangularPrism, Wedge,
 };
 use crate::mesh;
 
@@ -38,6 +40,37 @@ pub(super) enum ShapeSection {
         corner: Vector,
         span_u: Vector,
         span_v: Vector,
+    },
+    Cuboid {
+        centre: Vector,
+        size: [Positive; 3],
+    },
+    Parallelepiped {
+        centre: Vector,
+        edges: [Vector; 3],
+    },
+    TriangularPrism {
+        vertices: [Vector; 3],
+        extrusion: Vector,
+    },
+    Wedge {
+        apex_edge_centre: Vector,
+        apex_edge_direction: Direction,
+        bisector_direction: Direction,
+        apex_angle_deg: Positive,
+        leg_length: Positive,
+        apex_edge_length: Positive,
+    },
+    PlatonicSolid {
+        solid: SolidName,
+        centre: Vector,
+        radius: Positive,
+    },
+    ConvexPolygon {
+        vertices: Vec<Vector>,
+    },
+    BilinearSurface {
+        corners: [Vector; 4],
     },
     #[serde(alias = "triangle_mesh")]
     TriangleMesh {
@@ -97,6 +130,29 @@ pub(super) enum ShapeSection {
     },
 }
 
+/// A Platonic solid's name (of a `platonic-solid` shape or a `platonic-lens` device).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub(super) enum SolidName {
+    Tetrahedron,
+    Cube,
+    Octahedron,
+    Dodecahedron,
+    Icosahedron,
+}
+
+impl SolidName {
+    pub(super) fn kind(self) -> PlatonicKind {
+        match self {
+            SolidName::Tetrahedron => PlatonicKind::Tetrahedron,
+            SolidName::Cube => PlatonicKind::Cube,
+            SolidName::Octahedron => PlatonicKind::Octahedron,
+            SolidName::Dodecahedron => PlatonicKind::Dodecahedron,
+            SolidName::Icosahedron => PlatonicKind::Icosahedron,
+        }
+    }
+}
+
 impl ShapeSection {
     /// The shape, or for a mesh file one shape per object or group in the file, with the part's
     /// name ("" for a single part). Mesh paths are relative to `dir`.
@@ -136,6 +192,43 @@ impl ShapeSection {
                 span_u,
                 span_v,
             } => Shape::Parallelogram(Parallelogram::new(corner.0, span_u.0, span_v.0)?),
+            ShapeSection::Cuboid { centre, size } => {
+                let [x, y, z] = size.map(|s| s.0);
+                Shape::Cuboid(Cuboid::new(centre.0, DVec3::new(x, y, z))?)
+            }
+            ShapeSection::Parallelepiped { centre, edges } => {
+                Shape::Parallelepiped(Parallelepiped::new(centre.0, edges.map(|e| e.0))?)
+            }
+            ShapeSection::TriangularPrism {
+                vertices,
+                extrusion,
+            } => Shape::TriangularPrism(TriangularPrism::new(vertices.map(|v| v.0), extrusion.0)?),
+            ShapeSection::Wedge {
+                apex_edge_centre,
+                apex_edge_direction,
+                bisector_direction,
+                apex_angle_deg,
+                leg_length,
+                apex_edge_length,
+            } => Shape::Wedge(Wedge::new(
+                apex_edge_centre.0,
+                apex_edge_direction.0,
+                bisector_direction.0,
+                apex_angle_deg.0.to_radians(),
+                leg_length.0,
+                apex_edge_length.0,
+            )?),
+            ShapeSection::PlatonicSolid {
+                solid,
+                centre,
+                radius,
+            } => Shape::PlatonicSolid(PlatonicSolid::new(solid.kind(), centre.0, radius.0)?),
+            ShapeSection::ConvexPolygon { vertices } => Shape::ConvexPolygon(ConvexPolygon::new(
+                vertices.into_iter().map(|v| v.0).collect(),
+            )?),
+            ShapeSection::BilinearSurface { corners } => {
+                Shape::BilinearSurface(BilinearSurface::new(corners.map(|c| c.0))?)
+            }
             ShapeSection::TriangleMesh {
                 vertices,
                 triangles,

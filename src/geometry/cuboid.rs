@@ -1,0 +1,44 @@
+//! Cuboid: the box of edge lengths `size` centred on `centre`, its edges along x, y and z; a
+//! parallelepiped with the edges (size_x, 0, 0), (0, size_y, 0) and (0, 0, size_z).
+
+use glam::DVec3;
+
+use super::GeometryError;
+use super::parallelepiped;
+use super::polyhedron::{Polyhedral, Polyhedron};
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cuboid {
+    centre: DVec3,
+    size: DVec3,
+    polyhedron: Polyhedron,
+}
+
+impl Cuboid {
+    pub fn new(centre: DVec3, size: DVec3) -> Result<Cuboid, GeometryError> {
+        super::check_point("cuboid centre", centre)?;
+        super::check_positive("cuboid size x", size.x)?;
+        super::check_positive("cuboid size y", size.y)?;
+        super::check_positive("cuboid size z", size.z)?;
+        let edges = [size.x * DVec3::X, size.y * DVec3::Y, size.z * DVec3::Z];
+        Ok(Cuboid {
+            centre,
+            size,
+            polyhedron: parallelepiped::polyhedron(centre, edges),
+        })
+    }
+
+    pub fn centre(&self) -> DVec3 {
+        self.centre
+    }
+
+    pub fn size(&self) -> DVec3 {
+        self.size
+    }
+}
+
+impl Polyhedral for Cuboid {
+    fn polyhedron(&self) -> &Polyhedron {
+        &self.polyhedron
+    }
+}
