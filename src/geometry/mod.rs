@@ -4,14 +4,20 @@
 //! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
 //! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
 
+mod axial;
+mod cone;
 mod csg;
 mod cylinder;
 mod disc;
+mod ellipsoid;
+mod elliptic_cylinder;
 mod interaction;
+mod paraboloid;
 mod parallelogram;
 mod plane;
 mod scene_geometry;
 mod sphere;
+mod spherical_cap;
 mod transform;
 mod transformed;
 mod triangle_mesh;
@@ -19,14 +25,19 @@ mod triangle_mesh;
 use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
+pub use cone::Cone;
 pub use csg::{Csg, CsgOperation};
 pub use cylinder::Cylinder;
 pub use disc::Disc;
+pub use ellipsoid::Ellipsoid;
+pub use elliptic_cylinder::EllipticCylinder;
 pub use interaction::{Exit, Interaction};
+pub use paraboloid::Paraboloid;
 pub use parallelogram::Parallelogram;
 pub use plane::Plane;
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
 pub use sphere::Sphere;
+pub use spherical_cap::SphericalCap;
 pub use transform::Transform;
 pub use transformed::Transformed;
 pub use triangle_mesh::TriangleMesh;
@@ -42,11 +53,19 @@ pub enum GeometryError {
     NotFinite { what: &'static str, value: DVec3 },
     #[error("{what} must be a non-zero vector")]
     ZeroVector { what: &'static str },
+    #[error("{what} must all be positive finite numbers, got {value}")]
+    NotAllPositive { what: &'static str, value: String },
+    #[error("{what} must be {range}, got {value}")]
+    OutOfRange {
+        what: &'static str,
+        range: String,
+        value: f64,
+    },
     #[error("degenerate geometry: {0}")]
     Degenerate(String),
 }
 
-fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
+pub(crate) fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
     if value > 0.0 && value.is_finite() {
         Ok(())
     } else {
@@ -84,6 +103,23 @@ fn check_direction(what: &'static str, value: DVec3) -> Result<DVec3, GeometryEr
     value
         .try_normalize()
         .ok_or(GeometryError::ZeroVector { what })
+}
+
+/// A finite vector `u` with a part across the unit vector `axis` (what it must not be parallel
+/// to is named `to`).
+fn check_across(
+    what: &'static str,
+    u: DVec3,
+    axis: DVec3,
+    to: &'static str,
+) -> Result<(), GeometryError> {
+    check_point(what, u)?;
+    if u.reject_from_normalized(axis).length() <= 1e-12 * u.length() {
+        return Err(GeometryError::Degenerate(format!(
+            "{what} must not be zero or parallel to {to}"
+        )));
+    }
+    Ok(())
 }
 
 /// What every analytic shape gives: exact f64 hits, the surface frame and coordinates, and
@@ -175,6 +211,11 @@ macro_rules! dispatch {
             Shape::Disc($s) => $analytic,
             Shape::Cylinder($s) => $analytic,
             Shape::Parallelogram($s) => $analytic,
+            Shape::Cone($s) => $analytic,
+            Shape::Ellipsoid($s) => $analytic,
+            Shape::Paraboloid($s) => $analytic,
+            Shape::SphericalCap($s) => $analytic,
+            Shape::EllipticCylinder($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::TriangleMesh($m) => $mesh,
@@ -190,6 +231,12 @@ pub enum Shape {
     Disc(Disc),
     Cylinder(Cylinder),
     Parallelogram(Parallelogram),
+    Cone(Cone),
+    Ellipsoid(Ellipsoid),
+    Paraboloid(Paraboloid),
+    SphericalCap(SphericalCap),
+    /// An elliptic cylinder, or a circular one without its end caps.
+    EllipticCylinder(EllipticCylinder),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -266,7 +313,8 @@ impl Shape {
         matches!(self, Shape::Csg(_)) || self.analytic_solid().is_some()
     }
 
-    /// The shape's kind as scene files name it ("sphere", "union", ...), for reports.
+    /// The shape's kind as scene files name it ("sphere", "union", ...; "cone with open =
+    /// true" for an open one), for reports.
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Sphere(_) => "sphere",
@@ -274,6 +322,11 @@ impl Shape {
             Shape::Disc(_) => "disc",
             Shape::Cylinder(_) => "cylinder",
             Shape::Parallelogram(_) => "parallelogram",
+            Shape::Cone(c) => c.kind(),
+            Shape::Ellipsoid(_) => "ellipsoid",
+            Shape::Paraboloid(p) => p.kind(),
+            Shape::SphericalCap(_) => "spherical-cap",
+            Shape::EllipticCylinder(e) => e.kind(),
             Shape::Csg(c) => c.operation().name(),
             Shape::Transformed(t) => t.inner().kind(),
             Shape::TriangleMesh(_) => "triangle mesh",
