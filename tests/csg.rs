@@ -240,7 +240,8 @@ fn bad_members_and_counts_are_refused_clearly() {
     let disc = Shape::Disc(timbre::geometry::Disc::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap());
     let e = Csg::new(CsgOperation::Union, vec![ball(), disc]).unwrap_err();
     assert!(
-        e.to_string().contains("member 2 of the union is a disc"),
+        e.to_string()
+            .contains("member 2 of the union (disc) does not enclose a solid"),
         "{e}"
     );
     let e = Csg::new(CsgOperation::Difference, vec![ball()]).unwrap_err();
@@ -463,7 +464,11 @@ fn masks_that_are_not_solids_or_leave_nothing_are_refused() {
     let plane = || Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
     let disc = Shape::Disc(timbre::geometry::Disc::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap());
     let e = Masked::new(plane(), disc).unwrap_err();
-    assert!(e.to_string().contains("mask is a disc"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("mask (disc) does not enclose a solid"),
+        "{e}"
+    );
     let ball = Shape::Sphere(Sphere::new(DVec3::new(0.0, 0.0, 5.0), 1.0).unwrap());
     let small = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
     let e = Masked::new(small, ball).unwrap_err();

@@ -1308,7 +1308,7 @@ fn bad_parameters_are_clear_errors() {
         ),
         (
             r#"{ type = "difference", of = [{ type = "cuboid", centre = [0, 0, 5], size = [1, 1, 1] }, { type = "convex-polygon", vertices = [[0, 0, 5], [1, 0, 5], [0, 1, 5]] }] }"#,
-            "member 2 of the difference is a convex-polygon, which does not enclose a solid",
+            "member 2 of the difference (convex-polygon) does not enclose a solid",
         ),
     ];
     for (shape, expected) in cases {

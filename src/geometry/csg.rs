@@ -146,7 +146,7 @@ impl Csg {
             }
             other => {
                 return Err(GeometryError::Degenerate(format!(
-                    "member {} of the {} is a {}, which does not enclose a solid \
+                    "member {} of the {} ({}) does not enclose a solid \
                      (constructive solid geometry combines closed solids and the half-spaces \
                      behind planes)",
                     index + 1,

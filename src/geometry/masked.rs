@@ -27,7 +27,7 @@ impl Masked {
         }
         if !mask.is_solid() {
             return Err(GeometryError::Degenerate(format!(
-                "the mask is a {}, which does not enclose a solid",
+                "the mask ({}) does not enclose a solid",
                 mask.kind()
             )));
         }

@@ -4,15 +4,20 @@
 //! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
 //! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
 
+mod axial;
 mod bilinear_surface;
+mod cone;
 mod convex_polygon;
 mod csg;
 mod cuboid;
 mod cylinder;
 mod disc;
+mod ellipsoid;
+mod elliptic_cylinder;
 mod interaction;
 mod lenses;
 mod masked;
+mod paraboloid;
 mod parallelepiped;
 mod parallelogram;
 mod plane;
@@ -20,6 +25,7 @@ mod platonic_solid;
 mod polyhedron;
 mod scene_geometry;
 mod sphere;
+mod spherical_cap;
 mod transform;
 mod transformed;
 mod triangle_mesh;
@@ -30,14 +36,18 @@ use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
 pub use bilinear_surface::BilinearSurface;
+pub use cone::Cone;
 pub use convex_polygon::ConvexPolygon;
 pub use csg::{Csg, CsgOperation};
 pub use cuboid::Cuboid;
 pub use cylinder::Cylinder;
 pub use disc::Disc;
+pub use ellipsoid::Ellipsoid;
+pub use elliptic_cylinder::EllipticCylinder;
 pub use interaction::{Exit, Interaction};
 pub use lenses::{FresnelLens, SphericalLens};
 pub use masked::Masked;
+pub use paraboloid::Paraboloid;
 pub use parallelepiped::Parallelepiped;
 pub use parallelogram::Parallelogram;
 pub use plane::Plane;
@@ -45,6 +55,7 @@ pub use platonic_solid::{PlatonicKind, PlatonicSolid};
 pub use polyhedron::{Polyhedral, Polyhedron};
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
 pub use sphere::Sphere;
+pub use spherical_cap::SphericalCap;
 pub use transform::Transform;
 pub use transformed::Transformed;
 pub use triangle_mesh::TriangleMesh;
@@ -62,11 +73,19 @@ pub enum GeometryError {
     NotFinite { what: &'static str, value: DVec3 },
     #[error("{what} must be a non-zero vector")]
     ZeroVector { what: &'static str },
+    #[error("{what} must all be positive finite numbers, got {value}")]
+    NotAllPositive { what: &'static str, value: String },
+    #[error("{what} must be {range}, got {value}")]
+    OutOfRange {
+        what: &'static str,
+        range: String,
+        value: f64,
+    },
     #[error("degenerate geometry: {0}")]
     Degenerate(String),
 }
 
-fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
+pub(crate) fn check_positive(what: &'static str, value: f64) -> Result<(), GeometryError> {
     if value > 0.0 && value.is_finite() {
         Ok(())
     } else {
@@ -113,6 +132,23 @@ fn point_bounds(points: &[DVec3]) -> (DVec3, DVec3) {
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
             (lo.min(p), hi.max(p))
         })
+}
+
+/// A finite vector `u` with a part across the unit vector `axis` (what it must not be parallel
+/// to is named `to`).
+fn check_across(
+    what: &'static str,
+    u: DVec3,
+    axis: DVec3,
+    to: &'static str,
+) -> Result<(), GeometryError> {
+    check_point(what, u)?;
+    if u.reject_from_normalized(axis).length() <= 1e-12 * u.length() {
+        return Err(GeometryError::Degenerate(format!(
+            "{what} must not be zero or parallel to {to}"
+        )));
+    }
+    Ok(())
 }
 
 /// What every analytic shape gives: exact f64 hits, the surface frame and coordinates, and
@@ -216,6 +252,11 @@ macro_rules! dispatch {
             Shape::PlatonicSolid($s) => $analytic,
             Shape::ConvexPolygon($s) => $analytic,
             Shape::BilinearSurface($s) => $analytic,
+            Shape::Cone($s) => $analytic,
+            Shape::Ellipsoid($s) => $analytic,
+            Shape::Paraboloid($s) => $analytic,
+            Shape::SphericalCap($s) => $analytic,
+            Shape::EllipticCylinder($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::Masked($s) => $analytic,
@@ -239,6 +280,12 @@ pub enum Shape {
     PlatonicSolid(PlatonicSolid),
     ConvexPolygon(ConvexPolygon),
     BilinearSurface(BilinearSurface),
+    Cone(Cone),
+    Ellipsoid(Ellipsoid),
+    Paraboloid(Paraboloid),
+    SphericalCap(SphericalCap),
+    /// An elliptic cylinder, or a circular one without its end caps.
+    EllipticCylinder(EllipticCylinder),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -333,7 +380,8 @@ impl Shape {
         }
     }
 
-    /// The shape's kind as scene files name it ("sphere", "union", ...), for reports.
+    /// The shape's kind as scene files name it ("sphere", "union", ...; "cone with open =
+    /// true" for an open one), for reports.
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Sphere(_) => "sphere",
@@ -349,6 +397,11 @@ impl Shape {
             Shape::ConvexPolygon(_) => "convex-polygon",
             Shape::BilinearSurface(_) => "bilinear-surface",
             Shape::Csg(c) => c.kind(),
+            Shape::Cone(c) => c.kind(),
+            Shape::Ellipsoid(_) => "ellipsoid",
+            Shape::Paraboloid(p) => p.kind(),
+            Shape::SphericalCap(_) => "spherical-cap",
+            Shape::EllipticCylinder(e) => e.kind(),
             Shape::Transformed(t) => t.inner().kind(),
             Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",

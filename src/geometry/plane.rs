@@ -18,12 +18,7 @@ impl Plane {
     pub fn new(point: DVec3, normal: DVec3, u_direction: DVec3) -> Result<Plane, GeometryError> {
         super::check_point("plane point", point)?;
         let normal = super::check_direction("plane normal", normal)?;
-        super::check_point("plane u direction", u_direction)?;
-        if u_direction.reject_from_normalized(normal).length() <= 1e-12 * u_direction.length() {
-            return Err(GeometryError::Degenerate(
-                "plane u_direction must not be zero or parallel to the normal".into(),
-            ));
-        }
+        super::check_across("plane u_direction", u_direction, normal, "the normal")?;
         Ok(Plane {
             point,
             frame: Frame::from_normal_and_u(normal, u_direction),

@@ -99,6 +99,20 @@ pub fn circle_crossings(offset: DVec3, direction: DVec3, radius: f64) -> Option<
     Some((mid - s, mid + s))
 }
 
+/// Both roots of a s² + 2 b s + c (a ≠ 0), smaller first, given its discriminant
+/// `disc` = b² − a c (clamped at 0), which the caller computes in a form that keeps its digits.
+/// The root of larger magnitude comes from q = −(b + sign(b) √disc) as q / a and the other as
+/// c / q, so neither subtracts nearly equal numbers.
+pub fn quadratic_roots(a: f64, b: f64, c: f64, disc: f64) -> (f64, f64) {
+    let q = -(b + disc.max(0.0).sqrt().copysign(b));
+    if q == 0.0 {
+        // b = 0 and disc = 0, so c = 0: a double root at 0.
+        return (0.0, 0.0);
+    }
+    let (r0, r1) = (q / a, c / q);
+    (r0.min(r1), r0.max(r1))
+}
+
 /// The smallest of the candidate distances inside the open interval (t_min, t_max).
 #[inline]
 pub fn nearest_in(
@@ -128,6 +142,20 @@ mod tests {
         );
         assert_eq!(circle_crossings(offset, DVec3::X, 0.5e-3), None);
         assert_eq!(circle_crossings(offset, DVec3::ZERO, 1.0), None);
+    }
+
+    #[test]
+    fn quadratic_roots_keep_the_small_root_s_digits() {
+        // s² − 2·1e8 s + 1 = 0: roots 1e8 ± sqrt(1e16 − 1); the small one is 1/(2e8) to
+        // rounding, which the textbook formula returns as 0 or with no correct digit.
+        let (r0, r1) = quadratic_roots(1.0, -1e8, 1.0, 1e16 - 1.0);
+        assert!(
+            (r0 - 0.5e-8).abs() < 1e-22 && (r1 - 2e8).abs() < 1e-6,
+            "{r0} {r1}"
+        );
+        // -(s − 1)(s − 3) = −s² + 4 s − 3: a = −1, b = 2, c = −3, disc = 4 − 3.
+        assert_eq!(quadratic_roots(-1.0, 2.0, -3.0, 1.0), (1.0, 3.0));
+        assert_eq!(quadratic_roots(2.0, 0.0, 0.0, 0.0), (0.0, 0.0));
     }
 
     #[test]

@@ -2,15 +2,16 @@
 
 use std::path::Path;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::placement::TransformSection;
-use super::values::{Direction, Finite, Positive, Vector};
+use super::values::{Direction, Finite, Positive, Vector, Vector2};
 use crate::geometry::{
-    BilinearSurface, ConvexPolygon, Csg, CsgOperation, Cuboid, Cylinder, Disc, FresnelLens,
-    GeometryError, Masked, Parallelepiped, Parallelogram, Plane, PlatonicKind, PlatonicSolid,
-    Shape, Sphere, SphericalLens, TriangleMesh, TriangularPrism, Wedge,
+    BilinearSurface, Cone, ConvexPolygon, Csg, CsgOperation, Cuboid, Cylinder, Disc, Ellipsoid,
+    EllipticCylinder, FresnelLens, GeometryError, Masked, Paraboloid, Parallelepiped,
+    Parallelogram, Plane, PlatonicKind, PlatonicSolid, Shape, Sphere, SphericalCap, SphericalLens,
+    TriangleMesh, TriangularPrism, Wedge, check_positive,
 };
 use crate::mesh;
 
@@ -35,6 +36,9 @@ pub(super) enum ShapeSection {
         start: Vector,
         end: Vector,
         radius: Positive,
+        /// The mantle alone, without the end caps.
+        #[serde(default)]
+        open: bool,
     },
     Parallelogram {
         corner: Vector,
@@ -71,6 +75,51 @@ pub(super) enum ShapeSection {
     },
     BilinearSurface {
         corners: [Vector; 4],
+    },
+    Cone {
+        apex: Vector,
+        axis: Vector,
+        half_angle_deg: Finite,
+        height: Finite,
+        /// The mantle alone, without the base.
+        #[serde(default)]
+        open: bool,
+    },
+    Ellipsoid {
+        centre: Vector,
+        semi_axes: Vector,
+    },
+    Paraboloid {
+        vertex: Vector,
+        axis: Vector,
+        focal_length: Finite,
+        height: Finite,
+        /// The curved surface alone, without the cap.
+        #[serde(default)]
+        open: bool,
+    },
+    /// Its size by exactly one of `aperture_radius` and `half_angle_deg`.
+    SphericalCap {
+        sphere_centre: Vector,
+        cap_centre: Vector,
+        aperture_radius: Option<Finite>,
+        half_angle_deg: Option<Finite>,
+    },
+    EllipticCylinder {
+        start: Vector,
+        end: Vector,
+        semi_axes: Vector2,
+        a_direction: Option<Vector>,
+        /// The mantle alone, without the end caps.
+        #[serde(default)]
+        open: bool,
+    },
+    /// A hollow cylinder: the difference of two with the same ends.
+    Tube {
+        start: Vector,
+        end: Vector,
+        outer_radius: Finite,
+        inner_radius: Finite,
     },
     #[serde(alias = "triangle_mesh")]
     TriangleMesh {
@@ -184,9 +233,84 @@ impl ShapeSection {
                 normal,
                 radius,
             } => Shape::Disc(Disc::new(centre.0, normal.0, radius.0)?),
-            ShapeSection::Cylinder { start, end, radius } => {
-                Shape::Cylinder(Cylinder::new(start.0, end.0, radius.0)?)
+            ShapeSection::Cylinder {
+                start,
+                end,
+                radius,
+                open,
+            } => {
+                let closed = Cylinder::new(start.0, end.0, radius.0)?;
+                if open {
+                    Shape::EllipticCylinder(EllipticCylinder::new(
+                        closed.start(),
+                        closed.end(),
+                        DVec2::splat(closed.radius()),
+                        None,
+                        true,
+                    )?)
+                } else {
+                    Shape::Cylinder(closed)
+                }
             }
+            ShapeSection::Cone {
+                apex,
+                axis,
+                half_angle_deg,
+                height,
+                open,
+            } => Shape::Cone(Cone::new(apex.0, axis.0, half_angle_deg.0, height.0, open)?),
+            ShapeSection::Ellipsoid { centre, semi_axes } => {
+                Shape::Ellipsoid(Ellipsoid::new(centre.0, semi_axes.0)?)
+            }
+            ShapeSection::Paraboloid {
+                vertex,
+                axis,
+                focal_length,
+                height,
+                open,
+            } => Shape::Paraboloid(Paraboloid::new(
+                vertex.0,
+                axis.0,
+                focal_length.0,
+                height.0,
+                open,
+            )?),
+            ShapeSection::SphericalCap {
+                sphere_centre,
+                cap_centre,
+                aperture_radius,
+                half_angle_deg,
+            } => Shape::SphericalCap(match (aperture_radius, half_angle_deg) {
+                (Some(r), None) => {
+                    SphericalCap::with_aperture_radius(sphere_centre.0, cap_centre.0, r.0)?
+                }
+                (None, Some(angle)) => SphericalCap::new(sphere_centre.0, cap_centre.0, angle.0)?,
+                _ => {
+                    return Err(GeometryError::Degenerate(
+                        "a spherical-cap needs exactly one of aperture_radius and half_angle_deg"
+                            .into(),
+                    ));
+                }
+            }),
+            ShapeSection::EllipticCylinder {
+                start,
+                end,
+                semi_axes,
+                a_direction,
+                open,
+            } => Shape::EllipticCylinder(EllipticCylinder::new(
+                start.0,
+                end.0,
+                semi_axes.0,
+                a_direction.map(|a| a.0),
+                open,
+            )?),
+            ShapeSection::Tube {
+                start,
+                end,
+                outer_radius,
+                inner_radius,
+            } => tube(start.0, end.0, outer_radius.0, inner_radius.0)?,
             ShapeSection::Parallelogram {
                 corner,
                 span_u,
@@ -291,6 +415,26 @@ impl ShapeSection {
             other => other.build_analytic(),
         }
     }
+}
+
+/// The hollow cylinder between the radii: the outer cylinder less the inner one, whose caps
+/// lie in the outer one's planes (the spans of a line through the hole cancel exactly there,
+/// so the hole has no cap).
+fn tube(start: DVec3, end: DVec3, outer: f64, inner: f64) -> Result<Shape, GeometryError> {
+    check_positive("tube outer_radius", outer)?;
+    check_positive("tube inner_radius", inner)?;
+    if inner >= outer {
+        return Err(GeometryError::OutOfRange {
+            what: "tube inner_radius",
+            range: format!("less than outer_radius ({outer})"),
+            value: inner,
+        });
+    }
+    let cylinder = |r| Cylinder::new(start, end, r).map(Shape::Cylinder);
+    Ok(Shape::Csg(Csg::new(
+        CsgOperation::Difference,
+        vec![cylinder(outer)?, cylinder(inner)?],
+    )?))
 }
 
 /// `operation` on the members' shapes.
