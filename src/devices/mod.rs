@@ -2,19 +2,23 @@
 //! parameters of Dr TIM's editable object to its parts, every face an ideal thin lens with its
 //! positions in the device's own coordinates, and the edges (Dr TIM's frames) cylinders.
 
+mod coordinate_system;
 mod four_pi_lens;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
+mod tim_head;
 
+pub use coordinate_system::CoordinateSystem;
 pub use four_pi_lens::FourPiLens;
 pub use ideal_lens_cloak::IdealLensCloak;
 pub use lens_simplicial_complex::LensSimplicialComplex;
 pub use lens_star::LensStar;
 pub use platonic_lens::PlatonicLens;
 pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
+pub use tim_head::TimHead;
 
 use crate::geometry::{Cylinder, Shape};
 use crate::surfaces::Surface;

@@ -4,6 +4,7 @@
 //! Every shape gives the nearest hit distance along a ray, the surface frame (u, v, w; w the
 //! outward normal) at a surface point, and 2D surface coordinates (for chequerboards).
 
+mod arrow;
 mod axial;
 mod bilinear_surface;
 mod cone;
@@ -23,6 +24,7 @@ mod parallelogram;
 mod plane;
 mod platonic_solid;
 mod polyhedron;
+mod ruler;
 mod scene_geometry;
 mod sphere;
 mod spherical_cap;
@@ -35,6 +37,7 @@ mod wedge;
 use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
+pub use arrow::Arrow;
 pub use bilinear_surface::BilinearSurface;
 pub use cone::Cone;
 pub use convex_polygon::ConvexPolygon;
@@ -53,6 +56,7 @@ pub use parallelogram::Parallelogram;
 pub use plane::Plane;
 pub use platonic_solid::{PlatonicKind, PlatonicSolid};
 pub use polyhedron::{Polyhedral, Polyhedron};
+pub use ruler::Ruler;
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
 pub use sphere::Sphere;
 pub use spherical_cap::SphericalCap;

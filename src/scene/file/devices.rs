@@ -11,8 +11,8 @@ use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use glam::DVec3;
 
 use crate::devices::{
-    Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part, PlatonicLens,
-    PolygonalIdealLensCloak,
+    CoordinateSystem, Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part,
+    PlatonicLens, PolygonalIdealLensCloak, TimHead,
 };
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
@@ -27,7 +27,8 @@ pub(super) struct DeviceSection {
     pub frame: Option<FrameName>,
     pub transform: Option<Spanned<TransformSection>>,
     pub array: Option<Spanned<ArraySection>>,
-    lenses: Spanned<LensesSection>,
+    lenses: Option<Spanned<LensesSection>>,
+    aid: Option<Spanned<AidSection>>,
     #[serde(default)]
     show_edges: bool,
     edge_radius: Option<Positive>,
@@ -93,6 +94,61 @@ enum LensesSection {
     },
 }
 
+/// Visual aids made of several coloured objects (Dr TIM's).
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+enum AidSection {
+    TimHead {
+        centre: Vector,
+        radius: Option<Positive>,
+        front_direction: Option<Direction>,
+        top_direction: Option<Direction>,
+    },
+    CoordinateSystem {
+        origin: Option<Vector>,
+        axes: Option<[Direction; 3]>,
+        length: Option<Positive>,
+        shaft_radius: Option<Positive>,
+    },
+}
+
+impl AidSection {
+    fn parts(&self) -> Result<Vec<Part>, String> {
+        match self {
+            AidSection::TimHead {
+                centre,
+                radius,
+                front_direction,
+                top_direction,
+            } => TimHead {
+                centre: centre.0,
+                radius: radius.map_or(1.0, |r| r.0),
+                front_direction: front_direction.map_or(DVec3::NEG_Z, |d| d.0),
+                top_direction: top_direction.map_or(DVec3::Y, |d| d.0),
+            }
+            .parts()
+            .map_err(|e| format!("tim-head: {e}")),
+            AidSection::CoordinateSystem {
+                origin,
+                axes,
+                length,
+                shaft_radius,
+            } => {
+                let length = length.map_or(1.0, |l| l.0);
+                CoordinateSystem {
+                    origin: origin.map_or(DVec3::ZERO, |o| o.0),
+                    axes: axes.map_or([DVec3::X, DVec3::Y, DVec3::Z], |a| a.map(|d| d.0)),
+                    names: ["x axis", "y axis", "z axis"],
+                    length,
+                    shaft_radius: shaft_radius.map_or(0.025 * length, |r| r.0),
+                }
+                .parts()
+                .map_err(|e| format!("coordinate-system: {e}"))
+            }
+        }
+    }
+}
+
 /// The keys of the tetrahedral and the polygonal ideal-lens cloak.
 #[derive(Debug, Deserialize)]
 struct CloakKeys {
@@ -128,13 +184,40 @@ impl CloakKeys {
 }
 
 impl DeviceSection {
-    /// Where the device's `lenses` table is, for errors about the whole device.
-    pub(super) fn span(&self) -> std::ops::Range<usize> {
-        self.lenses.span()
+    /// Where the device's `lenses` or `aid` table is, for errors about the whole device.
+    pub(super) fn span(&self) -> Option<std::ops::Range<usize>> {
+        let aid = self.aid.as_ref().map(Spanned::span);
+        self.lenses.as_ref().map(Spanned::span).or(aid)
     }
 
-    /// The device's parts, or the span of the table at fault and what is wrong.
-    pub(super) fn parts(&mut self) -> Result<Vec<Part>, (std::ops::Range<usize>, String)> {
+    /// The device's parts, or the span of the table at fault and what is wrong (`table`: the
+    /// device's whole table).
+    pub(super) fn parts(
+        &mut self,
+        table: std::ops::Range<usize>,
+    ) -> Result<Vec<Part>, (std::ops::Range<usize>, String)> {
+        let lenses = match (&self.lenses, &self.aid) {
+            (Some(lenses), None) => lenses,
+            (None, Some(aid)) => {
+                if self.show_edges || self.edge_radius.is_some() || self.edge_surface.is_some() {
+                    return Err((
+                        aid.span(),
+                        "edges (show_edges, edge_radius, edge_surface) belong to lens devices, \
+                         not to visual aids"
+                            .into(),
+                    ));
+                }
+                return aid.get_ref().parts().map_err(|e| (aid.span(), e));
+            }
+            _ => {
+                return Err((
+                    table,
+                    "a device needs exactly one of a `lenses` table (a device of lenses) and an \
+                     `aid` table (a visual aid)"
+                        .into(),
+                ));
+            }
+        };
         let edges = if self.show_edges {
             let surface = match self.edge_surface.take() {
                 Some(s) => {
@@ -153,8 +236,8 @@ impl DeviceSection {
         } else {
             None
         };
-        let span = self.lenses.span();
-        let lenses = self.lenses.get_ref();
+        let span = lenses.span();
+        let lenses = lenses.get_ref();
         let device = match lenses {
             LensesSection::LensStar {
                 number_of_lenses,

@@ -315,7 +315,7 @@ struct File {
     #[serde(default)]
     object: Vec<ObjectSection>,
     #[serde(default)]
-    device: Vec<DeviceSection>,
+    device: Vec<Spanned<DeviceSection>>,
     #[serde(default)]
     group: Vec<GroupSection>,
     #[serde(default)]

@@ -12,14 +12,15 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use super::parts::Spanned;
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DVec2, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
 use super::devices::DeviceSection;
 use super::shapes::ShapeSection;
 use super::surfaces::SurfaceSection;
-use super::values::{Finite, Vector};
+use super::values::{Finite, Positive, Vector};
 use super::{SceneFileError, Source};
+use crate::devices::{CoordinateSystem, Part};
 use crate::geometry::{ObjectArray, Shape, Transform};
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
@@ -60,6 +61,42 @@ pub(super) struct ObjectSection {
     surface: Spanned<SurfaceSection>,
     transform: Option<Spanned<TransformSection>>,
     array: Option<Spanned<ArraySection>>,
+    surface_axes: Option<Spanned<SurfaceAxesSection>>,
+}
+
+/// Arrows along the surface-coordinate axes û, v̂ and the outward normal at a point of an
+/// object's surface (the paper's §4.4 footnote).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SurfaceAxesSection {
+    coordinates: [Finite; 2],
+    length: Option<Positive>,
+    shaft_radius: Option<Positive>,
+}
+
+impl SurfaceAxesSection {
+    /// The arrows at the point of `shape` (in world coordinates) with these coordinates.
+    fn parts(&self, shape: &Shape) -> Result<Vec<Part>, String> {
+        let [u, v] = self.coordinates.map(|c| c.0);
+        let p = shape.point_at(DVec2::new(u, v)).ok_or_else(|| {
+            format!(
+                "surface_axes: the {} has no point with surface coordinates ({u}, {v}) \
+                 (meshes and shapes of several parts have none to look up)",
+                shape.kind()
+            )
+        })?;
+        let f = shape.frame(p, 0);
+        let length = self.length.map_or(0.5, |l| l.0);
+        CoordinateSystem {
+            origin: p,
+            axes: [f.u, f.v, f.w],
+            names: ["u axis", "v axis", "normal"],
+            length,
+            shaft_radius: self.shaft_radius.map_or(0.05 * length, |r| r.0),
+        }
+        .parts()
+        .map_err(|e| format!("surface_axes: {e}"))
+    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -72,7 +109,7 @@ pub(super) struct GroupSection {
     #[serde(default)]
     object: Vec<ObjectSection>,
     #[serde(default)]
-    device: Vec<DeviceSection>,
+    device: Vec<Spanned<DeviceSection>>,
     #[serde(default)]
     group: Vec<GroupSection>,
     #[serde(default)]
@@ -111,7 +148,7 @@ impl FrameName {
 #[derive(Debug, Default)]
 pub(super) struct Items {
     pub object: Vec<ObjectSection>,
-    pub device: Vec<DeviceSection>,
+    pub device: Vec<Spanned<DeviceSection>>,
     pub group: Vec<GroupSection>,
     pub include: Vec<IncludeSection>,
 }
@@ -468,6 +505,32 @@ impl Placer {
                 },
             )?);
         }
+        if let Some(axes) = o.surface_axes {
+            let at = axes.span();
+            let (parts, frame) = match placed.objects.as_slice() {
+                [on] => (axes.get_ref().parts(&on.shape), on.frame),
+                all => (
+                    Err(format!(
+                        "surface_axes: the mesh file has {} parts, and meshes have no surface \
+                         coordinates to look up",
+                        all.len()
+                    )),
+                    frame,
+                ),
+            };
+            let parts = parts.map_err(|e| {
+                source.error(Some(at), format!("{}: {e}", super::object_label(&name)))
+            })?;
+            placed
+                .objects
+                .extend(parts.into_iter().map(|p| SceneObject {
+                    name: format!("{name}/{}", p.name),
+                    shape: p.shape,
+                    surface: p.surface,
+                    shadow_throwing: true,
+                    frame,
+                }));
+        }
         self.repeat(source, placed, offsets, &name)
     }
 
@@ -475,21 +538,23 @@ impl Placer {
     fn device(
         &mut self,
         source: &Source,
-        mut d: DeviceSection,
+        d: Spanned<DeviceSection>,
         parent: &Transform,
         frame: ReferenceFrame,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
+        let table = d.span();
+        let mut d = d.into_inner();
         let own_name = d
             .name
             .take()
             .unwrap_or_else(|| format!("device {}", self.count));
         let name = join(prefix, Some(&own_name));
-        let span = d.span();
+        let span = d.span().unwrap_or(table.clone());
         let transform_span = d.transform.as_ref().map(Spanned::span);
         let parts = d
-            .parts()
+            .parts(table)
             .map_err(|(at, e)| source.error(Some(at), format!("device '{name}': {e}")))?;
         let (own, offsets) =
             self.placement(source, d.transform.take(), d.array.take(), parent, &name)?;

@@ -8,10 +8,10 @@ use serde::Deserialize;
 use super::placement::TransformSection;
 use super::values::{Direction, Finite, Positive, Vector, Vector2};
 use crate::geometry::{
-    BilinearSurface, Cone, ConvexPolygon, Csg, CsgOperation, Cuboid, Cylinder, Disc, Ellipsoid,
-    EllipticCylinder, FresnelLens, GeometryError, Masked, Paraboloid, Parallelepiped,
-    Parallelogram, Plane, PlatonicKind, PlatonicSolid, Shape, Sphere, SphericalCap, SphericalLens,
-    TriangleMesh, TriangularPrism, Wedge, check_positive,
+    Arrow, BilinearSurface, Cone, ConvexPolygon, Csg, CsgOperation, Cuboid, Cylinder, Disc,
+    Ellipsoid, EllipticCylinder, FresnelLens, GeometryError, Masked, Paraboloid, Parallelepiped,
+    Parallelogram, Plane, PlatonicKind, PlatonicSolid, Ruler, Shape, Sphere, SphericalCap,
+    SphericalLens, TriangleMesh, TriangularPrism, Wedge, check_positive,
 };
 use crate::mesh;
 
@@ -113,6 +113,24 @@ pub(super) enum ShapeSection {
         /// The mantle alone, without the end caps.
         #[serde(default)]
         open: bool,
+    },
+    /// Dr TIM's arrow: a shaft and a conical tip at `end`.
+    Arrow {
+        start: Vector,
+        end: Vector,
+        shaft_radius: Option<Positive>,
+        tip_length: Option<Positive>,
+        tip_angle_deg: Option<Finite>,
+    },
+    /// A rod with tick marks every `tick_spacing` from `start`.
+    Ruler {
+        start: Vector,
+        end: Vector,
+        tick_spacing: Positive,
+        radius: Option<Positive>,
+        tick_direction: Option<Vector>,
+        tick_length: Option<Positive>,
+        major_every: Option<u32>,
     },
     /// A hollow cylinder: the difference of two with the same ends.
     Tube {
@@ -311,6 +329,49 @@ impl ShapeSection {
                 outer_radius,
                 inner_radius,
             } => tube(start.0, end.0, outer_radius.0, inner_radius.0)?,
+            ShapeSection::Arrow {
+                start,
+                end,
+                shaft_radius,
+                tip_length,
+                tip_angle_deg,
+            } => {
+                let default = Arrow::with_default_proportions(start.0, end.0);
+                Arrow {
+                    shaft_radius: shaft_radius.map_or(default.shaft_radius, |r| r.0),
+                    tip_length: tip_length.map_or(default.tip_length, |l| l.0),
+                    tip_angle_deg: tip_angle_deg.map_or(default.tip_angle_deg, |a| a.0),
+                    ..default
+                }
+                .shape()?
+            }
+            ShapeSection::Ruler {
+                start,
+                end,
+                tick_spacing,
+                radius,
+                tick_direction,
+                tick_length,
+                major_every,
+            } => {
+                let along = end.0 - start.0;
+                let radius = radius.map_or(along.length() / 200.0, |r| r.0);
+                let up = if along.reject_from(DVec3::Y).length() > 1e-6 * along.length() {
+                    DVec3::Y
+                } else {
+                    DVec3::X
+                };
+                Ruler {
+                    start: start.0,
+                    end: end.0,
+                    radius,
+                    tick_spacing: tick_spacing.0,
+                    tick_direction: tick_direction.map_or(up, |d| d.0),
+                    tick_length: tick_length.map_or(4.0 * radius, |l| l.0),
+                    major_every: major_every.unwrap_or(10),
+                }
+                .shape()?
+            }
             ShapeSection::Parallelogram {
                 corner,
                 span_u,

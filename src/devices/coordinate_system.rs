@@ -1,0 +1,57 @@
+//! Three arrows along the axes of a coordinate system, red, green and blue (Dr TIM's object
+//! coordinate system; also the surface-coordinate axes of a surface point: û, v̂ and the
+//! outward normal, the paper's §4.4 footnote).
+
+use glam::DVec3;
+
+use super::Part;
+use crate::geometry::Arrow;
+use crate::math::Colour;
+use crate::surfaces::{Coloured, Surface};
+
+/// Arrows of length `length` from `origin` along each of `axes`, named by `names`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinateSystem {
+    pub origin: DVec3,
+    pub axes: [DVec3; 3],
+    pub names: [&'static str; 3],
+    pub length: f64,
+    pub shaft_radius: f64,
+}
+
+/// Dr TIM's surface-coordinate axes: tips 0.1 long with a 30° half angle.
+const TIP_LENGTH: f64 = 0.1;
+const TIP_ANGLE_DEG: f64 = 30.0;
+
+impl CoordinateSystem {
+    pub fn parts(&self) -> Result<Vec<Part>, String> {
+        let colours = [
+            Colour::new(1.0, 0.0, 0.0),
+            Colour::new(0.0, 1.0, 0.0),
+            Colour::new(0.0, 0.0, 1.0),
+        ];
+        let tip_length = TIP_LENGTH.min(0.5 * self.length);
+        (0..3)
+            .map(|i| {
+                let direction = self.axes[i].try_normalize().ok_or_else(|| {
+                    format!("the {} direction must be a non-zero vector", self.names[i])
+                })?;
+                let shape = Arrow {
+                    start: self.origin,
+                    end: self.origin + self.length * direction,
+                    shaft_radius: self.shaft_radius,
+                    tip_length,
+                    tip_angle_deg: TIP_ANGLE_DEG,
+                }
+                .shape()
+                .map_err(|e| format!("{}: {e}", self.names[i]))?;
+                Ok(Part {
+                    name: self.names[i].to_string(),
+                    shape,
+                    surface: Surface::Coloured(Coloured::shiny(colours[i])),
+                    edge: true,
+                })
+            })
+            .collect()
+    }
+}
