@@ -55,7 +55,7 @@ impl Ruler {
         )?)];
         for k in 0..ticks {
             let at = self.start + (k as f64 * self.tick_spacing / length) * along;
-            let major = self.major_every > 0 && k as u32 % self.major_every == 0;
+            let major = self.major_every > 0 && (k as u32).is_multiple_of(self.major_every);
             let reach = self.radius + self.tick_length * if major { 1.5 } else { 1.0 };
             parts.push(Shape::Cylinder(Cylinder::new(
                 at,
