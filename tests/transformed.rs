@@ -131,3 +131,30 @@ fn singular_maps_are_refused() {
     let e = Transform::from_matrix(DMat3::from_cols(DVec3::X, DVec3::X, DVec3::Z)).unwrap_err();
     assert!(e.to_string().contains("singular"), "{e}");
 }
+
+#[test]
+fn a_non_uniformly_scaled_sphere_renders_like_the_ellipsoid() {
+    // The same matt body in the empty studio: an ellipsoid with semi-axes (0.9, 0.5, 0.7),
+    // turned about (1, 1, 0), and the unit sphere scaled by (0.9, 0.5, 0.7) and turned alike.
+    let scene = |shape: &str, scale: &str| {
+        format!(
+            "studio = \"empty\"\n[render]\nwidth = 160\nheight = 120\nspp = 1\n[[object]]\nshape = {shape}\nsurface = {{ type = \"shiny\", colour = [0.8, 0.3, 0.2] }}\ntransform = {{ {scale}rotate = {{ axis = [1, 1, 0], angle_deg = 35 }}, translate = [0.3, -0.2, 8] }}\n"
+        )
+    };
+    let ellipsoid = common::images::render_text(&scene(
+        r#"{ type = "ellipsoid", centre = [0, 0, 0], semi_axes = [0.9, 0.5, 0.7] }"#,
+        "",
+    ));
+    let sphere = common::images::render_text(&scene(
+        r#"{ type = "sphere", centre = [0, 0, 0], radius = 1 }"#,
+        "scale = [0.9, 0.5, 0.7], ",
+    ));
+    // The body covers thousands of pixels; at most a few on its outline may round the other
+    // way.
+    assert!(common::images::differing(&ellipsoid, &sphere) <= 5);
+    let without = common::images::render_text(&scene(
+        r#"{ type = "sphere", centre = [0, 0, 0], radius = 0.7 }"#,
+        "",
+    ));
+    assert!(common::images::differing(&ellipsoid, &without) > 500);
+}

@@ -269,13 +269,12 @@ impl Csg {
                     spans
                 }
             }
-            Node::Union(nodes) => {
-                let mut all = Spans::new();
-                for n in nodes {
-                    all = union(&all, &self.spans(n, origin, direction));
-                }
-                all
-            }
+            Node::Union(nodes) => union(
+                nodes
+                    .iter()
+                    .flat_map(|n| self.spans(n, origin, direction))
+                    .collect(),
+            ),
             Node::Intersection(nodes) => {
                 let mut nodes = nodes.iter();
                 let first = nodes.next().expect("intersections have members");
@@ -346,13 +345,12 @@ fn complement(spans: &[Span]) -> Spans {
     out
 }
 
-/// The union of two ordered span lists; spans that overlap or touch become one (two solids
+/// The union of spans in any order, ordered; spans that overlap or touch become one (two solids
 /// glued face to face have no surface between them).
-fn union(a: &[Span], b: &[Span]) -> Spans {
-    let mut merged: Spans = a.iter().chain(b).copied().collect();
-    merged.sort_unstable_by(|x, y| x.enter.0.total_cmp(&y.enter.0));
+fn union(mut spans: Spans) -> Spans {
+    spans.sort_unstable_by(|x, y| x.enter.0.total_cmp(&y.enter.0));
     let mut out = Spans::new();
-    for s in merged {
+    for s in spans {
         match out.last_mut() {
             Some(last) if s.enter.0 <= last.exit.0 => {
                 if s.exit.0 > last.exit.0 {
@@ -453,7 +451,10 @@ mod tests {
         let a = [span(0.0, 2.0), span(5.0, 7.0)];
         let b = [span(1.0, 3.0), span(7.0, 8.0), span(10.0, 11.0)];
         // Touching spans (7) merge in a union and share nothing in an intersection.
-        assert_eq!(ends(&union(&a, &b)), [(0.0, 3.0), (5.0, 8.0), (10.0, 11.0)]);
+        assert_eq!(
+            ends(&union(a.iter().chain(&b).copied().collect())),
+            [(0.0, 3.0), (5.0, 8.0), (10.0, 11.0)]
+        );
         assert_eq!(ends(&intersection(&a, &b)), [(1.0, 2.0)]);
         let inf = f64::INFINITY;
         assert_eq!(ends(&complement(&a)), [(-inf, 0.0), (2.0, 5.0), (7.0, inf)]);
