@@ -392,8 +392,8 @@ fn check_accepts_good_files_and_locates_errors_in_bad_ones() {
     run.assert_success();
     let expected = format!(
         "{}: OK\n  objects:      1\n  triangles:    0\n  instances:    0 (in 0 arrays)\n  \
-         bounding box: [-10, -10, -10] to [10, 10, 10]\n  point lights: 0\n  camera:       \
-         pinhole, 20°\n  render:       40x30 at 2 spp",
+         bounding box: [-10, -10, -10] to [10, 10, 10]\n  shapes:       1 sphere\n  \
+         point lights: 0\n  camera:       pinhole, 20°\n  render:       40x30 at 2 spp",
         good.display()
     );
     assert_eq!(run.stdout.trim_end(), expected);
