@@ -299,7 +299,7 @@ fn a_thick_lens_built_by_csg_focuses_where_the_lensmakers_equation_says() {
             r#"{ type = "difference", of = [{ type = "intersection", of = [{ type = "sphere", centre = [0, 0, 11.75], radius = 2 }, { type = "cylinder", start = [0, 0, 5], end = [0, 0, 15], radius = 1 }] }, { type = "sphere", centre = [0, 0, 14.25], radius = 4 }] }"#,
         ),
     ];
-    for (r1, r2, d, explicit) in cases {
+    for (r1, r2, d, explicit) in cases.into_iter().chain(concave_cases()) {
         let inverse_r2 = r2.map_or(0.0, |r: f64| 1.0 / r);
         // Lensmaker's equation for a thick lens, and the back focal distance from the back
         // vertex (Hecht, Optics, §6.2).
@@ -310,6 +310,18 @@ fn a_thick_lens_built_by_csg_focuses_where_the_lensmakers_equation_says() {
         let back = r2.map_or(String::new(), |r| format!(", back_radius = {r:?}"));
         let spherical = format!(
             "{{ type = \"spherical-lens\", centre = [0, 0, 10], axis = [0, 0, 1], front_radius = {r1:?}{back}, thickness = {d:?}, aperture_radius = 1 }}"
+        );
+        // Along the axis from far in front, the lens begins at its front vertex (no material
+        // in front of a concave surface's sphere).
+        let s = common::images::parse(&format!(
+            "studio = \"none\"\n[[object]]\nshape = {spherical}\nsurface = {{ type = \"matt\", colour = [1, 1, 1] }}\n"
+        ));
+        let first = s.objects[0]
+            .shape
+            .intersect(DVec3::new(0.0, 0.0, -20.0), DVec3::Z, 0.0, 100.0);
+        assert!(
+            (first.unwrap().0 - (30.0 - 0.5 * d)).abs() < 1e-12,
+            "{spherical}: {first:?}"
         );
         for shape in [spherical.as_str(), explicit] {
             // Paraxial rays: spherical aberration is of order (h/R)², below 1e-6 here.
@@ -324,6 +336,25 @@ fn a_thick_lens_built_by_csg_focuses_where_the_lensmakers_equation_says() {
             }
         }
     }
+}
+
+/// Diverging lenses, with concave surfaces as steep as the aperture allows (|R| close to it),
+/// where the rim must end at the lens: plano-concave and biconcave, and the same by hand.
+fn concave_cases() -> [(f64, Option<f64>, f64, &'static str); 2] {
+    [
+        (
+            -1.05,
+            None,
+            0.4,
+            r#"{ type = "intersection", of = [{ type = "inverse", of = { type = "sphere", centre = [0, 0, 8.75], radius = 1.05 } }, { type = "plane", point = [0, 0, 10.2], normal = [0, 0, 1] }, { type = "cylinder", start = [0, 0, 8.9], end = [0, 0, 10.3], radius = 1 }] }"#,
+        ),
+        (
+            -1.2,
+            Some(1.2),
+            0.1,
+            r#"{ type = "difference", of = [{ type = "cylinder", start = [0, 0, 9], end = [0, 0, 11], radius = 1 }, { type = "sphere", centre = [0, 0, 8.75], radius = 1.2 }, { type = "sphere", centre = [0, 0, 11.25], radius = 1.2 }] }"#,
+        ),
+    ]
 }
 
 /// The refracted unit direction of unit `d` at a surface with unit normal `n` (either side),
@@ -419,13 +450,16 @@ surface = { type = "matt", colour = [1, 1, 1] }
 shape = { type = "sphere", centre = [0, 0, 0], radius = 1 }
 surface = { type = "matt", colour = [1, 1, 1] }
 transform = { scale = [1, 2, 3], translate = [-3, 0, 10] }
+[[object]]
+shape = { type = "tube", start = [0, 5, 10], end = [0, 6, 10], outer_radius = 1, inner_radius = 0.5 }
+surface = { type = "matt", colour = [1, 1, 1] }
 "#,
     );
     let run = common::cli::timbre(dir.path(), &["check", common::cli::path_str(&scene)]);
     run.assert_success();
     assert_eq!(
         run.field("shapes"),
-        "1 spherical-lens, 1 difference, 1 transformed sphere"
+        "1 spherical-lens, 1 difference, 1 transformed sphere, 1 tube"
     );
 }
 

@@ -1,6 +1,7 @@
 //! Property tests of the polyhedra and flat shapes (cuboid, parallelepiped, triangular prism,
 //! wedge, Platonic solids, convex polygon, bilinear surface) against independent f64
-//! references written here (none of timbre's geometry is reused):
+//! references written here (none of timbre's geometry is reused, but for the consistency of CSG
+//! hits with `Csg::contains`, itself checked against point membership in tests/csg.rs):
 //!
 //! * **Polyhedra**: every face a loop of vertices worked out here from the shape's parameters
 //!   (a wedge's by turning its bisector about its apex edge; a Platonic solid's vertices by

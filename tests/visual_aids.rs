@@ -64,6 +64,27 @@ fn an_arrow_has_its_shaft_and_tip_where_its_keys_put_them() {
     // Beyond the shaft's radius but inside the tip's base: only the tip's base is there.
     let t = hit(arrow, DVec3::new(0.0, 0.1, 0.0), DVec3::X).unwrap();
     assert!(close(t, 1.5), "t {t}");
+    // Rays along an oblique arrow, inside its shaft, cross its surface exactly twice: in at the
+    // back, out through the tip (no sliver where the shaft meets the tip).
+    let (a, b) = (DVec3::new(0.3, -0.2, 0.1), DVec3::new(1.7, 0.9, 1.3));
+    let oblique = parse(&object(&format!(
+        "{{ type = \"arrow\", start = [{}, {}, {}], end = [{}, {}, {}] }}",
+        a.x, a.y, a.z, b.x, b.y, b.z
+    )));
+    let oblique = shape(&oblique, "aid");
+    let axis = (b - a).normalize();
+    let (u, v) = axis.any_orthonormal_pair();
+    for k in 0..400 {
+        let r = 0.05 * (b - a).length() * (k as f64 / 400.0);
+        let turn = 0.7 * k as f64;
+        let o = a - axis + r * (turn.cos() * u + turn.sin() * v);
+        let d = (axis + 1e-5 * (k % 3) as f64 * u).normalize();
+        let (mut from, mut n) = (0.0, 0);
+        while let Some((t, _)) = oblique.intersect(o, d, from, 10.0) {
+            (from, n) = (t, n + 1);
+        }
+        assert_eq!(n, 2, "ray {k}");
+    }
     // With Dr TIM's default proportions (shaft 3 %, tip 20 % at 20°) the shaft of a 2 long
     // arrow has radius 0.06.
     let scene = parse(&object(
@@ -208,9 +229,13 @@ fn bad_aids_are_refused_clearly() {
         "{e}"
     );
     let e = parse_error(&object(
-        r#"{ type = "ruler", start = [0, 0, 0], end = [1000, 0, 0], tick_spacing = 0.01 }"#,
+        r#"{ type = "ruler", start = [0, 0, 0], end = [10, 0, 0], tick_spacing = 0.001 }"#,
     ));
-    assert!(e.contains("at most 10000 ticks"), "{e}");
+    assert!(e.contains("at most 1000 ticks"), "{e}");
+    let e = parse_error(&object(
+        r#"{ type = "ruler", start = [0, 0, 0], end = [1, 0, 0], tick_spacing = 1e-300 }"#,
+    ));
+    assert!(e.contains("at most 1000 ticks"), "{e}");
     let e = parse_error(&object(
         r#"{ type = "ruler", start = [0, 0, 0], end = [1, 0, 0], tick_spacing = 0.1, tick_direction = [2, 0, 0] }"#,
     ));

@@ -19,8 +19,9 @@ pub struct CoordinateSystem {
     pub shaft_radius: f64,
 }
 
-/// Dr TIM's surface-coordinate axes: tips 0.1 long with a 30° half angle.
-const TIP_LENGTH: f64 = 0.1;
+/// The tips: a fifth of the arrow's length, with the 30° half angle of Dr TIM's
+/// surface-coordinate axes (so a tip is always wider than a shaft of up to 10 % of the length).
+const TIP_FRACTION: f64 = 0.2;
 const TIP_ANGLE_DEG: f64 = 30.0;
 
 impl CoordinateSystem {
@@ -30,7 +31,7 @@ impl CoordinateSystem {
             Colour::new(0.0, 1.0, 0.0),
             Colour::new(0.0, 0.0, 1.0),
         ];
-        let tip_length = TIP_LENGTH.min(0.5 * self.length);
+        let tip_length = TIP_FRACTION * self.length;
         (0..3)
             .map(|i| {
                 let direction = self.axes[i].try_normalize().ok_or_else(|| {

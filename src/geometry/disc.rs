@@ -28,12 +28,13 @@ impl Disc {
 
     /// The same disc with its frame (and so its surface-coordinate pattern) turned by the
     /// orthogonal matrix `rotation`.
+    /// A reflection (det < 0) keeps the frame right-handed: v̂ = n̂ × û.
     pub fn rotated(mut self, rotation: DMat3) -> Disc {
-        let f = self.frame;
+        let (u, w) = (rotation * self.frame.u, rotation * self.frame.w);
         self.frame = Frame {
-            u: rotation * f.u,
-            v: rotation * f.v,
-            w: rotation * f.w,
+            u,
+            v: w.cross(u),
+            w,
         };
         self
     }

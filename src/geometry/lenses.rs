@@ -88,8 +88,15 @@ impl SphericalLens {
         }
         let half = 0.5 * self.thickness;
         let (front, back) = (self.centre - half * axis, self.centre + half * axis);
-        let reach = half + sag(self.front_radius, a).abs() + sag(self.back_radius, a).abs() + a;
-        let rim = Cylinder::new(self.centre - reach * axis, self.centre + reach * axis, a)?;
+        // The rim reaches just beyond the lens's extent along the axis, no further: beyond a
+        // concave surface's sphere the surface's side is all space. The margin, a hundredth
+        // of the aperture, is far less than any such sphere's diameter (≥ 2a).
+        let margin = 0.01 * a;
+        let (first, last) = (
+            front + (sag(self.front_radius, a).min(0.0) - margin) * axis,
+            back + (sag(self.back_radius, a).max(0.0) + margin) * axis,
+        );
+        let rim = Cylinder::new(first, last, a)?;
         let lens = Csg::new(
             CsgOperation::Intersection,
             vec![

@@ -7,10 +7,6 @@ use glam::{DVec2, DVec3};
 use super::{AnalyticShape, GeometryError, Shape};
 use crate::math::Frame;
 
-/// The most crossings of the surface a ray is followed through before it is taken to miss
-/// (no analytic surface has more).
-const MAX_CROSSINGS: usize = 64;
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct Masked {
     surface: Box<Shape>,
@@ -71,15 +67,15 @@ impl AnalyticShape for Masked {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
+        // Every crossing lies beyond the one before, and a surface has finitely many.
         let mut from = t_min;
-        for _ in 0..MAX_CROSSINGS {
+        loop {
             let (t, part) = self.surface.intersect(origin, direction, from, t_max)?;
             if self.mask.contains(origin + t * direction) {
                 return Some((t, part));
             }
             from = t;
         }
-        None
     }
 
     fn frame(&self, p: DVec3, part: u32) -> Frame {

@@ -6,7 +6,7 @@ use glam::DVec3;
 use super::{Csg, CsgOperation, Cylinder, GeometryError, Shape};
 
 /// The most ticks a ruler may have.
-pub const MAX_TICKS: usize = 10_000;
+pub const MAX_TICKS: usize = 1000;
 
 /// A ruler from `start` to `end` with ticks from `start` every `tick_spacing`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,12 +42,13 @@ impl Ruler {
                 "the ruler's tick direction must not be parallel to the ruler".into(),
             )
         })?;
-        let ticks = (length / self.tick_spacing).floor() as usize + 1;
-        if ticks > MAX_TICKS {
+        let ticks = (length / self.tick_spacing).floor() + 1.0;
+        if ticks > MAX_TICKS as f64 {
             return Err(GeometryError::Degenerate(format!(
                 "a ruler may have at most {MAX_TICKS} ticks, got {ticks}"
             )));
         }
+        let ticks = ticks as usize;
         let mut parts = vec![Shape::Cylinder(Cylinder::new(
             self.start,
             self.end,

@@ -10,7 +10,7 @@
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::{
-    AnalyticShape, Cylinder, Disc, GeometryError, Parallelogram, Plane, Shape, Transformed,
+    AnalyticShape, Cylinder, GeometryError, Parallelogram, Plane, Shape, Transformed,
     check_direction, check_point,
 };
 
@@ -150,27 +150,21 @@ impl Transform {
             },
             Shape::Disc(d) => match self.uniform_scale() {
                 None => general()?,
-                Some(k) => Shape::Disc(match self.rotation(k) {
-                    Some(r) => d
-                        .clone()
-                        .rotated(r)
-                        .placed(self.point(d.centre()), k * d.radius())?,
-                    None => Disc::new(
-                        self.point(d.centre()),
-                        self.normal(d.frame(d.centre(), 0).w),
-                        k * d.radius(),
-                    )?,
-                }),
+                Some(k) => {
+                    let turned = match self.rotation(k) {
+                        Some(r) => d.clone().rotated(r),
+                        None => d.clone(),
+                    };
+                    Shape::Disc(turned.placed(self.point(d.centre()), k * d.radius())?)
+                }
             },
             Shape::Cylinder(c) => match self.uniform_scale() {
                 None => general()?,
                 Some(k) => {
                     let moved =
                         Cylinder::new(self.point(c.start()), self.point(c.end()), k * c.radius())?;
-                    Shape::Cylinder(match self.rotation(k) {
-                        Some(r) => moved.across_from(c, r),
-                        None => moved,
-                    })
+                    let r = self.rotation(k).unwrap_or(DMat3::IDENTITY);
+                    Shape::Cylinder(moved.across_from(c, r))
                 }
             },
             Shape::Plane(p) => Shape::Plane(Plane::new(
@@ -206,7 +200,7 @@ impl Transform {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Sphere;
+    use crate::geometry::{Disc, Sphere};
     use std::f64::consts::FRAC_PI_2;
 
     #[test]
@@ -260,7 +254,29 @@ mod tests {
             // Without the turn of the pattern, a point's coordinates would change: the
             // original's coordinates at R q differ.
             assert!((shape.coordinates(turn.point(q), 0) - before).length() > 0.1);
+            // Then a uniform scale and a shift (a group's transform): the pattern stays turned,
+            // the coordinates scale, and the frame stays right-handed.
+            let then = Transform::new(DVec3::splat(2.0), DVec3::Z, 0.0, DVec3::new(1.0, 2.0, 3.0))
+                .unwrap();
+            let at = turn.then(&then).point(q);
+            let twice = then.shape(&turned).unwrap();
+            let scaled = twice.coordinates(at, 0);
+            assert!(
+                (2.0 * before - scaled).length() < 1e-12,
+                "{shape:?}: {scaled}"
+            );
+            let f = twice.frame(at, 0);
+            assert!((f.u.cross(f.v) - f.w).length() < 1e-12, "{f:?}");
         }
+        // A mirrored disc keeps a right-handed frame.
+        let mirror =
+            Transform::new(DVec3::new(1.0, 1.0, -1.0), DVec3::Z, 0.0, DVec3::ZERO).unwrap();
+        let disc = Shape::Disc(Disc::new(DVec3::ZERO, DVec3::new(0.0, 1.0, 1.0), 2.0).unwrap());
+        let f = mirror
+            .shape(&turn.shape(&disc).unwrap())
+            .unwrap()
+            .frame(DVec3::ZERO, 0);
+        assert!((f.u.cross(f.v) - f.w).length() < 1e-12, "{f:?}");
     }
 
     #[test]

@@ -492,10 +492,11 @@ fn tube(start: DVec3, end: DVec3, outer: f64, inner: f64) -> Result<Shape, Geome
         });
     }
     let cylinder = |r| Cylinder::new(start, end, r).map(Shape::Cylinder);
-    Ok(Shape::Csg(Csg::new(
+    let tube = Csg::new(
         CsgOperation::Difference,
         vec![cylinder(outer)?, cylinder(inner)?],
-    )?))
+    )?;
+    Ok(Shape::Csg(tube.called("tube")))
 }
 
 /// `operation` on the members' shapes.
