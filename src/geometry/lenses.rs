@@ -89,12 +89,16 @@ impl SphericalLens {
         let half = 0.5 * self.thickness;
         let (front, back) = (self.centre - half * axis, self.centre + half * axis);
         // The rim reaches just beyond the lens's extent along the axis, no further: beyond a
-        // concave surface's sphere the surface's side is all space. The margin, a hundredth
-        // of the aperture, is far less than any such sphere's diameter (≥ 2a).
-        let margin = 0.01 * a;
+        // concave surface's rim its side is all space but a sliver outside the sphere, which
+        // begins √(R² − a²) beyond the rim's plane; the margin stays below half of that.
+        let margin = |r: Option<f64>, concave: bool| match r {
+            Some(r) if concave => (0.01 * a).min(0.5 * (r * r - a * a).max(0.0).sqrt()),
+            _ => 0.01 * a,
+        };
+        let (f, b) = (self.front_radius, self.back_radius);
         let (first, last) = (
-            front + (sag(self.front_radius, a).min(0.0) - margin) * axis,
-            back + (sag(self.back_radius, a).max(0.0) + margin) * axis,
+            front + (sag(f, a).min(0.0) - margin(f, f.is_some_and(|r| r < 0.0))) * axis,
+            back + (sag(b, a).max(0.0) + margin(b, b.is_some_and(|r| r > 0.0))) * axis,
         );
         let rim = Cylinder::new(first, last, a)?;
         let lens = Csg::new(
@@ -228,6 +232,18 @@ mod tests {
             let t = on_axis(DVec3::new(5.0, 0.0, z), DVec3::NEG_X);
             assert!((t - 4.0).abs() < 1e-12, "{l:?}: t {t}");
         }
+    }
+
+    #[test]
+    fn nothing_lies_beyond_a_hemispherical_concave_surface() {
+        // R = −a: the front surface is a hemisphere whose rim plane holds its centre, z = 8.85.
+        let s = lens(Some(-1.0), None, 0.3).shape().unwrap();
+        for z in [8.849, 8.84, 8.5, 7.9] {
+            for r in [0.0, 0.5, 0.999, 0.9999999] {
+                assert!(!s.contains(DVec3::new(r, 0.0, z)), "({r}, 0, {z})");
+            }
+        }
+        assert!(s.contains(DVec3::new(0.99999, 0.0, 8.86)));
     }
 
     #[test]
