@@ -2007,7 +2007,7 @@ fn the_example_scene_has_every_curved_shape() {
         "spherical-cap",
         "elliptic-cylinder",
         "cylinder with open = true",
-        "difference",
+        "tube",
     ] {
         assert!(kinds.contains(&kind), "no {kind} among {kinds:?}");
     }
