@@ -18,8 +18,8 @@ pub struct TimHead {
     pub top_direction: DVec3,
 }
 
-/// Caps that lie on a sphere (the cap on the head, the irises and pupils on the eyes) sit on
-/// slightly larger spheres, so no two surfaces coincide.
+/// The irises and pupils lie on spheres slightly larger than the eyeballs' (as Dr TIM's do), so
+/// no two surfaces coincide.
 const ABOVE: f64 = 1.001;
 
 fn skin() -> Surface {
@@ -67,10 +67,21 @@ impl TimHead {
             SphericalCap::new(c, c + rho * pole, (rim / rho).asin().to_degrees())
                 .map(Shape::SphericalCap)
         };
-        let cap_pole = (at(0.1694, 0.9608, 0.2614) - self.centre).normalize();
+        // Dr TIM's cap: on the sphere about the head's centre through this point (radius
+        // 1.0101 r, just outside the head), with a rim of radius 0.9 r.
+        let cap_centre = at(0.1694, 0.9608, 0.2614);
+        let cap_angle = (0.9 * r / cap_centre.distance(self.centre)).asin();
         let mut parts = vec![
             part("head", sphere(self.centre, r)?, skin()),
-            part("cap", cap(self.centre, r, cap_pole, 0.9 * r)?, blue_matt()),
+            part(
+                "cap",
+                Shape::SphericalCap(SphericalCap::new(
+                    self.centre,
+                    cap_centre,
+                    cap_angle.to_degrees(),
+                )?),
+                blue_matt(),
+            ),
             part(
                 "visor",
                 Shape::Disc(Disc::new(
