@@ -119,6 +119,28 @@ impl Line {
         })
     }
 
+    /// The nearest hit in (t_min, t_max) of a shape round the axis whose side surface the line
+    /// crosses at the ends of `inside` (part 0), with its caps on the planes `lower` (if any;
+    /// else the side begins at z = 0) and `upper`: of the side alone between them if `open`,
+    /// else of the closed solid ([`Self::cut`]).
+    pub fn nearest_hit(
+        &self,
+        inside: Span,
+        lower: Option<(f64, u32)>,
+        upper: (f64, u32),
+        open: bool,
+        t_min: f64,
+        t_max: f64,
+    ) -> Option<(f64, u32)> {
+        if open {
+            let from = lower.map_or(0.0, |l| l.0);
+            let t = self.nearest_between(inside, from, upper.0, t_min, t_max)?;
+            Some((t, 0))
+        } else {
+            self.cut(inside, lower, Some(upper))?.nearest(t_min, t_max)
+        }
+    }
+
     /// The nearest t in (t_min, t_max) among the finite ends of `inside` (in s, of the line
     /// inside an unbounded solid: where it crosses the mantle) with `lower` ≤ z ≤ `upper`.
     pub fn nearest_between(

@@ -142,14 +142,9 @@ impl AnalyticShape for Cone {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        if self.open {
-            let line = self.axis.line(origin, direction);
-            let inside = self.nappe(&line)?;
-            let t = line.nearest_between(inside, 0.0, self.height, t_min, t_max)?;
-            Some((t, 0))
-        } else {
-            self.chord(origin, direction)?.nearest(t_min, t_max)
-        }
+        let line = self.axis.line(origin, direction);
+        let inside = self.nappe(&line)?;
+        line.nearest_hit(inside, None, (self.height, 1), self.open, t_min, t_max)
     }
 
     /// On the mantle (part 0): w = cos α r̂ − sin α â (r̂ radial, â the axis), u = â × r̂

@@ -122,14 +122,16 @@ impl AnalyticShape for EllipticCylinder {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        if self.open {
-            let line = self.axis.line(origin, direction);
-            let inside = self.inside(&line)?;
-            let t = line.nearest_between(inside, 0.0, self.length, t_min, t_max)?;
-            Some((t, 0))
-        } else {
-            self.chord(origin, direction)?.nearest(t_min, t_max)
-        }
+        let line = self.axis.line(origin, direction);
+        let inside = self.inside(&line)?;
+        line.nearest_hit(
+            inside,
+            Some((0.0, 1)),
+            (self.length, 2),
+            self.open,
+            t_min,
+            t_max,
+        )
     }
 
     /// On the mantle (part 0): w along the gradient (x/a², y/b²), u = axis × w (around the

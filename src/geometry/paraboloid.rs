@@ -124,14 +124,9 @@ impl AnalyticShape for Paraboloid {
         t_min: f64,
         t_max: f64,
     ) -> Option<(f64, u32)> {
-        if self.open {
-            let line = self.axis.line(origin, direction);
-            let inside = self.inside(&line)?;
-            let t = line.nearest_between(inside, 0.0, self.height, t_min, t_max)?;
-            Some((t, 0))
-        } else {
-            self.chord(origin, direction)?.nearest(t_min, t_max)
-        }
+        let line = self.axis.line(origin, direction);
+        let inside = self.inside(&line)?;
+        line.nearest_hit(inside, None, (self.height, 1), self.open, t_min, t_max)
     }
 
     /// On the curved surface (part 0): w along (x, y, −2 f) (away from the focus's side),
