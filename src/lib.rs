@@ -18,6 +18,7 @@ pub mod mesh;
 pub mod production;
 pub mod render;
 pub mod scene;
+pub mod serve;
 pub mod stereo;
 pub mod surfaces;
 pub mod text;

@@ -146,6 +146,38 @@ enum Command {
     },
     /// Print the versions of timbre and Embree, the CPU's SIMD support and the thread count.
     Info,
+    /// Serve a live, progressive preview of a scene file to a web browser: navigation,
+    /// parameters, the scene text, inspection, saving (docs/PREVIEW.md).
+    Serve(ServeArgs),
+}
+
+#[derive(Parser)]
+struct ServeArgs {
+    /// The TOML scene file (watched: saving it in an editor updates the page).
+    scene: PathBuf,
+    /// Port to listen on (0: any free port; the address is printed).
+    #[arg(long, default_value_t = 7700)]
+    port: u16,
+    /// Address to listen on. Any but a loopback address (127.0.0.1, ::1) makes the page
+    /// require a random access token, printed at start.
+    #[arg(long, default_value = "127.0.0.1")]
+    bind: std::net::IpAddr,
+    /// Image width in pixels (overrides the scene file).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene file).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    height: Option<u32>,
+    /// Samples per pixel the preview accumulates (default: the scene's, at least 64); the
+    /// picture converges to `timbre render --spp N`'s.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    spp: Option<u32>,
+    /// Worker threads (default: all cores), at most 1024.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
+    /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<Override>,
 }
 
 #[derive(Parser)]
@@ -1036,6 +1068,25 @@ fn run_generate_mesh(
     Ok(())
 }
 
+fn run_serve(args: ServeArgs) -> Result<(), Failure> {
+    let options = timbre::serve::ServeOptions {
+        scene: args.scene,
+        bind: args.bind,
+        port: args.port,
+        overrides: args.set,
+        preview: timbre::serve::PreviewOptions {
+            width: args.width,
+            height: args.height,
+            spp: args.spp,
+            threads: args.threads,
+        },
+    };
+    timbre::serve::serve(options).map_err(|e| match e {
+        timbre::serve::ServeError::Internal(_) => internal(e),
+        e => bad_input(e),
+    })
+}
+
 fn run_info() -> Result<(), Failure> {
     let device = Device::new("").map_err(internal)?;
     out!("timbre {}", env!("CARGO_PKG_VERSION"));
@@ -1096,6 +1147,7 @@ fn main() -> ExitCode {
             quiet,
         } => run_merge(&output, &parts, quiet),
         Command::Info => run_info(),
+        Command::Serve(args) => run_serve(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

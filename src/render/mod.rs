@@ -249,6 +249,21 @@ pub struct Samples<'a> {
     pub sums: bool,
 }
 
+/// Distance along a chief ray to the scene's focus surface, if it has one and the ray meets it.
+fn focus_distance(scene: &Scene, origin: DVec3, direction: DVec3) -> Option<f64> {
+    let surface = scene.focus_surface.as_ref()?;
+    surface
+        .nearest(origin, direction, 0.0, f64::INFINITY)
+        .map(|h| h.t)
+}
+
+/// The camera-frame ray through the centre of pixel (x, y) of a `width` × `height` image,
+/// from the centre of the pupil (what the AOVs record).
+pub fn centre_ray(scene: &Scene, camera: &Camera, width: u32, height: u32, x: u32, y: u32) -> Ray {
+    let focus = |origin, direction| focus_distance(scene, origin, direction);
+    camera.ray(width, height, (x as f64, y as f64), [0.0; 2], &focus)
+}
+
 /// Renders the pixels `tile` with samples `samples` (`sums`: keeping their sums; `aovs`: also
 /// the AOVs).
 fn render_tile(
@@ -270,12 +285,7 @@ fn render_tile(
     };
     // One sample's mean needs no sum.
     let one = samples.len() == 1;
-    let focus = |origin, direction| {
-        let surface = scene.focus_surface.as_ref()?;
-        surface
-            .nearest(origin, direction, 0.0, f64::INFINITY)
-            .map(|h| h.t)
-    };
+    let focus = |origin, direction| focus_distance(scene, origin, direction);
     // The ray of one sample (pixel offset and pupil point from the sample's random numbers).
     let sample_ray = |x: u32, y: u32, sample: u32| {
         let (dx, dy) = pixel_offset(s.seed, x, y, sample, s.spp);
@@ -346,8 +356,7 @@ fn render_tile(
                     let found = if record_first {
                         firsts[i]
                     } else {
-                        let ray =
-                            camera.ray(s.width, s.height, (x as f64, y as f64), [0.0; 2], &focus);
+                        let ray = centre_ray(scene, camera, s.width, s.height, x, y);
                         tracer.first(&ray, 0.0, ReferenceFrame::Camera)
                     };
                     aovs[k] = found.map_or(AovSample::MISS, |f| {

@@ -80,6 +80,31 @@ pub enum Surface {
 }
 
 impl Surface {
+    /// The kind of surface, in the scene file's words (the §3 lenses are all `lens`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Surface::Coloured(_) => "coloured",
+            Surface::ConstantColour(_) => "constant-colour",
+            Surface::Chequerboard(_) => "chequerboard",
+            Surface::Mirror(_) => "mirror",
+            Surface::Refractive(_) => "refractive",
+            Surface::Transparent(_) => "transparent",
+            Surface::Lens(_) => "lens",
+            Surface::MetricInterface(_) => "metric-interface",
+            Surface::ConfocalLensletArrays(_) => "confocal-lenslet-arrays",
+            Surface::RayRotating(_) => "ray-rotating",
+            Surface::RayFlipping(_) => "ray-flipping",
+            Surface::PhaseHologram(_) => "phase-hologram",
+            Surface::PhaseConjugating(_) => "phase-conjugating",
+            Surface::LorentzWindow(_) => "lorentz-window",
+            Surface::Teleporting(_) => "teleporting",
+            Surface::IdealThinLens(_) => "ideal-thin-lens",
+            Surface::IdealThinMirror(_) => "ideal-thin-mirror",
+            Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
+            Surface::Glens(_) => "glens",
+        }
+    }
+
     /// Where the ray `at.ray` goes on from this surface. `inside` is shown the points of the
     /// curved path of a ray integrated through a gradient-index lens, between entry and exit.
     #[inline]

@@ -467,7 +467,23 @@ pub fn load_with(path: &Path, overrides: &[Override]) -> Result<SceneDescription
 
 /// Parses scene-file text; `path` names it in error messages and locates relative paths.
 pub fn parse(text: &str, path: &str) -> Result<SceneDescription, SceneFileError> {
-    let (source, file) = read_text(text.to_string(), path, &[])?;
+    parse_with(text, path, &[])
+}
+
+/// Scene-file text with `--set` overrides applied, as TOML (the overrides' own errors as
+/// messages).
+pub fn with_overrides(text: &str, overrides: &[Override]) -> Result<String, String> {
+    overrides::apply(text, overrides)
+}
+
+/// Parses scene-file text with `--set` overrides applied (the text's own errors first, at
+/// their line and column), as [`load_with`] reads a file.
+pub fn parse_with(
+    text: &str,
+    path: &str,
+    overrides: &[Override],
+) -> Result<SceneDescription, SceneFileError> {
+    let (source, file) = read_text(text.to_string(), path, overrides)?;
     describe(&source, file, Path::new(path))
 }
 

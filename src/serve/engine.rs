@@ -1,0 +1,608 @@
+//! The engine thread: it owns the [`Preview`], takes the pages' changes and requests from the
+//! shared inputs, renders, and broadcasts state and frames; beside it a thread that watches the
+//! scene file.
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::{Duration, Instant, SystemTime};
+
+use axum::body::Bytes;
+use serde_json::json;
+use tokio::sync::broadcast;
+
+use super::parameters::parameters;
+use super::preview::{LoadError, Preview};
+use super::{ServeError, ServeOptions};
+use crate::cameras::Projection;
+use crate::io::{AovSelection, Provenance, to_rgb8, write_image};
+use crate::production::{self, Job, Signals};
+use crate::render::{Image, PixelBounds};
+use crate::scene::Stereo;
+use crate::scene::file::{self, MAX_FILE_BYTES, Override};
+use crate::stereo::render_stereo;
+
+/// How often the scene file is checked for changes.
+const WATCH_INTERVAL: Duration = Duration::from_millis(250);
+
+/// Scene texts longer than this get no parameter list (it would be enormous).
+const MAX_PARAMETER_TEXT: usize = 8 << 20;
+
+/// Bytes before the pixels of a frame: five little-endian u32s (generation, samples done,
+/// samples to do, width, height).
+pub const FRAME_HEADER: usize = 20;
+
+/// What the engine sends to every page.
+#[derive(Debug, Clone)]
+pub enum Outgoing {
+    Json(Arc<str>),
+    Frame(Bytes),
+}
+
+/// Something a page asked for that is not a change of the picture.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    Inspect { x: u32, y: u32 },
+    Trajectory { x: u32, y: u32 },
+    Save { file: String },
+    WriteScene,
+}
+
+/// What the pages change, and what the engine has yet to do.
+struct Inputs {
+    text: String,
+    /// The command line's `--set`s, then the page's (one per key, in the order first set).
+    base: Vec<Override>,
+    page: Vec<Override>,
+    /// Exposure in stops (a display setting: it does not restart the accumulation).
+    exposure: f64,
+    /// Raised by every change of the picture, and of the display.
+    generation: u64,
+    display: u64,
+    requests: VecDeque<Request>,
+}
+
+impl Inputs {
+    fn overrides(&self) -> Vec<Override> {
+        self.base.iter().chain(&self.page).cloned().collect()
+    }
+}
+
+/// The last state and frame sent, for pages that connect (or fall behind) later.
+#[derive(Default)]
+struct Latest {
+    state: Option<Arc<str>>,
+    frame: Option<Bytes>,
+}
+
+struct Shared {
+    scene: PathBuf,
+    inputs: Mutex<Inputs>,
+    wake: Condvar,
+    /// Set when the picture changed: the pass in progress stops.
+    stop: Arc<AtomicBool>,
+    out: broadcast::Sender<Outgoing>,
+    latest: Mutex<Latest>,
+}
+
+/// The handle the server's connections use.
+#[derive(Clone)]
+pub struct Engine {
+    shared: Arc<Shared>,
+}
+
+/// Reads the scene file as text (regular files only, within the scene-file size limit).
+pub fn read_scene(path: &Path) -> Result<String, String> {
+    let bytes = crate::files::read_regular(path, MAX_FILE_BYTES)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    String::from_utf8(bytes).map_err(|_| format!("{}: is not UTF-8 text", path.display()))
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl Engine {
+    /// Starts the engine and the file watcher on threads of their own.
+    pub fn start(options: &ServeOptions, text: String) -> Result<Engine, ServeError> {
+        let preview = Preview::new(options.scene.clone(), options.preview.clone())
+            .map_err(ServeError::Internal)?;
+        let (out, _) = broadcast::channel(64);
+        let shared = Arc::new(Shared {
+            scene: options.scene.clone(),
+            inputs: Mutex::new(Inputs {
+                text: text.clone(),
+                base: options.overrides.clone(),
+                page: Vec::new(),
+                exposure: 0.0,
+                generation: 1,
+                display: 0,
+                requests: VecDeque::new(),
+            }),
+            wake: Condvar::new(),
+            stop: Arc::new(AtomicBool::new(false)),
+            out,
+            latest: Mutex::new(Latest::default()),
+        });
+        let engine = shared.clone();
+        std::thread::Builder::new()
+            .name("timbre-preview".into())
+            .spawn(move || run(&engine, preview))
+            .map_err(|e| ServeError::Internal(e.to_string()))?;
+        let watched = shared.clone();
+        std::thread::Builder::new()
+            .name("timbre-watch".into())
+            .spawn(move || watch(&watched, text))
+            .map_err(|e| ServeError::Internal(e.to_string()))?;
+        Ok(Engine { shared })
+    }
+
+    /// The last state and frame, and the messages from now on.
+    pub fn subscribe(&self) -> (Vec<Outgoing>, broadcast::Receiver<Outgoing>) {
+        let latest = lock(&self.shared.latest);
+        let rx = self.shared.out.subscribe();
+        let now = latest
+            .state
+            .clone()
+            .map(Outgoing::Json)
+            .into_iter()
+            .chain(latest.frame.clone().map(Outgoing::Frame))
+            .collect();
+        (now, rx)
+    }
+
+    /// Changes the inputs with `change`; `picture`: whether that changes the picture (the pass
+    /// in progress stops) or only the display.
+    fn change(&self, picture: bool, change: impl FnOnce(&mut Inputs)) {
+        let mut inputs = lock(&self.shared.inputs);
+        change(&mut inputs);
+        if picture {
+            inputs.generation += 1;
+            self.shared.stop.store(true, Ordering::Relaxed);
+        } else {
+            inputs.display += 1;
+        }
+        self.shared.wake.notify_all();
+    }
+
+    /// The page's `--set`s: each replaces an earlier one of the same key.
+    pub fn set(&self, overrides: Vec<Override>) {
+        self.change(true, |i| {
+            for o in overrides {
+                match i.page.iter_mut().find(|p| p.key == o.key) {
+                    Some(p) => *p = o,
+                    None => i.page.push(o),
+                }
+            }
+        });
+    }
+
+    /// Drops the page's `--set`s of these keys (all of them, if `keys` is empty).
+    pub fn unset(&self, keys: &[String]) {
+        self.change(true, |i| {
+            i.page
+                .retain(|o| !keys.is_empty() && !keys.contains(&o.key.join(".")))
+        });
+    }
+
+    /// New scene text (from the page's editor).
+    pub fn text(&self, text: String) {
+        self.change(true, |i| i.text = text);
+    }
+
+    pub fn exposure(&self, stops: f64) {
+        self.change(false, |i| i.exposure = stops);
+    }
+
+    pub fn request(&self, request: Request) {
+        let mut inputs = lock(&self.shared.inputs);
+        inputs.requests.push_back(request);
+        self.shared.wake.notify_all();
+    }
+}
+
+/// Sends a JSON message to every page.
+fn send(shared: &Shared, message: serde_json::Value) {
+    let _ = shared.out.send(Outgoing::Json(message.to_string().into()));
+}
+
+/// What the engine does next.
+enum Work {
+    Load {
+        text: String,
+        overrides: Vec<Override>,
+        generation: u64,
+    },
+    Show,
+    Pass,
+    Request(Request),
+}
+
+/// The engine's loop: requests first, then a changed scene, a changed display, and passes
+/// until the samples are all there; then it sleeps until something changes.
+fn run(shared: &Shared, mut preview: Preview) {
+    let (mut generation, mut display) = (0, 0);
+    loop {
+        let (work, exposure) = {
+            let mut inputs = lock(&shared.inputs);
+            let work = loop {
+                if let Some(r) = inputs.requests.pop_front() {
+                    break Work::Request(r);
+                }
+                if inputs.generation != generation {
+                    generation = inputs.generation;
+                    shared.stop.store(false, Ordering::Relaxed);
+                    break Work::Load {
+                        text: inputs.text.clone(),
+                        overrides: inputs.overrides(),
+                        generation,
+                    };
+                }
+                if inputs.display != display {
+                    display = inputs.display;
+                    break Work::Show;
+                }
+                if preview.accumulating() {
+                    break Work::Pass;
+                }
+                inputs = shared.wake.wait(inputs).unwrap_or_else(|e| e.into_inner());
+            };
+            (work, inputs.exposure)
+        };
+        let show = |image: &Image, (done, target): (u32, u32)| {
+            let frame = encode(image, exposure, generation, done, target);
+            lock(&shared.latest).frame = Some(frame.clone());
+            let _ = shared.out.send(Outgoing::Frame(frame));
+        };
+        match work {
+            Work::Load {
+                text,
+                overrides,
+                generation,
+            } => match preview.load(&text, &overrides) {
+                Ok(()) => {
+                    let state = state(shared, &preview, &text, &overrides, generation);
+                    let state: Arc<str> = state.to_string().into();
+                    lock(&shared.latest).state = Some(state.clone());
+                    let _ = shared.out.send(Outgoing::Json(state));
+                    match preview.coarse() {
+                        Ok(Some(image)) => show(&image, preview.progress()),
+                        Ok(None) => {}
+                        Err(e) => send(shared, json!({"type": "error", "message": e})),
+                    }
+                }
+                Err(e) => {
+                    let message = error(&e, &text, generation);
+                    lock(&shared.latest).state = Some(message.to_string().into());
+                    send(shared, message);
+                }
+            },
+            Work::Show => {
+                if let Some(image) = preview.picture() {
+                    show(&image, preview.progress());
+                }
+            }
+            Work::Pass => {
+                if let Err(e) =
+                    preview.pass(&shared.stop, &mut |image, progress| show(&image, progress))
+                {
+                    send(shared, json!({"type": "error", "message": e}));
+                }
+            }
+            Work::Request(r) => answer(shared, &mut preview, r),
+        }
+    }
+}
+
+/// A failed load as JSON: the message, its line and column in `text` if it has them, and the
+/// text itself (the page shows it with the error, and keeps the last good picture).
+fn error(e: &LoadError, text: &str, generation: u64) -> serde_json::Value {
+    json!({
+        "type": "error",
+        "generation": generation,
+        "message": e.message,
+        "line": e.line,
+        "column": e.column,
+        "text": text,
+    })
+}
+
+/// A frame: [`FRAME_HEADER`], then the picture as 8-bit RGBA, each channel as a PNG output
+/// has it (linear, clamped, ×255 rounded) after multiplying by 2^`exposure`.
+fn encode(image: &Image, exposure: f64, generation: u64, done: u32, target: u32) -> Bytes {
+    let scaled;
+    let image = if exposure == 0.0 {
+        image
+    } else {
+        let gain = exposure.exp2();
+        scaled = Image {
+            pixels: image.pixels.iter().map(|&c| c * gain).collect(),
+            aovs: None,
+            ..*image
+        };
+        &scaled
+    };
+    let rgb = to_rgb8(image);
+    let mut bytes = Vec::with_capacity(FRAME_HEADER + 4 * rgb.len() / 3);
+    for v in [generation as u32, done, target, image.width, image.height] {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    for p in rgb.chunks_exact(3) {
+        bytes.extend_from_slice(&[p[0], p[1], p[2], 255]);
+    }
+    Bytes::from(bytes)
+}
+
+/// Answers a page's request (to every page: they show the same scene).
+fn answer(shared: &Shared, preview: &mut Preview, request: Request) {
+    match request {
+        Request::Inspect { x, y } => {
+            let found = preview.inspect(x, y);
+            send(
+                shared,
+                json!({
+                    "type": "inspection",
+                    "x": x,
+                    "y": y,
+                    "hit": found.map(|f| json!({
+                        "object": f.object,
+                        "id": f.id,
+                        "surface": f.surface,
+                        "distance": f.distance,
+                        "point": f.point.to_array(),
+                        "normal": f.normal.to_array(),
+                        "element": f.element,
+                        "part": f.part,
+                        "frame": f.frame,
+                    })),
+                }),
+            );
+        }
+        Request::Trajectory { x, y } => {
+            let Some(ray) = preview.pixel_ray(x, y) else {
+                return send(
+                    shared,
+                    json!({"type": "notice", "error": format!("pixel {x},{y} is outside the view")}),
+                );
+            };
+            let table = format!(
+                "\n[[ray_trajectory]]\nname = \"pixel {x},{y}\"\nstart = {:?}\ndirection = {:?}\n",
+                ray.origin.to_array(),
+                ray.direction.to_array()
+            );
+            let mut inputs = lock(&shared.inputs);
+            inputs.text.push_str(&table);
+            inputs.generation += 1;
+            shared.stop.store(true, Ordering::Relaxed);
+        }
+        Request::Save { file } => save(shared, preview, &file),
+        Request::WriteScene => {
+            let text = lock(&shared.inputs).text.clone();
+            let written =
+                crate::files::write_atomically(&shared.scene, |w| w.write_all(text.as_bytes()));
+            send(
+                shared,
+                match written {
+                    Ok(()) => {
+                        json!({"type": "notice", "message": format!("wrote {}", shared.scene.display())})
+                    }
+                    Err(e) => {
+                        json!({"type": "notice", "error": format!("{}: {e}", shared.scene.display())})
+                    }
+                },
+            );
+        }
+    }
+}
+
+/// Whether `name` may be saved beside the scene file: a plain file name (no directories, not
+/// hidden) ending in .png or .exr.
+pub fn saveable(name: &str) -> Result<(), String> {
+    let plain = !name.is_empty()
+        && name.len() <= 255
+        && !name.starts_with('.')
+        && !name.contains(['/', '\\', '\0']);
+    if !plain {
+        return Err(format!(
+            "'{name}' is not a plain file name: renders are saved beside the scene file"
+        ));
+    }
+    if !(name.ends_with(".png") || name.ends_with(".exr")) {
+        return Err(format!("'{name}': the name must end in .png or .exr"));
+    }
+    Ok(())
+}
+
+/// Renders the loaded scene at the preview's settings (its samples per pixel) through the
+/// normal render path into `name` beside the scene file: the picture the preview converges to.
+fn save(shared: &Shared, preview: &Preview, name: &str) {
+    let notice = |result: Result<String, String>| {
+        send(
+            shared,
+            match result {
+                Ok(m) => json!({"type": "notice", "message": m}),
+                Err(e) => json!({"type": "notice", "error": e}),
+            },
+        )
+    };
+    if let Err(e) = saveable(name) {
+        return notice(Err(e));
+    }
+    let (Some(description), Some(settings), Some(scene)) =
+        (preview.description(), preview.settings(), preview.scene())
+    else {
+        return notice(Err("no scene is loaded".into()));
+    };
+    let dir = shared.scene.parent().unwrap_or(Path::new("."));
+    let path = dir.join(name);
+    let start = Instant::now();
+    let total = settings.width as u64 * settings.height as u64 * description.stereo.views() as u64;
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let last = Mutex::new(Instant::now());
+    let progress = |n: u64| {
+        let d = done.fetch_add(n, Ordering::Relaxed) + n;
+        let mut last = lock(&last);
+        if last.elapsed() >= Duration::from_millis(250) {
+            *last = Instant::now();
+            send(
+                shared,
+                json!({"type": "saving", "fraction": d as f64 / total.max(1) as f64}),
+            );
+        }
+    };
+    let mut provenance = Provenance {
+        width: settings.width,
+        height: settings.height,
+        bounds: PixelBounds::full(settings.width, settings.height),
+        spp: settings.spp,
+        samples: 0..settings.spp,
+        seed: settings.seed,
+        scene: description.hash(),
+        aovs: AovSelection::default(),
+        object_names: scene.object_names.clone(),
+        sums: false,
+    };
+    let result = match &description.stereo {
+        Stereo::Mono => {
+            let job = Job {
+                output: path.clone(),
+                provenance,
+                checkpointing: None,
+            };
+            let signals = Signals {
+                stop: Arc::new(AtomicBool::new(false)),
+                checkpoint: Arc::new(AtomicBool::new(false)),
+            };
+            production::run(
+                scene,
+                &description.camera,
+                settings,
+                &job,
+                &signals,
+                &progress,
+            )
+            .map(drop)
+            .map_err(|e| e.to_string())
+        }
+        stereo => render_stereo(scene, &description.camera, settings, stereo, &progress)
+            .map_err(|e| e.to_string())
+            .and_then(|image| {
+                provenance.width = image.width;
+                provenance.height = image.height;
+                provenance.bounds = PixelBounds::full(image.width, image.height);
+                write_image(&path, &image, &provenance).map_err(|e| e.to_string())
+            }),
+    };
+    notice(result.map(|()| {
+        format!(
+            "saved {} ({}x{}, {} spp) in {:.1} s",
+            path.display(),
+            settings.width,
+            settings.height,
+            settings.spp,
+            start.elapsed().as_secs_f64()
+        )
+    }));
+}
+
+/// Watches the scene file: when its text changes (an editor saved it), the pages' scene text
+/// is replaced and the scene reloaded.
+fn watch(shared: &Shared, mut known: String) {
+    let stamp = |path: &Path| -> Option<(SystemTime, u64)> {
+        let m = std::fs::metadata(path).ok()?;
+        Some((m.modified().ok()?, m.len()))
+    };
+    let mut last = stamp(&shared.scene);
+    loop {
+        std::thread::sleep(WATCH_INTERVAL);
+        let now = stamp(&shared.scene);
+        if now == last {
+            continue;
+        }
+        last = now;
+        let Ok(text) = read_scene(&shared.scene) else {
+            continue;
+        };
+        if text == known {
+            continue;
+        }
+        known = text.clone();
+        let mut inputs = lock(&shared.inputs);
+        if inputs.text != text {
+            inputs.text = text;
+            inputs.generation += 1;
+            shared.stop.store(true, Ordering::Relaxed);
+            shared.wake.notify_all();
+        }
+    }
+}
+
+/// The JSON state of a loaded scene: its text, the page's and the command line's `--set`s,
+/// the parameters, the camera (for navigation and as TOML to copy) and the render settings.
+fn state(
+    shared: &Shared,
+    preview: &Preview,
+    text: &str,
+    overrides: &[Override],
+    generation: u64,
+) -> serde_json::Value {
+    let description = preview.description().expect("loaded");
+    let settings = preview.settings().expect("loaded");
+    let applied = file::with_overrides(text, overrides)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok());
+    let (parameters, more) = match &applied {
+        Some(table) if text.len() <= MAX_PARAMETER_TEXT => parameters(table),
+        _ => (Vec::new(), text.len() > MAX_PARAMETER_TEXT),
+    };
+    let camera = &description.camera;
+    let (_, up) = camera.right_up();
+    let (angle, view_width) = match camera.projection() {
+        Projection::Perspective {
+            horizontal_view_angle,
+        } => (Some(horizontal_view_angle.to_degrees()), None),
+        Projection::Orthographic { view_width } => (None, Some(view_width)),
+    };
+    let mut table = applied
+        .as_ref()
+        .and_then(|t| t.get("camera"))
+        .and_then(|c| c.as_table())
+        .cloned()
+        .unwrap_or_default();
+    let vector = |v: glam::DVec3| toml::Value::Array(v.to_array().map(toml::Value::Float).into());
+    for (key, value) in [
+        ("position", Some(vector(camera.position()))),
+        ("view_direction", Some(vector(camera.view_direction()))),
+        ("up", Some(vector(up))),
+        ("horizontal_view_angle_deg", angle.map(toml::Value::Float)),
+    ] {
+        if let Some(value) = value {
+            table.entry(key).or_insert(value);
+        }
+    }
+    let mut wrapped = toml::Table::new();
+    wrapped.insert("camera".into(), toml::Value::Table(table));
+    json!({
+        "type": "scene",
+        "generation": generation,
+        "path": shared.scene.display().to_string(),
+        "text": text,
+        "overrides": overrides.iter().map(|o| o.to_string()).collect::<Vec<_>>(),
+        "parameters": parameters,
+        "more_parameters": more,
+        "camera": {
+            "position": camera.position().to_array(),
+            "view_direction": camera.view_direction().to_array(),
+            "up": up.to_array(),
+            "horizontal_view_angle_deg": angle,
+            "view_width": view_width,
+        },
+        "camera_toml": toml::to_string(&wrapped).unwrap_or_default(),
+        "stereo": description.stereo.name(),
+        "width": settings.width,
+        "height": settings.height,
+        "spp": settings.spp,
+        "warnings": description.warnings(),
+    })
+}

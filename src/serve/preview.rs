@@ -1,0 +1,479 @@
+//! The progressive preview behind `timbre serve`: a scene loaded from text with `--set`
+//! overrides, a coarse picture first, then one sample per pixel per pass, accumulated exactly.
+//!
+//! Pass k renders sample k of a `spp`-sample render ([`Samples`] with the range k..k+1), and
+//! the passes' exact sums are added ([`Sum`]), so after `spp` passes the picture is bit for bit
+//! the one `timbre render --spp N` makes of the same scene. Nothing here knows about the
+//! network; `serve` drives it from one thread.
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use glam::DVec3;
+
+use crate::cameras::Camera;
+use crate::embree::Device;
+use crate::math::{Colour, Ray, ReferenceFrame};
+use crate::render::{self, Image, PixelBounds, Rows, Samples, Sum, Tracer};
+use crate::scene::file::{self, Override, SceneFileError};
+use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
+use crate::stereo::{self, anaglyph, pack, render_stereo};
+use crate::trajectories;
+
+/// Pixels of the coarse picture shown first after a change, about.
+const COARSE_PIXELS: u64 = 20_000;
+
+/// How often a pass shows the rows it has finished so far.
+const FRAME_INTERVAL: Duration = Duration::from_millis(100);
+
+/// A scene that could not be previewed: where (for errors in the text) and what.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadError {
+    pub message: String,
+    /// Line and column (from 1) in the text, when the error has them.
+    pub line: Option<usize>,
+    pub column: Option<usize>,
+}
+
+impl LoadError {
+    fn plain(message: impl ToString) -> LoadError {
+        LoadError {
+            message: message.to_string(),
+            line: None,
+            column: None,
+        }
+    }
+}
+
+impl From<SceneFileError> for LoadError {
+    fn from(e: SceneFileError) -> LoadError {
+        match e {
+            SceneFileError::Invalid { line, column, .. } => LoadError {
+                message: e.to_string(),
+                line: Some(line),
+                column: Some(column),
+            },
+            e => LoadError::plain(e),
+        }
+    }
+}
+
+/// The command line's choices that the scene text does not override.
+#[derive(Debug, Clone, Default)]
+pub struct PreviewOptions {
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    /// Samples per pixel the preview accumulates; by default the scene's, at least 64.
+    pub spp: Option<u32>,
+    pub threads: Option<u32>,
+}
+
+/// Samples per pixel the preview accumulates when neither `--spp` nor the scene asks for more.
+pub const DEFAULT_SPP: u32 = 64;
+
+/// One view being accumulated: its camera, the exact sums and how many samples each row has.
+struct View {
+    camera: Camera,
+    sums: Vec<Sum>,
+    rows: Vec<u32>,
+}
+
+/// A loaded scene and its accumulated samples.
+struct Loaded {
+    /// As parsed (before trajectories are drawn), to tell whether a change needs a new BVH.
+    parsed: SceneDescription,
+    scene: Scene,
+    settings: RenderSettings,
+    views: Vec<View>,
+    /// Passes completed.
+    samples: u32,
+    /// The picture shown where no pass has been yet (the coarse one), or, for an
+    /// autostereogram, the finished one.
+    shown: Option<Image>,
+}
+
+/// What is seen through a pixel centre.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inspection {
+    pub object: String,
+    /// The object's index in the scene's object order (the `object.id` AOV).
+    pub id: usize,
+    pub surface: &'static str,
+    /// Distance along the ray.
+    pub distance: f64,
+    pub point: DVec3,
+    pub normal: DVec3,
+    /// Which copy in an array (0 outside arrays), and which part of the shape.
+    pub element: u32,
+    pub part: u32,
+    /// `"scene"` or `"camera"`: the frame the object is at rest in.
+    pub frame: &'static str,
+}
+
+/// The preview's state: the Embree device, the scene file's path (which locates its includes
+/// and meshes), and the loaded scene.
+pub struct Preview {
+    device: Device,
+    path: PathBuf,
+    options: PreviewOptions,
+    loaded: Option<Loaded>,
+}
+
+impl Preview {
+    pub fn new(path: PathBuf, options: PreviewOptions) -> Result<Preview, String> {
+        let device = match options.threads {
+            Some(t) => Device::new(&format!("threads={t}")),
+            None => Device::new(""),
+        }
+        .map_err(|e| e.to_string())?;
+        Ok(Preview {
+            device,
+            path,
+            options,
+            loaded: None,
+        })
+    }
+
+    /// The scene as `timbre render` would read `text` (the scene file's contents) with
+    /// `overrides`, and the settings the preview renders it with. A failure leaves the
+    /// loaded scene as it was.
+    pub fn describe(
+        &self,
+        text: &str,
+        overrides: &[Override],
+    ) -> Result<(SceneDescription, RenderSettings), LoadError> {
+        let description = file::parse_with(text, &self.path.display().to_string(), overrides)?;
+        let mut s = description.render.clone();
+        let o = &self.options;
+        s.width = o.width.unwrap_or(s.width);
+        s.height = o.height.unwrap_or(s.height);
+        s.spp = o.spp.unwrap_or(s.spp.max(DEFAULT_SPP));
+        s.threads = o.threads.map(|t| t as usize);
+        s.aovs = false;
+        s.validate().map_err(LoadError::plain)?;
+        stereo::validate(&description.stereo, s.width, s.height).map_err(LoadError::plain)?;
+        Ok((description, s))
+    }
+
+    /// Loads the scene `text` with `overrides` and starts accumulating afresh. The BVH is
+    /// kept when only the camera, the output or the render settings changed.
+    pub fn load(&mut self, text: &str, overrides: &[Override]) -> Result<(), LoadError> {
+        let (parsed, settings) = self.describe(text, overrides)?;
+        let built = match &self.loaded {
+            Some(old) if same_objects(&old.parsed, &parsed) => None,
+            _ => {
+                let drawn = trajectories::draw(&self.device, &parsed)
+                    .map_err(|e| LoadError::plain(format!("ray trajectories: {e}")))?;
+                Some(Scene::build(&self.device, &drawn).map_err(LoadError::plain)?)
+            }
+        };
+        let old = self.loaded.take();
+        let scene = match (built, old) {
+            (Some(scene), _) => scene,
+            (None, old) => old.expect("a loaded scene to keep").scene,
+        };
+        let n = settings.width as usize * settings.height as usize;
+        let camera = &parsed.camera;
+        let cameras = match &parsed.stereo {
+            Stereo::Mono => vec![camera.clone()],
+            Stereo::Anaglyph { eye_separation, .. }
+            | Stereo::FramePacking { eye_separation, .. } => vec![
+                camera.eye(-0.5 * *eye_separation),
+                camera.eye(0.5 * *eye_separation),
+            ],
+            // Made whole in one pass.
+            Stereo::Autostereogram { .. } => Vec::new(),
+        };
+        let views = cameras
+            .into_iter()
+            .map(|camera| View {
+                camera,
+                sums: vec![Sum::default(); n],
+                rows: vec![0; settings.height as usize],
+            })
+            .collect();
+        self.loaded = Some(Loaded {
+            parsed,
+            scene,
+            settings,
+            views,
+            samples: 0,
+            shown: None,
+        });
+        Ok(())
+    }
+
+    /// The scene loaded last, as parsed.
+    pub fn description(&self) -> Option<&SceneDescription> {
+        self.loaded.as_ref().map(|l| &l.parsed)
+    }
+
+    /// The scene loaded last, built.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.loaded.as_ref().map(|l| &l.scene)
+    }
+
+    /// The settings the preview renders with (`spp`: the samples it accumulates).
+    pub fn settings(&self) -> Option<&RenderSettings> {
+        self.loaded.as_ref().map(|l| &l.settings)
+    }
+
+    /// Passes completed, and how many there will be.
+    pub fn progress(&self) -> (u32, u32) {
+        self.loaded.as_ref().map_or((0, 0), |l| {
+            let target = if l.views.is_empty() {
+                1
+            } else {
+                l.settings.spp
+            };
+            (l.samples, target)
+        })
+    }
+
+    /// Whether more passes are to come.
+    pub fn accumulating(&self) -> bool {
+        let (done, target) = self.progress();
+        done < target
+    }
+
+    /// Renders the coarse picture (about [`COARSE_PIXELS`] pixels, each standing for a
+    /// square of the image) and returns it at full size.
+    pub fn coarse(&mut self) -> Result<Option<Image>, String> {
+        let Some(l) = self.loaded.as_mut() else {
+            return Ok(None);
+        };
+        let s = &l.settings;
+        let pixels = s.width as u64 * s.height as u64;
+        let f = ((pixels as f64 / COARSE_PIXELS as f64).sqrt().ceil() as u32).max(2);
+        let small = RenderSettings {
+            width: s.width.div_ceil(f),
+            height: s.height.div_ceil(f),
+            spp: 1,
+            ..s.clone()
+        };
+        if small.width < 2 || small.height < 2 {
+            return Ok(None);
+        }
+        let image = render_stereo(
+            &l.scene,
+            &l.parsed.camera,
+            &small,
+            &l.parsed.stereo,
+            &|_| {},
+        )
+        .map_err(|e| e.to_string())?;
+        // The combined image (a packed frame is wider or higher than a view) at full size.
+        let (width, height) = (
+            image.width * s.width / small.width,
+            image.height * s.height / small.height,
+        );
+        let pixels = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .map(|(x, y)| image.pixel((x / f).min(image.width - 1), (y / f).min(image.height - 1)))
+            .collect();
+        let full = Image {
+            width,
+            height,
+            pixels,
+            aovs: None,
+            rays: image.rays,
+        };
+        l.shown = Some(full.clone());
+        Ok(Some(full))
+    }
+
+    /// Renders the next pass (sample k of every pixel), adding it to the sums; `frame` is shown
+    /// the picture so far, with the passes done and to do, about every [`FRAME_INTERVAL`] and
+    /// at the end. Returns whether the pass completed: it stops early (its finished rows
+    /// kept) when `stop` is set.
+    pub fn pass(
+        &mut self,
+        stop: &AtomicBool,
+        frame: &mut dyn FnMut(Image, (u32, u32)),
+    ) -> Result<bool, String> {
+        let Some(l) = self.loaded.as_mut() else {
+            return Ok(true);
+        };
+        let s = l.settings.clone();
+        if l.views.is_empty() {
+            let image = render_stereo(&l.scene, &l.parsed.camera, &s, &l.parsed.stereo, &|_| {})
+                .map_err(|e| e.to_string())?;
+            l.shown = Some(image.clone());
+            l.samples = 1;
+            frame(image, (1, 1));
+            return Ok(true);
+        }
+        let k = l.samples;
+        let first = |_| k;
+        let samples = Samples {
+            spp: s.spp,
+            start: k,
+            end: k + 1,
+            first: &first,
+            sums: true,
+        };
+        let bounds = PixelBounds::full(s.width, s.height);
+        let mut last = Instant::now();
+        // Taken out while they are added to, so that the scene can be read meanwhile.
+        let mut views = std::mem::take(&mut l.views);
+        let l = &*l;
+        let mut complete = true;
+        for v in 0..views.len() {
+            let camera = views[v].camera.clone();
+            let mut sink = |rows: Rows| -> Result<(), std::convert::Infallible> {
+                let view = &mut views[v];
+                let at = rows.bounds.y0 as usize * s.width as usize;
+                for (sum, add) in view.sums[at..].iter_mut().zip(&rows.sums) {
+                    sum.add(add);
+                }
+                for y in rows.bounds.y0..rows.bounds.y1 {
+                    view.rows[y as usize] += 1;
+                }
+                if views.len() == 1 && last.elapsed() >= FRAME_INTERVAL {
+                    frame(picture(l, &views), (k, s.spp));
+                    last = Instant::now();
+                }
+                Ok(())
+            };
+            let outcome =
+                render::render_rows(&l.scene, &camera, &s, bounds, &samples, stop, &mut sink);
+            match outcome {
+                Ok(Ok(o)) if o.complete => {}
+                Ok(Ok(_)) => {
+                    complete = false;
+                    break;
+                }
+                Err(e) => {
+                    self.loaded.as_mut().expect("loaded").views = views;
+                    return Err(e.to_string());
+                }
+            }
+        }
+        let l = self.loaded.as_mut().expect("loaded");
+        l.views = views;
+        if complete {
+            l.samples += 1;
+            frame(picture(l, &l.views), (l.samples, s.spp));
+        }
+        Ok(complete)
+    }
+
+    /// The picture so far: the accumulated samples' means, the coarse picture where there are
+    /// none yet.
+    pub fn picture(&self) -> Option<Image> {
+        self.loaded.as_ref().map(|l| picture(l, &l.views))
+    }
+
+    /// What the centre of pixel (x, y) of the (central) camera sees.
+    pub fn inspect(&self, x: u32, y: u32) -> Option<Inspection> {
+        let l = self.loaded.as_ref()?;
+        let s = &l.settings;
+        if x >= s.width || y >= s.height {
+            return None;
+        }
+        let camera = &l.parsed.camera;
+        let ray = render::centre_ray(&l.scene, camera, s.width, s.height, x, y);
+        let tracer = Tracer::new(&l.scene, camera, s.shadows);
+        let found = tracer.first(&ray, 0.0, ReferenceFrame::Camera)?;
+        let (id, normal) = tracer.identify(&found);
+        let object = l.scene.object_names.get(id).cloned().unwrap_or_default();
+        // Drawn trajectories are not in the parsed description.
+        let surface = l
+            .parsed
+            .objects
+            .get(id)
+            .map_or("constant-colour", |o| o.surface.kind());
+        Some(Inspection {
+            object,
+            id,
+            surface,
+            distance: found.hit.t,
+            point: found.ray.at(found.hit.t),
+            normal,
+            element: found.hit.element,
+            part: found.hit.prim,
+            frame: match found.frame {
+                ReferenceFrame::Scene => "scene",
+                ReferenceFrame::Camera => "camera",
+            },
+        })
+    }
+
+    /// The ray through the centre of pixel (x, y) in the scene frame, for a ray trajectory:
+    /// started ahead of the camera (a tile ahead, or halfway to the first surface if that is
+    /// nearer) so that its drawn cylinder does not cover the view.
+    pub fn pixel_ray(&self, x: u32, y: u32) -> Option<Ray> {
+        let l = self.loaded.as_ref()?;
+        let s = &l.settings;
+        if x >= s.width || y >= s.height {
+            return None;
+        }
+        let camera = &l.parsed.camera;
+        let ray = camera.to_scene_frame(&render::centre_ray(
+            &l.scene, camera, s.width, s.height, x, y,
+        ));
+        let tracer = Tracer::new(&l.scene, camera, s.shadows);
+        let ahead = tracer
+            .first(&ray, 0.0, ReferenceFrame::Scene)
+            .map_or(1.0, |f| (0.5 * f.hit.t).min(1.0));
+        Some(Ray::new(ray.at(ahead), ray.direction, ray.time))
+    }
+}
+
+/// The accumulated means of every view (the coarse picture where a row has no sample yet),
+/// combined as the scene's stereo output asks.
+fn picture(l: &Loaded, views: &[View]) -> Image {
+    let s = &l.settings;
+    let view = |v: &View| {
+        let w = s.width as usize;
+        let pixels = (0..s.height as usize)
+            .flat_map(|y| {
+                let n = v.rows[y];
+                v.sums[y * w..(y + 1) * w]
+                    .iter()
+                    .enumerate()
+                    .map(move |(x, sum)| match (n, &l.shown) {
+                        (0, Some(shown)) if views.len() == 1 => shown.pixel(x as u32, y as u32),
+                        (0, _) => Colour::ZERO,
+                        (n, _) => sum.mean(n),
+                    })
+            })
+            .collect();
+        Image {
+            width: s.width,
+            height: s.height,
+            pixels,
+            aovs: None,
+            rays: 0,
+        }
+    };
+    match (&l.parsed.stereo, views) {
+        // Two views are combined only once both have every row.
+        (_, [_, _]) if l.samples == 0 && l.shown.is_some() => l.shown.clone().expect("shown"),
+        (_, []) => l.shown.clone().unwrap_or_else(|| Image {
+            width: s.width,
+            height: s.height,
+            pixels: vec![Colour::ZERO; s.width as usize * s.height as usize],
+            aovs: None,
+            rays: 0,
+        }),
+        (Stereo::Anaglyph { colour, .. }, [left, right]) => {
+            anaglyph(&view(left), &view(right), *colour)
+        }
+        (Stereo::FramePacking { packing, half, .. }, [left, right]) => {
+            pack(&view(left), &view(right), *packing, *half)
+        }
+        (_, views) => view(&views[0]),
+    }
+}
+
+/// Whether two scenes have the same objects (and so the same BVH): they may differ in the
+/// camera, the stereo output and the render settings.
+fn same_objects(a: &SceneDescription, b: &SceneDescription) -> bool {
+    a.objects == b.objects
+        && a.arrays == b.arrays
+        && a.lights == b.lights
+        && a.focus_surface == b.focus_surface
+        && a.trajectories == b.trajectories
+}

@@ -1,0 +1,365 @@
+//! The HTTP side: the page, the WebSocket, and the rules every request passes (host, token,
+//! origin, sizes, connections). A malformed message closes its own connection, never the
+//! server.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use axum::Router;
+use axum::extract::ws::{CloseFrame, Message, WebSocket, WebSocketUpgrade};
+use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::http::{HeaderMap, HeaderValue, StatusCode, header};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use serde::Deserialize;
+use serde_json::json;
+use tokio::sync::broadcast::error::RecvError;
+
+use super::engine::{Engine, Outgoing, Request as EngineRequest, saveable};
+use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, page};
+use crate::scene::file::Override;
+
+/// Largest HTTP request body read (the server reads none: pages talk over the WebSocket).
+const MAX_BODY_BYTES: usize = 16 << 10;
+
+/// WebSocket close codes (RFC 6455, 7.4.1).
+const CLOSE_UNSUPPORTED: u16 = 1003;
+const CLOSE_POLICY: u16 = 1008;
+
+pub struct AppState {
+    engine: Engine,
+    access: Access,
+    connections: AtomicUsize,
+}
+
+impl AppState {
+    pub fn new(engine: Engine, access: Access) -> AppState {
+        AppState {
+            engine,
+            access,
+            connections: AtomicUsize::new(0),
+        }
+    }
+}
+
+/// What a page may send (JSON text messages). Unknown types and fields are malformed.
+#[derive(Debug, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ClientMessage {
+    /// `--set KEY=VALUE` overrides, each replacing the page's earlier one of the same key.
+    Set {
+        set: Vec<String>,
+    },
+    /// Drops the page's overrides of these keys (all of them when empty).
+    Unset {
+        keys: Vec<String>,
+    },
+    /// New scene text.
+    Text {
+        text: String,
+    },
+    /// Writes the scene text to the scene file.
+    WriteScene,
+    /// Display exposure in stops (does not restart the accumulation).
+    Exposure {
+        stops: f64,
+    },
+    Inspect {
+        x: u32,
+        y: u32,
+    },
+    /// Adds the ray trajectory from this pixel to the scene text.
+    Trajectory {
+        x: u32,
+        y: u32,
+    },
+    /// Renders to this file beside the scene file.
+    Save {
+        file: String,
+    },
+}
+
+pub fn router(state: Arc<AppState>) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route("/ws", get(socket))
+        .fallback(|| async { (StatusCode::NOT_FOUND, "not found") })
+        .layer(middleware::from_fn_with_state(state.clone(), guard))
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .with_state(state)
+}
+
+/// Whether the Host header names this machine (for a server on loopback: a page of another
+/// site that rebinds its name to 127.0.0.1 is refused).
+fn local_host(host: &str) -> bool {
+    let name = match host.rsplit_once(':') {
+        Some((name, port)) if port.chars().all(|c| c.is_ascii_digit()) => name,
+        _ => host,
+    };
+    let name = name.trim_start_matches('[').trim_end_matches(']');
+    name.eq_ignore_ascii_case("localhost")
+        || name
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback())
+}
+
+/// Compares without stopping at the first difference.
+fn same(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+/// The rules before any route: a loopback server answers only requests for a local host
+/// name; a server reachable from elsewhere only those with the token.
+async fn guard(State(state): State<Arc<AppState>>, request: Request, next: Next) -> Response {
+    let host = request
+        .headers()
+        .get(header::HOST)
+        .and_then(|h| h.to_str().ok())
+        .unwrap_or("");
+    if state.access.loopback && !local_host(host) {
+        return (StatusCode::FORBIDDEN, "forbidden: not a local host name").into_response();
+    }
+    if let Some(token) = &state.access.token {
+        let given = request
+            .uri()
+            .query()
+            .unwrap_or("")
+            .split('&')
+            .find_map(|p| p.strip_prefix("token="))
+            .unwrap_or("");
+        if !same(given.as_bytes(), token.as_bytes()) {
+            return (
+                StatusCode::FORBIDDEN,
+                "forbidden: the access token printed by timbre serve is needed (?token=...)",
+            )
+                .into_response();
+        }
+    }
+    next.run(request).await
+}
+
+async fn index() -> Response {
+    let mut response = page::PAGE.into_response();
+    let headers = response.headers_mut();
+    for (name, value) in [
+        (header::CONTENT_TYPE, "text/html; charset=utf-8"),
+        (header::CACHE_CONTROL, "no-store"),
+        // The token is in the address: never send it elsewhere.
+        (header::REFERRER_POLICY, "no-referrer"),
+        (
+            header::CONTENT_SECURITY_POLICY,
+            "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
+             img-src 'self' blob: data:; connect-src 'self'; frame-ancestors 'none'",
+        ),
+        (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
+    ] {
+        headers.insert(name, HeaderValue::from_static(value));
+    }
+    response
+}
+
+/// Counts a connection for as long as it lives.
+struct Counted(Arc<AppState>);
+
+impl Drop for Counted {
+    fn drop(&mut self) {
+        self.0.connections.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
+async fn socket(
+    State(state): State<Arc<AppState>>,
+    headers: HeaderMap,
+    upgrade: WebSocketUpgrade,
+) -> Response {
+    // Browsers send the page's origin: only this server's own page may connect.
+    if let Some(origin) = headers.get(header::ORIGIN) {
+        let host = headers.get(header::HOST).and_then(|h| h.to_str().ok());
+        let own = host.is_some_and(|h| {
+            origin.to_str().is_ok_and(|o| {
+                o.strip_prefix("http://")
+                    .or_else(|| o.strip_prefix("https://"))
+                    == Some(h)
+            })
+        });
+        if !own {
+            return (StatusCode::FORBIDDEN, "forbidden: another site's page").into_response();
+        }
+    }
+    if state.connections.fetch_add(1, Ordering::Relaxed) >= MAX_CONNECTIONS {
+        state.connections.fetch_sub(1, Ordering::Relaxed);
+        return (
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("at most {MAX_CONNECTIONS} pages at once"),
+        )
+            .into_response();
+    }
+    let counted = Counted(state);
+    upgrade
+        .max_message_size(MAX_MESSAGE_BYTES)
+        .max_frame_size(MAX_MESSAGE_BYTES)
+        .on_upgrade(move |socket| connection(counted, socket))
+}
+
+fn outgoing(m: Outgoing) -> Message {
+    match m {
+        Outgoing::Json(text) => Message::Text(text.as_ref().into()),
+        Outgoing::Frame(bytes) => Message::Binary(bytes),
+    }
+}
+
+async fn close(socket: &mut WebSocket, code: u16, reason: &str) {
+    // Close reasons are at most 123 bytes.
+    let mut reason = reason.to_string();
+    while reason.len() > 120 {
+        reason.pop();
+    }
+    let _ = socket
+        .send(Message::Close(Some(CloseFrame {
+            code,
+            reason: reason.into(),
+        })))
+        .await;
+}
+
+/// One page: the latest state and frame, then every message both ways until it goes.
+async fn connection(counted: Counted, mut socket: WebSocket) {
+    let state = counted.0.clone();
+    let (now, mut rx) = state.engine.subscribe();
+    for m in now {
+        if socket.send(outgoing(m)).await.is_err() {
+            return;
+        }
+    }
+    loop {
+        tokio::select! {
+            incoming = socket.recv() => match incoming {
+                Some(Ok(Message::Text(text))) => {
+                    match serde_json::from_str::<ClientMessage>(text.as_str()) {
+                        Ok(message) => {
+                            if let Some(reply) = handle(&state.engine, message) {
+                                let reply = Message::Text(reply.to_string().into());
+                                if socket.send(reply).await.is_err() {
+                                    return;
+                                }
+                            }
+                        }
+                        Err(e) => {
+                            return close(&mut socket, CLOSE_POLICY, &format!("malformed message: {e}")).await;
+                        }
+                    }
+                }
+                Some(Ok(Message::Binary(_))) => {
+                    return close(&mut socket, CLOSE_UNSUPPORTED, "binary messages are not accepted").await;
+                }
+                Some(Ok(Message::Ping(_) | Message::Pong(_))) => {}
+                // Closed, or broken (a message over the size limit, a protocol error).
+                Some(Ok(Message::Close(_))) | Some(Err(_)) | None => return,
+            },
+            out = rx.recv() => match out {
+                Ok(m) => {
+                    if socket.send(outgoing(m)).await.is_err() {
+                        return;
+                    }
+                }
+                // Too slow for the frames: it gets the latest state and frame instead.
+                Err(RecvError::Lagged(_)) => {
+                    let (now, fresh) = state.engine.subscribe();
+                    rx = fresh;
+                    for m in now {
+                        if socket.send(outgoing(m)).await.is_err() {
+                            return;
+                        }
+                    }
+                }
+                Err(RecvError::Closed) => return,
+            },
+        }
+    }
+}
+
+/// Passes a page's message to the engine; the answer for this page alone, if any (a value the
+/// engine cannot take).
+fn handle(engine: &Engine, message: ClientMessage) -> Option<serde_json::Value> {
+    let refuse = |e: String| Some(json!({"type": "notice", "error": e}));
+    match message {
+        ClientMessage::Set { set } => {
+            let parsed: Result<Vec<Override>, String> = set
+                .iter()
+                .map(|s| s.parse().map_err(|e| format!("--set {e}")))
+                .collect();
+            match parsed {
+                Ok(overrides) => engine.set(overrides),
+                Err(e) => return refuse(e),
+            }
+        }
+        ClientMessage::Unset { keys } => engine.unset(&keys),
+        ClientMessage::Text { text } => engine.text(text),
+        ClientMessage::WriteScene => engine.request(EngineRequest::WriteScene),
+        ClientMessage::Exposure { stops } if stops.is_finite() && stops.abs() <= 30.0 => {
+            engine.exposure(stops)
+        }
+        ClientMessage::Exposure { stops } => {
+            return refuse(format!("exposure {stops}: from -30 to 30 stops"));
+        }
+        ClientMessage::Inspect { x, y } => engine.request(EngineRequest::Inspect { x, y }),
+        ClientMessage::Trajectory { x, y } => engine.request(EngineRequest::Trajectory { x, y }),
+        ClientMessage::Save { file } => match saveable(&file) {
+            Ok(()) => engine.request(EngineRequest::Save { file }),
+            Err(e) => return refuse(e),
+        },
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn host_names_of_this_machine_are_local_and_others_not() {
+        for host in [
+            "localhost",
+            "localhost:8080",
+            "127.0.0.1:1",
+            "127.1.2.3",
+            "[::1]:80",
+            "LOCALHOST",
+        ] {
+            assert!(local_host(host), "{host}");
+        }
+        for host in [
+            "",
+            "evil.example:8080",
+            "localhost.evil.example",
+            "192.168.1.2:80",
+            "[::2]:80",
+        ] {
+            assert!(!local_host(host), "{host}");
+        }
+    }
+
+    #[test]
+    fn tokens_are_compared_whole() {
+        assert!(same(b"abc", b"abc"));
+        assert!(!same(b"abc", b"abd"));
+        assert!(!same(b"abc", b"ab"));
+        assert!(!same(b"", b"a"));
+    }
+
+    #[test]
+    fn messages_of_unknown_types_or_fields_are_malformed() {
+        let ok: ClientMessage = serde_json::from_str(r#"{"type":"inspect","x":1,"y":2}"#).unwrap();
+        assert_eq!(ok, ClientMessage::Inspect { x: 1, y: 2 });
+        for bad in [
+            r#"{"type":"inspect","x":-1,"y":2}"#,
+            r#"{"type":"inspect","x":1,"y":2,"z":3}"#,
+            r#"{"type":"format_disk"}"#,
+            r#"{"x":1}"#,
+            "not json",
+        ] {
+            assert!(serde_json::from_str::<ClientMessage>(bad).is_err(), "{bad}");
+        }
+    }
+}
