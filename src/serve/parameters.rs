@@ -70,8 +70,8 @@ fn visit(found: &mut Vec<Parameter>, key: String, value: &Value) -> bool {
     }
 }
 
-/// A number, a boolean, or a non-empty array of numbers (nested to any depth, all whole or
-/// not), as JSON; and whether the numbers are whole. Non-finite numbers are left out: JSON has
+/// A number, a boolean, or a non-empty array of numbers (nested to any depth), as JSON; and
+/// whether the numbers are all whole. Non-finite numbers are left out: JSON has
 /// none.
 fn leaf(value: &Value) -> Option<(serde_json::Value, bool)> {
     match value {
@@ -85,8 +85,7 @@ fn leaf(value: &Value) -> Option<(serde_json::Value, bool)> {
                 .map(leaf)
                 .collect::<Option<_>>()?;
             let integer = leaves.iter().all(|(_, i)| *i);
-            let whole_or_not = leaves.iter().all(|(_, i)| *i == integer);
-            (leaves.len() == items.len() && whole_or_not)
+            (leaves.len() == items.len())
                 .then(|| (leaves.into_iter().map(|(v, _)| v).collect(), integer))
         }
         _ => None,
@@ -120,7 +119,7 @@ name = "a"
 shape = { type = "sphere", centre = [0, 0, 5], radius = 1 }
 surface = { type = "metric-interface", metric = [[1, 0], [0, 2]] }
 [[object]]
-shape = { type = "sphere", centre = [1, 2, 3], radius = 0.5 }
+shape = { type = "sphere", centre = [1, 2.5, 3], radius = 0.5 }
 "#;
         let got = listed(text);
         let want = [
@@ -131,7 +130,7 @@ shape = { type = "sphere", centre = [1, 2, 3], radius = 0.5 }
             ("object.0.shape.centre", "[0,0,5]", true),
             ("object.0.shape.radius", "1", true),
             ("object.0.surface.metric", "[[1,0],[0,2]]", true),
-            ("object.1.shape.centre", "[1,2,3]", true),
+            ("object.1.shape.centre", "[1,2.5,3]", false),
             ("object.1.shape.radius", "0.5", false),
         ];
         let want: Vec<_> = want
