@@ -1,0 +1,592 @@
+//! `timbre serve` from outside, as a page talks to it: the converged preview against the CLI's
+//! render of the same settings (and `--set`), display changes that do not restart the
+//! accumulation, located errors that keep the last picture, inspection against the CLI's AOVs,
+//! saving, the watched file, trajectories from a pixel; and the server's rules: host names,
+//! origins, the token beyond loopback, malformed and oversized messages.
+
+mod common;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use common::cli::{decode_png, timbre, write};
+use futures_util::{SinkExt, StreamExt};
+use serde_json::Value;
+use tempfile::TempDir;
+use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::tungstenite::client::IntoClientRequest;
+use tokio_tungstenite::tungstenite::protocol::frame::coding::CloseCode;
+
+const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
+
+/// The longest any single wait may take (a loaded CI machine renders slowly).
+const PATIENCE: Duration = Duration::from_secs(120);
+
+/// A small studio scene with a glass ball: refraction, shadows and jittered samples.
+const SCENE: &str = r#"studio = "lattice"
+[render]
+width = 48
+height = 36
+[[object]]
+name = "glass ball"
+shadow_throwing = false
+shape = { type = "sphere", centre = [0, -0.2, 6], radius = 0.6 }
+surface = { type = "refractive", index_ratio = 1.5, transmission = 0.96 }
+"#;
+
+/// Arguments every server and reference render share: the size comes from the scene.
+const SPP: u32 = 3;
+
+/// A running `timbre serve` in a directory of its own, killed when dropped.
+struct Server {
+    child: Child,
+    port: u16,
+    /// The address line printed at start.
+    line: String,
+    dir: TempDir,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Server {
+    fn start(args: &[&str]) -> Server {
+        let dir = TempDir::new().unwrap();
+        write(dir.path(), "scene.toml", SCENE);
+        let mut child = Command::new(TIMBRE)
+            .args(["serve", "scene.toml", "--port", "0", "--threads", "2"])
+            .args(["--spp", &SPP.to_string()])
+            .args(args)
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start timbre serve");
+        let stdout = child.stdout.take().unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut line = String::new();
+            let _ = BufReader::new(stdout).read_line(&mut line);
+            let _ = tx.send(line);
+        });
+        let line = rx
+            .recv_timeout(PATIENCE)
+            .expect("the server prints its address");
+        let port = line
+            .split("http://")
+            .nth(1)
+            .and_then(|rest| rest.split('/').next())
+            .and_then(|host| host.rsplit(':').next())
+            .and_then(|p| p.parse().ok())
+            .unwrap_or_else(|| panic!("no address in {line:?}"));
+        Server {
+            child,
+            port,
+            line,
+            dir,
+        }
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+
+    /// The CLI's render of the scene file as it is now, with the same size and samples.
+    fn reference(&self, set: &[&str]) -> image::RgbImage {
+        let mut args = vec!["render", "scene.toml", "-q", "--spp", "3", "-o", "ref.png"];
+        for s in set {
+            args.extend(["--set", s]);
+        }
+        timbre(self.path(), &args).assert_success();
+        decode_png(&self.path().join("ref.png"))
+    }
+
+    async fn connect(&self) -> Page {
+        self.connect_with(&[], "").await.expect("connect")
+    }
+
+    async fn connect_with(
+        &self,
+        headers: &[(&str, &str)],
+        query: &str,
+    ) -> Result<Page, tokio_tungstenite::tungstenite::Error> {
+        let mut request = format!("ws://127.0.0.1:{}/ws{query}", self.port)
+            .into_client_request()
+            .unwrap();
+        for (name, value) in headers {
+            let name: tokio_tungstenite::tungstenite::http::HeaderName = name.parse().unwrap();
+            request.headers_mut().insert(name, value.parse().unwrap());
+        }
+        let (socket, _) = tokio_tungstenite::connect_async(request).await?;
+        Ok(Page { socket })
+    }
+
+    /// The status line and body of a plain HTTP GET of `target` with this Host header.
+    fn get(&self, target: &str, host: &str) -> (u16, String) {
+        let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        stream.set_read_timeout(Some(PATIENCE)).unwrap();
+        write!(
+            stream,
+            "GET {target} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
+        )
+        .unwrap();
+        let mut response = String::new();
+        stream.read_to_string(&mut response).unwrap();
+        let status = response
+            .split(' ')
+            .nth(1)
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no status in {response:?}"));
+        (status, response)
+    }
+}
+
+/// A frame: its header and RGBA pixels.
+#[derive(Debug, Clone)]
+struct Frame {
+    generation: u32,
+    done: u32,
+    target: u32,
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+}
+
+impl Frame {
+    fn parse(bytes: &[u8]) -> Frame {
+        let at = |k: usize| u32::from_le_bytes(bytes[4 * k..4 * k + 4].try_into().unwrap());
+        let frame = Frame {
+            generation: at(0),
+            done: at(1),
+            target: at(2),
+            width: at(3),
+            height: at(4),
+            rgba: bytes[20..].to_vec(),
+        };
+        assert_eq!(frame.rgba.len(), 4 * (frame.width * frame.height) as usize);
+        frame
+    }
+
+    /// The number of pixels whose RGB differs from `image`'s.
+    fn differences(&self, image: &image::RgbImage) -> usize {
+        assert_eq!((self.width, self.height), image.dimensions());
+        self.rgba
+            .chunks_exact(4)
+            .zip(image.pixels())
+            .filter(|(a, b)| a[..3] != b.0)
+            .count()
+    }
+}
+
+enum Received {
+    Json(Value),
+    Frame(Frame),
+}
+
+struct Page {
+    socket: tokio_tungstenite::WebSocketStream<
+        tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>,
+    >,
+}
+
+impl Page {
+    async fn send(&mut self, message: Value) {
+        self.socket
+            .send(Message::Text(message.to_string().into()))
+            .await
+            .unwrap();
+    }
+
+    async fn next(&mut self) -> Option<Received> {
+        loop {
+            let m = tokio::time::timeout(PATIENCE, self.socket.next())
+                .await
+                .expect("a message in time")?;
+            match m.ok()? {
+                Message::Text(t) => return Some(Received::Json(serde_json::from_str(&t).unwrap())),
+                Message::Binary(b) => return Some(Received::Frame(Frame::parse(&b))),
+                Message::Close(_) => return None,
+                _ => {}
+            }
+        }
+    }
+
+    /// The first JSON message of this `type` (frames and others are skipped).
+    async fn json(&mut self, kind: &str) -> Value {
+        loop {
+            match self.next().await.expect("the connection stays open") {
+                Received::Json(v) if v["type"] == kind => return v,
+                _ => {}
+            }
+        }
+    }
+
+    /// Frames until one satisfies `done`; all frames seen, that one last.
+    async fn frames_until(&mut self, done: impl Fn(&Frame) -> bool) -> Vec<Frame> {
+        let mut seen = Vec::new();
+        loop {
+            if let Received::Frame(f) = self.next().await.expect("the connection stays open") {
+                let stop = done(&f);
+                seen.push(f);
+                if stop {
+                    return seen;
+                }
+            }
+        }
+    }
+
+    /// The first frame with every sample, of a generation after `after`.
+    async fn converged(&mut self, after: u32) -> Frame {
+        let frames = self
+            .frames_until(|f| f.generation > after && f.done == f.target)
+            .await;
+        frames.last().unwrap().clone()
+    }
+
+    /// How the server closed the connection: the close code, or none if it just dropped it.
+    async fn closed(&mut self) -> Option<CloseCode> {
+        loop {
+            let m = tokio::time::timeout(PATIENCE, self.socket.next())
+                .await
+                .expect("closed in time");
+            match m {
+                Some(Ok(Message::Close(frame))) => return frame.map(|f| f.code),
+                Some(Ok(_)) => {}
+                Some(Err(_)) | None => return None,
+            }
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_converged_preview_is_the_cli_render_and_a_set_restarts_it() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let state = page.json("scene").await;
+    assert_eq!(
+        (state["width"].as_u64(), state["spp"].as_u64()),
+        (Some(48), Some(3))
+    );
+    let first = page.converged(0).await;
+    assert_eq!(first.target, SPP);
+    // Exactly: the preview adds the same samples' exact sums as the CLI and converts to 8 bits
+    // as the PNG writer does.
+    assert_eq!(first.differences(&server.reference(&[])), 0);
+
+    let set = "camera.position=[0.2, 0.1, 0]";
+    page.send(serde_json::json!({"type": "set", "set": [set]}))
+        .await;
+    let frames = page
+        .frames_until(|f| f.generation > first.generation && f.done == f.target)
+        .await;
+    let fresh: Vec<&Frame> = frames
+        .iter()
+        .filter(|f| f.generation > first.generation)
+        .collect();
+    assert_eq!(
+        fresh[0].done, 0,
+        "the accumulation restarts with a coarse frame"
+    );
+    let last = fresh.last().unwrap();
+    let moved = server.reference(&[set]);
+    assert_eq!(last.differences(&moved), 0);
+    assert!(first.differences(&moved) > 100, "the camera moved");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn exposure_changes_the_display_but_not_the_accumulation() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let before = page.converged(0).await;
+    page.send(serde_json::json!({"type": "exposure", "stops": 1}))
+        .await;
+    let after = page
+        .frames_until(|f| f.generation == before.generation)
+        .await
+        .pop()
+        .unwrap();
+    assert_eq!(
+        (after.done, after.target),
+        (SPP, SPP),
+        "no samples were thrown away"
+    );
+    // Twice the light, clamped: each channel is at least what it was, and those not clamped
+    // are twice as bright, to the rounding of 8 bits.
+    for (b, a) in before.rgba.iter().zip(&after.rgba) {
+        let want = (2 * *b as i32).min(255);
+        assert!((*a as i32 - want).abs() <= 1, "{b} -> {a}");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_error_in_the_text_is_located_and_the_last_picture_stays() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let good = page.converged(0).await;
+    let broken = SCENE.replace("width = 48", "width = = 48");
+    page.send(serde_json::json!({"type": "text", "text": broken}))
+        .await;
+    let error = page.json("error").await;
+    assert_eq!(error["line"], 3, "{error}");
+    assert!(error["column"].as_u64().is_some_and(|c| c >= 1), "{error}");
+    assert_eq!(error["text"], broken.as_str());
+    // A page that connects now still gets the last good picture.
+    let mut late = server.connect().await;
+    let error_again = late.json("error").await;
+    assert_eq!(error_again["line"], 3);
+    let frame = late.frames_until(|_| true).await.pop().unwrap();
+    assert_eq!(frame.rgba, good.rgba);
+    // Fixing the text renders again.
+    page.send(serde_json::json!({"type": "text", "text": SCENE.replace("0.6", "0.4")}))
+        .await;
+    let fixed = page.converged(good.generation).await;
+    assert_ne!(fixed.rgba, good.rgba);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn inspecting_a_pixel_finds_what_the_cli_aovs_record() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    page.converged(0).await;
+    timbre(
+        server.path(),
+        &[
+            "render",
+            "scene.toml",
+            "-q",
+            "--spp",
+            "1",
+            "--aov",
+            "depth,object",
+            "-o",
+            "aov.exr",
+        ],
+    )
+    .assert_success();
+    let image =
+        exr::prelude::read_all_flat_layers_from_file(server.path().join("aov.exr")).unwrap();
+    let layer = &image.layer_data[0];
+    let channel = |name: &str| -> Vec<f32> {
+        let c = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .unwrap();
+        match &c.sample_data {
+            exr::prelude::FlatSamples::F32(v) => v.clone(),
+            _ => panic!("f32"),
+        }
+    };
+    let (depth, object) = (channel("depth.Z"), channel("object.id"));
+    // The ball's centre, the floor, the sky.
+    for (x, y) in [(24, 19), (5, 33), (2, 1)] {
+        page.send(serde_json::json!({"type": "inspect", "x": x, "y": y}))
+            .await;
+        let found = page.json("inspection").await;
+        let k = y * 48 + x;
+        let hit = &found["hit"];
+        assert_eq!(hit["id"].as_f64().unwrap() as f32, object[k], "{found}");
+        let distance = hit["distance"].as_f64().unwrap();
+        assert!(
+            (distance as f32 - depth[k]).abs() <= 1e-5 * depth[k],
+            "{distance} vs {}",
+            depth[k]
+        );
+    }
+    page.send(serde_json::json!({"type": "inspect", "x": 24, "y": 19}))
+        .await;
+    let ball = page.json("inspection").await;
+    assert_eq!(ball["hit"]["object"], "glass ball");
+    assert_eq!(ball["hit"]["surface"], "refractive");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn saving_renders_the_converged_picture_beside_the_scene_file() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    page.converged(0).await;
+    page.send(serde_json::json!({"type": "save", "file": "saved.png"}))
+        .await;
+    let notice = page.json("notice").await;
+    assert!(
+        notice["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("saved")),
+        "{notice}"
+    );
+    let saved = decode_png(&server.path().join("saved.png"));
+    assert_eq!(saved, server.reference(&[]));
+    for bad in [
+        "../escape.png",
+        "/tmp/x.png",
+        ".hidden.png",
+        "picture.jpg",
+        "",
+    ] {
+        page.send(serde_json::json!({"type": "save", "file": bad}))
+            .await;
+        let refused = page.json("notice").await;
+        assert!(refused["error"].is_string(), "{bad}: {refused}");
+    }
+    assert!(!server.path().join("../escape.png").exists());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_scene_file_is_watched_and_trajectories_join_the_text() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let first = page.json("scene").await;
+    let edited = SCENE.replace("radius = 0.6", "radius = 0.5");
+    std::fs::write(server.path().join("scene.toml"), &edited).unwrap();
+    let reloaded = page.json("scene").await;
+    assert_eq!(reloaded["text"], edited.as_str());
+    assert!(reloaded["generation"].as_u64() > first["generation"].as_u64());
+
+    page.send(serde_json::json!({"type": "trajectory", "x": 24, "y": 19}))
+        .await;
+    let with_ray = page.json("scene").await;
+    let text = with_ray["text"].as_str().unwrap();
+    assert!(text.starts_with(&edited));
+    assert!(
+        text.contains("[[ray_trajectory]]\nname = \"pixel 24,19\""),
+        "{text}"
+    );
+    // Written back only when asked.
+    assert_eq!(
+        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
+        edited
+    );
+    page.send(serde_json::json!({"type": "write_scene"})).await;
+    page.json("notice").await;
+    assert_eq!(
+        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
+        text
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_loopback_server_refuses_other_host_names_and_other_sites_pages() {
+    let server = Server::start(&[]);
+    assert!(!server.line.contains("token"), "{}", server.line);
+    let port = server.port;
+    let (status, body) = server.get("/", &format!("127.0.0.1:{port}"));
+    assert_eq!(status, 200);
+    assert!(body.contains("<canvas"), "the page");
+    assert_eq!(server.get("/", &format!("localhost:{port}")).0, 200);
+    // DNS rebinding: another site's name pointing at 127.0.0.1.
+    assert_eq!(server.get("/", &format!("evil.example:{port}")).0, 403);
+    assert_eq!(
+        server
+            .get("/../../etc/passwd", &format!("127.0.0.1:{port}"))
+            .0,
+        404
+    );
+    // Another site's page may not open the WebSocket; the server's own may.
+    let origin = format!("http://127.0.0.1:{port}");
+    assert!(
+        server
+            .connect_with(&[("origin", "http://evil.example")], "")
+            .await
+            .is_err()
+    );
+    let mut own = server
+        .connect_with(&[("origin", &origin)], "")
+        .await
+        .unwrap();
+    own.json("scene").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_server_beyond_loopback_needs_the_printed_token() {
+    let server = Server::start(&["--bind", "0.0.0.0"]);
+    let token = server
+        .line
+        .split("?token=")
+        .nth(1)
+        .map(str::trim)
+        .unwrap_or_else(|| panic!("no token in {:?}", server.line));
+    assert_eq!(token.len(), 32);
+    assert!(token.chars().all(|c| c.is_ascii_hexdigit()));
+    let host = format!("127.0.0.1:{}", server.port);
+    assert_eq!(server.get("/", &host).0, 403);
+    assert_eq!(server.get("/?token=0123", &host).0, 403);
+    let wrong = format!("/?token={}", "0".repeat(32));
+    assert_eq!(server.get(&wrong, &host).0, 403);
+    assert_eq!(server.get(&format!("/?token={token}"), &host).0, 200);
+    assert!(server.connect_with(&[], "").await.is_err());
+    let mut page = server
+        .connect_with(&[], &format!("?token={token}"))
+        .await
+        .unwrap();
+    page.json("scene").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn malformed_and_oversized_messages_close_their_own_connection_only() {
+    let server = Server::start(&[]);
+    let mut watcher = server.connect().await;
+    watcher.json("scene").await;
+    let cases: Vec<(Message, Option<CloseCode>)> = vec![
+        (Message::Text("not json".into()), Some(CloseCode::Policy)),
+        (
+            Message::Text(r#"{"type":"format_disk"}"#.into()),
+            Some(CloseCode::Policy),
+        ),
+        (
+            Message::Text(r#"{"type":"inspect","x":1}"#.into()),
+            Some(CloseCode::Policy),
+        ),
+        (
+            Message::Binary(vec![1, 2, 3].into()),
+            Some(CloseCode::Unsupported),
+        ),
+        // Over the 4 MiB limit: the connection is dropped (or closed as too big).
+        (Message::Text("x".repeat(5 << 20).into()), None),
+    ];
+    for (message, code) in cases {
+        let mut page = server.connect().await;
+        page.json("scene").await;
+        let _ = page.socket.send(message).await;
+        let got = page.closed().await;
+        if code.is_some() {
+            assert_eq!(got, code);
+        }
+    }
+    // A value the scene cannot take is the user's error: a notice, and the page stays.
+    let mut page = server.connect().await;
+    page.send(serde_json::json!({"type": "set", "set": ["no equals sign"]}))
+        .await;
+    let notice = page.json("notice").await;
+    assert!(
+        notice["error"].as_str().unwrap().contains("key=value"),
+        "{notice}"
+    );
+    // The server and its other pages go on.
+    watcher
+        .send(serde_json::json!({"type": "set", "set": ["render.seed=7"]}))
+        .await;
+    watcher.json("scene").await;
+    server.connect().await.json("scene").await;
+}
+
+#[test]
+fn a_missing_scene_or_a_busy_port_is_a_clear_error() {
+    let dir = TempDir::new().unwrap();
+    let missing = timbre(dir.path(), &["serve", "nothing.toml", "--port", "0"]);
+    missing.assert_bad_input(&["nothing.toml"]);
+    let server = Server::start(&[]);
+    write(dir.path(), "scene.toml", SCENE);
+    let busy = timbre(
+        dir.path(),
+        &["serve", "scene.toml", "--port", &server.port.to_string()],
+    );
+    busy.assert_bad_input(&["cannot listen on 127.0.0.1:", "in use"]);
+}
