@@ -590,3 +590,39 @@ fn a_missing_scene_or_a_busy_port_is_a_clear_error() {
     );
     busy.assert_bad_input(&["cannot listen on 127.0.0.1:", "in use"]);
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_page_may_name_only_the_scenes_own_files() {
+    let server = Server::start(&[]);
+    write(
+        server.path(),
+        "part.toml",
+        "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 8], radius = 0.3 }\nsurface = { type = \"coloured\", diffuse = [1, 0, 0] }\n",
+    );
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    for outside in ["/etc/hostname", "../part.toml", "sub/../../part.toml"] {
+        let text = format!("{SCENE}\n[[include]]\nfile = \"{outside}\"\n");
+        page.send(serde_json::json!({"type": "text", "text": text}))
+            .await;
+        let error = page.json("error").await;
+        assert!(
+            error["message"]
+                .as_str()
+                .unwrap()
+                .contains("only files in the scene file's directory"),
+            "{outside}: {error}"
+        );
+    }
+    // Through --set too.
+    page.send(serde_json::json!({"type": "text", "text": format!("{SCENE}\n[[include]]\nfile = \"part.toml\"\n")}))
+        .await;
+    page.json("scene").await;
+    page.send(serde_json::json!({"type": "set", "set": ["include.0.file=\"/etc/hostname\""]}))
+        .await;
+    let error = page.json("error").await;
+    assert!(
+        error["message"].as_str().unwrap().contains("only files"),
+        "{error}"
+    );
+}

@@ -55,6 +55,8 @@ struct Inputs {
     /// The command line's `--set`s, then the page's (one per key, in the order first set).
     base: Vec<Override>,
     page: Vec<Override>,
+    /// Whether the text came from a page (not from the scene file on disk).
+    from_page: bool,
     /// Exposure in stops (a display setting: it does not restart the accumulation).
     exposure: f64,
     /// Raised by every change of the picture, and of the display.
@@ -115,6 +117,7 @@ impl Engine {
                 text: text.clone(),
                 base: options.overrides.clone(),
                 page: Vec::new(),
+                from_page: false,
                 exposure: 0.0,
                 generation: 1,
                 display: 0,
@@ -188,7 +191,10 @@ impl Engine {
 
     /// New scene text (from the page's editor).
     pub fn text(&self, text: String) {
-        self.change(true, |i| i.text = text);
+        self.change(true, |i| {
+            i.text = text;
+            i.from_page = true;
+        });
     }
 
     pub fn exposure(&self, stops: f64) {
@@ -213,6 +219,8 @@ enum Work {
         text: String,
         overrides: Vec<Override>,
         generation: u64,
+        /// Whether the page wrote any of it (and so may name only the scene's own files).
+        confined: bool,
     },
     Show,
     Pass,
@@ -237,6 +245,7 @@ fn run(shared: &Shared, mut preview: Preview) {
                         text: inputs.text.clone(),
                         overrides: inputs.overrides(),
                         generation,
+                        confined: inputs.from_page || !inputs.page.is_empty(),
                     };
                 }
                 if inputs.display != display {
@@ -260,7 +269,10 @@ fn run(shared: &Shared, mut preview: Preview) {
                 text,
                 overrides,
                 generation,
-            } => match preview.load(&text, &overrides) {
+                confined,
+            } => match own_files(shared, &text, &overrides, confined)
+                .and_then(|()| preview.load(&text, &overrides))
+            {
                 Ok(()) => {
                     let state = state(shared, &preview, &text, &overrides, generation);
                     let state: Arc<str> = state.to_string().into();
@@ -292,6 +304,69 @@ fn run(shared: &Shared, mut preview: Preview) {
             }
             Work::Request(r) => answer(shared, &mut preview, r),
         }
+    }
+}
+
+/// Checks that text the page wrote (or changed with `--set`) names only files inside the scene
+/// file's directory (`file` keys: includes and meshes): relative paths without `..` that stay
+/// there also after symbolic links are followed.
+fn own_files(
+    shared: &Shared,
+    text: &str,
+    overrides: &[Override],
+    confined: bool,
+) -> Result<(), LoadError> {
+    if !confined {
+        return Ok(());
+    }
+    let Some(table) = file::with_overrides(text, overrides)
+        .ok()
+        .and_then(|t| t.parse::<toml::Table>().ok())
+    else {
+        // The loader reports the error, with its place.
+        return Ok(());
+    };
+    let dir = shared.scene.parent().unwrap_or(Path::new("."));
+    let home = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let mut names = Vec::new();
+    file_names(&toml::Value::Table(table), &mut names);
+    for name in names {
+        let path = Path::new(&name);
+        let plain = path
+            .components()
+            .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+        let inside = plain
+            && dir
+                .join(path)
+                .canonicalize()
+                .map_or(true, |p| p.starts_with(&home));
+        if !inside {
+            return Err(LoadError {
+                message: format!(
+                    "{}: '{name}': a scene edited in the page may name only files in the scene file's directory",
+                    shared.scene.display()
+                ),
+                line: None,
+                column: None,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The strings under `file` keys anywhere in `value`.
+fn file_names(value: &toml::Value, names: &mut Vec<String>) {
+    match value {
+        toml::Value::Table(t) => {
+            for (k, v) in t {
+                match v {
+                    toml::Value::String(s) if k == "file" => names.push(s.clone()),
+                    v => file_names(v, names),
+                }
+            }
+        }
+        toml::Value::Array(items) => items.iter().for_each(|v| file_names(v, names)),
+        _ => {}
     }
 }
 
@@ -531,6 +606,7 @@ fn watch(shared: &Shared, mut known: String) {
         let mut inputs = lock(&shared.inputs);
         if inputs.text != text {
             inputs.text = text;
+            inputs.from_page = false;
             inputs.generation += 1;
             shared.stop.store(true, Ordering::Relaxed);
             shared.wake.notify_all();
