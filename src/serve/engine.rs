@@ -16,7 +16,7 @@ use super::parameters::parameters;
 use super::preview::{LoadError, Preview};
 use super::{ServeError, ServeOptions};
 use crate::cameras::Projection;
-use crate::io::{AovSelection, Provenance, to_rgb8, write_image};
+use crate::io::{Provenance, to_rgb8, write_image};
 use crate::production::{self, Job, Signals};
 use crate::render::{Image, PixelBounds};
 use crate::scene::Stereo;
@@ -527,16 +527,8 @@ fn save(shared: &Shared, preview: &Preview, name: &str) {
         }
     };
     let mut provenance = Provenance {
-        width: settings.width,
-        height: settings.height,
-        bounds: PixelBounds::full(settings.width, settings.height),
-        spp: settings.spp,
-        samples: 0..settings.spp,
-        seed: settings.seed,
-        scene: description.hash(),
-        aovs: AovSelection::default(),
         object_names: scene.object_names.clone(),
-        sums: false,
+        ..Provenance::whole(settings, description.hash())
     };
     let result = match &description.stereo {
         Stereo::Mono => {
