@@ -6,6 +6,7 @@
 
 pub mod cameras;
 pub mod devices;
+pub mod display;
 // The one exception to `unsafe_code = "deny"` (Cargo.toml's lints): the Embree binding calls C,
 // and its safe API is the boundary that keeps every other module free of `unsafe`.
 #[allow(unsafe_code)]

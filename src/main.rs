@@ -12,9 +12,11 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
+use timbre::display::{Server, Viewer};
 use timbre::embree::Device;
 
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
+use timbre::math::Colour;
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::production::{self, Checkpointing, Done, Job, JobError, Signals};
 use timbre::render::PixelBounds;
@@ -236,6 +238,11 @@ struct RenderArgs {
     /// as with --checkpoint-interval).
     #[arg(long)]
     resume: bool,
+    /// Show the image in the tev viewer listening at HOST:PORT (tev's own is 127.0.0.1:14158)
+    /// while it renders, reconnecting if tev restarts; a tev that cannot be reached is a
+    /// warning.
+    #[arg(long, value_name = "HOST:PORT")]
+    display_server: Option<Server>,
 }
 
 /// `--tile K/N`.
@@ -663,8 +670,29 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         Some(json) => json.add(n),
         None => bar.inc(n),
     };
+    // The image in tev, named as the output file: `width` × `height`, of which `bounds` are
+    // rendered.
+    let name = args.output.file_name().unwrap_or(args.output.as_os_str());
+    let viewer = |width, height, bounds| {
+        let server = args.display_server.clone()?;
+        let (bar, quiet) = (bar.clone(), args.quiet);
+        let warn: Box<dyn FnMut(&str)> = Box::new(move |message| {
+            if !quiet {
+                bar.suspend(|| err!("timbre: warning: {message}"));
+            }
+        });
+        let name = name.to_string_lossy();
+        Some(Viewer::new(server, &name, width, height, bounds, warn))
+    };
     let rays = if *stereo == Stereo::Mono {
-        let done = production::run(&scene, camera, &settings, &job, &stopping.signals, &report)
+        let mut viewer = viewer(settings.width, settings.height, job.provenance.bounds);
+        let mut show = |y0, colours: &[Colour]| {
+            if let Some(viewer) = &mut viewer {
+                viewer.show(y0, colours);
+            }
+        };
+        let signals = &stopping.signals;
+        let done = production::run(&scene, camera, &settings, &job, signals, &report, &mut show)
             .map_err(job_failure)?;
         bar.finish_and_clear();
         match done {
@@ -672,6 +700,9 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                 rays,
                 resumed_groups,
             } => {
+                if let Some(viewer) = viewer {
+                    viewer.finish();
+                }
                 if resumed_groups > 0 && !args.quiet {
                     err!(
                         "timbre: resumed {resumed_groups} group(s) of {} rows from the checkpoint",
@@ -713,6 +744,10 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             ..job.provenance.clone()
         };
         write_image(&args.output, &image, &provenance).map_err(bad_input)?;
+        if let Some(mut viewer) = viewer(image.width, image.height, provenance.bounds) {
+            viewer.show(0, &image.pixels);
+            viewer.finish();
+        }
         image.rays
     };
     let seconds = start.elapsed().as_secs_f64();

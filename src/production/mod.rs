@@ -18,6 +18,7 @@ use thiserror::Error;
 
 use crate::cameras::Camera;
 use crate::io::{self, Block, Finish, OutputError, PartError, Provenance};
+use crate::math::Colour;
 use crate::render::{self, PixelBounds, RenderError, Rows, Samples};
 use crate::scene::{RenderSettings, Scene};
 
@@ -137,7 +138,9 @@ fn group_of(bounds: &PixelBounds, y: u32) -> u32 {
 }
 
 /// Renders `job` (a single view of `scene` through `camera` with `settings`), streaming it to
-/// its output; `progress` is told the pixels of each finished band.
+/// its output; `progress` is told the pixels of each finished band, and `observe` its first
+/// row and its pixels' values as written (row by row across the job's bounds), band after
+/// band, top to bottom.
 pub fn run(
     scene: &Scene,
     camera: &Camera,
@@ -145,6 +148,7 @@ pub fn run(
     job: &Job,
     signals: &Signals,
     progress: &dyn Fn(u64),
+    observe: &mut dyn FnMut(u32, &[Colour]),
 ) -> Result<Done, JobError> {
     let p = &job.provenance;
     let bounds = p.bounds;
@@ -230,6 +234,7 @@ pub fn run(
                 aovs: rows.aovs.as_deref(),
                 sums: p.sums.then_some(&rows.sums[..]),
             })?;
+            observe(rows.bounds.y0, means);
             rays += rows.rays;
             progress(rows.bounds.pixels());
             if dir.is_some() {

@@ -548,6 +548,7 @@ fn save(shared: &Shared, preview: &Preview, name: &str) {
                 &job,
                 &signals,
                 &progress,
+                &mut |_, _| {},
             )
             .map(drop)
             .map_err(|e| e.to_string())
