@@ -332,9 +332,12 @@ fn own_files(
     file_names(&toml::Value::Table(table), &mut names);
     for name in names {
         let path = Path::new(&name);
-        let plain = path
-            .components()
-            .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+        let plain = path.components().all(|c| {
+            matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        });
         let inside = plain
             && dir
                 .join(path)
