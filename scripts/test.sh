@@ -7,6 +7,9 @@ cargo fmt --all -- --check
 cargo clippy --all-targets --release --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked
 cargo test --release --locked
+# `timbre serve` end to end in headless Chromium (tests/browser/, against target/release/timbre,
+# which `cargo test --release` has just built); installs chromium and playwright-core if missing.
+scripts/test-browser.sh
 # The Slurm scripts of cluster/slurm/ on a real one-node Slurm cluster (installs slurm-wlm and
 # munge if missing); it uses target/release/timbre, which `cargo test --release` has just built.
 scripts/slurm-e2e.sh
