@@ -339,6 +339,10 @@ async fn an_error_in_the_text_is_located_and_the_last_picture_stays() {
     assert_eq!(error["text"], broken.as_str());
     // A page that connects now still gets the last good picture.
     let mut late = server.connect().await;
+    let Some(Received::Json(state)) = late.next().await else {
+        panic!("a late page gets the last good scene first")
+    };
+    assert_eq!(state["type"], "scene", "{state}");
     let error_again = late.json("error").await;
     assert_eq!(error_again["line"], 3);
     let frame = late.frames_until(|_| true).await.pop().unwrap();
@@ -437,6 +441,16 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
         assert!(refused["error"].is_string(), "{bad}: {refused}");
     }
     assert!(!server.path().join("../escape.png").exists());
+    // Never through a link: a name that is a link to elsewhere is refused.
+    let elsewhere = TempDir::new().unwrap();
+    let target = elsewhere.path().join("precious.txt");
+    std::fs::write(&target, "keep me").unwrap();
+    std::os::unix::fs::symlink(&target, server.path().join("link.png")).unwrap();
+    page.send(serde_json::json!({"type": "save", "file": "link.png"}))
+        .await;
+    let refused = page.json("notice").await;
+    assert!(refused["error"].is_string(), "{refused}");
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -625,4 +639,68 @@ async fn a_page_may_name_only_the_scenes_own_files() {
         error["message"].as_str().unwrap().contains("only files"),
         "{error}"
     );
+    // Nor can such a text be written into the scene file (which is read unchecked).
+    let before = std::fs::read_to_string(server.path().join("scene.toml")).unwrap();
+    let text = format!("{SCENE}\n[[include]]\nfile = \"/etc/hostname\"\n");
+    page.send(serde_json::json!({"type": "text", "text": text}))
+        .await;
+    page.json("error").await;
+    page.send(serde_json::json!({"type": "write_scene"})).await;
+    let refused = page.json("notice").await;
+    assert!(
+        refused["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("only files")),
+        "{refused}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
+        before
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_preview_too_large_is_refused_and_the_server_goes_on() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let first = page.converged(0).await;
+    page.send(
+        serde_json::json!({"type": "set", "set": ["render.width=2000000", "render.height=400"]}),
+    )
+    .await;
+    let error = page.json("error").await;
+    assert!(
+        error["message"]
+            .as_str()
+            .unwrap()
+            .contains("larger than the limit"),
+        "{error}"
+    );
+    page.send(serde_json::json!({"type": "unset", "keys": []}))
+        .await;
+    let again = page.converged(first.generation).await;
+    assert_eq!(again.rgba, first.rgba);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_packed_stereo_frame_is_inspected_in_each_eyes_own_view() {
+    let server = Server::start(&["--set", "camera.stereo=\"side-by-side\""]);
+    let mut page = server.connect().await;
+    let frame = page.converged(0).await;
+    assert_eq!(
+        (frame.width, frame.height),
+        (96, 36),
+        "two views side by side"
+    );
+    // The ball's centre in the left view and in the right view (x from the right view's edge).
+    for x in [24, 48 + 24] {
+        page.send(serde_json::json!({"type": "inspect", "x": x, "y": 19}))
+            .await;
+        let found = page.json("inspection").await;
+        assert_eq!(found["hit"]["object"], "glass ball", "x = {x}: {found}");
+    }
+    page.send(serde_json::json!({"type": "inspect", "x": 96, "y": 19}))
+        .await;
+    let outside = page.json("inspection").await;
+    assert!(outside["hit"].is_null(), "{outside}");
 }

@@ -19,8 +19,8 @@ use crate::cameras::Projection;
 use crate::io::{Provenance, to_rgb8, write_image};
 use crate::production::{self, Job, Signals};
 use crate::render::{Image, PixelBounds};
-use crate::scene::Stereo;
 use crate::scene::file::{self, MAX_FILE_BYTES, Override};
+use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::render_stereo;
 
 /// How often the scene file is checked for changes.
@@ -28,6 +28,16 @@ const WATCH_INTERVAL: Duration = Duration::from_millis(250);
 
 /// Scene texts longer than this get no parameter list (it would be enormous).
 const MAX_PARAMETER_TEXT: usize = 8 << 20;
+
+/// Most `--set`s a page may have at once.
+pub const MAX_PAGE_OVERRIDES: usize = 1000;
+
+/// Most requests waiting for the engine (a page that sends faster is told it is busy).
+const MAX_REQUESTS: usize = 16;
+
+/// Messages kept for pages that read slowly: beyond these a page gets the latest state and
+/// frame instead (frames can be large, so only a few are kept).
+const BACKLOG: usize = 4;
 
 /// Bytes before the pixels of a frame: five little-endian u32s (generation, samples done,
 /// samples to do, width, height).
@@ -47,6 +57,12 @@ pub enum Request {
     Trajectory { x: u32, y: u32 },
     Save { file: String },
     WriteScene,
+}
+
+impl Request {
+    fn is_inspect(&self) -> bool {
+        matches!(self, Request::Inspect { .. })
+    }
 }
 
 /// What the pages change, and what the engine has yet to do.
@@ -71,10 +87,12 @@ impl Inputs {
     }
 }
 
-/// The last state and frame sent, for pages that connect (or fall behind) later.
+/// The last state, error (if the last load failed) and frame sent, for pages that connect
+/// (or fall behind) later.
 #[derive(Default)]
 struct Latest {
     state: Option<Arc<str>>,
+    error: Option<Arc<str>>,
     frame: Option<Bytes>,
 }
 
@@ -86,6 +104,9 @@ struct Shared {
     stop: Arc<AtomicBool>,
     out: broadcast::Sender<Outgoing>,
     latest: Mutex<Latest>,
+    /// Set while a render is being saved; its stop signal, which cancels it.
+    saving: Arc<AtomicBool>,
+    cancel_save: Arc<AtomicBool>,
 }
 
 /// The handle the server's connections use.
@@ -110,7 +131,7 @@ impl Engine {
     pub fn start(options: &ServeOptions, text: String) -> Result<Engine, ServeError> {
         let preview = Preview::new(options.scene.clone(), options.preview.clone())
             .map_err(ServeError::Internal)?;
-        let (out, _) = broadcast::channel(64);
+        let (out, _) = broadcast::channel(BACKLOG);
         let shared = Arc::new(Shared {
             scene: options.scene.clone(),
             inputs: Mutex::new(Inputs {
@@ -127,11 +148,13 @@ impl Engine {
             stop: Arc::new(AtomicBool::new(false)),
             out,
             latest: Mutex::new(Latest::default()),
+            saving: Arc::new(AtomicBool::new(false)),
+            cancel_save: Arc::new(AtomicBool::new(false)),
         });
         let engine = shared.clone();
         std::thread::Builder::new()
             .name("timbre-preview".into())
-            .spawn(move || run(&engine, preview))
+            .spawn(move || run(engine, preview))
             .map_err(|e| ServeError::Internal(e.to_string()))?;
         let watched = shared.clone();
         std::thread::Builder::new()
@@ -145,11 +168,10 @@ impl Engine {
     pub fn subscribe(&self) -> (Vec<Outgoing>, broadcast::Receiver<Outgoing>) {
         let latest = lock(&self.shared.latest);
         let rx = self.shared.out.subscribe();
-        let now = latest
-            .state
-            .clone()
-            .map(Outgoing::Json)
+        let now = [latest.state.clone(), latest.error.clone()]
             .into_iter()
+            .flatten()
+            .map(Outgoing::Json)
             .chain(latest.frame.clone().map(Outgoing::Frame))
             .collect();
         (now, rx)
@@ -169,16 +191,27 @@ impl Engine {
         self.shared.wake.notify_all();
     }
 
-    /// The page's `--set`s: each replaces an earlier one of the same key.
-    pub fn set(&self, overrides: Vec<Override>) {
+    /// The page's `--set`s: each replaces an earlier one of the same key; refused (all of
+    /// them) if the page would have more than [`MAX_PAGE_OVERRIDES`].
+    pub fn set(&self, overrides: Vec<Override>) -> Result<(), String> {
+        let mut result = Ok(());
         self.change(true, |i| {
+            let mut page = i.page.clone();
             for o in overrides {
-                match i.page.iter_mut().find(|p| p.key == o.key) {
+                match page.iter_mut().find(|p| p.key == o.key) {
                     Some(p) => *p = o,
-                    None => i.page.push(o),
+                    None => page.push(o),
                 }
             }
+            if page.len() > MAX_PAGE_OVERRIDES {
+                result = Err(format!(
+                    "at most {MAX_PAGE_OVERRIDES} --set values at once: reset some first"
+                ));
+            } else {
+                i.page = page;
+            }
         });
+        result
     }
 
     /// Drops the page's `--set`s of these keys (all of them, if `keys` is empty).
@@ -201,10 +234,24 @@ impl Engine {
         self.change(false, |i| i.exposure = stops);
     }
 
-    pub fn request(&self, request: Request) {
+    /// Queues a request; a newer inspection replaces one still waiting. Refused while
+    /// [`MAX_REQUESTS`] wait.
+    pub fn request(&self, request: Request) -> Result<(), String> {
         let mut inputs = lock(&self.shared.inputs);
+        if request.is_inspect() {
+            inputs.requests.retain(|r| !r.is_inspect());
+        }
+        if inputs.requests.len() >= MAX_REQUESTS {
+            return Err("busy: too many requests at once".into());
+        }
         inputs.requests.push_back(request);
         self.shared.wake.notify_all();
+        Ok(())
+    }
+
+    /// Stops the render being saved, if there is one.
+    pub fn cancel_save(&self) {
+        self.shared.cancel_save.store(true, Ordering::Relaxed);
     }
 }
 
@@ -229,8 +276,14 @@ enum Work {
 
 /// The engine's loop: requests first, then a changed scene, a changed display, and passes
 /// until the samples are all there; then it sleeps until something changes.
-fn run(shared: &Shared, mut preview: Preview) {
+fn run(shared: Arc<Shared>, mut preview: Preview) {
+    let shared = &shared;
     let (mut generation, mut display) = (0, 0);
+    // The generation whose passes failed: no more passes until the scene changes.
+    let mut failed = 0;
+    // The generation of the scene loaded last, which frames are labelled with (a failed load
+    // leaves the earlier scene, and its label).
+    let mut shown = 0;
     loop {
         let (work, exposure) = {
             let mut inputs = lock(&shared.inputs);
@@ -252,15 +305,15 @@ fn run(shared: &Shared, mut preview: Preview) {
                     display = inputs.display;
                     break Work::Show;
                 }
-                if preview.accumulating() {
+                if preview.accumulating() && failed != generation {
                     break Work::Pass;
                 }
                 inputs = shared.wake.wait(inputs).unwrap_or_else(|e| e.into_inner());
             };
             (work, inputs.exposure)
         };
-        let show = |image: &Image, (done, target): (u32, u32)| {
-            let frame = encode(image, exposure, generation, done, target);
+        let show = |image: &Image, shown: u64, (done, target): (u32, u32)| {
+            let frame = encode(image, exposure, shown, done, target);
             lock(&shared.latest).frame = Some(frame.clone());
             let _ = shared.out.send(Outgoing::Frame(frame));
         };
@@ -276,33 +329,39 @@ fn run(shared: &Shared, mut preview: Preview) {
                 Ok(()) => {
                     let state = state(shared, &preview, &text, &overrides, generation);
                     let state: Arc<str> = state.to_string().into();
-                    lock(&shared.latest).state = Some(state.clone());
+                    {
+                        let mut latest = lock(&shared.latest);
+                        latest.state = Some(state.clone());
+                        latest.error = None;
+                    }
                     let _ = shared.out.send(Outgoing::Json(state));
+                    shown = generation;
                     match preview.coarse() {
-                        Ok(Some(image)) => show(&image, preview.progress()),
+                        Ok(Some(image)) => show(&image, shown, preview.progress()),
                         Ok(None) => {}
                         Err(e) => send(shared, json!({"type": "error", "message": e})),
                     }
                 }
                 Err(e) => {
-                    let message = error(&e, &text, generation);
-                    lock(&shared.latest).state = Some(message.to_string().into());
-                    send(shared, message);
+                    let message: Arc<str> = error(&e, &text, generation).to_string().into();
+                    lock(&shared.latest).error = Some(message.clone());
+                    let _ = shared.out.send(Outgoing::Json(message));
                 }
             },
             Work::Show => {
                 if let Some(image) = preview.picture() {
-                    show(&image, preview.progress());
+                    show(&image, shown, preview.progress());
                 }
             }
             Work::Pass => {
-                if let Err(e) =
-                    preview.pass(&shared.stop, &mut |image, progress| show(&image, progress))
-                {
+                if let Err(e) = preview.pass(&shared.stop, &mut |image, progress| {
+                    show(&image, shown, progress)
+                }) {
+                    failed = generation;
                     send(shared, json!({"type": "error", "message": e}));
                 }
             }
-            Work::Request(r) => answer(shared, &mut preview, r),
+            Work::Request(r) => answer(shared, &preview, r),
         }
     }
 }
@@ -319,15 +378,38 @@ fn own_files(
     if !confined {
         return Ok(());
     }
-    let Some(table) = file::with_overrides(text, overrides)
-        .ok()
-        .and_then(|t| t.parse::<toml::Table>().ok())
-    else {
-        // The loader reports the error, with its place.
-        return Ok(());
+    let refuse = |message: String| LoadError {
+        message: format!("{}: {message}", shared.scene.display()),
+        line: None,
+        column: None,
     };
-    let dir = shared.scene.parent().unwrap_or(Path::new("."));
-    let home = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    // What cannot be read as one TOML document cannot be checked: refused (the loader, which
+    // reads large files in parts, might read it), at its place when the page set nothing.
+    let applied = match overrides {
+        [] => text.to_string(),
+        _ => file::with_overrides(text, overrides).map_err(refuse)?,
+    };
+    let table = applied.parse::<toml::Table>().map_err(|e| {
+        let place = e.span().filter(|_| overrides.is_empty()).map(|span| {
+            let before = &applied[..span.start.min(applied.len())];
+            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+            let line = before.matches('\n').count() + 1;
+            (line, before[line_start..].chars().count() + 1)
+        });
+        let message = e.message().to_string();
+        match place {
+            Some((line, column)) => LoadError {
+                message: format!("{}:{line}:{column}: {message}", shared.scene.display()),
+                line: Some(line),
+                column: Some(column),
+            },
+            None => refuse(format!("not one TOML document: {message}")),
+        }
+    })?;
+    let dir = scene_dir(&shared.scene);
+    let home = dir
+        .canonicalize()
+        .map_err(|e| refuse(format!("its directory cannot be resolved: {e}")))?;
     let mut names = Vec::new();
     file_names(&toml::Value::Table(table), &mut names);
     for name in names {
@@ -344,17 +426,20 @@ fn own_files(
                 .canonicalize()
                 .map_or(true, |p| p.starts_with(&home));
         if !inside {
-            return Err(LoadError {
-                message: format!(
-                    "{}: '{name}': a scene edited in the page may name only files in the scene file's directory",
-                    shared.scene.display()
-                ),
-                line: None,
-                column: None,
-            });
+            return Err(refuse(format!(
+                "'{name}': a scene edited in the page may name only files in the scene file's directory"
+            )));
         }
     }
     Ok(())
+}
+
+/// The directory of the scene file (`.` for a bare file name).
+fn scene_dir(scene: &Path) -> &Path {
+    match scene.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir,
+        _ => Path::new("."),
+    }
 }
 
 /// The strings under `file` keys anywhere in `value`.
@@ -412,8 +497,19 @@ fn encode(image: &Image, exposure: f64, generation: u64, done: u32, target: u32)
     Bytes::from(bytes)
 }
 
+/// Sends a notice (a message, or an error) to every page.
+fn notice(shared: &Shared, result: Result<String, String>) {
+    send(
+        shared,
+        match result {
+            Ok(m) => json!({"type": "notice", "message": m}),
+            Err(e) => json!({"type": "notice", "error": e}),
+        },
+    )
+}
+
 /// Answers a page's request (to every page: they show the same scene).
-fn answer(shared: &Shared, preview: &mut Preview, request: Request) {
+fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
     match request {
         Request::Inspect { x, y } => {
             let found = preview.inspect(x, y);
@@ -439,9 +535,9 @@ fn answer(shared: &Shared, preview: &mut Preview, request: Request) {
         }
         Request::Trajectory { x, y } => {
             let Some(ray) = preview.pixel_ray(x, y) else {
-                return send(
+                return notice(
                     shared,
-                    json!({"type": "notice", "error": format!("pixel {x},{y} is outside the view")}),
+                    Err(format!("pixel {x},{y}: no ray trajectory starts there")),
                 );
             };
             let table = format!(
@@ -456,19 +552,21 @@ fn answer(shared: &Shared, preview: &mut Preview, request: Request) {
         }
         Request::Save { file } => save(shared, preview, &file),
         Request::WriteScene => {
-            let text = lock(&shared.inputs).text.clone();
+            let (text, from_page) = {
+                let inputs = lock(&shared.inputs);
+                (inputs.text.clone(), inputs.from_page)
+            };
+            // The file is read unchecked when it changes: what the page wrote is checked now.
+            if let Err(e) = own_files(shared, &text, &[], from_page) {
+                return notice(shared, Err(e.message));
+            }
             let written =
                 crate::files::write_atomically(&shared.scene, |w| w.write_all(text.as_bytes()));
-            send(
+            notice(
                 shared,
-                match written {
-                    Ok(()) => {
-                        json!({"type": "notice", "message": format!("wrote {}", shared.scene.display())})
-                    }
-                    Err(e) => {
-                        json!({"type": "notice", "error": format!("{}: {e}", shared.scene.display())})
-                    }
-                },
+                written
+                    .map(|()| format!("wrote {}", shared.scene.display()))
+                    .map_err(|e| format!("{}: {e}", shared.scene.display())),
             );
         }
     }
@@ -492,28 +590,59 @@ pub fn saveable(name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Renders the loaded scene at the preview's settings (its samples per pixel) through the
-/// normal render path into `name` beside the scene file: the picture the preview converges to.
-fn save(shared: &Shared, preview: &Preview, name: &str) {
-    let notice = |result: Result<String, String>| {
-        send(
-            shared,
-            match result {
-                Ok(m) => json!({"type": "notice", "message": m}),
-                Err(e) => json!({"type": "notice", "error": e}),
-            },
-        )
-    };
-    if let Err(e) = saveable(name) {
-        return notice(Err(e));
+/// Starts rendering the loaded scene at the preview's settings (its samples per pixel) through
+/// the normal render path into `name` beside the scene file, on a thread of its own (the
+/// preview goes on; `cancel_save` stops a single view): the picture the preview converges to.
+fn save(shared: &Arc<Shared>, preview: &Preview, name: &str) {
+    let path = scene_dir(&shared.scene).join(name);
+    // Never through a link, nor over anything but a file.
+    let checked = saveable(name).and_then(|()| match std::fs::symlink_metadata(&path) {
+        Ok(m) if !m.file_type().is_file() => Err(format!(
+            "{}: is not a plain file; renders are saved as new files or over files",
+            path.display()
+        )),
+        _ => Ok(()),
+    });
+    if let Err(e) = checked {
+        return notice(shared, Err(e));
     }
     let (Some(description), Some(settings), Some(scene)) =
         (preview.description(), preview.settings(), preview.scene())
     else {
-        return notice(Err("no scene is loaded".into()));
+        return notice(shared, Err("no scene is loaded".into()));
     };
-    let dir = shared.scene.parent().unwrap_or(Path::new("."));
-    let path = dir.join(name);
+    if shared.saving.swap(true, Ordering::Relaxed) {
+        return notice(
+            shared,
+            Err("a render is being saved: wait for it, or cancel it".into()),
+        );
+    }
+    shared.cancel_save.store(false, Ordering::Relaxed);
+    let (description, settings) = (description.clone(), settings.clone());
+    let saver = shared.clone();
+    let spawned = std::thread::Builder::new()
+        .name("timbre-save".into())
+        .spawn(move || {
+            let shared = &saver;
+            let result = render_to(shared, &scene, &description, &settings, &path);
+            shared.saving.store(false, Ordering::Relaxed);
+            notice(shared, result);
+        });
+    if let Err(e) = spawned {
+        shared.saving.store(false, Ordering::Relaxed);
+        notice(shared, Err(e.to_string()));
+    }
+}
+
+/// Renders `description` with `settings` to `path` as `timbre render` would, telling the pages
+/// how far it has got; stopped by `cancel_save` (single views).
+fn render_to(
+    shared: &Shared,
+    scene: &Scene,
+    description: &SceneDescription,
+    settings: &RenderSettings,
+    path: &Path,
+) -> Result<String, String> {
     let start = Instant::now();
     let total = settings.width as u64 * settings.height as u64 * description.stereo.views() as u64;
     let done = std::sync::atomic::AtomicU64::new(0);
@@ -533,18 +662,18 @@ fn save(shared: &Shared, preview: &Preview, name: &str) {
         object_names: scene.object_names.clone(),
         ..Provenance::whole(settings, description.hash())
     };
-    let result = match &description.stereo {
+    match &description.stereo {
         Stereo::Mono => {
             let job = Job {
-                output: path.clone(),
+                output: path.to_path_buf(),
                 provenance,
                 checkpointing: None,
             };
             let signals = Signals {
-                stop: Arc::new(AtomicBool::new(false)),
+                stop: shared.cancel_save.clone(),
                 checkpoint: Arc::new(AtomicBool::new(false)),
             };
-            production::run(
+            let done = production::run(
                 scene,
                 &description.camera,
                 settings,
@@ -553,28 +682,28 @@ fn save(shared: &Shared, preview: &Preview, name: &str) {
                 &progress,
                 &mut |_, _| {},
             )
-            .map(drop)
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.to_string())?;
+            if let production::Done::Stopped { .. } = done {
+                return Err(format!("cancelled; {} was not written", path.display()));
+            }
         }
-        stereo => render_stereo(scene, &description.camera, settings, stereo, &progress)
-            .map_err(|e| e.to_string())
-            .and_then(|image| {
-                provenance.width = image.width;
-                provenance.height = image.height;
-                provenance.bounds = PixelBounds::full(image.width, image.height);
-                write_image(&path, &image, &provenance).map_err(|e| e.to_string())
-            }),
-    };
-    notice(result.map(|()| {
-        format!(
-            "saved {} ({}x{}, {} spp) in {:.1} s",
-            path.display(),
-            settings.width,
-            settings.height,
-            settings.spp,
-            start.elapsed().as_secs_f64()
-        )
-    }));
+        stereo => {
+            let image = render_stereo(scene, &description.camera, settings, stereo, &progress)
+                .map_err(|e| e.to_string())?;
+            provenance.width = image.width;
+            provenance.height = image.height;
+            provenance.bounds = PixelBounds::full(image.width, image.height);
+            write_image(path, &image, &provenance).map_err(|e| e.to_string())?;
+        }
+    }
+    Ok(format!(
+        "saved {} ({}x{}, {} spp) in {:.1} s",
+        path.display(),
+        settings.width,
+        settings.height,
+        settings.spp,
+        start.elapsed().as_secs_f64()
+    ))
 }
 
 /// Watches the scene file: when its text changes (an editor saved it), the pages' scene text
@@ -624,10 +753,6 @@ fn state(
     let applied = file::with_overrides(text, overrides)
         .ok()
         .and_then(|t| t.parse::<toml::Table>().ok());
-    let (parameters, more) = match &applied {
-        Some(table) if text.len() <= MAX_PARAMETER_TEXT => parameters(table),
-        _ => (Vec::new(), text.len() > MAX_PARAMETER_TEXT),
-    };
     let camera = &description.camera;
     let (_, up) = camera.right_up();
     let (angle, view_width) = match camera.projection() {
@@ -654,7 +779,34 @@ fn state(
         }
     }
     let mut wrapped = toml::Table::new();
-    wrapped.insert("camera".into(), toml::Value::Table(table));
+    wrapped.insert("camera".into(), toml::Value::Table(table.clone()));
+    // The values the scene takes by default are parameters too: the camera's velocity, the
+    // render settings.
+    let (parameters, more) = match applied {
+        Some(mut listed) if text.len() <= MAX_PARAMETER_TEXT => {
+            table.entry("beta").or_insert(vector(camera.boost().beta()));
+            listed.insert("camera".into(), toml::Value::Table(table));
+            let r = &description.render;
+            let render = listed
+                .entry("render")
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            if let Some(render) = render.as_table_mut() {
+                let whole = |n: u64| toml::Value::Integer(n.min(i64::MAX as u64) as i64);
+                for (key, value) in [
+                    ("width", whole(r.width.into())),
+                    ("height", whole(r.height.into())),
+                    ("spp", whole(r.spp.into())),
+                    ("seed", whole(r.seed)),
+                    ("max_trace_level", whole(r.max_trace_level.into())),
+                    ("shadows", toml::Value::Boolean(r.shadows)),
+                ] {
+                    render.entry(key).or_insert(value);
+                }
+            }
+            parameters(&listed)
+        }
+        _ => (Vec::new(), text.len() > MAX_PARAMETER_TEXT),
+    };
     json!({
         "type": "scene",
         "generation": generation,

@@ -7,6 +7,7 @@
 //! network; `serve` drives it from one thread.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
@@ -17,12 +18,15 @@ use crate::embree::Device;
 use crate::math::{Colour, Ray, ReferenceFrame};
 use crate::render::{self, Image, PixelBounds, Rows, Samples, Sum, Tracer};
 use crate::scene::file::{self, Override, SceneFileError};
-use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
+use crate::scene::{Packing, RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::{self, anaglyph, pack, render_stereo};
 use crate::trajectories;
 
 /// Pixels of the coarse picture shown first after a change, about.
 const COARSE_PIXELS: u64 = 20_000;
+
+/// Most pixels of a view the preview holds (its exact sums take 48 bytes a pixel): 4096 × 4096.
+pub const MAX_PREVIEW_PIXELS: u64 = 1 << 24;
 
 /// How often a pass shows the rows it has finished so far.
 const FRAME_INTERVAL: Duration = Duration::from_millis(100);
@@ -83,14 +87,14 @@ struct View {
 struct Loaded {
     /// As parsed (before trajectories are drawn), to tell whether a change needs a new BVH.
     parsed: SceneDescription,
-    scene: Scene,
+    scene: Arc<Scene>,
     settings: RenderSettings,
     views: Vec<View>,
     /// Passes completed.
     samples: u32,
-    /// The picture shown where no pass has been yet (the coarse one), or, for an
-    /// autostereogram, the finished one.
-    shown: Option<Image>,
+    /// What is shown where a view has no sample yet: the coarse picture of each view, at full
+    /// size (an autostereogram, which has no views: the coarse picture, then the finished one).
+    shown: Vec<Image>,
 }
 
 /// What is seen through a pixel centre.
@@ -153,6 +157,12 @@ impl Preview {
         s.aovs = false;
         s.validate().map_err(LoadError::plain)?;
         stereo::validate(&description.stereo, s.width, s.height).map_err(LoadError::plain)?;
+        if s.width as u64 * s.height as u64 > MAX_PREVIEW_PIXELS {
+            return Err(LoadError::plain(format!(
+                "a preview of {}x{} pixels is larger than the limit of {MAX_PREVIEW_PIXELS} pixels (4096x4096): choose a smaller --width and --height for the preview; `timbre render` (and Save) render any size",
+                s.width, s.height
+            )));
+        }
         Ok((description, s))
     }
 
@@ -168,11 +178,6 @@ impl Preview {
                 Some(Scene::build(&self.device, &drawn).map_err(LoadError::plain)?)
             }
         };
-        let old = self.loaded.take();
-        let scene = match (built, old) {
-            (Some(scene), _) => scene,
-            (None, old) => old.expect("a loaded scene to keep").scene,
-        };
         let n = settings.width as usize * settings.height as usize;
         let camera = &parsed.camera;
         let cameras = match &parsed.stereo {
@@ -185,21 +190,33 @@ impl Preview {
             // Made whole in one pass.
             Stereo::Autostereogram { .. } => Vec::new(),
         };
-        let views = cameras
-            .into_iter()
-            .map(|camera| View {
+        let mut views = Vec::new();
+        for camera in cameras {
+            let mut sums = Vec::new();
+            sums.try_reserve_exact(n).map_err(|_| {
+                LoadError::plain(format!(
+                    "not enough memory for a preview of {}x{} pixels",
+                    settings.width, settings.height
+                ))
+            })?;
+            sums.resize(n, Sum::default());
+            views.push(View {
                 camera,
-                sums: vec![Sum::default(); n],
+                sums,
                 rows: vec![0; settings.height as usize],
-            })
-            .collect();
+            });
+        }
+        let scene = match built {
+            Some(scene) => Arc::new(scene),
+            None => self.loaded.take().expect("a loaded scene to keep").scene,
+        };
         self.loaded = Some(Loaded {
             parsed,
             scene,
             settings,
             views,
             samples: 0,
-            shown: None,
+            shown: Vec::new(),
         });
         Ok(())
     }
@@ -209,9 +226,10 @@ impl Preview {
         self.loaded.as_ref().map(|l| &l.parsed)
     }
 
-    /// The scene loaded last, built.
-    pub fn scene(&self) -> Option<&Scene> {
-        self.loaded.as_ref().map(|l| &l.scene)
+    /// The scene loaded last, built (shared, so that a render to a file can go on beside the
+    /// preview).
+    pub fn scene(&self) -> Option<Arc<Scene>> {
+        self.loaded.as_ref().map(|l| l.scene.clone())
     }
 
     /// The settings the preview renders with (`spp`: the samples it accumulates).
@@ -237,8 +255,8 @@ impl Preview {
         done < target
     }
 
-    /// Renders the coarse picture (about [`COARSE_PIXELS`] pixels, each standing for a
-    /// square of the image) and returns it at full size.
+    /// Renders the coarse picture (about [`COARSE_PIXELS`] pixels a view, each standing for a
+    /// square of the image) and returns the picture with it.
     pub fn coarse(&mut self) -> Result<Option<Image>, String> {
         let Some(l) = self.loaded.as_mut() else {
             return Ok(None);
@@ -255,32 +273,25 @@ impl Preview {
         if small.width < 2 || small.height < 2 {
             return Ok(None);
         }
-        let image = render_stereo(
-            &l.scene,
-            &l.parsed.camera,
-            &small,
-            &l.parsed.stereo,
-            &|_| {},
-        )
-        .map_err(|e| e.to_string())?;
-        // The combined image (a packed frame is wider or higher than a view) at full size.
-        let (width, height) = (
-            image.width * s.width / small.width,
-            image.height * s.height / small.height,
-        );
-        let pixels = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| image.pixel((x / f).min(image.width - 1), (y / f).min(image.height - 1)))
-            .collect();
-        let full = Image {
-            width,
-            height,
-            pixels,
-            aovs: None,
-            rays: image.rays,
+        let coarse = |image: Image| enlarge(&image, f, s.width, s.height);
+        l.shown = if l.views.is_empty() {
+            let image = render_stereo(
+                &l.scene,
+                &l.parsed.camera,
+                &small,
+                &l.parsed.stereo,
+                &|_| {},
+            )
+            .map_err(|e| e.to_string())?;
+            vec![coarse(image)]
+        } else {
+            l.views
+                .iter()
+                .map(|v| render::render(&l.scene, &v.camera, &small, &|_| {}).map(coarse))
+                .collect::<Result<_, _>>()
+                .map_err(|e| e.to_string())?
         };
-        l.shown = Some(full.clone());
-        Ok(Some(full))
+        Ok(Some(picture(l, &l.views)))
     }
 
     /// Renders the next pass (sample k of every pixel), adding it to the sums; `frame` is shown
@@ -299,7 +310,7 @@ impl Preview {
         if l.views.is_empty() {
             let image = render_stereo(&l.scene, &l.parsed.camera, &s, &l.parsed.stereo, &|_| {})
                 .map_err(|e| e.to_string())?;
-            l.shown = Some(image.clone());
+            l.shown = vec![image.clone()];
             l.samples = 1;
             frame(image, (1, 1));
             return Ok(true);
@@ -323,12 +334,19 @@ impl Preview {
             let camera = views[v].camera.clone();
             let mut sink = |rows: Rows| -> Result<(), std::convert::Infallible> {
                 let view = &mut views[v];
-                let at = rows.bounds.y0 as usize * s.width as usize;
-                for (sum, add) in view.sums[at..].iter_mut().zip(&rows.sums) {
-                    sum.add(add);
-                }
+                let w = s.width as usize;
                 for y in rows.bounds.y0..rows.bounds.y1 {
+                    // A row that has sample k already (from a pass that was stopped, whose
+                    // scene stayed because the change did not load) keeps it once.
+                    if view.rows[y as usize] != k {
+                        continue;
+                    }
                     view.rows[y as usize] += 1;
+                    let r = (y - rows.bounds.y0) as usize * w;
+                    let to = &mut view.sums[y as usize * w..(y as usize + 1) * w];
+                    for (sum, add) in to.iter_mut().zip(&rows.sums[r..r + w]) {
+                        sum.add(add);
+                    }
                 }
                 if views.len() == 1 && last.elapsed() >= FRAME_INTERVAL {
                     frame(picture(l, &views), (k, s.spp));
@@ -365,14 +383,34 @@ impl Preview {
         self.loaded.as_ref().map(|l| picture(l, &l.views))
     }
 
-    /// What the centre of pixel (x, y) of the (central) camera sees.
-    pub fn inspect(&self, x: u32, y: u32) -> Option<Inspection> {
+    /// The camera and the pixel of its view that pixel (x, y) of the picture shows: in a packed
+    /// frame, the eye's; otherwise the central camera's.
+    fn unpack(&self, x: u32, y: u32) -> Option<(&Loaded, &Camera, u32, u32)> {
         let l = self.loaded.as_ref()?;
-        let s = &l.settings;
-        if x >= s.width || y >= s.height {
+        let (w, h) = (l.settings.width, l.settings.height);
+        let (view, x, y) = match l.parsed.stereo {
+            Stereo::FramePacking { packing, half, .. } => match (packing, half) {
+                (Packing::SideBySide, false) => (x / w, x % w, y),
+                (Packing::SideBySide, true) => (x / (w / 2), x % (w / 2) * 2, y),
+                (Packing::TopBottom, false) => (y / h, x, y % h),
+                (Packing::TopBottom, true) => (y / (h / 2), x, y % (h / 2) * 2),
+            },
+            _ => (0, x, y),
+        };
+        if view > 1 || x >= w || y >= h {
             return None;
         }
-        let camera = &l.parsed.camera;
+        let camera = match &l.parsed.stereo {
+            Stereo::FramePacking { .. } => &l.views.get(view as usize)?.camera,
+            _ => &l.parsed.camera,
+        };
+        Some((l, camera, x, y))
+    }
+
+    /// What the centre ray of pixel (x, y) of the picture meets first.
+    pub fn inspect(&self, x: u32, y: u32) -> Option<Inspection> {
+        let (l, camera, x, y) = self.unpack(x, y)?;
+        let s = &l.settings;
         let ray = render::centre_ray(&l.scene, camera, s.width, s.height, x, y);
         let tracer = Tracer::new(&l.scene, camera, s.shadows);
         let found = tracer.first(&ray, 0.0, ReferenceFrame::Camera)?;
@@ -400,16 +438,13 @@ impl Preview {
         })
     }
 
-    /// The ray through the centre of pixel (x, y) in the scene frame, for a ray trajectory:
-    /// started ahead of the camera (a tile ahead, or halfway to the first surface if that is
-    /// nearer) so that its drawn cylinder does not cover the view.
+    /// The ray through the centre of pixel (x, y) of the picture in the scene frame, for a
+    /// ray trajectory: started ahead of the camera (a tile ahead, or halfway to the first
+    /// surface if that is nearer) so that its drawn cylinder does not cover the view. None
+    /// outside the picture, or where the ray is not finite.
     pub fn pixel_ray(&self, x: u32, y: u32) -> Option<Ray> {
-        let l = self.loaded.as_ref()?;
+        let (l, camera, x, y) = self.unpack(x, y)?;
         let s = &l.settings;
-        if x >= s.width || y >= s.height {
-            return None;
-        }
-        let camera = &l.parsed.camera;
         let ray = camera.to_scene_frame(&render::centre_ray(
             &l.scene, camera, s.width, s.height, x, y,
         ));
@@ -417,7 +452,24 @@ impl Preview {
         let ahead = tracer
             .first(&ray, 0.0, ReferenceFrame::Scene)
             .map_or(1.0, |f| (0.5 * f.hit.t).min(1.0));
-        Some(Ray::new(ray.at(ahead), ray.direction, ray.time))
+        let start = ray.at(ahead);
+        (start.is_finite() && ray.direction.is_finite())
+            .then(|| Ray::new(start, ray.direction, ray.time))
+    }
+}
+
+/// `image` enlarged `f` times (each pixel a square), cut to `width` × `height`.
+fn enlarge(image: &Image, f: u32, width: u32, height: u32) -> Image {
+    let pixels = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .map(|(x, y)| image.pixel((x / f).min(image.width - 1), (y / f).min(image.height - 1)))
+        .collect();
+    Image {
+        width,
+        height,
+        pixels,
+        aovs: None,
+        rays: image.rays,
     }
 }
 
@@ -425,7 +477,7 @@ impl Preview {
 /// combined as the scene's stereo output asks.
 fn picture(l: &Loaded, views: &[View]) -> Image {
     let s = &l.settings;
-    let view = |v: &View| {
+    let view = |k: usize, v: &View| {
         let w = s.width as usize;
         let pixels = (0..s.height as usize)
             .flat_map(|y| {
@@ -433,9 +485,9 @@ fn picture(l: &Loaded, views: &[View]) -> Image {
                 v.sums[y * w..(y + 1) * w]
                     .iter()
                     .enumerate()
-                    .map(move |(x, sum)| match (n, &l.shown) {
-                        (0, Some(shown)) if views.len() == 1 => shown.pixel(x as u32, y as u32),
-                        (0, _) => Colour::ZERO,
+                    .map(move |(x, sum)| match (n, l.shown.get(k)) {
+                        (0, Some(shown)) => shown.pixel(x as u32, y as u32),
+                        (0, None) => Colour::ZERO,
                         (n, _) => sum.mean(n),
                     })
             })
@@ -449,9 +501,7 @@ fn picture(l: &Loaded, views: &[View]) -> Image {
         }
     };
     match (&l.parsed.stereo, views) {
-        // Two views are combined only once both have every row.
-        (_, [_, _]) if l.samples == 0 && l.shown.is_some() => l.shown.clone().expect("shown"),
-        (_, []) => l.shown.clone().unwrap_or_else(|| Image {
+        (_, []) => l.shown.first().cloned().unwrap_or_else(|| Image {
             width: s.width,
             height: s.height,
             pixels: vec![Colour::ZERO; s.width as usize * s.height as usize],
@@ -459,12 +509,12 @@ fn picture(l: &Loaded, views: &[View]) -> Image {
             rays: 0,
         }),
         (Stereo::Anaglyph { colour, .. }, [left, right]) => {
-            anaglyph(&view(left), &view(right), *colour)
+            anaglyph(&view(0, left), &view(1, right), *colour)
         }
         (Stereo::FramePacking { packing, half, .. }, [left, right]) => {
-            pack(&view(left), &view(right), *packing, *half)
+            pack(&view(0, left), &view(1, right), *packing, *half)
         }
-        (_, views) => view(&views[0]),
+        (_, views) => view(0, &views[0]),
     }
 }
 

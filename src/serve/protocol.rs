@@ -16,12 +16,15 @@ use serde::Deserialize;
 use serde_json::json;
 use tokio::sync::broadcast::error::RecvError;
 
-use super::engine::{Engine, Outgoing, Request as EngineRequest, saveable};
+use super::engine::{Engine, MAX_PAGE_OVERRIDES, Outgoing, Request as EngineRequest, saveable};
 use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, page};
 use crate::scene::file::Override;
 
 /// Largest HTTP request body read (the server reads none: pages talk over the WebSocket).
 const MAX_BODY_BYTES: usize = 16 << 10;
+
+/// How long a page may take to accept a message before it is dropped.
+const SEND_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(30);
 
 /// WebSocket close codes (RFC 6455, 7.4.1).
 const CLOSE_UNSUPPORTED: u16 = 1003;
@@ -78,6 +81,8 @@ pub enum ClientMessage {
     Save {
         file: String,
     },
+    /// Stops the render being saved.
+    CancelSave,
 }
 
 pub fn router(state: Arc<AppState>) -> Router {
@@ -202,6 +207,14 @@ async fn socket(
         .on_upgrade(move |socket| connection(counted, socket))
 }
 
+/// Sends `message`; false if the page is gone or does not take it in time.
+async fn deliver(socket: &mut WebSocket, message: Message) -> bool {
+    matches!(
+        tokio::time::timeout(SEND_TIMEOUT, socket.send(message)).await,
+        Ok(Ok(()))
+    )
+}
+
 fn outgoing(m: Outgoing) -> Message {
     match m {
         Outgoing::Json(text) => Message::Text(text.as_ref().into()),
@@ -228,7 +241,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
     let state = counted.0.clone();
     let (now, mut rx) = state.engine.subscribe();
     for m in now {
-        if socket.send(outgoing(m)).await.is_err() {
+        if !deliver(&mut socket, outgoing(m)).await {
             return;
         }
     }
@@ -240,7 +253,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                         Ok(message) => {
                             if let Some(reply) = handle(&state.engine, message) {
                                 let reply = Message::Text(reply.to_string().into());
-                                if socket.send(reply).await.is_err() {
+                                if !deliver(&mut socket, reply).await {
                                     return;
                                 }
                             }
@@ -259,7 +272,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
             },
             out = rx.recv() => match out {
                 Ok(m) => {
-                    if socket.send(outgoing(m)).await.is_err() {
+                    if !deliver(&mut socket, outgoing(m)).await {
                         return;
                     }
                 }
@@ -268,7 +281,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                     let (now, fresh) = state.engine.subscribe();
                     rx = fresh;
                     for m in now {
-                        if socket.send(outgoing(m)).await.is_err() {
+                        if !deliver(&mut socket, outgoing(m)).await {
                             return;
                         }
                     }
@@ -282,35 +295,41 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
 /// Passes a page's message to the engine; the answer for this page alone, if any (a value the
 /// engine cannot take).
 fn handle(engine: &Engine, message: ClientMessage) -> Option<serde_json::Value> {
-    let refuse = |e: String| Some(json!({"type": "notice", "error": e}));
-    match message {
-        ClientMessage::Set { set } => {
-            let parsed: Result<Vec<Override>, String> = set
-                .iter()
-                .map(|s| s.parse().map_err(|e| format!("--set {e}")))
-                .collect();
-            match parsed {
-                Ok(overrides) => engine.set(overrides),
-                Err(e) => return refuse(e),
-            }
+    let result = match message {
+        ClientMessage::Set { set } if set.len() > MAX_PAGE_OVERRIDES => Err(format!(
+            "at most {MAX_PAGE_OVERRIDES} --set values at once, got {}",
+            set.len()
+        )),
+        ClientMessage::Set { set } => set
+            .iter()
+            .map(|s| s.parse().map_err(|e| format!("--set {e}")))
+            .collect::<Result<Vec<Override>, String>>()
+            .and_then(|overrides| engine.set(overrides)),
+        ClientMessage::Unset { keys } => {
+            engine.unset(&keys);
+            Ok(())
         }
-        ClientMessage::Unset { keys } => engine.unset(&keys),
-        ClientMessage::Text { text } => engine.text(text),
+        ClientMessage::Text { text } => {
+            engine.text(text);
+            Ok(())
+        }
         ClientMessage::WriteScene => engine.request(EngineRequest::WriteScene),
         ClientMessage::Exposure { stops } if stops.is_finite() && stops.abs() <= 30.0 => {
-            engine.exposure(stops)
+            engine.exposure(stops);
+            Ok(())
         }
-        ClientMessage::Exposure { stops } => {
-            return refuse(format!("exposure {stops}: from -30 to 30 stops"));
-        }
+        ClientMessage::Exposure { stops } => Err(format!("exposure {stops}: from -30 to 30 stops")),
         ClientMessage::Inspect { x, y } => engine.request(EngineRequest::Inspect { x, y }),
         ClientMessage::Trajectory { x, y } => engine.request(EngineRequest::Trajectory { x, y }),
-        ClientMessage::Save { file } => match saveable(&file) {
-            Ok(()) => engine.request(EngineRequest::Save { file }),
-            Err(e) => return refuse(e),
-        },
-    }
-    None
+        ClientMessage::Save { file } => {
+            saveable(&file).and_then(|()| engine.request(EngineRequest::Save { file }))
+        }
+        ClientMessage::CancelSave => {
+            engine.cancel_save();
+            Ok(())
+        }
+    };
+    result.err().map(|e| json!({"type": "notice", "error": e}))
 }
 
 #[cfg(test)]

@@ -274,6 +274,9 @@ test('dragging the picture turns the camera and restarts the accumulation', { ti
     await page.mouse.down();
     for (let i = 1; i <= 8; i++) await page.mouse.move(x + 4 * i, y + 1.5 * i);
     await page.mouse.up();
+    // The page sends at most one turn every 60 ms and the last one after that: let it go out
+    // before waiting for the picture to converge, or an older turn's picture may be waited for.
+    await page.waitForTimeout(300);
     // A frame of a newer scene version with fewer samples than the target: a restart.
     await until(page, 'a restarted frame after the drag',
       (g) => window.__frames.some((f) => f.generation > g && f.samples < f.target), s0.generation,
