@@ -298,6 +298,31 @@ async fn the_converged_preview_is_the_cli_render_and_a_set_restarts_it() {
     let moved = server.reference(&[set]);
     assert_eq!(last.differences(&moved), 0);
     assert!(first.differences(&moved) > 100, "the camera moved");
+
+    // Values the file leaves at their defaults are parameters too: the camera's velocity.
+    let listed = |state: &Value, key: &str| {
+        state["parameters"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["key"] == key)
+            .map(|p| p["value"].clone())
+    };
+    assert_eq!(
+        listed(&state, "camera.beta"),
+        Some(serde_json::json!([0.0, 0.0, 0.0]))
+    );
+    assert_eq!(listed(&state, "render.seed"), Some(serde_json::json!(0)));
+    let beta = "camera.beta=[0, 0, 0.6]";
+    page.send(serde_json::json!({"type": "set", "set": [beta]}))
+        .await;
+    let state = page.json("scene").await;
+    assert_eq!(
+        listed(&state, "camera.beta"),
+        Some(serde_json::json!([0, 0, 0.6]))
+    );
+    let fast = page.converged(last.generation).await;
+    assert_eq!(fast.differences(&server.reference(&[set, beta])), 0);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
