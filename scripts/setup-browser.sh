@@ -5,25 +5,27 @@
 #                    no browser of its own
 #   playwright-core  from npm, the exact version of tests/browser/package-lock.json (`npm ci`
 #                    into tests/browser/node_modules, again whenever the lock file is newer)
-# Node.js 20 or newer with npm must be installed already (playwright-core needs Node 20).
+#   nodejs, npm      Debian's, if there is no Node.js (Debian 12's is 18, which
+#                    playwright-core 1.61 supports)
 # Idempotent: when everything is installed it only checks and returns.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-if [ ! -x /usr/bin/chromium ]; then
-    echo "setup-browser: installing chromium" >&2
+missing=()
+[ -x /usr/bin/chromium ] || missing+=(chromium)
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
+if [ "${#missing[@]}" -gt 0 ]; then
+    echo "setup-browser: installing ${missing[*]}" >&2
     sudo=""
     [ "$(id -u)" -eq 0 ] || sudo="sudo"
     export DEBIAN_FRONTEND=noninteractive
     $sudo apt-get update -qq
-    $sudo apt-get install -y -qq --no-install-recommends chromium >/dev/null
+    $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-for tool in node npm; do
-    command -v "$tool" >/dev/null || { echo "setup-browser: $tool not found; install Node.js 20 or newer with npm" >&2; exit 1; }
-done
 major="$(node -p 'process.versions.node.split(".")[0]')"
-[ "$major" -ge 20 ] || { echo "setup-browser: Node.js $(node --version) is older than 20, which playwright-core needs" >&2; exit 1; }
+[ "$major" -ge 18 ] || { echo "setup-browser: Node.js $(node --version) is older than 18, which playwright-core needs" >&2; exit 1; }
 
 dir=tests/browser
 if [ ! -f "$dir/node_modules/playwright-core/package.json" ] || [ "$dir/package-lock.json" -nt "$dir/node_modules" ]; then
