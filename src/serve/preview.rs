@@ -23,13 +23,13 @@ use crate::stereo::{self, anaglyph, pack, render_stereo};
 use crate::trajectories;
 
 /// Pixels of the coarse picture shown first after a change, about.
-const COARSE_PIXELS: u64 = 20_000;
+pub const COARSE_PIXELS: u64 = 20_000;
 
 /// Most pixels of a view the preview holds (its exact sums take 48 bytes a pixel): 4096 × 4096.
 pub const MAX_PREVIEW_PIXELS: u64 = 1 << 24;
 
 /// How often a pass shows the rows it has finished so far.
-const FRAME_INTERVAL: Duration = Duration::from_millis(100);
+pub const FRAME_INTERVAL: Duration = Duration::from_millis(100);
 
 /// A scene that could not be previewed: where (for errors in the text) and what.
 #[derive(Debug, Clone, PartialEq)]
