@@ -58,8 +58,13 @@ impl Drop for Server {
 
 impl Server {
     fn start(args: &[&str]) -> Server {
+        Server::start_with(SCENE, args)
+    }
+
+    /// A server of `scene` (written to scene.toml in a directory of its own).
+    fn start_with(scene: &str, args: &[&str]) -> Server {
         let dir = TempDir::new().unwrap();
-        write(dir.path(), "scene.toml", SCENE);
+        write(dir.path(), "scene.toml", scene);
         let mut child = Command::new(TIMBRE)
             .args(["serve", "scene.toml", "--port", "0", "--threads", "2"])
             .args(["--spp", &SPP.to_string()])
@@ -728,4 +733,36 @@ async fn a_packed_stereo_frame_is_inspected_in_each_eyes_own_view() {
         .await;
     let outside = page.json("inspection").await;
     assert!(outside["hit"].is_null(), "{outside}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_scene_files_own_names_stay_usable_while_the_page_changes_it() {
+    // The scene file (the user's own) includes a file elsewhere: the page may still move the
+    // camera, but not name another file elsewhere.
+    let shared = TempDir::new().unwrap();
+    let part = write(
+        shared.path(),
+        "part.toml",
+        "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 8], radius = 0.3 }\nsurface = { type = \"coloured\", diffuse = [1, 0, 0] }\n",
+    );
+    let other = write(shared.path(), "other.toml", "");
+    let scene = format!(
+        "{SCENE}\n[[include]]\nfile = {:?}\n",
+        part.to_str().unwrap()
+    );
+    let server = Server::start_with(&scene, &[]);
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    page.send(serde_json::json!({"type": "set", "set": ["camera.position=[0.1, 0, 0]"]}))
+        .await;
+    let moved = page.json("scene").await;
+    assert_eq!(moved["overrides"][0], "camera.position=[0.1, 0, 0]");
+    let elsewhere = format!("include.0.file={:?}", other.to_str().unwrap());
+    page.send(serde_json::json!({"type": "set", "set": [elsewhere]}))
+        .await;
+    let error = page.json("error").await;
+    assert!(
+        error["message"].as_str().unwrap().contains("only files"),
+        "{error}"
+    );
 }

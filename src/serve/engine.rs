@@ -260,14 +260,27 @@ fn send(shared: &Shared, message: serde_json::Value) {
     let _ = shared.out.send(Outgoing::Json(message.to_string().into()));
 }
 
+/// Which files of a scene to check before it is loaded ([`own_files`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Check {
+    /// The scene file and the command line: none.
+    Nothing,
+    /// The scene file, with `--set`s from the page: the files they name.
+    Overrides,
+    /// Text from the page: every file it names.
+    All,
+}
+
 /// What the engine does next.
 enum Work {
     Load {
         text: String,
         overrides: Vec<Override>,
         generation: u64,
-        /// Whether the page wrote any of it (and so may name only the scene's own files).
-        confined: bool,
+        /// What the page wrote of it (and may name only the scene's own files in).
+        check: Check,
+        /// The command line's `--set`s (the first of `overrides`), which are trusted.
+        base: usize,
     },
     Show,
     Pass,
@@ -298,7 +311,12 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         text: inputs.text.clone(),
                         overrides: inputs.overrides(),
                         generation,
-                        confined: inputs.from_page || !inputs.page.is_empty(),
+                        check: match (inputs.from_page, inputs.page.is_empty()) {
+                            (true, _) => Check::All,
+                            (false, false) => Check::Overrides,
+                            (false, true) => Check::Nothing,
+                        },
+                        base: inputs.base.len(),
                     };
                 }
                 if inputs.display != display {
@@ -322,8 +340,9 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 text,
                 overrides,
                 generation,
-                confined,
-            } => match own_files(shared, &text, &overrides, confined)
+                check,
+                base,
+            } => match own_files(shared, &text, &overrides, check, base)
                 .and_then(|()| preview.load(&text, &overrides))
             {
                 Ok(()) => {
@@ -366,16 +385,18 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     }
 }
 
-/// Checks that text the page wrote (or changed with `--set`) names only files inside the scene
-/// file's directory (`file` keys: includes and meshes): relative paths without `..` that stay
-/// there also after symbolic links are followed.
+/// Checks that what the page wrote (`check`) names only files inside the scene file's
+/// directory (`file` keys: includes and meshes): relative paths without `..` that stay there
+/// also after symbolic links are followed. The scene file's own names, and the command line's
+/// (the first `base` of `overrides`), are not the page's.
 fn own_files(
     shared: &Shared,
     text: &str,
     overrides: &[Override],
-    confined: bool,
+    check: Check,
+    base: usize,
 ) -> Result<(), LoadError> {
-    if !confined {
+    if check == Check::Nothing {
         return Ok(());
     }
     let refuse = |message: String| LoadError {
@@ -410,9 +431,16 @@ fn own_files(
     let home = dir
         .canonicalize()
         .map_err(|e| refuse(format!("its directory cannot be resolved: {e}")))?;
+    let mut trusted = Vec::new();
+    if check == Check::Overrides
+        && let Ok(own) = file::with_overrides(text, &overrides[..base.min(overrides.len())])
+        && let Ok(own) = own.parse::<toml::Table>()
+    {
+        file_names(&toml::Value::Table(own), &mut trusted);
+    }
     let mut names = Vec::new();
     file_names(&toml::Value::Table(table), &mut names);
-    for name in names {
+    for name in names.into_iter().filter(|n| !trusted.contains(n)) {
         let path = Path::new(&name);
         let plain = path.components().all(|c| {
             matches!(
@@ -557,7 +585,8 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
                 (inputs.text.clone(), inputs.from_page)
             };
             // The file is read unchecked when it changes: what the page wrote is checked now.
-            if let Err(e) = own_files(shared, &text, &[], from_page) {
+            let check = if from_page { Check::All } else { Check::Nothing };
+            if let Err(e) = own_files(shared, &text, &[], check, 0) {
                 return notice(shared, Err(e.message));
             }
             let written =
