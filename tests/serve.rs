@@ -103,6 +103,11 @@ impl Server {
         self.dir.path()
     }
 
+    /// The scene file's text on disk.
+    fn scene_file(&self) -> String {
+        std::fs::read_to_string(self.path().join("scene.toml")).unwrap()
+    }
+
     /// The CLI's render of the scene file as it is now, with the same size and samples.
     fn reference(&self, set: &[&str]) -> image::RgbImage {
         let mut args = vec!["render", "scene.toml", "-q", "--spp", "3", "-o", "ref.png"];
@@ -504,16 +509,10 @@ async fn the_scene_file_is_watched_and_trajectories_join_the_text() {
         "{text}"
     );
     // Written back only when asked.
-    assert_eq!(
-        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
-        edited
-    );
+    assert_eq!(server.scene_file(), edited);
     page.send(serde_json::json!({"type": "write_scene"})).await;
     page.json("notice").await;
-    assert_eq!(
-        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
-        text
-    );
+    assert_eq!(server.scene_file(), text);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -670,7 +669,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
         "{error}"
     );
     // Nor can such a text be written into the scene file (which is read unchecked).
-    let before = std::fs::read_to_string(server.path().join("scene.toml")).unwrap();
+    let before = server.scene_file();
     let text = format!("{SCENE}\n[[include]]\nfile = \"/etc/hostname\"\n");
     page.send(serde_json::json!({"type": "text", "text": text}))
         .await;
@@ -683,10 +682,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
             .is_some_and(|e| e.contains("only files")),
         "{refused}"
     );
-    assert_eq!(
-        std::fs::read_to_string(server.path().join("scene.toml")).unwrap(),
-        before
-    );
+    assert_eq!(server.scene_file(), before);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
