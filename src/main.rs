@@ -12,7 +12,7 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
-use timbre::display::{Server, Viewer};
+use timbre::display::{self, Server, Viewer};
 use timbre::embree::Device;
 
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
@@ -239,8 +239,8 @@ struct RenderArgs {
     #[arg(long)]
     resume: bool,
     /// Show the image in the tev viewer listening at HOST:PORT (tev's own is 127.0.0.1:14158)
-    /// while it renders, reconnecting if tev restarts; a tev that cannot be reached is a
-    /// warning.
+    /// while it renders (a stereo output once it is combined, after the render), reconnecting
+    /// if tev restarts; a tev that cannot be reached is a warning.
     #[arg(long, value_name = "HOST:PORT")]
     display_server: Option<Server>,
 }
@@ -616,22 +616,26 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
     let threads = settings
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    // A single view shown in tev keeps a copy of it to send again; a stereo output is sent from
+    // its combined image.
+    let shown = args.display_server.is_some();
     let image = match stereo {
-        Stereo::Mono => production::memory_needed(
-            job.provenance.bounds.width(),
-            threads,
-            job.checkpointing.is_some(),
-        ),
+        Stereo::Mono => {
+            let bounds = job.provenance.bounds;
+            production::memory_needed(bounds.width(), threads, job.checkpointing.is_some())
+                + shown as u64 * display::memory_needed(bounds.pixels())
+        }
         _ => memory_needed(&settings, stereo, format),
     };
     let what = format!(
-        "a {}x{} render{}",
+        "a {}x{} render{}{}",
         settings.width,
         settings.height,
         match stereo.views() {
             1 => String::new(),
             n => format!(" of {n} views"),
-        }
+        },
+        if shown { " shown in tev" } else { "" }
     );
     check_memory(&what, image, &description, threads)?;
 
@@ -670,22 +674,25 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         Some(json) => json.add(n),
         None => bar.inc(n),
     };
-    // The image in tev, named as the output file: `width` × `height`, of which `bounds` are
-    // rendered.
+    // The image in tev is named as the output file, and as the part rendered if it is one (tev
+    // replaces an image of the same name).
+    let (pixels_part, samples_part) = part_of(&job, &settings);
     let name = args.output.file_name().unwrap_or(args.output.as_os_str());
-    let viewer = |width, height, bounds| {
-        let server = args.display_server.clone()?;
+    let name = format!("{}{pixels_part}{samples_part}", name.to_string_lossy());
+    let warn = || -> Box<dyn FnMut(&str)> {
         let (bar, quiet) = (bar.clone(), args.quiet);
-        let warn: Box<dyn FnMut(&str)> = Box::new(move |message| {
+        Box::new(move |message| {
             if !quiet {
                 bar.suspend(|| err!("timbre: warning: {message}"));
             }
-        });
-        let name = name.to_string_lossy();
-        Some(Viewer::new(server, &name, width, height, bounds, warn))
+        })
     };
-    let rays = if *stereo == Stereo::Mono {
-        let mut viewer = viewer(settings.width, settings.height, job.provenance.bounds);
+    // Measured before waiting for tev at the end.
+    let (rays, seconds) = if *stereo == Stereo::Mono {
+        let mut viewer = args.display_server.clone().and_then(|server| {
+            let (width, height) = (settings.width, settings.height);
+            Viewer::new(server, &name, width, height, job.provenance.bounds, warn())
+        });
         let mut show = |y0, colours: &[Colour]| {
             if let Some(viewer) = &mut viewer {
                 viewer.show(y0, colours);
@@ -700,6 +707,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                 rays,
                 resumed_groups,
             } => {
+                let seconds = start.elapsed().as_secs_f64();
                 if let Some(viewer) = viewer {
                     viewer.finish();
                 }
@@ -709,7 +717,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
                         production::checkpoint::GROUP
                     );
                 }
-                rays
+                (rays, seconds)
             }
             Done::Stopped { checkpoint } => {
                 let saved = match checkpoint {
@@ -744,33 +752,19 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             ..job.provenance.clone()
         };
         write_image(&args.output, &image, &provenance).map_err(bad_input)?;
-        if let Some(mut viewer) = viewer(image.width, image.height, provenance.bounds) {
-            viewer.show(0, &image.pixels);
-            viewer.finish();
+        let seconds = start.elapsed().as_secs_f64();
+        if let Some(server) = args.display_server.clone() {
+            let (width, height) = (image.width, image.height);
+            Viewer::show_image(server, &name, width, height, &image.pixels, warn());
         }
-        image.rays
+        (image.rays, seconds)
     };
-    let seconds = start.elapsed().as_secs_f64();
     if !args.quiet {
-        let b = job.provenance.bounds;
         out!(
-            "{}x{}{}, {} spp{}: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
+            "{}x{}{pixels_part}, {} spp{samples_part}: {} rays in {:.3} s ({:.2} Mrays/s) -> {}",
             settings.width,
             settings.height,
-            if b == PixelBounds::full(settings.width, settings.height) {
-                String::new()
-            } else {
-                format!(" (pixels {b})")
-            },
             settings.spp,
-            if job.provenance.count() == settings.spp {
-                String::new()
-            } else {
-                format!(
-                    " (samples {}..{})",
-                    job.provenance.samples.start, job.provenance.samples.end
-                )
-            },
             rays,
             seconds,
             rays as f64 / seconds / 1e6,
@@ -875,6 +869,21 @@ fn job(
         },
         checkpointing,
     })
+}
+
+/// What part of the whole render `job` is: " (pixels x0,x1,y0,y1)" and " (samples A..B)", each
+/// empty where the part is the whole.
+fn part_of(job: &Job, settings: &RenderSettings) -> (String, String) {
+    let p = &job.provenance;
+    let pixels = match p.bounds == PixelBounds::full(settings.width, settings.height) {
+        true => String::new(),
+        false => format!(" (pixels {})", p.bounds),
+    };
+    let samples = match p.count() == settings.spp {
+        true => String::new(),
+        false => format!(" (samples {}..{})", p.samples.start, p.samples.end),
+    };
+    (pixels, samples)
 }
 
 /// A production job's failure, with its exit code: 2 for bad input (files that cannot be

@@ -3,7 +3,8 @@
 //! itself, a u8 type, then the fields, little-endian; CreateImage = 4, UpdateImage V3 = 6),
 //! assembles the image from the updates and checks it against the EXR the render wrote, bit
 //! for bit; also after the connection is dropped mid-render, for a part of the image, with no
-//! tev at all, and for bad values of the flag. Every wait is bounded.
+//! tev at all, with one that never reads, one that closes at once or before the last band, and
+//! for bad values of the flag. Every wait is bounded.
 
 mod common;
 
@@ -12,6 +13,8 @@ use std::io::{ErrorKind, Read};
 use std::net::{TcpListener, TcpStream};
 use std::path::Path;
 use std::process::Command;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -26,11 +29,17 @@ const LIMIT: Duration = Duration::from_secs(120);
 /// tev reads packets into a buffer of 1 MiB (it grows it for larger ones); tiles stay below.
 const LARGEST_PACKET: usize = 1 << 20;
 
-/// Runs `timbre` with `args` in `dir`, killing it if it runs longer than [`LIMIT`].
+/// Runs `timbre` with `args` in `dir`, as [`bounded`].
 fn timbre(dir: &Path, args: &[&str]) -> Run {
+    let mut command = Command::new(TIMBRE);
+    command.args(args);
+    bounded(dir, command)
+}
+
+/// Runs `command` (which runs `timbre`) in `dir`, killing it if it runs longer than [`LIMIT`].
+fn bounded(dir: &Path, mut command: Command) -> Run {
     let out = |name: &str| File::create(dir.join(name)).unwrap();
-    let mut child = Command::new(TIMBRE)
-        .args(args)
+    let mut child = command
         .current_dir(dir)
         .stdout(out("timbre.stdout"))
         .stderr(out("timbre.stderr"))
@@ -43,7 +52,7 @@ fn timbre(dir: &Path, args: &[&str]) -> Run {
         }
         if Instant::now() > deadline {
             let _ = child.kill();
-            panic!("timbre {args:?} ran longer than {LIMIT:?}");
+            panic!("{command:?} ran longer than {LIMIT:?}");
         }
         thread::sleep(Duration::from_millis(10));
     };
@@ -200,18 +209,22 @@ fn parse(bytes: &[u8]) -> Packet {
     packet
 }
 
-/// Waits for the next connection to `listener` (non-blocking).
-fn accept(listener: &TcpListener) -> TcpStream {
+/// Waits for the next connection to `listener` (non-blocking); `None` once `done` is set and
+/// none is waiting.
+fn accept(listener: &TcpListener, done: &AtomicBool) -> Option<TcpStream> {
     let deadline = Instant::now() + LIMIT;
     loop {
         match listener.accept() {
             Ok((stream, _)) => {
                 stream.set_nonblocking(false).unwrap();
                 stream.set_read_timeout(Some(LIMIT)).unwrap();
-                return stream;
+                return Some(stream);
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock && done.load(Ordering::SeqCst) => {
+                return None;
             }
             Err(e) if e.kind() == ErrorKind::WouldBlock && Instant::now() < deadline => {
-                thread::sleep(Duration::from_millis(5));
+                thread::sleep(Duration::from_millis(1));
             }
             Err(e) => panic!("no connection: {e}"),
         }
@@ -238,31 +251,75 @@ fn read_packets(stream: &mut TcpStream, limit: usize) -> Vec<Packet> {
     packets
 }
 
-/// A fake tev on a free loopback port: the connections it serves, each read to `limits[i]`
-/// packets (`usize::MAX`: to the end) and then closed, on a thread; its port.
-fn fake_tev(limits: Vec<usize>) -> (thread::JoinHandle<Vec<Vec<Packet>>>, u16) {
+/// A fake tev on a free loopback port, serving connection after connection on a thread until
+/// timbre is done.
+struct FakeTev {
+    address: String,
+    done: Arc<AtomicBool>,
+    server: thread::JoinHandle<Vec<Vec<Packet>>>,
+}
+
+impl FakeTev {
+    /// Serves each connection as `serve` does, told its index; `serve` returns the packets
+    /// read.
+    fn new(mut serve: impl FnMut(usize, TcpStream) -> Vec<Packet> + Send + 'static) -> FakeTev {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        listener.set_nonblocking(true).unwrap();
+        let address = listener.local_addr().unwrap().to_string();
+        let done = Arc::new(AtomicBool::new(false));
+        let stop = done.clone();
+        let server = thread::spawn(move || {
+            let mut connections = Vec::new();
+            while let Some(stream) = accept(&listener, &stop) {
+                connections.push(serve(connections.len(), stream));
+            }
+            connections
+        });
+        FakeTev {
+            address,
+            done,
+            server,
+        }
+    }
+
+    /// Reads connection `i` to `limits[i]` packets (`usize::MAX`, and connections past the
+    /// list: to the end), then closes it.
+    fn reading(limits: Vec<usize>) -> FakeTev {
+        FakeTev::new(move |i, mut stream| {
+            read_packets(&mut stream, limits.get(i).copied().unwrap_or(usize::MAX))
+        })
+    }
+
+    /// The packets of each connection served, once timbre has exited (connections not made
+    /// by then are not waited for).
+    fn connections(self) -> Vec<Vec<Packet>> {
+        self.done.store(true, Ordering::SeqCst);
+        self.server.join().unwrap()
+    }
+}
+
+/// A loopback port that nothing listens on, nor can while the returned sockets live: it is
+/// the local port of a connected socket (bound without SO_REUSEADDR, so no listener can bind
+/// it, and the system hands it to no socket bound to port 0), so tests running beside this one
+/// cannot take it. The listener keeps the connection (and so the port) alive.
+fn refusing_port() -> ((TcpListener, TcpStream), u16) {
     let listener = TcpListener::bind("127.0.0.1:0").unwrap();
-    listener.set_nonblocking(true).unwrap();
-    let port = listener.local_addr().unwrap().port();
-    let server = thread::spawn(move || {
-        limits
-            .into_iter()
-            .map(|limit| read_packets(&mut accept(&listener), limit))
-            .collect()
-    });
-    (server, port)
+    let client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+    let port = client.local_addr().unwrap().port();
+    ((listener, client), port)
 }
 
 /// A rectangle of pixels: x, y, width, height.
 type Rect = (u32, u32, u32, u32);
 
 /// The image tev would show after `packets`: its name and size, and each pixel's R, G, B where
-/// an update set it; also the rectangles updated.
+/// an update set it and how many updates did; also the rectangles updated.
 struct Shown {
     name: String,
     width: u32,
     height: u32,
     pixels: Vec<Option<[f32; 3]>>,
+    writes: Vec<u32>,
     updates: Vec<Rect>,
 }
 
@@ -280,6 +337,7 @@ fn assemble(packets: &[Packet]) -> Shown {
         width: *width,
         height: *height,
         pixels: vec![None; *width as usize * *height as usize],
+        writes: vec![0; *width as usize * *height as usize],
         updates: Vec::new(),
     };
     for packet in &packets[1..] {
@@ -298,7 +356,9 @@ fn assemble(packets: &[Packet]) -> Shown {
         assert!(x + width <= shown.width && y + height <= shown.height);
         for (i, value) in rgb.iter().enumerate() {
             let (px, py) = (x + i as u32 % width, y + i as u32 / width);
-            shown.pixels[(py * shown.width + px) as usize] = Some(*value);
+            let at = (py * shown.width + px) as usize;
+            shown.pixels[at] = Some(*value);
+            shown.writes[at] += 1;
         }
         shown.updates.push((*x, *y, *width, *height));
     }
@@ -334,11 +394,10 @@ fn read_exr(path: &Path) -> (Vec<[f32; 3]>, Rect, (u32, u32)) {
 }
 
 /// Asserts that `shown` is the EXR at `path`: its size, and within the EXR's data window its
-/// pixels bit for bit; nothing outside is updated.
+/// pixels bit for bit, each updated exactly once; nothing outside is updated.
 #[track_caller]
 fn assert_shows(shown: &Shown, path: &Path) {
     let (rgb, (x0, y0, w, h), full) = read_exr(path);
-    assert_eq!(shown.name, "out.exr");
     assert_eq!((shown.width, shown.height), full);
     let bits = |c: [f32; 3]| c.map(f32::to_bits);
     for y in 0..shown.height {
@@ -348,6 +407,8 @@ fn assert_shows(shown: &Shown, path: &Path) {
             if inside {
                 let want = rgb[((y - y0) * w + x - x0) as usize];
                 assert_eq!(got.map(bits), Some(bits(want)), "pixel ({x}, {y})");
+                let writes = shown.writes[(y * shown.width + x) as usize];
+                assert_eq!(writes, 1, "pixel ({x}, {y}) was sent {writes} times");
             } else {
                 assert_eq!(got, None, "pixel ({x}, {y}) is outside the part rendered");
             }
@@ -355,59 +416,116 @@ fn assert_shows(shown: &Shown, path: &Path) {
     }
 }
 
+/// The render time `timbre render` reported ("… rays in SECONDS s …").
+fn reported_seconds(run: &Run) -> f64 {
+    let after = run.stdout.split(" rays in ").nth(1);
+    let seconds = after.and_then(|s| s.split_whitespace().next());
+    seconds
+        .and_then(|s| s.parse().ok())
+        .expect("the summary line")
+}
+
+/// A render slow enough for timbre to reconnect during it (one thread, 640 samples per pixel:
+/// about 4 s where 1.1 s are needed), 200 × 256 pixels (two tiles across), shown in tev at
+/// `address`, into `dir/out.exr`; how long it took.
+fn slow_render(dir: &Path, address: &str) -> (Run, Duration) {
+    let start = Instant::now();
+    let run = timbre(
+        dir,
+        &[
+            "render",
+            SCENE,
+            "--width",
+            "200",
+            "--height",
+            "256",
+            "--spp",
+            "640",
+            "--threads",
+            "1",
+            "-o",
+            "out.exr",
+            "--display-server",
+            address,
+        ],
+    );
+    (run, start.elapsed())
+}
+
+/// A fake tev that accepts connections and never reads them (holding them open until timbre
+/// is done).
+fn deaf_tev() -> FakeTev {
+    let mut held = Vec::new();
+    FakeTev::new(move |_, stream| {
+        held.push(stream);
+        Vec::new()
+    })
+}
+
 #[test]
 fn tev_is_shown_the_image_the_exr_holds_bit_for_bit() {
     let dir = TempDir::new().unwrap();
-    let (server, port) = fake_tev(vec![usize::MAX]);
-    let address = format!("127.0.0.1:{port}");
-    let run = render(dir.path(), "96", &["--display-server", &address]);
+    let tev = FakeTev::reading(vec![]);
+    let run = render(dir.path(), "96", &["--display-server", &tev.address]);
     run.assert_success();
     assert!(!run.stderr.contains("warning"), "{}", run.stderr);
-    let connections = server.join().unwrap();
+    let connections = tev.connections();
     assert_eq!(connections.len(), 1);
     let shown = assemble(&connections[0]);
+    assert_eq!(shown.name, "out.exr");
     assert_shows(&shown, &dir.path().join("out.exr"));
     // In tiles of at most 128 × 128 pixels.
     assert!(shown.updates.iter().all(|u| u.2 <= 128 && u.3 <= 128));
 }
 
 #[test]
-fn a_tev_that_restarts_is_sent_the_whole_image_again() {
+fn a_tev_that_restarts_mid_render_is_sent_each_pixel_once_on_the_new_connection() {
     let dir = TempDir::new().unwrap();
-    // The first connection is dropped after the image is created and one tile is updated;
-    // 200 pixels are two tiles across, so at least one tile is then sent or to be sent.
-    let (server, port) = fake_tev(vec![2, usize::MAX]);
-    let address = format!("127.0.0.1:{port}");
-    let run = render(dir.path(), "200", &["--display-server", &address]);
+    // The first connection is dropped once the image is created and one tile updated, while
+    // the render goes on for seconds; the next is read to the end.
+    let tev = FakeTev::reading(vec![2]);
+    let (run, took) = slow_render(dir.path(), &tev.address);
     run.assert_success();
-    assert!(
-        run.stderr.contains(&format!(
-            "timbre: warning: tev at {address}: the connection was lost"
-        )),
-        "{}",
-        run.stderr
+    let lost = format!(
+        "timbre: warning: tev at {}: the connection was lost",
+        tev.address
     );
-    let connections = server.join().unwrap();
+    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    let connections = tev.connections();
+    assert_eq!(connections.len(), 2, "in {took:?}");
     assert!(matches!(
         connections[0][..],
         [Packet::Create { .. }, Packet::Update { .. }]
     ));
-    assert_shows(&assemble(&connections[1]), &dir.path().join("out.exr"));
+    let shown = assemble(&connections[1]);
+    // The rows rendered before the reconnect are sent again in tiles of up to 128 rows, the
+    // rest band by band (8 rows) as they are rendered: the last rows came in a band, so the
+    // reconnect was during the render.
+    let heights: Vec<u32> = shown.updates.iter().map(|u| u.3).collect();
+    assert!(
+        heights[0] > 8 && heights.last() == Some(&8),
+        "timbre reconnected only at the end of the render ({took:?}; make it slower): \
+         {heights:?}"
+    );
+    // Every pixel exactly once on the new connection, bit for bit.
+    assert_shows(&shown, &dir.path().join("out.exr"));
 }
 
 #[test]
-fn a_part_render_creates_the_whole_image_and_updates_only_its_rectangle() {
+fn a_part_render_is_named_after_its_part_and_updates_only_its_rectangle() {
     let dir = TempDir::new().unwrap();
-    let (server, port) = fake_tev(vec![usize::MAX]);
-    let address = format!("127.0.0.1:{port}");
-    let bounds = ["--pixel-bounds", "13,90,9,50"];
+    let tev = FakeTev::reading(vec![]);
+    let part = ["--pixel-bounds", "13,90,9,50", "--samples", "0..1"];
     let run = render(
         dir.path(),
         "96",
-        &[&bounds[..], &["--display-server", &address]].concat(),
+        &[&part[..], &["--display-server", &tev.address]].concat(),
     );
     run.assert_success();
-    let shown = assemble(&server.join().unwrap()[0]);
+    let shown = assemble(&tev.connections()[0]);
+    // Parts streamed under the same output name do not replace one another in tev.
+    assert_eq!(shown.name, "out.exr (pixels 13,90,9,50) (samples 0..1)");
     assert_eq!((shown.width, shown.height), (96, 64));
     let within =
         |&(x, y, w, h): &(u32, u32, u32, u32)| x >= 13 && x + w <= 90 && y >= 9 && y + h <= 50;
@@ -421,17 +539,12 @@ fn a_part_render_creates_the_whole_image_and_updates_only_its_rectangle() {
 fn with_no_tev_listening_the_render_is_the_same_and_warns_once() {
     let dir = TempDir::new().unwrap();
     let d = dir.path();
-    // A port nothing listens on: one that was free a moment ago.
-    let port = TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let (_held, port) = refusing_port();
     let address = format!("127.0.0.1:{port}");
     let run = render(d, "96", &["--display-server", &address]);
     run.assert_success();
     let warning = format!("timbre: warning: tev at {address}: cannot connect");
-    assert_eq!(run.stderr.matches(&warning).count(), 1, "{}", run.stderr);
+    assert!(run.stderr.starts_with(&warning), "{}", run.stderr);
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
     let with = std::fs::read(d.join("out.exr")).unwrap();
     render(d, "96", &[]).assert_success();
@@ -440,6 +553,164 @@ fn with_no_tev_listening_the_render_is_the_same_and_warns_once() {
     let run = render(d, "96", &["--quiet", "--display-server", &address]);
     run.assert_success();
     assert_eq!(run.stderr, "");
+}
+
+#[test]
+fn a_server_that_closes_at_once_is_one_warning_and_tried_ever_less_often() {
+    let dir = TempDir::new().unwrap();
+    // As an ssh tunnel with no tev behind it: each connection is accepted and closed.
+    let tev = FakeTev::new(|_, _| Vec::new());
+    let (run, took) = slow_render(dir.path(), &tev.address);
+    run.assert_success();
+    let lost = format!(
+        "timbre: warning: tev at {}: the connection was lost",
+        tev.address
+    );
+    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    // Tried again after 1 s, then 2 s, 4 s, …: attempt k (from 0) comes at least 2^k − 1 s
+    // after the first.
+    let connections = tev.connections().len();
+    let most = (took.as_secs_f64() + 1.0).log2() as usize + 1;
+    assert!(
+        (2..=most).contains(&connections),
+        "{connections} connections in {took:?}"
+    );
+}
+
+#[test]
+fn a_tev_that_never_reads_holds_the_render_up_once_and_is_one_warning() {
+    let dir = TempDir::new().unwrap();
+    let d = dir.path();
+    let tev = deaf_tev();
+    // 27 MB of packets: more than the socket buffers hold.
+    let args = [
+        "render", SCENE, "--width", "1500", "--height", "1500", "--spp", "1", "-o", "out.exr",
+    ];
+    let start = Instant::now();
+    let run = timbre(
+        d,
+        &[&args[..], &["--display-server", &tev.address]].concat(),
+    );
+    let took = start.elapsed();
+    run.assert_success();
+    let stalled = format!(
+        "timbre: warning: tev at {}: it took no data for 3 s",
+        tev.address
+    );
+    assert!(run.stderr.starts_with(&stalled), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    // A hang guard, not a measure of speed: each connection holds the render up 3 s at most
+    // (while tev takes nothing), and a few are made at most.
+    assert!(took < Duration::from_secs(20), "{took:?}");
+    let connections = tev.connections();
+    assert!(connections.iter().all(Vec::is_empty));
+    let with = std::fs::read(d.join("out.exr")).unwrap();
+    let alone = timbre(d, &args);
+    alone.assert_success();
+    assert!(with == std::fs::read(d.join("out.exr")).unwrap());
+    // Held up 3 s a connection (not 3 s a write that made some progress, as it once was: 9 s
+    // for one connection), with 3 s to spare for the render's own ups and downs.
+    let held = reported_seconds(&run) - reported_seconds(&alone);
+    let most = 3.0 * connections.len() as f64 + 3.0;
+    assert!(
+        held < most,
+        "held up {held} s by {} connection(s)",
+        connections.len()
+    );
+}
+
+#[test]
+fn waiting_for_tev_at_the_end_is_not_in_the_reported_time() {
+    let dir = TempDir::new().unwrap();
+    // The image fits in the socket buffers; at the end timbre waits 3 s for tev to read it.
+    let tev = deaf_tev();
+    let start = Instant::now();
+    let run = render(dir.path(), "96", &["--display-server", &tev.address]);
+    let took = start.elapsed().as_secs_f64();
+    run.assert_success();
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    let reported = reported_seconds(&run);
+    assert!(took >= reported + 2.9, "{reported} s reported of {took} s");
+}
+
+#[test]
+fn a_tev_that_quits_before_the_last_band_is_not_taken_to_have_the_image() {
+    let dir = TempDir::new().unwrap();
+    // tev reads the image up to its last band (rows 248 to 256), then quits: closes without
+    // reading on.
+    let tev = FakeTev::new(|_, mut stream| {
+        let mut packets = Vec::new();
+        while let Some(packet) = read_packets(&mut stream, 1).pop() {
+            let end = match &packet {
+                Packet::Update { y, height, .. } => y + height,
+                Packet::Create { .. } => 0,
+            };
+            packets.push(packet);
+            if end >= 248 {
+                break;
+            }
+        }
+        packets
+    });
+    // Slow enough (a few milliseconds a band) that the connection is made before the end.
+    let args = [
+        "render",
+        SCENE,
+        "--width",
+        "96",
+        "--height",
+        "256",
+        "--spp",
+        "64",
+        "--threads",
+        "1",
+        "-o",
+        "out.exr",
+        "--display-server",
+        &tev.address,
+    ];
+    let run = timbre(dir.path(), &args);
+    run.assert_success();
+    let lost = format!(
+        "timbre: warning: tev at {}: the connection was lost",
+        tev.address
+    );
+    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    // Not tried again at the end, the attempt having just failed.
+    assert_eq!(tev.connections().len(), 1);
+}
+
+#[test]
+fn the_copy_kept_for_tev_is_in_the_memory_check() {
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        eprintln!("skipped: no prlimit");
+        return;
+    }
+    let dir = TempDir::new().unwrap();
+    let (_held, port) = refusing_port();
+    // Under a 1 GB address-space cap an 8192² single view is streamed to its file in little
+    // memory (tests/cli.rs), but the copy kept for tev (12 bytes a pixel: 0.75 GiB) does not
+    // fit: refused before rendering.
+    let mut command = Command::new("prlimit");
+    command.arg("--as=1000000000").arg(TIMBRE).args([
+        "render",
+        SCENE,
+        "--width",
+        "8192",
+        "--height",
+        "8192",
+        "--threads",
+        "1",
+        "-o",
+        "big.exr",
+        "--display-server",
+        &format!("127.0.0.1:{port}"),
+    ]);
+    let run = bounded(dir.path(), command);
+    run.assert_bad_input(&["8192x8192 render shown in tev", "needs about"]);
+    assert!(!dir.path().join("big.exr").exists());
 }
 
 #[test]
@@ -466,8 +737,7 @@ fn bad_display_servers_are_refused_with_exit_code_2() {
 #[test]
 fn a_stereo_render_is_shown_once_its_views_are_combined() {
     let dir = TempDir::new().unwrap();
-    let (server, port) = fake_tev(vec![usize::MAX]);
-    let address = format!("127.0.0.1:{port}");
+    let tev = FakeTev::reading(vec![]);
     let scene = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/scenes/3d-tv-side-by-side.toml"
@@ -486,11 +756,12 @@ fn a_stereo_render_is_shown_once_its_views_are_combined() {
         "-o",
         "out.exr",
         "--display-server",
-        &address,
+        &tev.address,
     ];
     timbre(dir.path(), &args).assert_success();
-    let shown = assemble(&server.join().unwrap()[0]);
+    let shown = assemble(&tev.connections()[0]);
     // The packed frame: two views of 48 × 32 side by side.
+    assert_eq!(shown.name, "out.exr");
     assert_eq!((shown.width, shown.height), (96, 32));
     assert_shows(&shown, &dir.path().join("out.exr"));
 }

@@ -13,14 +13,15 @@ pub const UPDATE_IMAGE_V3: u8 = 6;
 /// them, as f32).
 pub const CHANNELS: [&str; 3] = ["R", "G", "B"];
 
-/// A packet of type `kind` whose fields `fields` appends, with its length in front.
-fn packet(kind: u8, fields: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
+/// A packet of type `kind` whose fields `fields` appends, with its length in front; `None` if a
+/// number does not fit its field.
+fn packet(kind: u8, fields: impl FnOnce(&mut Vec<u8>) -> Option<()>) -> Option<Vec<u8>> {
     let mut bytes = vec![0; 4];
     bytes.push(kind);
-    fields(&mut bytes);
-    let length = bytes.len() as u32;
+    fields(&mut bytes)?;
+    let length = u32::try_from(bytes.len()).ok()?;
     bytes[..4].copy_from_slice(&length.to_le_bytes());
-    bytes
+    Some(bytes)
 }
 
 /// Appends `text` and its terminating NUL (`text` has none: it is a file name).
@@ -29,42 +30,58 @@ fn string(bytes: &mut Vec<u8>, text: &str) {
     bytes.push(0);
 }
 
-fn int32(bytes: &mut Vec<u8>, value: u32) {
-    bytes.extend_from_slice(&(value as i32).to_le_bytes());
+/// Appends `value` as an `int32`; `None` if it is larger.
+fn int32(bytes: &mut Vec<u8>, value: u32) -> Option<()> {
+    bytes.extend_from_slice(&i32::try_from(value).ok()?.to_le_bytes());
+    Some(())
+}
+
+/// Appends the channel count and names.
+fn channels(bytes: &mut Vec<u8>) {
+    bytes.extend_from_slice(&(CHANNELS.len() as i32).to_le_bytes());
+    CHANNELS.iter().for_each(|c| string(bytes, c));
 }
 
 /// CreateImage: grab focus (here: yes), the name, width, height, the channel count and the
-/// channel names.
-pub fn create_image(name: &str, width: u32, height: u32) -> Vec<u8> {
+/// channel names; `None` if a side is larger than an `int32`.
+pub fn create_image(name: &str, width: u32, height: u32) -> Option<Vec<u8>> {
     packet(CREATE_IMAGE, |b| {
         b.push(1);
         string(b, name);
-        int32(b, width);
-        int32(b, height);
-        int32(b, CHANNELS.len() as u32);
-        CHANNELS.iter().for_each(|c| string(b, c));
+        int32(b, width)?;
+        int32(b, height)?;
+        channels(b);
+        Some(())
     })
 }
 
 /// UpdateImage V3 of the `width` × `height` pixels at (`x`, `y`) of the image `name`: grab
 /// focus (here: no), the name, the channel count, the channel names, x, y, width, height,
 /// each channel's offset (`int64`) and stride (`int64`) into the data, then the data, f32;
-/// `rgb` holds R, G, B of each pixel, row by row.
-pub fn update_image(name: &str, x: u32, y: u32, width: u32, height: u32, rgb: &[f32]) -> Vec<u8> {
+/// `rgb` holds R, G, B of each pixel, row by row. `None` if a number is larger than its field.
+pub fn update_image(
+    name: &str,
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+    rgb: &[f32],
+) -> Option<Vec<u8>> {
     debug_assert_eq!(rgb.len(), 3 * width as usize * height as usize);
     packet(UPDATE_IMAGE_V3, |b| {
         b.push(0);
         string(b, name);
-        int32(b, CHANNELS.len() as u32);
-        CHANNELS.iter().for_each(|c| string(b, c));
-        [x, y, width, height].into_iter().for_each(|v| int32(b, v));
-        (0..CHANNELS.len() as i64).for_each(|c| b.extend_from_slice(&c.to_le_bytes()));
-        CHANNELS
-            .iter()
-            .for_each(|_| b.extend_from_slice(&(CHANNELS.len() as i64).to_le_bytes()));
+        channels(b);
+        for v in [x, y, width, height] {
+            int32(b, v)?;
+        }
+        let n = CHANNELS.len() as i64;
+        (0..n).for_each(|c| b.extend_from_slice(&c.to_le_bytes()));
+        (0..n).for_each(|_| b.extend_from_slice(&n.to_le_bytes()));
         b.reserve(4 * rgb.len());
         rgb.iter()
             .for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+        Some(())
     })
 }
 
@@ -85,10 +102,12 @@ mod tests {
             3, 0, 0, 0,                     // channels
             b'R', 0, b'G', 0, b'B', 0,
         ];
-        assert_eq!(create_image("a.exr", 2, 1), expected);
-        // Sizes go out as they are, low byte first.
-        let big = create_image("", 70_000, 0x0102_0304);
+        assert_eq!(create_image("a.exr", 2, 1), Some(expected));
+        // Sizes go out as they are, low byte first; those beyond an int32 are refused.
+        let big = create_image("", 70_000, 0x0102_0304).unwrap();
         assert_eq!(&big[7..15], &[0x70, 0x11, 0x01, 0, 4, 3, 2, 1]);
+        assert_eq!(create_image("", 1 << 31, 1), None);
+        assert_eq!(create_image("", 1, u32::MAX), None);
     }
 
     #[test]
@@ -120,6 +139,7 @@ mod tests {
             0, 0, 0x40, 0x40,  // 3.0
             0, 0, 0x80, 0x3e,  // 0.25
         ];
-        assert_eq!(update_image("a", 3, 258, 2, 1, &rgb), expected);
+        assert_eq!(update_image("a", 3, 258, 2, 1, &rgb), Some(expected));
+        assert_eq!(update_image("a", 1 << 31, 0, 2, 1, &rgb), None);
     }
 }
