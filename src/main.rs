@@ -153,6 +153,17 @@ enum Command {
     Serve(ServeArgs),
 }
 
+/// `--width` and `--height`, shared by `render` and `serve`.
+#[derive(clap::Args)]
+struct SizeArgs {
+    /// Image width in pixels (overrides the scene file).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    width: Option<u32>,
+    /// Image height in pixels (overrides the scene file).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    height: Option<u32>,
+}
+
 #[derive(Parser)]
 struct ServeArgs {
     /// The TOML scene file (watched: saving it in an editor updates the page).
@@ -164,12 +175,8 @@ struct ServeArgs {
     /// require a random access token, printed at start.
     #[arg(long, default_value = "127.0.0.1")]
     bind: std::net::IpAddr,
-    /// Image width in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    width: Option<u32>,
-    /// Image height in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: SizeArgs,
     /// Samples per pixel the preview accumulates (default: the scene's, at least 64); the
     /// picture converges to `timbre render --spp N`'s.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
@@ -189,12 +196,8 @@ struct RenderArgs {
     /// Output image; the extension (.png or .exr) chooses the format.
     #[arg(short, long, default_value = "out.png")]
     output: PathBuf,
-    /// Image width in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    width: Option<u32>,
-    /// Image height in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    height: Option<u32>,
+    #[command(flatten)]
+    size: SizeArgs,
     /// Samples per pixel (overrides the scene file).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     spp: Option<u32>,
@@ -377,8 +380,8 @@ impl JsonProgress {
 impl RenderArgs {
     /// The command line's values in place of the scene file's.
     fn apply_to(&self, s: &mut RenderSettings) {
-        s.width = self.width.unwrap_or(s.width);
-        s.height = self.height.unwrap_or(s.height);
+        s.width = self.size.width.unwrap_or(s.width);
+        s.height = self.size.height.unwrap_or(s.height);
         s.spp = self.spp.unwrap_or(s.spp);
         s.seed = self.seed.unwrap_or(s.seed);
         s.max_trace_level = self.max_trace_level.unwrap_or(s.max_trace_level);
@@ -1119,8 +1122,8 @@ fn run_serve(args: ServeArgs) -> Result<(), Failure> {
         port: args.port,
         overrides: args.set,
         preview: timbre::serve::PreviewOptions {
-            width: args.width,
-            height: args.height,
+            width: args.size.width,
+            height: args.size.height,
             spp: args.spp,
             threads: args.threads,
         },
