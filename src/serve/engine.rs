@@ -585,7 +585,11 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
                 (inputs.text.clone(), inputs.from_page)
             };
             // The file is read unchecked when it changes: what the page wrote is checked now.
-            let check = if from_page { Check::All } else { Check::Nothing };
+            let check = if from_page {
+                Check::All
+            } else {
+                Check::Nothing
+            };
             if let Err(e) = own_files(shared, &text, &[], check, 0) {
                 return notice(shared, Err(e.message));
             }
