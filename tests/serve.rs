@@ -135,7 +135,7 @@ impl Server {
             request.headers_mut().insert(name, value.parse().unwrap());
         }
         let (socket, _) = tokio_tungstenite::connect_async(request).await?;
-        Ok(Page { socket })
+        Ok(Page { socket, last: None })
     }
 
     /// The status line and body of a plain HTTP GET of `target` with this Host header.
@@ -204,6 +204,9 @@ struct Page {
     socket: tokio_tungstenite::WebSocketStream<
         tokio_tungstenite::MaybeTlsStream<tokio::net::TcpStream>,
     >,
+    /// The last frame received (the server sends only the newest frame, and no frame again:
+    /// a frame passed over while waiting for a message may be the last of its picture).
+    last: Option<Frame>,
 }
 
 impl Page {
@@ -221,7 +224,11 @@ impl Page {
                 .expect("a message in time")?;
             match m.ok()? {
                 Message::Text(t) => return Some(Received::Json(serde_json::from_str(&t).unwrap())),
-                Message::Binary(b) => return Some(Received::Frame(Frame::parse(&b))),
+                Message::Binary(b) => {
+                    let frame = Frame::parse(&b);
+                    self.last = Some(frame.clone());
+                    return Some(Received::Frame(frame));
+                }
                 Message::Close(_) => return None,
                 _ => {}
             }
@@ -252,12 +259,14 @@ impl Page {
         }
     }
 
-    /// The first frame with every sample, of a generation after `after`.
+    /// The first frame with every sample, of a generation after `after` (perhaps one already
+    /// received).
     async fn converged(&mut self, after: u32) -> Frame {
-        let frames = self
-            .frames_until(|f| f.generation > after && f.done == f.target)
-            .await;
-        frames.last().unwrap().clone()
+        let done = |f: &Frame| f.generation > after && f.done == f.target;
+        if let Some(f) = self.last.clone().filter(done) {
+            return f;
+        }
+        self.frames_until(done).await.pop().unwrap()
     }
 
     /// How the server closed the connection: the close code, or none if it just dropped it.
@@ -761,4 +770,53 @@ async fn the_scene_files_own_names_stay_usable_while_the_page_changes_it() {
         error["message"].as_str().unwrap().contains("only files"),
         "{error}"
     );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn requests_answer_for_the_scene_as_changed_before_them_and_no_ops_keep_the_samples() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let first = page.converged(0).await;
+    // Changes are taken before requests: a save right after a --set saves the changed scene.
+    let set = "object.0.surface.index_ratio=1.2";
+    page.send(serde_json::json!({"type": "set", "set": [set]}))
+        .await;
+    page.send(serde_json::json!({"type": "save", "file": "after.png"}))
+        .await;
+    let saved = page.json("notice").await;
+    assert!(saved["message"].is_string(), "{saved}");
+    let reference = server.reference(&[set]);
+    assert_eq!(decode_png(&server.path().join("after.png")), reference);
+    // (A page that connects now gets the newest frame: this one may have passed it already.)
+    let mut page = server.connect().await;
+    let changed = page.converged(first.generation).await;
+    // Nothing to reset, the same value again, the same text again: no new scene (the reply
+    // to the inspection, asked after them, comes with no scene before it), samples kept.
+    page.send(serde_json::json!({"type": "unset", "keys": ["camera.position"]}))
+        .await;
+    page.send(serde_json::json!({"type": "set", "set": [set]}))
+        .await;
+    page.send(serde_json::json!({"type": "inspect", "x": 1, "y": 1}))
+        .await;
+    loop {
+        match page.next().await.expect("open") {
+            Received::Json(v) if v["type"] == "inspection" => break,
+            Received::Json(v) => assert_ne!(v["type"], "scene", "{v}"),
+            Received::Frame(f) => assert_eq!(f.generation, changed.generation),
+        }
+    }
+    // A scene that does not load is not saved.
+    page.send(serde_json::json!({"type": "text", "text": "studio = = 1"}))
+        .await;
+    page.json("error").await;
+    page.send(serde_json::json!({"type": "save", "file": "broken.png"}))
+        .await;
+    let refused = page.json("notice").await;
+    assert!(
+        refused["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("does not load")),
+        "{refused}"
+    );
+    assert!(!server.path().join("broken.png").exists());
 }

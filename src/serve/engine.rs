@@ -10,7 +10,7 @@ use std::time::{Duration, Instant, SystemTime};
 
 use axum::body::Bytes;
 use serde_json::json;
-use tokio::sync::broadcast;
+use tokio::sync::{broadcast, watch};
 
 use super::parameters::parameters;
 use super::preview::{LoadError, Preview};
@@ -35,19 +35,31 @@ pub const MAX_PAGE_OVERRIDES: usize = 1000;
 /// Most requests waiting for the engine (a page that sends faster is told it is busy).
 const MAX_REQUESTS: usize = 16;
 
-/// Messages kept for pages that read slowly: beyond these a page gets the latest state and
-/// frame instead (frames can be large, so only a few are kept).
-const BACKLOG: usize = 4;
+/// JSON messages kept for pages that read slowly: beyond these a page gets the latest state
+/// instead. (Frames are not kept: a page gets the newest one when it is ready for it.)
+const BACKLOG: usize = 64;
 
 /// Bytes before the pixels of a frame: five little-endian u32s (generation, samples done,
 /// samples to do, width, height).
 pub const FRAME_HEADER: usize = 20;
 
-/// What the engine sends to every page.
-#[derive(Debug, Clone)]
-pub enum Outgoing {
-    Json(Arc<str>),
-    Frame(Bytes),
+/// What a page gets from the engine: the latest state (and error) to start with, then every
+/// JSON message, and the newest frame whenever it is ready for one.
+pub struct Subscription {
+    pub now: Vec<Arc<str>>,
+    pub json: broadcast::Receiver<Arc<str>>,
+    pub frames: watch::Receiver<Frames>,
+}
+
+/// The frames a page is sent: the newest, and the first of its scene (the coarse one, which a
+/// page sees even when later ones came before it was ready: it shows that the accumulation
+/// started again).
+#[derive(Debug, Clone, Default)]
+pub struct Frames {
+    /// The generation of the scene shown.
+    pub generation: u64,
+    pub first: Option<Bytes>,
+    pub newest: Option<Bytes>,
 }
 
 /// Something a page asked for that is not a change of the picture.
@@ -87,13 +99,12 @@ impl Inputs {
     }
 }
 
-/// The last state, error (if the last load failed) and frame sent, for pages that connect
-/// (or fall behind) later.
+/// The last state and error (if the last load failed) sent, for pages that connect (or fall
+/// behind) later.
 #[derive(Default)]
 struct Latest {
     state: Option<Arc<str>>,
     error: Option<Arc<str>>,
-    frame: Option<Bytes>,
 }
 
 struct Shared {
@@ -102,11 +113,18 @@ struct Shared {
     wake: Condvar,
     /// Set when the picture changed: the pass in progress stops.
     stop: Arc<AtomicBool>,
-    out: broadcast::Sender<Outgoing>,
+    out: broadcast::Sender<Arc<str>>,
+    frames: watch::Sender<Frames>,
     latest: Mutex<Latest>,
     /// Set while a render is being saved; its stop signal, which cancels it.
     saving: Arc<AtomicBool>,
     cancel_save: Arc<AtomicBool>,
+    /// The file names the user gave, on the command line and in the scene file as the watcher
+    /// last read it: the page may keep them ([`own_files`]).
+    given: Vec<String>,
+    on_disk: Mutex<Vec<String>>,
+    /// The text the page last wrote into the scene file (the watcher need not reload it).
+    written: Mutex<Option<String>>,
 }
 
 /// The handle the server's connections use.
@@ -132,6 +150,8 @@ impl Engine {
         let preview = Preview::new(options.scene.clone(), options.preview.clone())
             .map_err(ServeError::Internal)?;
         let (out, _) = broadcast::channel(BACKLOG);
+        let (frames, _) = watch::channel(Frames::default());
+
         let shared = Arc::new(Shared {
             scene: options.scene.clone(),
             inputs: Mutex::new(Inputs {
@@ -147,9 +167,13 @@ impl Engine {
             wake: Condvar::new(),
             stop: Arc::new(AtomicBool::new(false)),
             out,
+            frames,
             latest: Mutex::new(Latest::default()),
             saving: Arc::new(AtomicBool::new(false)),
             cancel_save: Arc::new(AtomicBool::new(false)),
+            given: override_names(&options.overrides),
+            on_disk: Mutex::new(text_names(&text)),
+            written: Mutex::new(None),
         });
         let engine = shared.clone();
         std::thread::Builder::new()
@@ -164,24 +188,26 @@ impl Engine {
         Ok(Engine { shared })
     }
 
-    /// The last state and frame, and the messages from now on.
-    pub fn subscribe(&self) -> (Vec<Outgoing>, broadcast::Receiver<Outgoing>) {
+    /// The last state (and error), the messages from now on, and the frames.
+    pub fn subscribe(&self) -> Subscription {
         let latest = lock(&self.shared.latest);
-        let rx = self.shared.out.subscribe();
-        let now = [latest.state.clone(), latest.error.clone()]
-            .into_iter()
-            .flatten()
-            .map(Outgoing::Json)
-            .chain(latest.frame.clone().map(Outgoing::Frame))
-            .collect();
-        (now, rx)
+        Subscription {
+            now: [latest.state.clone(), latest.error.clone()]
+                .into_iter()
+                .flatten()
+                .collect(),
+            json: self.shared.out.subscribe(),
+            frames: self.shared.frames.subscribe(),
+        }
     }
 
-    /// Changes the inputs with `change`; `picture`: whether that changes the picture (the pass
-    /// in progress stops) or only the display.
-    fn change(&self, picture: bool, change: impl FnOnce(&mut Inputs)) {
+    /// Changes the inputs with `change`, which says whether it changed anything; `picture`:
+    /// whether that changes the picture (the pass in progress stops) or only the display.
+    fn change(&self, picture: bool, change: impl FnOnce(&mut Inputs) -> bool) {
         let mut inputs = lock(&self.shared.inputs);
-        change(&mut inputs);
+        if !change(&mut inputs) {
+            return;
+        }
         if picture {
             inputs.generation += 1;
             self.shared.stop.store(true, Ordering::Relaxed);
@@ -207,31 +233,42 @@ impl Engine {
                 result = Err(format!(
                     "at most {MAX_PAGE_OVERRIDES} --set values at once: reset some first"
                 ));
-            } else {
-                i.page = page;
+                return false;
             }
+            let changed = page != i.page;
+            i.page = page;
+            changed
         });
         result
     }
 
     /// Drops the page's `--set`s of these keys (all of them, if `keys` is empty).
     pub fn unset(&self, keys: &[String]) {
+        let keys: std::collections::HashSet<&str> = keys.iter().map(String::as_str).collect();
         self.change(true, |i| {
+            let before = i.page.len();
             i.page
-                .retain(|o| !keys.is_empty() && !keys.contains(&o.key.join(".")))
+                .retain(|o| !keys.is_empty() && !keys.contains(o.key.join(".").as_str()));
+            i.page.len() != before
         });
     }
 
     /// New scene text (from the page's editor).
     pub fn text(&self, text: String) {
         self.change(true, |i| {
+            let changed = i.text != text;
             i.text = text;
             i.from_page = true;
+            changed
         });
     }
 
     pub fn exposure(&self, stops: f64) {
-        self.change(false, |i| i.exposure = stops);
+        self.change(false, |i| {
+            let changed = i.exposure != stops;
+            i.exposure = stops;
+            changed
+        });
     }
 
     /// Queues a request; a newer inspection replaces one still waiting. Refused while
@@ -249,15 +286,19 @@ impl Engine {
         Ok(())
     }
 
-    /// Stops the render being saved, if there is one.
+    /// Stops the render being saved, if there is one, and drops saves still waiting.
     pub fn cancel_save(&self) {
+        let mut inputs = lock(&self.shared.inputs);
+        inputs
+            .requests
+            .retain(|r| !matches!(r, Request::Save { .. }));
         self.shared.cancel_save.store(true, Ordering::Relaxed);
     }
 }
 
 /// Sends a JSON message to every page.
 fn send(shared: &Shared, message: serde_json::Value) {
-    let _ = shared.out.send(Outgoing::Json(message.to_string().into()));
+    let _ = shared.out.send(message.to_string().into());
 }
 
 /// Which files of a scene to check before it is loaded ([`own_files`]).
@@ -292,18 +333,15 @@ enum Work {
 fn run(shared: Arc<Shared>, mut preview: Preview) {
     let shared = &shared;
     let (mut generation, mut display) = (0, 0);
-    // The generation whose passes failed: no more passes until the scene changes.
-    let mut failed = 0;
     // The generation of the scene loaded last, which frames are labelled with (a failed load
-    // leaves the earlier scene, and its label).
-    let mut shown = 0;
+    // leaves the earlier scene, and its label), and the one whose passes failed: no more
+    // passes until another scene is loaded.
+    let (mut shown, mut failed) = (0, 0);
     loop {
         let (work, exposure) = {
             let mut inputs = lock(&shared.inputs);
             let work = loop {
-                if let Some(r) = inputs.requests.pop_front() {
-                    break Work::Request(r);
-                }
+                // Changes first: a request answers for the scene as the page has it now.
                 if inputs.generation != generation {
                     generation = inputs.generation;
                     shared.stop.store(false, Ordering::Relaxed);
@@ -319,11 +357,14 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         base: inputs.base.len(),
                     };
                 }
+                if let Some(r) = inputs.requests.pop_front() {
+                    break Work::Request(r);
+                }
                 if inputs.display != display {
                     display = inputs.display;
                     break Work::Show;
                 }
-                if preview.accumulating() && failed != generation {
+                if preview.accumulating() && failed != shown {
                     break Work::Pass;
                 }
                 inputs = shared.wake.wait(inputs).unwrap_or_else(|e| e.into_inner());
@@ -332,8 +373,13 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
         };
         let show = |image: &Image, shown: u64, (done, target): (u32, u32)| {
             let frame = encode(image, exposure, shown, done, target);
-            lock(&shared.latest).frame = Some(frame.clone());
-            let _ = shared.out.send(Outgoing::Frame(frame));
+            shared.frames.send_modify(|f| {
+                if f.generation != shown {
+                    f.generation = shown;
+                    f.first = Some(frame.clone());
+                }
+                f.newest = Some(frame);
+            });
         };
         match work {
             Work::Load {
@@ -353,7 +399,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         latest.state = Some(state.clone());
                         latest.error = None;
                     }
-                    let _ = shared.out.send(Outgoing::Json(state));
+                    let _ = shared.out.send(state);
                     shown = generation;
                     match preview.coarse() {
                         Ok(Some(image)) => show(&image, shown, preview.progress()),
@@ -364,7 +410,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 Err(e) => {
                     let message: Arc<str> = error(&e, &text, generation).to_string().into();
                     lock(&shared.latest).error = Some(message.clone());
-                    let _ = shared.out.send(Outgoing::Json(message));
+                    let _ = shared.out.send(message);
                 }
             },
             Work::Show => {
@@ -376,7 +422,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 if let Err(e) = preview.pass(&shared.stop, &mut |image, progress| {
                     show(&image, shown, progress)
                 }) {
-                    failed = generation;
+                    failed = shown;
                     send(shared, json!({"type": "error", "message": e}));
                 }
             }
@@ -385,10 +431,11 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     }
 }
 
-/// Checks that what the page wrote (`check`) names only files inside the scene file's
+/// Checks that the files the page names (`check`: in its own text, or in its `--set`s, those
+/// of `overrides` after the command line's first `base`) are inside the scene file's
 /// directory (`file` keys: includes and meshes): relative paths without `..` that stay there
-/// also after symbolic links are followed. The scene file's own names, and the command line's
-/// (the first `base` of `overrides`), are not the page's.
+/// also after symbolic links are followed. The names the user gave (the scene file's, the
+/// command line's) stay usable.
 fn own_files(
     shared: &Shared,
     text: &str,
@@ -396,51 +443,50 @@ fn own_files(
     check: Check,
     base: usize,
 ) -> Result<(), LoadError> {
-    if check == Check::Nothing {
-        return Ok(());
-    }
     let refuse = |message: String| LoadError {
         message: format!("{}: {message}", shared.scene.display()),
         line: None,
         column: None,
     };
-    // What cannot be read as one TOML document cannot be checked: refused (the loader, which
-    // reads large files in parts, might read it), at its place when the page set nothing.
-    let applied = match overrides {
-        [] => text.to_string(),
-        _ => file::with_overrides(text, overrides).map_err(refuse)?,
-    };
-    let table = applied.parse::<toml::Table>().map_err(|e| {
-        let place = e.span().filter(|_| overrides.is_empty()).map(|span| {
-            let before = &applied[..span.start.min(applied.len())];
-            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-            let line = before.matches('\n').count() + 1;
-            (line, before[line_start..].chars().count() + 1)
-        });
-        let message = e.message().to_string();
-        match place {
-            Some((line, column)) => LoadError {
-                message: format!("{}:{line}:{column}: {message}", shared.scene.display()),
-                line: Some(line),
-                column: Some(column),
-            },
-            None => refuse(format!("not one TOML document: {message}")),
+    let mut names = override_names(&overrides[base.min(overrides.len())..]);
+    match check {
+        Check::Nothing => return Ok(()),
+        Check::Overrides => {}
+        // Text from a page (at most a message long) is read whole: what cannot be read as one
+        // TOML document cannot be checked, and is refused (at its place).
+        Check::All => {
+            let table = text.parse::<toml::Table>().map_err(|e| {
+                let message = e.message().to_string();
+                match e.span() {
+                    Some(span) => {
+                        let before = &text[..span.start.min(text.len())];
+                        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+                        let line = before.matches('\n').count() + 1;
+                        let column = before[line_start..].chars().count() + 1;
+                        LoadError {
+                            message: format!(
+                                "{}:{line}:{column}: {message}",
+                                shared.scene.display()
+                            ),
+                            line: Some(line),
+                            column: Some(column),
+                        }
+                    }
+                    None => refuse(format!("not one TOML document: {message}")),
+                }
+            })?;
+            file_names(&toml::Value::Table(table), &mut names);
         }
-    })?;
+    }
+    names.retain(|n| !shared.given.contains(n) && !lock(&shared.on_disk).contains(n));
+    if names.is_empty() {
+        return Ok(());
+    }
     let dir = scene_dir(&shared.scene);
     let home = dir
         .canonicalize()
         .map_err(|e| refuse(format!("its directory cannot be resolved: {e}")))?;
-    let mut trusted = Vec::new();
-    if check == Check::Overrides
-        && let Ok(own) = file::with_overrides(text, &overrides[..base.min(overrides.len())])
-        && let Ok(own) = own.parse::<toml::Table>()
-    {
-        file_names(&toml::Value::Table(own), &mut trusted);
-    }
-    let mut names = Vec::new();
-    file_names(&toml::Value::Table(table), &mut names);
-    for name in names.into_iter().filter(|n| !trusted.contains(n)) {
+    for name in names {
         let path = Path::new(&name);
         let plain = path.components().all(|c| {
             matches!(
@@ -460,6 +506,32 @@ fn own_files(
         }
     }
     Ok(())
+}
+
+/// The file names in scene text (none if it is too large to read whole here, or not TOML).
+fn text_names(text: &str) -> Vec<String> {
+    let mut names = Vec::new();
+    if text.len() <= MAX_PARAMETER_TEXT
+        && let Ok(table) = text.parse::<toml::Table>()
+    {
+        file_names(&toml::Value::Table(table), &mut names);
+    }
+    names
+}
+
+/// The file names `--set`s give: a value set for a `file` key, and any `file` key inside a
+/// value.
+fn override_names(overrides: &[Override]) -> Vec<String> {
+    let mut names = Vec::new();
+    for o in overrides {
+        match &o.value {
+            toml::Value::String(name) if o.key.last().is_some_and(|k| k == "file") => {
+                names.push(name.clone())
+            }
+            value => file_names(value, &mut names),
+        }
+    }
+    names
 }
 
 /// The directory of the scene file (`.` for a bare file name).
@@ -486,6 +558,12 @@ fn file_names(value: &toml::Value, names: &mut Vec<String>) {
     }
 }
 
+/// Scene text for the page: none when it is longer than a page may send back (such a scene is
+/// edited in an editor).
+fn shown_text(text: &str) -> Option<&str> {
+    (text.len() <= super::MAX_MESSAGE_BYTES / 2).then_some(text)
+}
+
 /// A failed load as JSON: the message, its line and column in `text` if it has them, and the
 /// text itself (the page shows it with the error, and keeps the last good picture).
 fn error(e: &LoadError, text: &str, generation: u64) -> serde_json::Value {
@@ -495,7 +573,7 @@ fn error(e: &LoadError, text: &str, generation: u64) -> serde_json::Value {
         "message": e.message,
         "line": e.line,
         "column": e.column,
-        "text": text,
+        "text": shown_text(text),
     })
 }
 
@@ -593,6 +671,7 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
             if let Err(e) = own_files(shared, &text, &[], check, 0) {
                 return notice(shared, Err(e.message));
             }
+            *lock(&shared.written) = Some(text.clone());
             let written =
                 crate::files::write_atomically(&shared.scene, |w| w.write_all(text.as_bytes()));
             notice(
@@ -628,16 +707,14 @@ pub fn saveable(name: &str) -> Result<(), String> {
 /// preview goes on; `cancel_save` stops a single view): the picture the preview converges to.
 fn save(shared: &Arc<Shared>, preview: &Preview, name: &str) {
     let path = scene_dir(&shared.scene).join(name);
-    // Never through a link, nor over anything but a file.
-    let checked = saveable(name).and_then(|()| match std::fs::symlink_metadata(&path) {
-        Ok(m) if !m.file_type().is_file() => Err(format!(
-            "{}: is not a plain file; renders are saved as new files or over files",
-            path.display()
-        )),
-        _ => Ok(()),
-    });
-    if let Err(e) = checked {
+    if let Err(e) = saveable(name).and_then(|()| plain_target(&path)) {
         return notice(shared, Err(e));
+    }
+    if lock(&shared.latest).error.is_some() {
+        return notice(
+            shared,
+            Err("the scene does not load (see its error): fix it before saving".into()),
+        );
     }
     let (Some(description), Some(settings), Some(scene)) =
         (preview.description(), preview.settings(), preview.scene())
@@ -652,18 +729,35 @@ fn save(shared: &Arc<Shared>, preview: &Preview, name: &str) {
     }
     shared.cancel_save.store(false, Ordering::Relaxed);
     let (description, settings) = (description.clone(), settings.clone());
-    let saver = shared.clone();
+    /// Marks the save done however it ends (a panic too).
+    struct Saving(Arc<Shared>);
+    impl Drop for Saving {
+        fn drop(&mut self) {
+            self.0.saving.store(false, Ordering::Relaxed);
+        }
+    }
+    let saving = Saving(shared.clone());
     let spawned = std::thread::Builder::new()
         .name("timbre-save".into())
         .spawn(move || {
-            let shared = &saver;
+            let shared = &saving.0;
             let result = render_to(shared, &scene, &description, &settings, &path);
-            shared.saving.store(false, Ordering::Relaxed);
             notice(shared, result);
         });
     if let Err(e) = spawned {
-        shared.saving.store(false, Ordering::Relaxed);
         notice(shared, Err(e.to_string()));
+    }
+}
+
+/// Whether a render may be written at `path`: never through a link, nor over anything but a
+/// file.
+fn plain_target(path: &Path) -> Result<(), String> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if !m.file_type().is_file() => Err(format!(
+            "{}: is not a plain file; renders are saved as new files or over files",
+            path.display()
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -726,6 +820,8 @@ fn render_to(
             provenance.width = image.width;
             provenance.height = image.height;
             provenance.bounds = PixelBounds::full(image.width, image.height);
+            // Again: the views took a while.
+            plain_target(path)?;
             write_image(path, &image, &provenance).map_err(|e| e.to_string())?;
         }
     }
@@ -761,6 +857,11 @@ fn watch(shared: &Shared, mut known: String) {
             continue;
         }
         known = text.clone();
+        *lock(&shared.on_disk) = text_names(&text);
+        // What the page wrote is what it has (or had, if it has gone on since).
+        if lock(&shared.written).take_if(|w| *w == text).is_some() {
+            continue;
+        }
         let mut inputs = lock(&shared.inputs);
         if inputs.text != text {
             inputs.text = text;
@@ -783,8 +884,10 @@ fn state(
 ) -> serde_json::Value {
     let description = preview.description().expect("loaded");
     let settings = preview.settings().expect("loaded");
-    let applied = file::with_overrides(text, overrides)
-        .ok()
+    // A large scene is read in parts by the loader; here it would take tens of times its size.
+    let applied = (text.len() <= MAX_PARAMETER_TEXT)
+        .then(|| file::with_overrides(text, overrides).ok())
+        .flatten()
         .and_then(|t| t.parse::<toml::Table>().ok());
     let camera = &description.camera;
     let (_, up) = camera.right_up();
@@ -844,7 +947,7 @@ fn state(
         "type": "scene",
         "generation": generation,
         "path": shared.scene.display().to_string(),
-        "text": text,
+        "text": shown_text(text),
         "overrides": overrides.iter().map(|o| o.to_string()).collect::<Vec<_>>(),
         "parameters": parameters,
         "more_parameters": more,

@@ -159,7 +159,7 @@ impl Preview {
         stereo::validate(&description.stereo, s.width, s.height).map_err(LoadError::plain)?;
         if s.width as u64 * s.height as u64 > MAX_PREVIEW_PIXELS {
             return Err(LoadError::plain(format!(
-                "a preview of {}x{} pixels is larger than the limit of {MAX_PREVIEW_PIXELS} pixels (4096x4096): choose a smaller --width and --height for the preview; `timbre render` (and Save) render any size",
+                "a preview of {}x{} pixels is larger than the limit of {MAX_PREVIEW_PIXELS} pixels (4096x4096): choose a smaller --width and --height for the preview; `timbre render` renders any size",
                 s.width, s.height
             )));
         }

@@ -16,7 +16,7 @@ use serde::Deserialize;
 use serde_json::json;
 use tokio::sync::broadcast::error::RecvError;
 
-use super::engine::{Engine, MAX_PAGE_OVERRIDES, Outgoing, Request as EngineRequest, saveable};
+use super::engine::{Engine, MAX_PAGE_OVERRIDES, Request as EngineRequest, saveable};
 use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, page};
 use crate::scene::file::Override;
 
@@ -215,11 +215,8 @@ async fn deliver(socket: &mut WebSocket, message: Message) -> bool {
     )
 }
 
-fn outgoing(m: Outgoing) -> Message {
-    match m {
-        Outgoing::Json(text) => Message::Text(text.as_ref().into()),
-        Outgoing::Frame(bytes) => Message::Binary(bytes),
-    }
+fn json(text: &str) -> Message {
+    Message::Text(text.into())
 }
 
 async fn close(socket: &mut WebSocket, code: u16, reason: &str) {
@@ -239,9 +236,18 @@ async fn close(socket: &mut WebSocket, code: u16, reason: &str) {
 /// One page: the latest state and frame, then every message both ways until it goes.
 async fn connection(counted: Counted, mut socket: WebSocket) {
     let state = counted.0.clone();
-    let (now, mut rx) = state.engine.subscribe();
-    for m in now {
-        if !deliver(&mut socket, outgoing(m)).await {
+    let mut subscription = state.engine.subscribe();
+    // The newest frame now, then whenever there is a newer one and the page has taken the last
+    // (with the first of each scene, if it was passed over).
+    let now = subscription.frames.borrow_and_update().clone();
+    let mut shown = now.generation;
+    for m in subscription
+        .now
+        .iter()
+        .map(|t| json(t))
+        .chain(now.newest.map(Message::Binary))
+    {
+        if !deliver(&mut socket, m).await {
             return;
         }
     }
@@ -251,11 +257,10 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                 Some(Ok(Message::Text(text))) => {
                     match serde_json::from_str::<ClientMessage>(text.as_str()) {
                         Ok(message) => {
-                            if let Some(reply) = handle(&state.engine, message) {
-                                let reply = Message::Text(reply.to_string().into());
-                                if !deliver(&mut socket, reply).await {
-                                    return;
-                                }
+                            if let Some(reply) = handle(&state.engine, message)
+                                && !deliver(&mut socket, json(&reply.to_string())).await
+                            {
+                                return;
                             }
                         }
                         Err(e) => {
@@ -270,24 +275,39 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                 // Closed, or broken (a message over the size limit, a protocol error).
                 Some(Ok(Message::Close(_))) | Some(Err(_)) | None => return,
             },
-            out = rx.recv() => match out {
-                Ok(m) => {
-                    if !deliver(&mut socket, outgoing(m)).await {
+            out = subscription.json.recv() => match out {
+                Ok(text) => {
+                    if !deliver(&mut socket, json(&text)).await {
                         return;
                     }
                 }
-                // Too slow for the frames: it gets the latest state and frame instead.
+                // Too far behind: it gets the latest state (and error) again.
                 Err(RecvError::Lagged(_)) => {
-                    let (now, fresh) = state.engine.subscribe();
-                    rx = fresh;
-                    for m in now {
-                        if !deliver(&mut socket, outgoing(m)).await {
+                    let fresh = state.engine.subscribe();
+                    subscription.json = fresh.json;
+                    for text in fresh.now {
+                        if !deliver(&mut socket, json(&text)).await {
                             return;
                         }
                     }
                 }
                 Err(RecvError::Closed) => return,
             },
+            changed = subscription.frames.changed() => {
+                if changed.is_err() {
+                    return;
+                }
+                let frames = subscription.frames.borrow_and_update().clone();
+                let first = frames
+                    .first
+                    .filter(|first| frames.generation != shown && frames.newest.as_ref() != Some(first));
+                shown = frames.generation;
+                for frame in first.into_iter().chain(frames.newest) {
+                    if !deliver(&mut socket, Message::Binary(frame)).await {
+                        return;
+                    }
+                }
+            }
         }
     }
 }
