@@ -245,6 +245,16 @@ impl Page {
         }
     }
 
+    /// The next notice, which must have `field` (`"message"` or `"error"`) containing `text`.
+    async fn notice(&mut self, field: &str, text: &str) -> Value {
+        let notice = self.json("notice").await;
+        assert!(
+            notice[field].as_str().is_some_and(|m| m.contains(text)),
+            "a notice with {field} containing {text:?}: {notice}"
+        );
+        notice
+    }
+
     /// Frames until one satisfies `done`; all frames seen, that one last.
     async fn frames_until(&mut self, done: impl Fn(&Frame) -> bool) -> Vec<Frame> {
         let mut seen = Vec::new();
@@ -463,13 +473,7 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
     page.converged(0).await;
     page.send(serde_json::json!({"type": "save", "file": "saved.png"}))
         .await;
-    let notice = page.json("notice").await;
-    assert!(
-        notice["message"]
-            .as_str()
-            .is_some_and(|m| m.contains("saved")),
-        "{notice}"
-    );
+    page.notice("message", "saved").await;
     let saved = decode_png(&server.path().join("saved.png"));
     assert_eq!(saved, server.reference(&[]));
     for bad in [
@@ -492,8 +496,7 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
     std::os::unix::fs::symlink(&target, server.path().join("link.png")).unwrap();
     page.send(serde_json::json!({"type": "save", "file": "link.png"}))
         .await;
-    let refused = page.json("notice").await;
-    assert!(refused["error"].is_string(), "{refused}");
+    page.notice("error", "not a plain file").await;
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
 }
 
@@ -616,11 +619,7 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
     let mut page = server.connect().await;
     page.send(serde_json::json!({"type": "set", "set": ["no equals sign"]}))
         .await;
-    let notice = page.json("notice").await;
-    assert!(
-        notice["error"].as_str().unwrap().contains("key=value"),
-        "{notice}"
-    );
+    page.notice("error", "key=value").await;
     // The server and its other pages go on.
     watcher
         .send(serde_json::json!({"type": "set", "set": ["render.seed=7"]}))
@@ -684,13 +683,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
         .await;
     page.json("error").await;
     page.send(serde_json::json!({"type": "write_scene"})).await;
-    let refused = page.json("notice").await;
-    assert!(
-        refused["error"]
-            .as_str()
-            .is_some_and(|e| e.contains("only files")),
-        "{refused}"
-    );
+    page.notice("error", "only files").await;
     assert_eq!(server.scene_file(), before);
 }
 
@@ -811,12 +804,6 @@ async fn requests_answer_for_the_scene_as_changed_before_them_and_no_ops_keep_th
     page.json("error").await;
     page.send(serde_json::json!({"type": "save", "file": "broken.png"}))
         .await;
-    let refused = page.json("notice").await;
-    assert!(
-        refused["error"]
-            .as_str()
-            .is_some_and(|e| e.contains("does not load")),
-        "{refused}"
-    );
+    page.notice("error", "does not load").await;
     assert!(!server.path().join("broken.png").exists());
 }
