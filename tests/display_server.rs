@@ -462,6 +462,14 @@ fn deaf_tev() -> FakeTev {
     })
 }
 
+/// Checks that `stderr` is one warning about the tev at `address`, starting with `what`.
+#[track_caller]
+fn one_warning(stderr: &str, address: &str, what: &str) {
+    let warning = format!("timbre: warning: tev at {address}: {what}");
+    assert!(stderr.starts_with(&warning), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+}
+
 #[test]
 fn tev_is_shown_the_image_the_exr_holds_bit_for_bit() {
     let dir = TempDir::new().unwrap();
@@ -486,12 +494,7 @@ fn a_tev_that_restarts_mid_render_is_sent_each_pixel_once_on_the_new_connection(
     let tev = FakeTev::reading(vec![2]);
     let (run, took) = slow_render(dir.path(), &tev.address);
     run.assert_success();
-    let lost = format!(
-        "timbre: warning: tev at {}: the connection was lost",
-        tev.address
-    );
-    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
-    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    one_warning(&run.stderr, &tev.address, "the connection was lost");
     let connections = tev.connections();
     assert_eq!(connections.len(), 2, "in {took:?}");
     assert!(matches!(
@@ -543,9 +546,7 @@ fn with_no_tev_listening_the_render_is_the_same_and_warns_once() {
     let address = format!("127.0.0.1:{port}");
     let run = render(d, "96", &["--display-server", &address]);
     run.assert_success();
-    let warning = format!("timbre: warning: tev at {address}: cannot connect");
-    assert!(run.stderr.starts_with(&warning), "{}", run.stderr);
-    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    one_warning(&run.stderr, &address, "cannot connect");
     let with = std::fs::read(d.join("out.exr")).unwrap();
     render(d, "96", &[]).assert_success();
     assert!(with == std::fs::read(d.join("out.exr")).unwrap());
@@ -562,12 +563,7 @@ fn a_server_that_closes_at_once_is_one_warning_and_tried_ever_less_often() {
     let tev = FakeTev::new(|_, _| Vec::new());
     let (run, took) = slow_render(dir.path(), &tev.address);
     run.assert_success();
-    let lost = format!(
-        "timbre: warning: tev at {}: the connection was lost",
-        tev.address
-    );
-    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
-    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    one_warning(&run.stderr, &tev.address, "the connection was lost");
     // Tried again after 1 s, then 2 s, 4 s, …: attempt k (from 0) comes at least 2^k − 1 s
     // after the first.
     let connections = tev.connections().len();
@@ -594,12 +590,7 @@ fn a_tev_that_never_reads_holds_the_render_up_once_and_is_one_warning() {
     );
     let took = start.elapsed();
     run.assert_success();
-    let stalled = format!(
-        "timbre: warning: tev at {}: it took no data for 3 s",
-        tev.address
-    );
-    assert!(run.stderr.starts_with(&stalled), "{}", run.stderr);
-    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    one_warning(&run.stderr, &tev.address, "it took no data for 3 s");
     // A hang guard, not a measure of speed: each connection holds the render up 3 s at most
     // (while tev takes nothing), and a few are made at most.
     assert!(took < Duration::from_secs(20), "{took:?}");
@@ -672,12 +663,7 @@ fn a_tev_that_quits_before_the_last_band_is_not_taken_to_have_the_image() {
     ];
     let run = timbre(dir.path(), &args);
     run.assert_success();
-    let lost = format!(
-        "timbre: warning: tev at {}: the connection was lost",
-        tev.address
-    );
-    assert!(run.stderr.starts_with(&lost), "{}", run.stderr);
-    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    one_warning(&run.stderr, &tev.address, "the connection was lost");
     // Not tried again at the end, the attempt having just failed.
     assert_eq!(tev.connections().len(), 1);
 }

@@ -255,6 +255,16 @@ impl Page {
         notice
     }
 
+    /// The next error, whose message must contain `text`.
+    async fn error(&mut self, text: &str) -> Value {
+        let error = self.json("error").await;
+        assert!(
+            error["message"].as_str().is_some_and(|m| m.contains(text)),
+            "an error containing {text:?}: {error}"
+        );
+        error
+    }
+
     /// Frames until one satisfies `done`; all frames seen, that one last.
     async fn frames_until(&mut self, done: impl Fn(&Frame) -> bool) -> Vec<Frame> {
         let mut seen = Vec::new();
@@ -656,14 +666,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
         let text = format!("{SCENE}\n[[include]]\nfile = \"{outside}\"\n");
         page.send(serde_json::json!({"type": "text", "text": text}))
             .await;
-        let error = page.json("error").await;
-        assert!(
-            error["message"]
-                .as_str()
-                .unwrap()
-                .contains("only files in the scene file's directory"),
-            "{outside}: {error}"
-        );
+        page.error("only files in the scene file's directory").await;
     }
     // Through --set too.
     page.send(serde_json::json!({"type": "text", "text": format!("{SCENE}\n[[include]]\nfile = \"part.toml\"\n")}))
@@ -671,11 +674,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
     page.json("scene").await;
     page.send(serde_json::json!({"type": "set", "set": ["include.0.file=\"/etc/hostname\""]}))
         .await;
-    let error = page.json("error").await;
-    assert!(
-        error["message"].as_str().unwrap().contains("only files"),
-        "{error}"
-    );
+    page.error("only files").await;
     // Nor can such a text be written into the scene file (which is read unchecked).
     let before = server.scene_file();
     let text = format!("{SCENE}\n[[include]]\nfile = \"/etc/hostname\"\n");
@@ -696,14 +695,7 @@ async fn a_preview_too_large_is_refused_and_the_server_goes_on() {
         serde_json::json!({"type": "set", "set": ["render.width=2000000", "render.height=400"]}),
     )
     .await;
-    let error = page.json("error").await;
-    assert!(
-        error["message"]
-            .as_str()
-            .unwrap()
-            .contains("larger than the limit"),
-        "{error}"
-    );
+    page.error("larger than the limit").await;
     page.send(serde_json::json!({"type": "unset", "keys": []}))
         .await;
     let again = page.converged(first.generation).await;
@@ -758,11 +750,7 @@ async fn the_scene_files_own_names_stay_usable_while_the_page_changes_it() {
     let elsewhere = format!("include.0.file={:?}", other.to_str().unwrap());
     page.send(serde_json::json!({"type": "set", "set": [elsewhere]}))
         .await;
-    let error = page.json("error").await;
-    assert!(
-        error["message"].as_str().unwrap().contains("only files"),
-        "{error}"
-    );
+    page.error("only files").await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

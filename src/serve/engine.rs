@@ -459,10 +459,7 @@ fn own_files(
                 let message = e.message().to_string();
                 match e.span() {
                     Some(span) => {
-                        let before = &text[..span.start.min(text.len())];
-                        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-                        let line = before.matches('\n').count() + 1;
-                        let column = before[line_start..].chars().count() + 1;
+                        let (line, column) = file::line_column(text, span.start);
                         LoadError {
                             message: format!(
                                 "{}:{line}:{column}: {message}",

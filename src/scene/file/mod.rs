@@ -215,7 +215,7 @@ fn object_label(name: &str) -> String {
 }
 
 /// 1-based line and column of byte `offset` in `text` (a byte-order mark takes no column).
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
+pub fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = text.get(..offset.min(text.len())).unwrap_or(text);
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let line = before.matches('\n').count() + 1;
