@@ -435,10 +435,28 @@ pub fn render(
     settings: &RenderSettings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, RenderError> {
-    let n = settings.width as usize * settings.height as usize;
+    let bounds = PixelBounds::full(settings.width, settings.height);
+    let never = AtomicBool::new(false);
+    let image = render_part(scene, camera, settings, bounds, &never, progress)?;
+    Ok(image.expect("a render that is never stopped finishes"))
+}
+
+/// Renders the pixels `bounds` of the `settings.width` × `settings.height` image of `scene`
+/// into memory, as an image of the size of `bounds` (the same values as those pixels of the
+/// whole image); `None` if `stop` was set before it finished. `progress` as for [`render`].
+pub fn render_part(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    bounds: PixelBounds,
+    stop: &AtomicBool,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Option<Image>, RenderError> {
+    let (width, height) = (bounds.width(), bounds.height());
+    let n = bounds.pixels() as usize;
     let out_of_memory = || RenderError::Memory {
-        width: settings.width,
-        height: settings.height,
+        width,
+        height,
         bytes: n as u64
             * (size_of::<Colour>() + settings.aovs as usize * size_of::<AovSample>()) as u64,
     };
@@ -454,9 +472,8 @@ pub fn render(
         first: &|_| 0,
         sums: false,
     };
-    let width = settings.width as usize;
     let mut sink = |rows: Rows| -> Result<(), std::convert::Infallible> {
-        let k = rows.bounds.y0 as usize * width;
+        let k = (rows.bounds.y0 - bounds.y0) as usize * width as usize;
         pixels[k..k + rows.means.len()].copy_from_slice(&rows.means);
         if let (Some(to), Some(from)) = (aovs.as_mut(), rows.aovs) {
             to[k..k + from.len()].copy_from_slice(&from);
@@ -464,15 +481,13 @@ pub fn render(
         progress(rows.bounds.pixels());
         Ok(())
     };
-    let bounds = PixelBounds::full(settings.width, settings.height);
-    let never = AtomicBool::new(false);
-    let outcome = render_rows(scene, camera, settings, bounds, &samples, &never, &mut sink)?;
+    let outcome = render_rows(scene, camera, settings, bounds, &samples, stop, &mut sink)?;
     let Ok(outcome) = outcome;
-    Ok(Image {
-        width: settings.width,
-        height: settings.height,
+    Ok(outcome.complete.then_some(Image {
+        width,
+        height,
         pixels,
         aovs,
         rays: outcome.rays,
-    })
+    }))
 }

@@ -7,13 +7,15 @@
 
 pub mod autostereogram;
 
+use std::sync::atomic::AtomicBool;
+
 use glam::DVec3;
 
 pub use autostereogram::Autostereogram;
 
 use crate::cameras::Camera;
 use crate::math::Colour;
-use crate::render::{Image, RenderError, render};
+use crate::render::{Image, PixelBounds, RenderError, render_part};
 use crate::scene::{Packing, RenderSettings, Scene, Stereo};
 
 /// Relative luminance of linear RGB (ITU-R BT.709).
@@ -78,29 +80,43 @@ pub fn render_stereo(
     stereo: &Stereo,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Image, RenderError> {
+    let never = AtomicBool::new(false);
+    let image = render_stereo_until(scene, camera, settings, stereo, &never, progress)?;
+    Ok(image.expect("a render that is never stopped finishes"))
+}
+
+/// [`render_stereo`], or `None` if `stop` was set before it finished.
+pub fn render_stereo_until(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &RenderSettings,
+    stereo: &Stereo,
+    stop: &AtomicBool,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Option<Image>, RenderError> {
+    let whole = PixelBounds::full(settings.width, settings.height);
+    let render = |camera: &Camera, settings: &RenderSettings| {
+        render_part(scene, camera, settings, whole, stop, progress)
+    };
     // Both eyes use the same random numbers (pixel offsets, pupil points), so their noise is
     // correlated, not independent.
-    let views = |s: DVec3| -> Result<(Image, Image), RenderError> {
-        let view = |offset| render(scene, &camera.eye(offset), settings, progress);
-        Ok((view(-0.5 * s)?, view(0.5 * s)?))
+    let views = |s: DVec3| -> Result<Option<(Image, Image)>, RenderError> {
+        let Some(left) = render(&camera.eye(-0.5 * s), settings)? else {
+            return Ok(None);
+        };
+        Ok(render(&camera.eye(0.5 * s), settings)?.map(|right| (left, right)))
     };
-    match stereo {
-        Stereo::Mono => render(scene, camera, settings, progress),
+    Ok(match stereo {
+        Stereo::Mono => render(camera, settings)?,
         Stereo::Anaglyph {
             eye_separation,
             colour,
-        } => {
-            let (left, right) = views(*eye_separation)?;
-            Ok(anaglyph(&left, &right, *colour))
-        }
+        } => views(*eye_separation)?.map(|(left, right)| anaglyph(&left, &right, *colour)),
         Stereo::FramePacking {
             eye_separation,
             packing,
             half,
-        } => {
-            let (left, right) = views(*eye_separation)?;
-            Ok(pack(&left, &right, *packing, *half))
-        }
+        } => views(*eye_separation)?.map(|(left, right)| pack(&left, &right, *packing, *half)),
         Stereo::Autostereogram { near, far, .. } => {
             // Only the depth of the surface seen through each pixel centre is used.
             let with_depth = RenderSettings {
@@ -108,17 +124,18 @@ pub fn render_stereo(
                 spp: 1,
                 ..settings.clone()
             };
-            let image = render(scene, camera, &with_depth, progress)?;
-            let depth = depth_map(&image, camera, *near, *far);
-            let options =
-                autostereogram(stereo, image.width, settings.seed).expect("an autostereogram");
-            Ok(Image {
-                pixels: options.render(&depth, image.width, image.height),
-                aovs: None,
-                ..image
+            render(camera, &with_depth)?.map(|image| {
+                let depth = depth_map(&image, camera, *near, *far);
+                let options =
+                    autostereogram(stereo, image.width, settings.seed).expect("an autostereogram");
+                Image {
+                    pixels: options.render(&depth, image.width, image.height),
+                    aovs: None,
+                    ..image
+                }
             })
         }
-    }
+    })
 }
 
 /// The anaglyph of two views of the same size: red-blue from the luminances, or red-cyan

@@ -1,0 +1,339 @@
+"""timbre: a fast, scientifically exact ray tracer for ray-optics research, from Python.
+
+Scenes are timbre's TOML scene files (docs/SCENE_FORMAT.md); renders come back as numpy
+arrays with exactly the values ``timbre render -o NAME.exr`` writes::
+
+    import timbre
+    scene = timbre.load("scenes/relativistic.toml", set={"camera.beta": [0, 0, 0.9]})
+    image = scene.render(width=640, height=480, spp=4)   # float32, shape (480, 640, 3)
+
+``Scene.set`` changes a value as ``--set KEY=VALUE`` does on the command line, for parameter
+sweeps. docs/PYTHON.md is the guide.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import numbers
+import os
+from collections.abc import Callable, Iterable, Mapping
+from importlib.metadata import PackageNotFoundError, version
+from typing import Any, Optional, Union
+
+import numpy as np
+
+from ._timbre import NativeScene as _NativeScene
+from ._timbre import SceneError, embree_version
+from ._timbre import png_bytes as _png_bytes
+from ._timbre import rgb8 as _rgb8
+
+__all__ = [
+    "AOVS",
+    "Image",
+    "STUDIOS",
+    "Scene",
+    "SceneError",
+    "embree_version",
+    "load",
+    "studio",
+]
+
+try:
+    __version__ = version("timbre")
+except PackageNotFoundError:  # imported from a source tree without being installed
+    __version__ = "unknown"
+
+#: The studios a scene can start from (the scene file's ``studio`` key).
+STUDIOS = ("empty", "lattice", "metatoy-window", "none")
+
+#: The arbitrary output variables ``Scene.render(aovs=...)`` can add: the distance to the surface
+#: seen through each pixel centre, its outward normal, and the object's index (-1 for none).
+AOVS = ("depth", "normal", "object")
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _toml(value: Any, top: bool) -> str:
+    """A Python value as the TOML text of a ``--set`` value.
+
+    At the top, a string is taken as the command line takes it: TOML (``"[0, 0, 1]"``) or a
+    bare word (``"lattice"``); inside lists and tables strings are strings.
+    """
+    if isinstance(value, str):
+        return value if top else json.dumps(value)
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        v = float(value)
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, Mapping):
+        items = (f"{json.dumps(str(k))} = {_toml(v, False)}" for k, v in value.items())
+        return "{ " + ", ".join(items) + " }"
+    if isinstance(value, Iterable):
+        return "[" + ", ".join(_toml(v, False) for v in value) + "]"
+    raise TypeError(
+        f"{value!r} ({type(value).__name__}) has no TOML form: give a number, a bool, a "
+        "string, a sequence or a mapping of them"
+    )
+
+
+def _override(key: str, value: Any) -> str:
+    if not isinstance(key, str) or "=" in key or not key.strip():
+        raise ValueError(f"{key!r} is not a scene-file key such as 'camera.position'")
+    return f"{key.strip()}={_toml(value, True)}"
+
+
+class Image(np.ndarray):
+    """A rendered image: a float32 numpy array of shape (height, width, 3), linear RGB, row 0 at
+    the top, with exactly the values ``timbre render`` writes to OpenEXR.
+
+    ``aovs`` holds the AOVs asked for (``depth`` and ``object`` of shape (height, width),
+    ``normal`` of shape (height, width, 3)); ``rays`` counts the rays traced. Arrays derived from
+    an image (slices, arithmetic) are images without AOVs. In Jupyter an image shows itself as
+    the PNG ``timbre render -o NAME.png`` would write.
+    """
+
+    aovs: dict[str, np.ndarray]
+    rays: int
+
+    def __new__(cls, rgb: np.ndarray, aovs: Optional[dict[str, np.ndarray]] = None, rays: int = 0):
+        image = np.asarray(rgb, dtype=np.float32).view(cls)
+        image.aovs = dict(aovs or {})
+        image.rays = rays
+        return image
+
+    def __array_finalize__(self, obj: Optional[np.ndarray]) -> None:
+        self.aovs = {}
+        self.rays = 0
+
+    def _colours(self) -> np.ndarray:
+        if self.ndim != 3 or self.shape[2] != 3:
+            raise ValueError(f"an array of shape {self.shape} is not an image: (height, width, 3)")
+        return np.ascontiguousarray(self.view(np.ndarray), dtype=np.float32)
+
+    def to_rgb8(self) -> np.ndarray:
+        """The 8-bit image (uint8, (height, width, 3)) of ``timbre render -o NAME.png``: each
+        channel clamped to [0, 1], times 255, rounded, no gamma curve."""
+        return _rgb8(self._colours())
+
+    def png(self) -> bytes:
+        """The PNG file ``timbre render -o NAME.png`` writes of this image."""
+        return _png_bytes(self._colours())
+
+    def _repr_png_(self) -> Optional[bytes]:
+        if self.ndim != 3 or self.shape[2] != 3 or self.size == 0:
+            return None
+        return self.png()
+
+
+class Scene:
+    """A timbre scene: a scene file (or its text) with ``--set`` overrides.
+
+    Make one with :func:`load` or :func:`studio`. Renders of one scene may run from several
+    threads at once; the BVH is built on the first render and kept until ``set`` changes what
+    it holds.
+    """
+
+    def __init__(self, native: _NativeScene, overrides: dict[str, str]):
+        self._native = native
+        self._overrides = dict(overrides)
+
+    def __repr__(self) -> str:
+        s = self._native.settings()
+        sets = "".join(f", {k}={v}" for k, v in self._overrides.items())
+        return f"<timbre.Scene {self.name} {s['width']}x{s['height']}{sets}>"
+
+    @property
+    def name(self) -> str:
+        """The scene file's path, or the name that stands for its text in messages."""
+        return self._native.name()
+
+    @property
+    def overrides(self) -> dict[str, str]:
+        """The ``--set`` overrides in force, in the order they apply: key to TOML value."""
+        return dict(self._overrides)
+
+    @property
+    def settings(self) -> dict[str, Any]:
+        """The scene's ``[render]`` values (width, height, spp, seed, max_trace_level, shadows),
+        its stereo output (``camera.stereo``) and how many views a render takes."""
+        return self._native.settings()
+
+    @property
+    def object_names(self) -> list[str]:
+        """The objects' names in the scene's order: the ids of the ``object`` AOV."""
+        return self._native.object_names()
+
+    @property
+    def warnings(self) -> list[str]:
+        """What is questionable about the scene (what ``timbre render`` warns of)."""
+        return self._native.warnings()
+
+    @property
+    def hash(self) -> str:
+        """The scene's hash (``timbre.scene`` in an EXR file's header)."""
+        return self._native.hash()
+
+    def toml(self) -> str:
+        """The scene text with the overrides applied."""
+        return self._native.text()
+
+    def _apply(self, overrides: dict[str, str]) -> "Scene":
+        self._native.set_overrides([f"{k}={v}" for k, v in overrides.items()])
+        self._overrides = overrides
+        return self
+
+    def set(self, key: str, value: Any) -> "Scene":
+        """Sets a scene-file value as ``--set KEY=VALUE`` does, and returns the scene.
+
+        ``key`` is a dotted path into the file (``camera.position``, ``object.0.shape.radius``);
+        ``value`` a number, bool, sequence, mapping or numpy array, or a string taken as the
+        command line takes it (TOML, or a bare word). Setting a key again replaces its value and
+        moves it last. An invalid result raises :class:`SceneError` and leaves the scene as it
+        was.
+        """
+        text = _override(key, value).split("=", 1)[1]
+        overrides = {k: v for k, v in self._overrides.items() if k != key.strip()}
+        overrides[key.strip()] = text
+        return self._apply(overrides)
+
+    def update(self, values: Mapping[str, Any]) -> "Scene":
+        """``set`` for each key and value, in order, as one change."""
+        overrides = dict(self._overrides)
+        for key, value in values.items():
+            text = _override(key, value).split("=", 1)[1]
+            overrides.pop(key.strip(), None)
+            overrides[key.strip()] = text
+        return self._apply(overrides)
+
+    def unset(self, key: str) -> "Scene":
+        """Removes the override of ``key`` (a ``KeyError`` if there is none)."""
+        overrides = dict(self._overrides)
+        del overrides[key.strip()]
+        return self._apply(overrides)
+
+    def copy(self) -> "Scene":
+        """An independent copy (sharing the built BVH until either is changed)."""
+        return Scene(self._native.copy(), self._overrides)
+
+    def render(
+        self,
+        width: Optional[int] = None,
+        height: Optional[int] = None,
+        *,
+        spp: Optional[int] = None,
+        seed: Optional[int] = None,
+        threads: Optional[int] = None,
+        max_trace_level: Optional[int] = None,
+        aovs: Iterable[str] = (),
+        pixel_bounds: Optional[tuple[int, int, int, int]] = None,
+        progress: Union[None, bool, Callable[[int], Any]] = None,
+    ) -> Image:
+        """Renders the scene; each argument left out is the scene's ``[render]`` value.
+
+        Returns an :class:`Image` (float32, (height, width, 3)) whose values equal those
+        ``timbre render --width W --height H --spp N --seed S -o NAME.exr`` writes, whatever
+        ``threads`` is (default: every core).
+
+        - ``aovs``: any of ``"depth"``, ``"normal"``, ``"object"`` (``Image.aovs``).
+        - ``pixel_bounds``: ``(x0, x1, y0, y1)``, half-open, renders only those pixels of the
+          ``width`` x ``height`` image (``--pixel-bounds``): shape (y1 - y0, x1 - x0, 3), the
+          same values as those pixels of the whole render.
+        - ``progress``: a callable given the number of pixels finished since its last call
+          (``tqdm``'s ``update``), or ``True`` for a tqdm progress bar.
+
+        The GIL is released while timbre renders, and Ctrl-C (KeyboardInterrupt) stops the render.
+        A stereo scene (``camera.stereo``) renders its combined output, without AOVs or bounds.
+        """
+        wanted = [aovs] if isinstance(aovs, str) else list(aovs)
+        unknown = [a for a in wanted if a not in AOVS]
+        if unknown:
+            raise ValueError(f"unknown AOV {unknown[0]!r}: the AOVs are {', '.join(AOVS)}")
+        bar = None
+        if progress is True:
+            try:
+                from tqdm.auto import tqdm
+            except ImportError as e:
+                raise ImportError("progress=True needs tqdm (pip install tqdm)") from e
+            s = self._native.settings()
+            w, h = width or s["width"], height or s["height"]
+            if pixel_bounds is not None:
+                x0, x1, y0, y1 = pixel_bounds
+                w, h = x1 - x0, y1 - y0
+            bar = tqdm(total=w * h * s["views"], unit="px", unit_scale=True, leave=False)
+            progress = bar.update
+        elif progress is False:
+            progress = None
+        try:
+            out = self._native.render(
+                width=width,
+                height=height,
+                spp=spp,
+                seed=seed,
+                threads=threads,
+                max_trace_level=max_trace_level,
+                aovs=bool(wanted),
+                pixel_bounds=None if pixel_bounds is None else tuple(int(v) for v in pixel_bounds),
+                progress=progress,
+            )
+        finally:
+            if bar is not None:
+                bar.close()
+        return Image(out["rgb"], {a: out[a] for a in AOVS if a in wanted}, out["rays"])
+
+    def trajectories(self) -> list[dict[str, Any]]:
+        """The scene's ``[[ray_trajectory]]`` rays, traced (``timbre trace``): for each ray a
+        dict with ``trajectory`` (its name), ``ray`` (its index), ``points`` (float64, (n, 3):
+        the start and each point where it met a surface), ``arrivals`` (how it got to each
+        point), ``objects`` (the object at each point, or None), ``end`` and ``direction``."""
+        return self._native.trajectories()
+
+
+def _overrides(set: Optional[Mapping[str, Any]]) -> dict[str, str]:
+    overrides: dict[str, str] = {}
+    for key, value in (set or {}).items():
+        overrides[key.strip()] = _override(key, value).split("=", 1)[1]
+    return overrides
+
+
+def _is_text(source: str) -> bool:
+    """Whether a string is scene-file text rather than a path: it has a line break, or an ``=``
+    and no file of that name exists."""
+    return "\n" in source or ("=" in source and not os.path.exists(source))
+
+
+def load(source: PathLike, set: Optional[Mapping[str, Any]] = None) -> Scene:
+    """A scene from a scene file's path, or from scene-file text, with ``set`` applied as
+    ``--set`` (key to value, in order; see :meth:`Scene.set`).
+
+    A string with a line break, or with ``=`` that names no file, is taken as text (relative
+    paths in it are relative to the working directory). Errors raise :class:`SceneError` with
+    ``path``, ``line`` and ``column``; a missing file raises ``FileNotFoundError``.
+    """
+    overrides = _overrides(set)
+    sets = [f"{k}={v}" for k, v in overrides.items()]
+    if isinstance(source, str) and _is_text(source):
+        native = _NativeScene.from_text(source, "<text>", sets)
+    else:
+        native = _NativeScene.from_file(os.fspath(source), sets)
+    return Scene(native, overrides)
+
+
+def studio(name: str = "lattice", set: Optional[Mapping[str, Any]] = None) -> Scene:
+    """One of TIM's studios as a scene (``studio = NAME`` in a scene file): ``"lattice"`` (the
+    scene ``timbre render`` draws without a scene file), ``"empty"``, ``"metatoy-window"``
+    or ``"none"``."""
+    if name not in STUDIOS:
+        raise ValueError(f"unknown studio {name!r}: the studios are {', '.join(STUDIOS)}")
+    native = _NativeScene.from_text(f'studio = "{name}"\n', f"<studio {name}>", [])
+    scene = Scene(native, {})
+    return scene.update(set) if set else scene
