@@ -3,13 +3,21 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# The Python environment (target/python): its Python builds the Python package's native module
+# (python/), which clippy checks with the rest of the workspace.
+venv="$(scripts/setup-python.sh)"
+export PYO3_PYTHON="$PWD/$venv/bin/python"
 cargo fmt --all -- --check
-cargo clippy --all-targets --release --locked -- -D warnings
+cargo clippy --workspace --all-targets --release --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked
 cargo test --release --locked
 # `timbre serve` end to end in headless Chromium (tests/browser/, against target/release/timbre,
 # which `cargo test --release` has just built); installs chromium and playwright-core if missing.
 scripts/test-browser.sh
+# The Python package (python/tests/, pytest): `pip install .`, arrays against target/release/timbre,
+# the wheel with its bundled libraries in a fresh environment, the example notebooks and the
+# dask example (scripts/test-python.sh).
+scripts/test-python.sh
 # The Slurm scripts of cluster/slurm/ on a real one-node Slurm cluster (installs slurm-wlm and
 # munge if missing); it uses target/release/timbre, which `cargo test --release` has just built.
 scripts/slurm-e2e.sh

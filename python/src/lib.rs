@@ -12,9 +12,10 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
+use pyo3::IntoPyObjectExt;
 use pyo3::create_exception;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
+    PyFileNotFoundError, PyKeyError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyList};
@@ -284,6 +285,31 @@ fn aov_arrays<'py>(py: Python<'py>, image: &Image, out: &Bound<'py, PyDict>) -> 
     Ok(())
 }
 
+/// A TOML value as Python's numbers, bools, strings, lists and dicts (a date as its text).
+fn to_python(py: Python<'_>, value: toml::Value) -> PyResult<Bound<'_, PyAny>> {
+    match value {
+        toml::Value::String(s) => s.into_bound_py_any(py),
+        toml::Value::Integer(i) => i.into_bound_py_any(py),
+        toml::Value::Float(f) => f.into_bound_py_any(py),
+        toml::Value::Boolean(b) => b.into_bound_py_any(py),
+        toml::Value::Datetime(d) => d.to_string().into_bound_py_any(py),
+        toml::Value::Array(a) => {
+            let list = PyList::empty(py);
+            for v in a {
+                list.append(to_python(py, v)?)?;
+            }
+            Ok(list.into_any())
+        }
+        toml::Value::Table(t) => {
+            let dict = PyDict::new(py);
+            for (k, v) in t {
+                dict.set_item(k, to_python(py, v)?)?;
+            }
+            Ok(dict.into_any())
+        }
+    }
+}
+
 #[pymethods]
 impl NativeScene {
     /// The scene file at `path`, with `set` (`KEY=VALUE` strings) applied as `--set`.
@@ -333,15 +359,6 @@ impl NativeScene {
         Ok(())
     }
 
-    /// The overrides, as `KEY=VALUE` strings.
-    fn overrides(&self) -> Vec<String> {
-        self.state()
-            .overrides
-            .iter()
-            .map(Override::to_string)
-            .collect()
-    }
-
     /// The name of the scene in messages: the file's path, or the name given to its text.
     fn name(&self) -> String {
         self.state().source.name()
@@ -356,6 +373,28 @@ impl NativeScene {
             Source::Text { text, .. } => text.clone(),
         };
         file::with_overrides(&text, &state.overrides).map_err(PyValueError::new_err)
+    }
+
+    /// The value at `key` (a dotted path, as `--set` takes) in the scene text with the
+    /// overrides applied; `KeyError` where the text has none.
+    fn get<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
+        let table: toml::Table = self
+            .text()?
+            .parse()
+            .map_err(|e: toml::de::Error| PyValueError::new_err(e.to_string()))?;
+        let mut value = toml::Value::Table(table);
+        for part in key.split('.').map(str::trim) {
+            let inner = match value {
+                toml::Value::Table(mut t) => t.remove(part),
+                toml::Value::Array(mut a) => match part.parse::<usize>() {
+                    Ok(i) if i < a.len() => Some(a.swap_remove(i)),
+                    _ => None,
+                },
+                _ => None,
+            };
+            value = inner.ok_or_else(|| PyKeyError::new_err(key.to_string()))?;
+        }
+        to_python(py, value)
     }
 
     /// The render settings of the scene (width, height, spp, seed, max_trace_level, shadows),

@@ -298,3 +298,31 @@ def test_scene_information():
     assert "spp = 4" in scene.toml().replace("spp=4", "spp = 4")
     assert repr(scene).startswith("<timbre.Scene ")
     assert scene.name == str(SCENES / "studio.toml")
+
+
+def test_get_reads_the_scene_text_with_the_overrides():
+    scene = timbre.load(SCENES / "studio.toml", set={"camera.beta": [0, 0, 0.5]})
+    assert scene.get("camera.beta") == [0, 0, 0.5]
+    assert scene.get("render.width") == 640
+    assert scene.get("camera.type") == "pinhole"
+    assert scene.get("render.shadows") is True
+    assert isinstance(scene.get("camera"), dict)
+    assert scene.set("render.width", 99).get("render.width") == 99
+    with pytest.raises(KeyError):
+        scene.get("camera.no_such_key")
+    with pytest.raises(KeyError):
+        scene.get("light.99")
+
+
+def test_images_pickle_with_their_aovs_and_derived_arrays_are_plain():
+    import pickle
+
+    image = timbre.studio().render(16, 12, aovs=["depth"])
+    again = pickle.loads(pickle.dumps(image))
+    assert isinstance(again, timbre.Image) and again.rays == image.rays > 0
+    assert np.array_equal(again.view(np.ndarray), image.view(np.ndarray))
+    assert np.array_equal(again.aovs["depth"], image.aovs["depth"])
+    # A reduction is a number, one channel a plain array; arithmetic keeps an image.
+    assert type(image.mean()) is np.float32
+    assert type(image.sum(axis=2)) is np.ndarray
+    assert isinstance(image * 2, timbre.Image)

@@ -115,6 +115,22 @@ class Image(np.ndarray):
         self.aovs = {}
         self.rays = 0
 
+    def __array_wrap__(self, array, context=None, return_scalar=False):
+        # What is no longer an image (a reduction, one channel) is a plain array or number.
+        if array.ndim != 3 or array.shape[-1] != 3:
+            array = array.view(np.ndarray)
+            return array[()] if return_scalar else array
+        return super().__array_wrap__(array, context, return_scalar)
+
+    def __reduce__(self):
+        # Pickled (to and from other processes, e.g. Dask's) with its AOVs and ray count.
+        rebuild, args, state = super().__reduce__()
+        return rebuild, args, (state, self.aovs, self.rays)
+
+    def __setstate__(self, state) -> None:
+        array_state, self.aovs, self.rays = state
+        super().__setstate__(array_state)
+
     def _colours(self) -> np.ndarray:
         if self.ndim != 3 or self.shape[2] != 3:
             raise ValueError(f"an array of shape {self.shape} is not an image: (height, width, 3)")
@@ -182,6 +198,12 @@ class Scene:
     def hash(self) -> str:
         """The scene's hash (``timbre.scene`` in an EXR file's header)."""
         return self._native.hash()
+
+    def get(self, key: str) -> Any:
+        """The value the scene file (with the overrides) gives ``key`` (a dotted path as for
+        :meth:`set`), as Python numbers, bools, strings, lists and dicts; ``KeyError`` where the
+        file leaves it out (timbre then uses its default)."""
+        return self._native.get(key)
 
     def toml(self) -> str:
         """The scene text with the overrides applied."""
@@ -261,9 +283,14 @@ class Scene:
         bar = None
         if progress is True:
             try:
-                from tqdm.auto import tqdm
+                from tqdm.std import tqdm
             except ImportError as e:
                 raise ImportError("progress=True needs tqdm (pip install tqdm)") from e
+            try:  # a widget in Jupyter, where there are widgets; text otherwise
+                import ipywidgets  # noqa: F401
+                from tqdm.auto import tqdm
+            except ImportError:
+                pass
             s = self._native.settings()
             w, h = width or s["width"], height or s["height"]
             if pixel_bounds is not None:
