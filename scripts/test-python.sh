@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 venv="$(scripts/setup-python.sh)"
 [ -x target/release/timbre ] || { echo "test-python: target/release/timbre not found; run cargo build --release" >&2; exit 1; }
 # The native module is built for this environment's Python.
-export PYO3_PYTHON="$PWD/$venv/bin/python"
+export PYO3_PYTHON="$venv/bin/python"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps .
 # From the tests' folder, so that `import timbre` finds the installed package, not python/timbre.
-(cd python/tests && TIMBRE="$PWD/../../target/release/timbre" "../../$venv/bin/python" -m pytest -q -p no:cacheprovider)
+(cd python/tests && TIMBRE="$PWD/../../target/release/timbre" "$venv/bin/python" -m pytest -q -p no:cacheprovider)

@@ -6,7 +6,7 @@ scripts/setup.sh
 # The Python environment (target/python): its Python builds the Python package's native module
 # (python/), which clippy checks with the rest of the workspace.
 venv="$(scripts/setup-python.sh)"
-export PYO3_PYTHON="$PWD/$venv/bin/python"
+export PYO3_PYTHON="$venv/bin/python"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked

@@ -15,6 +15,7 @@ pub mod files;
 pub mod geometry;
 pub mod io;
 pub mod math;
+pub mod memory;
 pub mod mesh;
 pub mod production;
 pub mod render;

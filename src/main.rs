@@ -17,6 +17,7 @@ use timbre::embree::Device;
 
 use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::math::Colour;
+use timbre::memory;
 use timbre::mesh::{self, PlyEncoding, generate};
 use timbre::production::{self, Checkpointing, Done, Job, JobError, Signals};
 use timbre::render::PixelBounds;
@@ -481,24 +482,6 @@ fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputForma
     pixels * (render + output)
 }
 
-/// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
-/// less what is mapped now and what Embree and `threads` render threads will map (stacks and
-/// allocator arenas: 256 MiB and 80 MiB a thread, measured generously), and the memory the
-/// system has available (MemAvailable and free swap) less 128 MiB for the rest of the
-/// program; `None` where neither is known.
-fn memory_available(threads: u64) -> Option<u64> {
-    const MIB: u64 = 1 << 20;
-    let address_space = proc_number("/proc/self/limits", "Max address space").and_then(|limit| {
-        let mapped = proc_number("/proc/self/status", "VmSize:")? * 1024;
-        Some(limit.saturating_sub(mapped + 256 * MIB + threads * 80 * MIB))
-    });
-    let system = proc_number("/proc/meminfo", "MemAvailable:").map(|available| {
-        let swap = proc_number("/proc/meminfo", "SwapFree:").unwrap_or(0);
-        ((available + swap) * 1024).saturating_sub(128 * MIB)
-    });
-    address_space.into_iter().chain(system).min()
-}
-
 /// Refuses `what` (a render, or a check) before it starts if its `image` buffers and the
 /// scene's BVH would need more memory than can be had here: a clear error, not an abort.
 fn check_memory(
@@ -508,7 +491,7 @@ fn check_memory(
     threads: usize,
 ) -> Result<(), Failure> {
     let scene = description.build_memory();
-    let Some(available) = memory_available(threads as u64) else {
+    let Some(available) = memory::available(threads as u64) else {
         return Ok(());
     };
     if image + scene <= available {
@@ -532,20 +515,6 @@ fn check_memory(
 fn check_scene_memory(what: &str, description: &SceneDescription) -> Result<(), Failure> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     check_memory(what, 0, description, threads)
-}
-
-/// The first number after `name` on the line of `file` (a Linux /proc file) that starts with
-/// it; `None` if the file, the line or a number is missing ("unlimited").
-fn proc_number(file: &str, name: &str) -> Option<u64> {
-    let text = std::fs::read_to_string(file).ok()?;
-    let line = text.lines().find(|l| l.starts_with(name))?;
-    line[name.len()..].split_whitespace().next()?.parse().ok()
-}
-
-/// Peak resident memory of this process (Linux), e.g. "231 MiB".
-fn peak_memory() -> Option<String> {
-    let kib = proc_number("/proc/self/status", "VmHWM:")?;
-    Some(format!("{} MiB", kib.div_ceil(1024)))
 }
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
@@ -781,7 +750,7 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
             summary.instances,
             load_seconds,
             build_seconds,
-            peak_memory().unwrap_or_else(|| "unknown".into())
+            memory::peak().unwrap_or_else(|| "unknown".into())
         );
     }
     Ok(())

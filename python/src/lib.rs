@@ -8,6 +8,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;
 
@@ -22,11 +23,12 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 
 use timbre::embree::Device;
 use timbre::math::Colour;
-use timbre::render::{Image, PixelBounds, RenderError, render_part};
+use timbre::memory;
+use timbre::render::{AovSample, Image, PixelBounds, RenderError, render_part};
 use timbre::scene::file::{self, Override, SceneFileError};
 use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo_until};
-use timbre::trajectories::{self, TrajectoryError};
+use timbre::trajectories::{self, Trajectory, TrajectoryError};
 
 create_exception!(
     timbre,
@@ -35,37 +37,25 @@ create_exception!(
     "A scene that timbre cannot use: `path`, `line` and `column` (from 1) say where, when known."
 );
 
-/// How often a waiting render reports progress and looks for Ctrl-C.
+/// How often a waiting thread reports progress and looks for Ctrl-C.
 const POLL: Duration = Duration::from_millis(50);
 
 /// Most worker threads a render may ask for (as `timbre render --threads`).
 const MAX_THREADS: u32 = 1024;
 
-/// Where a scene's text comes from.
-#[derive(Clone)]
-enum Source {
-    File(PathBuf),
-    /// Text, with the name that stands for it in messages (relative paths in it are relative to
-    /// the working directory).
-    Text {
-        text: String,
-        name: String,
-    },
+/// The AOVs a render can add, and their channels.
+const AOVS: [(&str, usize); 3] = [("depth", 1), ("normal", 3), ("object", 1)];
+
+/// A scene's text, read once, and the name that stands for it in messages and locates the
+/// relative paths in it: a file's path, or `<text>` (the working directory).
+struct Source {
+    text: String,
+    name: String,
 }
 
 impl Source {
     fn parse(&self, overrides: &[Override]) -> Result<SceneDescription, SceneFileError> {
-        match self {
-            Source::File(path) => file::load_with(path, overrides),
-            Source::Text { text, name } => file::parse_with(text, name, overrides),
-        }
-    }
-
-    fn name(&self) -> String {
-        match self {
-            Source::File(path) => path.display().to_string(),
-            Source::Text { name, .. } => name.clone(),
-        }
+        file::parse_with(&self.text, &self.name, overrides)
     }
 }
 
@@ -76,15 +66,19 @@ struct Built {
     _device: Device,
 }
 
+/// One version of a scene: what a render or a question works on throughout.
+#[derive(Clone)]
 struct State {
-    source: Source,
+    source: Arc<Source>,
     overrides: Vec<Override>,
-    description: SceneDescription,
-    /// Built on the first render after a change.
+    description: Arc<SceneDescription>,
+    /// Built on the first render that needs it; kept while the objects stay the same.
     built: Option<Arc<Built>>,
 }
 
 /// A scene file's text with `--set` overrides, parsed, and its BVH once built.
+///
+/// The lock is only ever held for moments, never while calling Python or waiting for it.
 #[pyclass(module = "timbre._timbre", frozen)]
 struct NativeScene {
     state: Mutex<State>,
@@ -129,8 +123,69 @@ fn scene_error(py: Python<'_>, e: SceneFileError) -> PyErr {
 
 /// A message about the scene `source` (not at a place in its text) as `SceneError`.
 fn about_scene(py: Python<'_>, source: &Source, message: impl std::fmt::Display) -> PyErr {
-    let path = source.name();
+    let path = source.name.clone();
     located(py, format!("{path}: {message}"), path, None, None)
+}
+
+/// A trajectory error: Embree's own is timbre's failure, too many points the scene's.
+fn trajectory_error(py: Python<'_>, source: &Source, e: TrajectoryError) -> PyErr {
+    match e {
+        TrajectoryError::Embree(e) => PyRuntimeError::new_err(e.to_string()),
+        e => about_scene(py, source, e),
+    }
+}
+
+/// Runs `work` on a thread of its own with the GIL released, and looks for Ctrl-C (and other
+/// signals) every 50 ms meanwhile: a signal's exception is raised at once, and the work, which
+/// cannot be stopped (loading, building a BVH, tracing trajectories), finishes unseen.
+fn detached<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (send, receive) = mpsc::channel();
+    std::thread::Builder::new()
+        .name("timbre".into())
+        .spawn(move || {
+            // Nobody may be waiting any more.
+            let _ = send.send(work());
+        })
+        .map_err(|e| PyRuntimeError::new_err(format!("could not start a thread: {e}")))?;
+    let mut receive = Some(receive);
+    loop {
+        // The receiver goes with the GIL-free closure and comes back (it is not `Sync`).
+        let (got, back) = py.detach(move || {
+            let r = receive.take().expect("the receiver");
+            (r.recv_timeout(POLL), r)
+        });
+        receive = Some(back);
+        match got {
+            Ok(done) => return Ok(done),
+            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(PyRuntimeError::new_err("timbre's worker thread panicked"));
+            }
+        }
+    }
+}
+
+/// A buffer for `n` values, or `MemoryError` (instead of aborting the process).
+fn buffer<T>(n: usize) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        PyMemoryError::new_err(format!(
+            "not enough memory for {} MiB of results",
+            (n * size_of::<T>()) >> 20
+        ))
+    })?;
+    Ok(v)
+}
+
+/// Bytes a render of `pixels` pixels a view needs, about: each view's f64 colours (24 bytes a
+/// pixel) and AOVs (20), the combined image of a stereo output (up to twice a view), and the
+/// float32 arrays handed to Python (12 bytes a pixel, and 4 a channel of the AOVs asked for).
+fn render_memory(pixels: u64, views: u64, aovs: bool, channels: u64) -> u64 {
+    let images = views + 2 * (views > 1) as u64;
+    pixels * (images * 24 + views * aovs as u64 * 20 + 12 + 4 * channels)
 }
 
 fn parse_overrides(set: Vec<String>) -> PyResult<Vec<Override>> {
@@ -147,68 +202,85 @@ fn render_error(e: RenderError) -> PyErr {
 }
 
 impl NativeScene {
+    /// The scene as it is now.
     fn state(&self) -> MutexGuard<'_, State> {
-        // A panic while holding the lock leaves a consistent state (every change is made whole).
+        // Every change is made whole, so a panic elsewhere leaves a consistent state.
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    fn open(py: Python<'_>, source: Source, set: Vec<String>) -> PyResult<NativeScene> {
+    fn snapshot(&self) -> State {
+        self.state().clone()
+    }
+
+    /// Reads (`path`) or takes (`text`) a scene and parses it with `set`.
+    fn open(
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        text: String,
+        name: String,
+        set: Vec<String>,
+    ) -> PyResult<NativeScene> {
         let overrides = parse_overrides(set)?;
-        let description = py
-            .detach(|| source.parse(&overrides))
-            .map_err(|e| scene_error(py, e))?;
+        let parsing = overrides.clone();
+        let opened = detached(py, move || {
+            let text = match path {
+                Some(path) => file::read_file(&path)?,
+                None => text,
+            };
+            let source = Source { text, name };
+            let description = source.parse(&parsing)?;
+            Ok((source, description))
+        })?;
+        let (source, description) = opened.map_err(|e| scene_error(py, e))?;
         Ok(NativeScene {
             state: Mutex::new(State {
-                source,
+                source: Arc::new(source),
                 overrides,
-                description,
+                description: Arc::new(description),
                 built: None,
             }),
         })
     }
 
-    /// The scene with its BVH, built now if it is not yet.
-    fn built(&self, py: Python<'_>) -> PyResult<(Arc<Built>, SceneDescription)> {
-        let (source, description, built) = {
-            let state = self.state();
-            (
-                state.source.clone(),
-                state.description.clone(),
-                state.built.clone(),
-            )
-        };
-        if let Some(built) = built {
-            return Ok((built, description));
+    /// The BVH of `state`: its own, or built now (with `threads` threads, if given), and kept
+    /// if the scene still has the same objects.
+    fn built(&self, py: Python<'_>, state: &State, threads: Option<u32>) -> PyResult<Arc<Built>> {
+        if let Some(built) = &state.built {
+            return Ok(built.clone());
         }
-        let made = py.detach(|| -> Result<Built, Result<TrajectoryError, String>> {
-            let device = Device::new("").map_err(|e| Err(e.to_string()))?;
-            let drawn = trajectories::draw(&device, &description).map_err(Ok)?;
-            let scene = Scene::build(&device, &drawn).map_err(|e| Err(e.to_string()))?;
-            Ok(Built {
-                scene,
-                _device: device,
-            })
-        });
+        let description = state.description.clone();
+        let made = detached(
+            py,
+            move || -> Result<Built, Result<TrajectoryError, String>> {
+                let device = match threads {
+                    Some(t) => Device::new(&format!("threads={t}")),
+                    None => Device::new(""),
+                }
+                .map_err(|e| Err(e.to_string()))?;
+                let drawn = trajectories::draw(&device, &description).map_err(Ok)?;
+                let scene = Scene::build(&device, &drawn).map_err(|e| Err(e.to_string()))?;
+                Ok(Built {
+                    scene,
+                    _device: device,
+                })
+            },
+        )?;
         let built = Arc::new(match made {
             Ok(b) => b,
-            Err(Ok(TrajectoryError::Embree(e))) => {
-                return Err(PyRuntimeError::new_err(e.to_string()));
-            }
-            Err(Ok(e)) => return Err(about_scene(py, &source, e)),
+            Err(Ok(e)) => return Err(trajectory_error(py, &state.source, e)),
             Err(Err(e)) => return Err(PyRuntimeError::new_err(e)),
         });
-        let mut state = self.state();
-        // Kept unless the scene changed meanwhile.
-        if state.description == description {
-            state.built = Some(built.clone());
+        let mut now = self.state();
+        if now.built.is_none() && now.description.same_objects(&state.description) {
+            now.built = Some(built.clone());
         }
-        Ok((built, description))
+        Ok(built)
     }
 }
 
 /// Runs `work` on its own thread with the GIL released, while this thread passes the pixels
 /// finished to `progress` (with the GIL) and looks for Ctrl-C and other signals, about every
-/// 50 ms. A signal's exception (KeyboardInterrupt) or the callback's stops the work and is
+/// 50 ms, and at the end. A signal's exception (KeyboardInterrupt) or the callback's stops the work and is
 /// raised once the work has stopped.
 fn interruptible<T: Send>(
     py: Python<'_>,
@@ -220,10 +292,15 @@ fn interruptible<T: Send>(
     let add = |n: u64| {
         done.fetch_add(n, Ordering::Relaxed);
     };
+    let waiting = std::thread::current();
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("timbre-render".into())
-            .spawn_scoped(s, || work(&stop, &add))
+            .spawn_scoped(s, || {
+                let result = work(&stop, &add);
+                waiting.unpark();
+                result
+            })
             .map_err(|e| {
                 PyRuntimeError::new_err(format!("could not start a render thread: {e}"))
             })?;
@@ -261,28 +338,35 @@ fn interruptible<T: Send>(
 /// An image's colours as a float32 array of shape (height, width, 3): each channel as the
 /// command line writes it to OpenEXR (the f64 mean rounded to f32).
 fn rgb<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny>> {
-    let values: Vec<f32> = image
-        .pixels
-        .iter()
-        .flat_map(|c: &Colour| c.to_array().map(|v| v as f32))
-        .collect();
+    let mut values = buffer(3 * image.pixels.len())?;
+    values.extend(
+        image
+            .pixels
+            .iter()
+            .flat_map(|c: &Colour| c.to_array().map(|v| v as f32)),
+    );
     let shape = [image.height as usize, image.width as usize, 3];
     Ok(PyArray1::from_vec(py, values).reshape(shape)?.into_any())
 }
 
-/// The AOVs of `image` as arrays: `depth` (h, w), `normal` (h, w, 3), `object` (h, w).
-fn aov_arrays<'py>(py: Python<'py>, image: &Image, out: &Bound<'py, PyDict>) -> PyResult<()> {
-    let Some(aovs) = &image.aovs else {
-        return Ok(());
-    };
+/// The AOV `name` of `image` as a float32 array: `depth` and `object` (h, w), `normal` (h, w, 3).
+fn aov_array<'py>(py: Python<'py>, image: &Image, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    let aovs: &[AovSample] = image.aovs.as_deref().unwrap_or_default();
     let (h, w) = (image.height as usize, image.width as usize);
-    let depth: Vec<f32> = aovs.iter().map(|a| a.depth).collect();
-    let normal: Vec<f32> = aovs.iter().flat_map(|a| a.normal.to_array()).collect();
-    let object: Vec<f32> = aovs.iter().map(|a| a.object).collect();
-    out.set_item("depth", PyArray1::from_vec(py, depth).reshape([h, w])?)?;
-    out.set_item("normal", PyArray1::from_vec(py, normal).reshape([h, w, 3])?)?;
-    out.set_item("object", PyArray1::from_vec(py, object).reshape([h, w])?)?;
-    Ok(())
+    let channels = if name == "normal" { 3 } else { 1 };
+    let mut values = buffer(channels * aovs.len())?;
+    for a in aovs {
+        match name {
+            "depth" => values.push(a.depth),
+            "normal" => values.extend(a.normal.to_array()),
+            _ => values.push(a.object),
+        }
+    }
+    let array = PyArray1::from_vec(py, values);
+    Ok(match channels {
+        1 => array.reshape([h, w])?.into_any(),
+        _ => array.reshape([h, w, 3])?.into_any(),
+    })
 }
 
 /// A TOML value as Python's numbers, bools, strings, lists and dicts (a date as its text).
@@ -312,10 +396,12 @@ fn to_python(py: Python<'_>, value: toml::Value) -> PyResult<Bound<'_, PyAny>> {
 
 #[pymethods]
 impl NativeScene {
-    /// The scene file at `path`, with `set` (`KEY=VALUE` strings) applied as `--set`.
+    /// The scene file at `path` (read now, once), with `set` (`KEY=VALUE` strings) applied as
+    /// `--set`.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf, set: Vec<String>) -> PyResult<NativeScene> {
-        NativeScene::open(py, Source::File(path), set)
+        let name = path.display().to_string();
+        NativeScene::open(py, Some(path), String::new(), name, set)
     }
 
     /// Scene-file text (`name` stands for it in messages), with `set` applied as `--set`.
@@ -326,53 +412,84 @@ impl NativeScene {
         name: String,
         set: Vec<String>,
     ) -> PyResult<NativeScene> {
-        NativeScene::open(py, Source::Text { text, name }, set)
+        NativeScene::open(py, None, text, name, set)
     }
 
     /// The same scene, overrides and built BVH (shared), to be changed on its own.
     fn copy(&self) -> NativeScene {
-        let state = self.state();
         NativeScene {
-            state: Mutex::new(State {
-                source: state.source.clone(),
-                overrides: state.overrides.clone(),
-                description: state.description.clone(),
-                built: state.built.clone(),
-            }),
+            state: Mutex::new(self.snapshot()),
         }
     }
 
-    /// Replaces the overrides (`KEY=VALUE` strings, applied in order) if the scene with them
-    /// is valid; the scene is left as it was otherwise.
-    fn set_overrides(&self, py: Python<'_>, set: Vec<String>) -> PyResult<()> {
-        let overrides = parse_overrides(set)?;
-        let source = self.state().source.clone();
-        let description = py
-            .detach(|| source.parse(&overrides))
-            .map_err(|e| scene_error(py, e))?;
-        let mut state = self.state();
-        if state.description != description {
-            state.built = None;
+    /// Changes the overrides as one change: removes those of the keys `unset` (`KeyError` for
+    /// one that has none) and of the keys of `set` (`KEY=VALUE` strings), then appends `set`,
+    /// in order. A scene the result makes invalid raises, and the scene stays as it was.
+    fn update(&self, py: Python<'_>, set: Vec<String>, unset: Vec<String>) -> PyResult<()> {
+        let sets = parse_overrides(set)?;
+        let unset: Vec<Vec<String>> = unset
+            .iter()
+            .map(|k| k.split('.').map(|p| p.trim().to_string()).collect())
+            .collect();
+        loop {
+            let old = self.snapshot();
+            if let Some(k) = unset
+                .iter()
+                .find(|k| !old.overrides.iter().any(|o| o.key == **k))
+            {
+                return Err(PyKeyError::new_err(k.join(".")));
+            }
+            let mut overrides: Vec<Override> = old
+                .overrides
+                .iter()
+                .filter(|o| !unset.contains(&o.key) && !sets.iter().any(|s| s.key == o.key))
+                .cloned()
+                .collect();
+            overrides.extend(sets.iter().cloned());
+            let (source, parsing) = (old.source.clone(), overrides.clone());
+            let parsed = detached(py, move || source.parse(&parsing))?;
+            let description = parsed.map_err(|e| scene_error(py, e))?;
+            let mut state = self.state();
+            // Changed by another thread meanwhile: again, from its version.
+            if state.overrides != old.overrides {
+                continue;
+            }
+            let built = state
+                .built
+                .take()
+                .filter(|_| state.description.same_objects(&description));
+            *state = State {
+                source: old.source,
+                overrides,
+                description: Arc::new(description),
+                built,
+            };
+            return Ok(());
         }
-        state.description = description;
-        state.overrides = overrides;
-        Ok(())
+    }
+
+    /// The overrides in force, in order, as (key, TOML value) pairs.
+    fn overrides(&self) -> Vec<(String, String)> {
+        self.state()
+            .overrides
+            .iter()
+            .map(|o| {
+                let text = o.to_string();
+                let (key, value) = text.split_once('=').unwrap_or((&text, ""));
+                (key.trim().to_string(), value.trim().to_string())
+            })
+            .collect()
     }
 
     /// The name of the scene in messages: the file's path, or the name given to its text.
     fn name(&self) -> String {
-        self.state().source.name()
+        self.state().source.name.clone()
     }
 
-    /// The scene text with the overrides applied (TOML), for a scene given as text or a file.
+    /// The scene text (as read when loaded) with the overrides applied.
     fn text(&self) -> PyResult<String> {
-        let state = self.state();
-        let text = match &state.source {
-            Source::File(path) => std::fs::read_to_string(path)
-                .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?,
-            Source::Text { text, .. } => text.clone(),
-        };
-        file::with_overrides(&text, &state.overrides).map_err(PyValueError::new_err)
+        let state = self.snapshot();
+        file::with_overrides(&state.source.text, &state.overrides).map_err(PyValueError::new_err)
     }
 
     /// The value at `key` (a dotted path, as `--set` takes) in the scene text with the
@@ -400,8 +517,8 @@ impl NativeScene {
     /// The render settings of the scene (width, height, spp, seed, max_trace_level, shadows),
     /// its stereo output (`camera.stereo`) and the number of views that renders.
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let state = self.state();
-        let s = &state.description.render;
+        let description = self.snapshot().description;
+        let s = &description.render;
         let d = PyDict::new(py);
         d.set_item("width", s.width)?;
         d.set_item("height", s.height)?;
@@ -409,8 +526,8 @@ impl NativeScene {
         d.set_item("seed", s.seed)?;
         d.set_item("max_trace_level", s.max_trace_level)?;
         d.set_item("shadows", s.shadows)?;
-        d.set_item("stereo", state.description.stereo.name())?;
-        d.set_item("views", state.description.stereo.views())?;
+        d.set_item("stereo", description.stereo.name())?;
+        d.set_item("views", description.stereo.views())?;
         Ok(d)
     }
 
@@ -436,10 +553,10 @@ impl NativeScene {
     }
 
     /// Renders the scene (arguments in place of the scene's `[render]` values, as `timbre
-    /// render`'s options) and returns a dict: `rgb` (float32, (h, w, 3)), the AOVs asked for,
-    /// and `rays`.
+    /// render`'s options) and returns a dict: `rgb` (float32, (h, w, 3)), the AOVs named in
+    /// `aovs`, and `rays`.
     #[pyo3(signature = (*, width=None, height=None, spp=None, seed=None, threads=None,
-        max_trace_level=None, aovs=false, pixel_bounds=None, progress=None))]
+        max_trace_level=None, aovs=Vec::new(), pixel_bounds=None, progress=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -450,21 +567,29 @@ impl NativeScene {
         seed: Option<u64>,
         threads: Option<u32>,
         max_trace_level: Option<u32>,
-        aovs: bool,
+        aovs: Vec<String>,
         pixel_bounds: Option<(u32, u32, u32, u32)>,
         progress: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let (source, description) = {
-            let state = self.state();
-            (state.source.clone(), state.description.clone())
-        };
+        // One version of the scene throughout, whatever other threads change meanwhile.
+        let state = self.snapshot();
+        let description = &state.description;
         let mut settings: RenderSettings = description.render.clone();
         settings.width = width.unwrap_or(settings.width);
         settings.height = height.unwrap_or(settings.height);
         settings.spp = spp.unwrap_or(settings.spp);
         settings.seed = seed.unwrap_or(settings.seed);
         settings.max_trace_level = max_trace_level.unwrap_or(settings.max_trace_level);
-        settings.aovs = aovs;
+        let mut channels = 0;
+        for name in &aovs {
+            let Some((_, n)) = AOVS.iter().find(|(a, _)| a == name) else {
+                return Err(PyValueError::new_err(format!(
+                    "unknown AOV '{name}': the AOVs are depth, normal and object"
+                )));
+            };
+            channels += *n as u64;
+        }
+        settings.aovs = !aovs.is_empty();
         if let Some(t) = threads {
             if !(1..=MAX_THREADS).contains(&t) {
                 return Err(PyValueError::new_err(format!(
@@ -476,7 +601,7 @@ impl NativeScene {
         settings.validate().map_err(PyValueError::new_err)?;
         let stereo = &description.stereo;
         stereo::validate(stereo, settings.width, settings.height)
-            .map_err(|m| about_scene(py, &source, m))?;
+            .map_err(|m| about_scene(py, &state.source, m))?;
         let full = PixelBounds::full(settings.width, settings.height);
         let bounds = match pixel_bounds {
             None => full,
@@ -491,12 +616,36 @@ impl NativeScene {
                 b
             }
         };
-        if *stereo != Stereo::Mono && (aovs || bounds != full) {
+        if *stereo != Stereo::Mono && (settings.aovs || bounds != full) {
             return Err(PyValueError::new_err(
                 "aovs and pixel_bounds work with single views only (camera.stereo = \"none\")",
             ));
         }
-        let (built, description) = self.built(py)?;
+        // Refused before it starts if it could not finish (as `timbre render` does), rather
+        // than the process killed midway.
+        let workers = settings
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let views = stereo.views() as u64;
+        let image = render_memory(bounds.pixels(), views, settings.aovs, channels);
+        let scene = match state.built {
+            Some(_) => 0,
+            None => description.build_memory(),
+        };
+        if let Some(available) = memory::available(workers as u64)
+            && image + scene > available
+        {
+            let gib = |b: u64| b as f64 / f64::from(1 << 30);
+            return Err(PyMemoryError::new_err(format!(
+                "a {}x{} render needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here",
+                bounds.width(),
+                bounds.height(),
+                gib(image + scene),
+                gib(scene),
+                gib(available)
+            )));
+        }
+        let built = self.built(py, &state, threads)?;
         let camera = &description.camera;
         let rendered = interruptible(py, progress.as_ref(), |stop, progress| {
             let scene = &built.scene;
@@ -511,7 +660,9 @@ impl NativeScene {
             .ok_or_else(|| PyRuntimeError::new_err("the render stopped"))?;
         let out = PyDict::new(py);
         out.set_item("rgb", rgb(py, &image)?)?;
-        aov_arrays(py, &image, &out)?;
+        for name in &aovs {
+            out.set_item(name, aov_array(py, &image, name)?)?;
+        }
         out.set_item("rays", image.rays)?;
         Ok(out)
     }
@@ -520,22 +671,14 @@ impl NativeScene {
     /// name), `ray` (its index), `points` (float64, (n, 3)), `arrivals`, `objects` (a name or
     /// None per point), `end` and `direction`.
     fn trajectories<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        let (source, description) = {
-            let state = self.state();
-            (state.source.clone(), state.description.clone())
-        };
-        let traced = py.detach(|| -> Result<_, Result<TrajectoryError, String>> {
-            let device = Device::new("").map_err(|e| Err(e.to_string()))?;
-            trajectories::trace(&device, &description).map_err(Ok)
-        });
-        let traced = match traced {
-            Ok(t) => t,
-            Err(Ok(TrajectoryError::Embree(e))) => {
-                return Err(PyRuntimeError::new_err(e.to_string()));
-            }
-            Err(Ok(e)) => return Err(about_scene(py, &source, e)),
-            Err(Err(e)) => return Err(PyRuntimeError::new_err(e)),
-        };
+        let state = self.snapshot();
+        let description = state.description.clone();
+        let traced = detached(py, move || -> Result<Vec<Trajectory>, TrajectoryError> {
+            let device = Device::new("")?;
+            trajectories::trace(&device, &description)
+        })?
+        .map_err(|e| trajectory_error(py, &state.source, e))?;
+        let description = &state.description;
         let list = PyList::empty(py);
         for t in &traced {
             let d = PyDict::new(py);
@@ -557,10 +700,8 @@ impl NativeScene {
                 .collect();
             d.set_item("objects", objects)?;
             d.set_item("end", t.end.name())?;
-            d.set_item(
-                "direction",
-                PyArray1::from_vec(py, t.direction.to_array().to_vec()),
-            )?;
+            let direction = PyArray1::from_vec(py, t.direction.to_array().to_vec());
+            d.set_item("direction", direction)?;
             list.append(d)?;
         }
         Ok(list)

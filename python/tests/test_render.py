@@ -234,14 +234,45 @@ def test_progress_counts_every_pixel_of_every_view():
 
 
 def test_an_exception_in_the_progress_callback_stops_the_render():
-    class Enough(Exception):
-        pass
+    # A render of many minutes, in a child process: the callback's exception must end it.
+    script = textwrap.dedent(
+        """
+        import timbre
+        class Enough(Exception):
+            pass
+        def stop(n):
+            raise Enough
+        try:
+            timbre.studio().render(6000, 6000, spp=64, progress=stop)
+        except Enough:
+            print("stopped")
+        """
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=120)
+    assert done.stdout.strip() == "stopped", done.stderr
 
-    def stop(n):
-        raise Enough
 
-    with pytest.raises(Enough):
-        timbre.studio().render(2000, 1500, spp=16, progress=stop)
+def test_a_render_too_large_for_the_memory_is_refused_not_aborted():
+    # 10^10 pixels need some 360 GB.
+    with pytest.raises(MemoryError, match="needs about"):
+        timbre.studio().render(100_000, 100_000)
+    # Under an address-space limit (as `ulimit -v`), in a child process: a clear MemoryError,
+    # never an abort.
+    script = textwrap.dedent(
+        """
+        import resource, timbre
+        resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+        try:
+            timbre.studio("none").render(16000, 8000)
+        except MemoryError as e:
+            print("refused:", e)
+        """
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0 and done.stdout.startswith("refused: a 16000x8000 render"), (
+        done.returncode, done.stdout, done.stderr)
 
 
 def test_ctrl_c_interrupts_a_render(tmp_path):
@@ -326,3 +357,52 @@ def test_images_pickle_with_their_aovs_and_derived_arrays_are_plain():
     assert type(image.mean()) is np.float32
     assert type(image.sum(axis=2)) is np.ndarray
     assert isinstance(image * 2, timbre.Image)
+
+
+def test_python_values_become_the_toml_the_cli_takes():
+    scene = timbre.studio()
+    scene.set("camera.position", np.array([1e-7, 1e14, -0.0]))
+    position = scene.get("camera.position")
+    assert position == [1e-7, 1e14, 0.0] and np.signbit(position[2])
+    scene.set("render.spp", np.array(3))  # a 0-d array is its number
+    assert scene.get("render.spp") == 3
+    # Strings inside tables are TOML strings, any character included: a table read with get
+    # and set again comes back the same.
+    file = timbre.load(SCENES / "studio.toml")
+    sky = file.get("object.0")
+    for odd in ["😀", 'a "quoted" \\ one', "tab\tand\u007f"]:
+        named = file.copy().set("object.0", {**sky, "name": odd})
+        assert named.get("object.0") == {**sky, "name": odd}
+        assert named.object_names[0] == odd
+    with pytest.raises(ValueError, match="64-bit"):
+        scene.set("render.seed", 2**64)
+    for bad in [{1, 2}, b"ab", object()]:
+        with pytest.raises(TypeError):
+            scene.set("camera.position", bad)
+
+
+def test_bad_render_arguments_name_themselves():
+    scene = timbre.studio()
+    with pytest.raises(TypeError, match="pixel_bounds"):
+        scene.render(64, 48, pixel_bounds=(0.5, 4, 0, 4))
+    with pytest.raises(ValueError, match="width"):
+        scene.render(-64, 48)
+    with pytest.raises(ValueError, match="threads"):
+        scene.render(64, 48, threads=-1)
+    with pytest.raises(ValueError, match="seed"):
+        scene.render(64, 48, seed=-1)
+    with pytest.raises(ValueError, match="pixel_bounds"):
+        scene.render(64, 48, pixel_bounds=(0, 4, 0))
+
+
+def test_copies_are_independent():
+    import copy
+
+    scene = timbre.studio()
+    for other in (copy.copy(scene), copy.deepcopy(scene), scene.copy()):
+        other.set("camera.beta", [0, 0, 0.5])
+        assert scene.overrides == {} and "beta" not in scene.toml()
+        assert other.overrides == {"camera.beta": "[0, 0, 0.5]"}
+    image = scene.render(8, 6, aovs=["depth"])
+    for other in (copy.copy(image), copy.deepcopy(image), image.copy()):
+        assert np.array_equal(other.aovs["depth"], image.aovs["depth"]) and other.rays == image.rays

@@ -13,11 +13,11 @@ sweeps. docs/PYTHON.md is the guide.
 
 from __future__ import annotations
 
-import json
 import math
 import numbers
+import operator
 import os
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from importlib.metadata import PackageNotFoundError, version
 from typing import Any, Optional, Union
 
@@ -54,6 +54,22 @@ AOVS = ("depth", "normal", "object")
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+def _toml_string(text: str) -> str:
+    """A TOML basic string: quotes, backslashes and control characters escaped, the rest as it
+    is (TOML is UTF-8)."""
+    def escape(c: str) -> str:
+        if c in '"\\':
+            return "\\" + c
+        if ord(c) < 0x20 or ord(c) == 0x7F:
+            return f"\\u{ord(c):04x}"
+        return c
+
+    return '"' + "".join(map(escape, text)) + '"'
+
+
+_I64 = range(-(2**63), 2**63)
+
+
 def _toml(value: Any, top: bool) -> str:
     """A Python value as the TOML text of a ``--set`` value.
 
@@ -61,10 +77,12 @@ def _toml(value: Any, top: bool) -> str:
     bare word (``"lattice"``); inside lists and tables strings are strings.
     """
     if isinstance(value, str):
-        return value if top else json.dumps(value)
+        return value if top else _toml_string(value)
     if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
     if isinstance(value, numbers.Integral):
+        if int(value) not in _I64:
+            raise ValueError(f"{value} is beyond TOML's 64-bit integers")
         return str(int(value))
     if isinstance(value, numbers.Real):
         v = float(value)
@@ -74,15 +92,16 @@ def _toml(value: Any, top: bool) -> str:
             return "inf" if v > 0 else "-inf"
         return repr(v)
     if isinstance(value, np.ndarray):
-        value = value.tolist()
+        return _toml(value.tolist(), top)
     if isinstance(value, Mapping):
-        items = (f"{json.dumps(str(k))} = {_toml(v, False)}" for k, v in value.items())
+        items = (f"{_toml_string(str(k))} = {_toml(v, False)}" for k, v in value.items())
         return "{ " + ", ".join(items) + " }"
-    if isinstance(value, Iterable):
+    # Ordered sequences only: a set's order is arbitrary, bytes are not numbers.
+    if isinstance(value, Sequence) and not isinstance(value, (bytes, bytearray)):
         return "[" + ", ".join(_toml(v, False) for v in value) + "]"
     raise TypeError(
         f"{value!r} ({type(value).__name__}) has no TOML form: give a number, a bool, a "
-        "string, a sequence or a mapping of them"
+        "string, a list, tuple or numpy array, or a dict of them"
     )
 
 
@@ -90,6 +109,17 @@ def _override(key: str, value: Any) -> str:
     if not isinstance(key, str) or "=" in key or not key.strip():
         raise ValueError(f"{key!r} is not a scene-file key such as 'camera.position'")
     return f"{key.strip()}={_toml(value, True)}"
+
+
+def _whole(name: str, value: Any, least: int, most: int) -> int:
+    """A whole-number argument from ``least`` to ``most``, or a TypeError/ValueError naming it."""
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be a whole number, got {value!r}") from None
+    if not least <= v <= most:
+        raise ValueError(f"{name} must be from {least} to {most}, got {v}")
+    return v
 
 
 class Image(np.ndarray):
@@ -116,11 +146,12 @@ class Image(np.ndarray):
         self.rays = 0
 
     def __array_wrap__(self, array, context=None, return_scalar=False):
-        # What is no longer an image (a reduction, one channel) is a plain array or number.
+        # What a ufunc makes that is no longer an image (a reduction, one channel of a sum) is a
+        # plain array, or a number (numpy 1 hands over 0-d arrays for those).
         if array.ndim != 3 or array.shape[-1] != 3:
             array = array.view(np.ndarray)
-            return array[()] if return_scalar else array
-        return super().__array_wrap__(array, context, return_scalar)
+            return array[()] if return_scalar or array.ndim == 0 else array
+        return np.ndarray.__array_wrap__(self, array, context)
 
     def __reduce__(self):
         # Pickled (to and from other processes, e.g. Dask's) with its AOVs and ray count.
@@ -143,12 +174,26 @@ class Image(np.ndarray):
 
     def png(self) -> bytes:
         """The PNG file ``timbre render -o NAME.png`` writes of this image."""
+        if self.size == 0:
+            raise ValueError("an empty image has no PNG")
         return _png_bytes(self._colours())
 
     def _repr_png_(self) -> Optional[bytes]:
         if self.ndim != 3 or self.shape[2] != 3 or self.size == 0:
             return None
         return self.png()
+
+    def copy(self, order: str = "C") -> "Image":
+        """A copy, with the AOVs (copied too) and the ray count."""
+        image = super().copy(order)
+        image.aovs = {k: v.copy() for k, v in self.aovs.items()}
+        image.rays = self.rays
+        return image
+
+    __copy__ = copy
+
+    def __deepcopy__(self, memo: dict) -> "Image":
+        return self.copy()
 
 
 class Scene:
@@ -159,24 +204,23 @@ class Scene:
     it holds.
     """
 
-    def __init__(self, native: _NativeScene, overrides: dict[str, str]):
+    def __init__(self, native: _NativeScene):
         self._native = native
-        self._overrides = dict(overrides)
 
     def __repr__(self) -> str:
         s = self._native.settings()
-        sets = "".join(f", {k}={v}" for k, v in self._overrides.items())
+        sets = "".join(f", {k}={v}" for k, v in self._native.overrides())
         return f"<timbre.Scene {self.name} {s['width']}x{s['height']}{sets}>"
 
     @property
     def name(self) -> str:
-        """The scene file's path, or the name that stands for its text in messages."""
+        """The scene file's path as given, or the name that stands for its text in messages."""
         return self._native.name()
 
     @property
     def overrides(self) -> dict[str, str]:
         """The ``--set`` overrides in force, in the order they apply: key to TOML value."""
-        return dict(self._overrides)
+        return dict(self._native.overrides())
 
     @property
     def settings(self) -> dict[str, Any]:
@@ -209,43 +253,37 @@ class Scene:
         """The scene text with the overrides applied."""
         return self._native.text()
 
-    def _apply(self, overrides: dict[str, str]) -> "Scene":
-        self._native.set_overrides([f"{k}={v}" for k, v in overrides.items()])
-        self._overrides = overrides
-        return self
-
     def set(self, key: str, value: Any) -> "Scene":
-        """Sets a scene-file value as ``--set KEY=VALUE`` does, and returns the scene.
+        """Sets a scene-file value as ``--set KEY=VALUE`` does, and returns the scene (changed:
+        use :meth:`copy` first to keep the original).
 
         ``key`` is a dotted path into the file (``camera.position``, ``object.0.shape.radius``);
-        ``value`` a number, bool, sequence, mapping or numpy array, or a string taken as the
+        ``value`` a number, bool, list, tuple, dict or numpy array, or a string taken as the
         command line takes it (TOML, or a bare word). Setting a key again replaces its value and
-        moves it last. An invalid result raises :class:`SceneError` and leaves the scene as it
-        was.
+        moves it last. A scene the value makes invalid raises :class:`SceneError` (a value that
+        is not TOML: ``ValueError``) and stays as it was.
         """
-        text = _override(key, value).split("=", 1)[1]
-        overrides = {k: v for k, v in self._overrides.items() if k != key.strip()}
-        overrides[key.strip()] = text
-        return self._apply(overrides)
+        self._native.update([_override(key, value)], [])
+        return self
 
     def update(self, values: Mapping[str, Any]) -> "Scene":
         """``set`` for each key and value, in order, as one change."""
-        overrides = dict(self._overrides)
-        for key, value in values.items():
-            text = _override(key, value).split("=", 1)[1]
-            overrides.pop(key.strip(), None)
-            overrides[key.strip()] = text
-        return self._apply(overrides)
+        self._native.update([_override(k, v) for k, v in values.items()], [])
+        return self
 
     def unset(self, key: str) -> "Scene":
         """Removes the override of ``key`` (a ``KeyError`` if there is none)."""
-        overrides = dict(self._overrides)
-        del overrides[key.strip()]
-        return self._apply(overrides)
+        self._native.update([], [key])
+        return self
 
     def copy(self) -> "Scene":
-        """An independent copy (sharing the built BVH until either is changed)."""
-        return Scene(self._native.copy(), self._overrides)
+        """An independent copy (sharing the built BVH until either's objects change)."""
+        return Scene(self._native.copy())
+
+    __copy__ = copy
+
+    def __deepcopy__(self, memo: dict) -> "Scene":
+        return self.copy()
 
     def render(
         self,
@@ -280,6 +318,16 @@ class Scene:
         unknown = [a for a in wanted if a not in AOVS]
         if unknown:
             raise ValueError(f"unknown AOV {unknown[0]!r}: the AOVs are {', '.join(AOVS)}")
+        wanted = [a for a in AOVS if a in wanted]
+        u32 = 2**32 - 1
+        sizes = dict(width=width, height=height, spp=spp, threads=threads,
+                     max_trace_level=max_trace_level)
+        sizes = {k: None if v is None else _whole(k, v, 1, u32) for k, v in sizes.items()}
+        seed = None if seed is None else _whole("seed", seed, 0, 2**64 - 1)
+        if pixel_bounds is not None:
+            if isinstance(pixel_bounds, (str, bytes)) or len(pixel_bounds) != 4:
+                raise ValueError(f"pixel_bounds must be (x0, x1, y0, y1), got {pixel_bounds!r}")
+            pixel_bounds = tuple(_whole("pixel_bounds", v, 0, u32) for v in pixel_bounds)
         bar = None
         if progress is True:
             try:
@@ -292,7 +340,7 @@ class Scene:
             except ImportError:
                 pass
             s = self._native.settings()
-            w, h = width or s["width"], height or s["height"]
+            w, h = sizes["width"] or s["width"], sizes["height"] or s["height"]
             if pixel_bounds is not None:
                 x0, x1, y0, y1 = pixel_bounds
                 w, h = x1 - x0, y1 - y0
@@ -302,20 +350,12 @@ class Scene:
             progress = None
         try:
             out = self._native.render(
-                width=width,
-                height=height,
-                spp=spp,
-                seed=seed,
-                threads=threads,
-                max_trace_level=max_trace_level,
-                aovs=bool(wanted),
-                pixel_bounds=None if pixel_bounds is None else tuple(int(v) for v in pixel_bounds),
-                progress=progress,
+                **sizes, seed=seed, aovs=wanted, pixel_bounds=pixel_bounds, progress=progress
             )
         finally:
             if bar is not None:
                 bar.close()
-        return Image(out["rgb"], {a: out[a] for a in AOVS if a in wanted}, out["rays"])
+        return Image(out["rgb"], {a: out[a] for a in wanted}, out["rays"])
 
     def trajectories(self) -> list[dict[str, Any]]:
         """The scene's ``[[ray_trajectory]]`` rays, traced (``timbre trace``): for each ray a
@@ -323,13 +363,6 @@ class Scene:
         the start and each point where it met a surface), ``arrivals`` (how it got to each
         point), ``objects`` (the object at each point, or None), ``end`` and ``direction``."""
         return self._native.trajectories()
-
-
-def _overrides(set: Optional[Mapping[str, Any]]) -> dict[str, str]:
-    overrides: dict[str, str] = {}
-    for key, value in (set or {}).items():
-        overrides[key.strip()] = _override(key, value).split("=", 1)[1]
-    return overrides
 
 
 def _is_text(source: str) -> bool:
@@ -346,13 +379,10 @@ def load(source: PathLike, set: Optional[Mapping[str, Any]] = None) -> Scene:
     paths in it are relative to the working directory). Errors raise :class:`SceneError` with
     ``path``, ``line`` and ``column``; a missing file raises ``FileNotFoundError``.
     """
-    overrides = _overrides(set)
-    sets = [f"{k}={v}" for k, v in overrides.items()]
+    sets = [_override(k, v) for k, v in (set or {}).items()]
     if isinstance(source, str) and _is_text(source):
-        native = _NativeScene.from_text(source, "<text>", sets)
-    else:
-        native = _NativeScene.from_file(os.fspath(source), sets)
-    return Scene(native, overrides)
+        return Scene(_NativeScene.from_text(source, "<text>", sets))
+    return Scene(_NativeScene.from_file(os.fspath(source), sets))
 
 
 def studio(name: str = "lattice", set: Optional[Mapping[str, Any]] = None) -> Scene:
@@ -361,6 +391,5 @@ def studio(name: str = "lattice", set: Optional[Mapping[str, Any]] = None) -> Sc
     or ``"none"``."""
     if name not in STUDIOS:
         raise ValueError(f"unknown studio {name!r}: the studios are {', '.join(STUDIOS)}")
-    native = _NativeScene.from_text(f'studio = "{name}"\n', f"<studio {name}>", [])
-    scene = Scene(native, {})
-    return scene.update(set) if set else scene
+    sets = [_override(k, v) for k, v in (set or {}).items()]
+    return Scene(_NativeScene.from_text(f'studio = "{name}"\n', f"<studio {name}>", sets))

@@ -68,6 +68,16 @@ pub struct SceneDescription {
 }
 
 impl SceneDescription {
+    /// Whether `other` has the same objects (and so the same BVH, [`Scene::build`]): the two
+    /// may differ in the camera, the stereo output and the render settings.
+    pub fn same_objects(&self, other: &SceneDescription) -> bool {
+        self.objects == other.objects
+            && self.arrays == other.arrays
+            && self.lights == other.lights
+            && self.focus_surface == other.focus_surface
+            && self.trajectories == other.trajectories
+    }
+
     /// A hash (16 hexadecimal digits) of everything that decides the picture apart from the
     /// image size and the sampling (spp, seed): objects, lights, camera, stereo output, ray
     /// trajectories, the maximum trace level and shadows. Parts of a render and checkpoints

@@ -171,7 +171,7 @@ impl Preview {
     pub fn load(&mut self, text: &str, overrides: &[Override]) -> Result<(), LoadError> {
         let (parsed, settings) = self.describe(text, overrides)?;
         let built = match &self.loaded {
-            Some(old) if same_objects(&old.parsed, &parsed) => None,
+            Some(old) if old.parsed.same_objects(&parsed) => None,
             _ => {
                 let drawn = trajectories::draw(&self.device, &parsed)
                     .map_err(|e| LoadError::plain(format!("ray trajectories: {e}")))?;
@@ -516,14 +516,4 @@ fn picture(l: &Loaded, views: &[View]) -> Image {
         }
         (_, views) => view(0, &views[0]),
     }
-}
-
-/// Whether two scenes have the same objects (and so the same BVH): they may differ in the
-/// camera, the stereo output and the render settings.
-fn same_objects(a: &SceneDescription, b: &SceneDescription) -> bool {
-    a.objects == b.objects
-        && a.arrays == b.arrays
-        && a.lights == b.lights
-        && a.focus_surface == b.focus_surface
-        && a.trajectories == b.trajectories
 }

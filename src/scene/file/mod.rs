@@ -418,6 +418,12 @@ pub const MAX_FILE_BYTES: u64 = 256 << 20;
 /// Reads and checks a scene file, with `overrides` applied: the file's own errors are
 /// reported at their line and column first.
 fn read(path: &Path, overrides: &[Override]) -> Result<(Source, File), SceneFileError> {
+    read_text(read_file(path)?, &path.display().to_string(), overrides)
+}
+
+/// A scene file's text, as [`load`] reads it: a regular file of at most [`MAX_FILE_BYTES`],
+/// UTF-8 (what [`parse_with`] then takes, with the path).
+pub fn read_file(path: &Path) -> Result<String, SceneFileError> {
     let shown = path.display().to_string();
     let bytes =
         crate::files::read_regular(path, MAX_FILE_BYTES).map_err(|source| SceneFileError::Io {
@@ -435,7 +441,7 @@ fn read(path: &Path, overrides: &[Override]) -> Result<(Source, File), SceneFile
             message: format!("the file is not UTF-8 text (invalid bytes at byte offset {valid})"),
         }
     })?;
-    read_text(text, &shown, overrides)
+    Ok(text)
 }
 
 fn read_text(

@@ -1,0 +1,34 @@
+//! What this process can still have of the machine's memory, and what it has used (Linux's
+//! /proc files): renders are refused before they start rather than aborted midway.
+
+/// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
+/// less what is mapped now and what Embree and `threads` render threads will map (stacks and
+/// allocator arenas: 256 MiB and 80 MiB a thread, measured generously), and the memory the
+/// system has available (MemAvailable and free swap) less 128 MiB for the rest of the
+/// program; `None` where neither is known.
+pub fn available(threads: u64) -> Option<u64> {
+    const MIB: u64 = 1 << 20;
+    let address_space = proc_number("/proc/self/limits", "Max address space").and_then(|limit| {
+        let mapped = proc_number("/proc/self/status", "VmSize:")? * 1024;
+        Some(limit.saturating_sub(mapped + 256 * MIB + threads * 80 * MIB))
+    });
+    let system = proc_number("/proc/meminfo", "MemAvailable:").map(|available| {
+        let swap = proc_number("/proc/meminfo", "SwapFree:").unwrap_or(0);
+        ((available + swap) * 1024).saturating_sub(128 * MIB)
+    });
+    address_space.into_iter().chain(system).min()
+}
+
+/// The first number after `name` on the line of `file` (a Linux /proc file) that starts with
+/// it; `None` if the file, the line or a number is missing ("unlimited").
+fn proc_number(file: &str, name: &str) -> Option<u64> {
+    let text = std::fs::read_to_string(file).ok()?;
+    let line = text.lines().find(|l| l.starts_with(name))?;
+    line[name.len()..].split_whitespace().next()?.parse().ok()
+}
+
+/// Peak resident memory of this process (Linux), e.g. "231 MiB".
+pub fn peak() -> Option<String> {
+    let kib = proc_number("/proc/self/status", "VmHWM:")?;
+    Some(format!("{} MiB", kib.div_ceil(1024)))
+}
