@@ -387,6 +387,10 @@ def test_bad_render_arguments_name_themselves():
         scene.render(64, 48, pixel_bounds=(0.5, 4, 0, 4))
     with pytest.raises(ValueError, match="width"):
         scene.render(-64, 48)
+    with pytest.raises(TypeError, match="spp"):
+        scene.render(64, 48, spp=True)
+    # numpy's integers are whole numbers.
+    assert scene.render(np.int64(8), np.uint16(6)).shape == (6, 8, 3)
     with pytest.raises(ValueError, match="threads"):
         scene.render(64, 48, threads=-1)
     with pytest.raises(ValueError, match="seed"):

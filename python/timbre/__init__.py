@@ -114,6 +114,8 @@ def _override(key: str, value: Any) -> str:
 def _whole(name: str, value: Any, least: int, most: int) -> int:
     """A whole-number argument from ``least`` to ``most``, or a TypeError/ValueError naming it."""
     try:
+        if isinstance(value, (bool, np.bool_)):
+            raise TypeError
         v = operator.index(value)
     except TypeError:
         raise TypeError(f"{name} must be a whole number, got {value!r}") from None
