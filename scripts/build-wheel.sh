@@ -8,7 +8,7 @@
 # cargo's copy is removed before and after, so each build links the module afresh (only
 # python/src/lib.rs is compiled again).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
+root="$(cd "$(dirname "$0")/.." >/dev/null && pwd)"
 out="$(realpath -m "${1:-$root/target/wheels}")"
 cd "$root"
 venv="$(scripts/setup-python.sh)"

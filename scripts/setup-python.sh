@@ -8,7 +8,7 @@
 # again only when the requirements file is newer than the environment. Prints the
 # environment's directory (absolute).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
+root="$(cd "$(dirname "$0")/.." >/dev/null && pwd)"
 venv="$(realpath -m "${1:-$root/target/python}")"
 cd "$root"
 requirements=python/requirements-test.txt

@@ -463,23 +463,17 @@ fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
     spinner
 }
 
-/// Bytes a render needs at its peak, roughly: each view's f64 image (24 bytes a pixel) and
-/// AOVs (20), the stereo output's combined image (up to twice a view) or an autostereogram's
-/// depth map (8), and the output file's encoding (PNG: 3 bytes a pixel and a compressed copy;
-/// EXR: 4 bytes a channel, twice).
+/// Bytes a stereo render needs at its peak, roughly: the views in memory
+/// ([`stereo::memory_needed`]) and the output file's encoding (PNG: 3 bytes a pixel and a
+/// compressed copy; EXR: 4 bytes a channel, twice).
 fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputFormat) -> u64 {
     let pixels = settings.width as u64 * settings.height as u64;
     let views = stereo.views() as u64;
-    let images = views + 2 * (views > 1) as u64;
-    // An autostereogram renders the depth AOV whatever the settings, and a depth map of f64.
-    let autostereogram = matches!(stereo, Stereo::Autostereogram { .. });
-    let aovs = settings.aovs || autostereogram;
-    let render = images * 24 + views * aovs as u64 * 20 + autostereogram as u64 * 8;
     let output = match format {
         OutputFormat::Png => 3 * 2 * (1 + (views > 1) as u64),
         OutputFormat::Exr => 4 * (3 + 5 * settings.aovs as u64) * 2,
     };
-    pixels * (render + output)
+    stereo::memory_needed(settings.aovs, stereo, pixels) + pixels * output
 }
 
 /// Refuses `what` (a render, or a check) before it starts if its `image` buffers and the
@@ -491,7 +485,7 @@ fn check_memory(
     threads: usize,
 ) -> Result<(), Failure> {
     let scene = description.build_memory();
-    let Some(available) = memory::available(threads as u64) else {
+    let Some(available) = memory::available(memory::reserve(threads as u64)) else {
         return Ok(());
     };
     if image + scene <= available {

@@ -1,16 +1,22 @@
 //! What this process can still have of the machine's memory, and what it has used (Linux's
 //! /proc files): renders are refused before they start rather than aborted midway.
 
+const MIB: u64 = 1 << 20;
+
+/// Bytes of address space a render maps besides its buffers, generously: Embree's (256 MiB)
+/// and, for each of `threads` render threads, a stack and an allocator arena (80 MiB).
+pub fn reserve(threads: u64) -> u64 {
+    256 * MIB + threads * 80 * MIB
+}
+
 /// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
-/// less what is mapped now and what Embree and `threads` render threads will map (stacks and
-/// allocator arenas: 256 MiB and 80 MiB a thread, measured generously), and the memory the
-/// system has available (MemAvailable and free swap) less 128 MiB for the rest of the
-/// program; `None` where neither is known.
-pub fn available(threads: u64) -> Option<u64> {
-    const MIB: u64 = 1 << 20;
+/// less what is mapped now and `reserve` (what the render will map besides its buffers and has
+/// not mapped yet: [`reserve`]), and the memory the system has available (MemAvailable and
+/// free swap) less 128 MiB for the rest of the program; `None` where neither is known.
+pub fn available(reserve: u64) -> Option<u64> {
     let address_space = proc_number("/proc/self/limits", "Max address space").and_then(|limit| {
         let mapped = proc_number("/proc/self/status", "VmSize:")? * 1024;
-        Some(limit.saturating_sub(mapped + 256 * MIB + threads * 80 * MIB))
+        Some(limit.saturating_sub(mapped + reserve))
     });
     let system = proc_number("/proc/meminfo", "MemAvailable:").map(|available| {
         let swap = proc_number("/proc/meminfo", "SwapFree:").unwrap_or(0);

@@ -180,12 +180,17 @@ fn buffer<T>(n: usize) -> PyResult<Vec<T>> {
     Ok(v)
 }
 
-/// Bytes a render of `pixels` pixels a view needs, about: each view's f64 colours (24 bytes a
-/// pixel) and AOVs (20), the combined image of a stereo output (up to twice a view), and the
-/// float32 arrays handed to Python (12 bytes a pixel, and 4 a channel of the AOVs asked for).
-fn render_memory(pixels: u64, views: u64, aovs: bool, channels: u64) -> u64 {
-    let images = views + 2 * (views > 1) as u64;
-    pixels * (images * 24 + views * aovs as u64 * 20 + 12 + 4 * channels)
+/// The most render threads a render of this process has had (0 before the first): their stacks
+/// and allocator arenas, and Embree's own memory, are mapped already and stay so.
+static THREADS_SEEN: AtomicU64 = AtomicU64::new(0);
+
+/// What a render with `threads` threads will map besides its buffers that this process has not
+/// mapped yet ([`memory::reserve`] less what earlier renders mapped).
+fn memory_reserve(threads: u64) -> u64 {
+    match THREADS_SEEN.load(Ordering::Relaxed) {
+        0 => memory::reserve(threads),
+        seen => memory::reserve(threads).saturating_sub(memory::reserve(seen)),
+    }
 }
 
 fn parse_overrides(set: Vec<String>) -> PyResult<Vec<Override>> {
@@ -292,12 +297,14 @@ fn interruptible<T: Send>(
     let add = |n: u64| {
         done.fetch_add(n, Ordering::Relaxed);
     };
+    let finished = AtomicBool::new(false);
     let waiting = std::thread::current();
     std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("timbre-render".into())
             .spawn_scoped(s, || {
                 let result = work(&stop, &add);
+                finished.store(true, Ordering::Release);
                 waiting.unpark();
                 result
             })
@@ -307,7 +314,8 @@ fn interruptible<T: Send>(
         let mut reported = 0;
         let mut failure = None;
         loop {
-            let finished = worker.is_finished();
+            // The flag is set before the wake-up; `is_finished` also covers a panic.
+            let finished = finished.load(Ordering::Acquire) || worker.is_finished();
             if failure.is_none() {
                 let now = done.load(Ordering::Relaxed);
                 let told = match progress {
@@ -396,10 +404,13 @@ fn to_python(py: Python<'_>, value: toml::Value) -> PyResult<Bound<'_, PyAny>> {
 
 #[pymethods]
 impl NativeScene {
-    /// The scene file at `path` (read now, once), with `set` (`KEY=VALUE` strings) applied as
+    /// The scene file at `path` (read now, once; named by its absolute path), with `set` (`KEY=VALUE` strings) applied as
     /// `--set`.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf, set: Vec<String>) -> PyResult<NativeScene> {
+        // Absolute, so that the paths in it stay found after the working directory changes.
+        let path = std::path::absolute(&path)
+            .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
         let name = path.display().to_string();
         NativeScene::open(py, Some(path), String::new(), name, set)
     }
@@ -451,7 +462,7 @@ impl NativeScene {
             let description = parsed.map_err(|e| scene_error(py, e))?;
             let mut state = self.state();
             // Changed by another thread meanwhile: again, from its version.
-            if state.overrides != old.overrides {
+            if !Arc::ptr_eq(&state.description, &old.description) {
                 continue;
             }
             let built = state
@@ -475,8 +486,8 @@ impl NativeScene {
             .iter()
             .map(|o| {
                 let text = o.to_string();
-                let (key, value) = text.split_once('=').unwrap_or((&text, ""));
-                (key.trim().to_string(), value.trim().to_string())
+                let value = text.split_once('=').map_or("", |(_, v)| v);
+                (o.key.join("."), value.trim().to_string())
             })
             .collect()
     }
@@ -622,22 +633,31 @@ impl NativeScene {
             ));
         }
         // Refused before it starts if it could not finish (as `timbre render` does), rather
-        // than the process killed midway.
+        // than the process killed midway: the views in memory, and the float32 arrays handed
+        // to Python (12 bytes a pixel of the output, 4 a channel of the AOVs asked for).
         let workers = settings
             .threads
-            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+            as u64;
+        let pixels = bounds.pixels();
         let views = stereo.views() as u64;
-        let image = render_memory(bounds.pixels(), views, settings.aovs, channels);
+        let image = stereo::memory_needed(settings.aovs, stereo, pixels)
+            + pixels * (12 * views + 4 * channels);
         let scene = match state.built {
             Some(_) => 0,
             None => description.build_memory(),
         };
-        if let Some(available) = memory::available(workers as u64)
+        if let Some(available) = memory::available(memory_reserve(workers))
             && image + scene > available
         {
             let gib = |b: u64| b as f64 / f64::from(1 << 30);
+            let advice = if scene > image {
+                "give the scene fewer array copies, triangles or objects"
+            } else {
+                "render a smaller image"
+            };
             return Err(PyMemoryError::new_err(format!(
-                "a {}x{} render needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here",
+                "a {}x{} render needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {advice}",
                 bounds.width(),
                 bounds.height(),
                 gib(image + scene),
@@ -646,6 +666,7 @@ impl NativeScene {
             )));
         }
         let built = self.built(py, &state, threads)?;
+        THREADS_SEEN.fetch_max(workers, Ordering::Relaxed);
         let camera = &description.camera;
         let rendered = interruptible(py, progress.as_ref(), |stop, progress| {
             let scene = &built.scene;

@@ -410,3 +410,37 @@ def test_copies_are_independent():
     image = scene.render(8, 6, aovs=["depth"])
     for other in (copy.copy(image), copy.deepcopy(image), image.copy()):
         assert np.array_equal(other.aovs["depth"], image.aovs["depth"]) and other.rays == image.rays
+
+
+def test_renders_go_on_under_an_address_space_limit():
+    # The memory check counts what earlier renders of the process mapped once, not again (a
+    # render maps some 270 MiB of thread arenas and Embree; it reserves 416 MiB for them).
+    script = textwrap.dedent(
+        """
+        import resource, timbre
+        resource.setrlimit(resource.RLIMIT_AS, (850 << 20, 850 << 20))
+        scene = timbre.studio()
+        for k in range(4):
+            scene.render(64, 48, threads=2)
+        print("rendered")
+        """
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=120)
+    assert done.stdout.strip() == "rendered", done.stderr
+
+
+def test_a_scene_loaded_from_a_relative_path_survives_a_change_of_directory(monkeypatch):
+    monkeypatch.chdir(SCENES)
+    scene = timbre.load("mesh.toml")
+    assert scene.name == str(SCENES / "mesh.toml")
+    monkeypatch.chdir("/")
+    # Its meshes are found again when an override makes it read them.
+    assert scene.set("render.spp", 2).render(16, 12).shape == (12, 16, 3)
+
+
+def test_an_empty_image_has_no_png():
+    image = timbre.Image(np.zeros((0, 4, 3), np.float32))
+    assert image._repr_png_() is None
+    with pytest.raises(ValueError):
+        image.png()

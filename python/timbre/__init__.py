@@ -216,7 +216,7 @@ class Scene:
 
     @property
     def name(self) -> str:
-        """The scene file's path as given, or the name that stands for its text in messages."""
+        """The scene file's absolute path, or the name that stands for its text in messages."""
         return self._native.name()
 
     @property
@@ -327,7 +327,8 @@ class Scene:
         sizes = {k: None if v is None else _whole(k, v, 1, u32) for k, v in sizes.items()}
         seed = None if seed is None else _whole("seed", seed, 0, 2**64 - 1)
         if pixel_bounds is not None:
-            if isinstance(pixel_bounds, (str, bytes)) or len(pixel_bounds) != 4:
+            if not isinstance(pixel_bounds, Sequence) or isinstance(pixel_bounds, (str, bytes)) \
+                    or len(pixel_bounds) != 4:
                 raise ValueError(f"pixel_bounds must be (x0, x1, y0, y1), got {pixel_bounds!r}")
             pixel_bounds = tuple(_whole("pixel_bounds", v, 0, u32) for v in pixel_bounds)
         bar = None
