@@ -285,8 +285,8 @@ impl NativeScene {
 
 /// Runs `work` on its own thread with the GIL released, while this thread passes the pixels
 /// finished to `progress` (with the GIL) and looks for Ctrl-C and other signals, about every
-/// 50 ms, and at the end. A signal's exception (KeyboardInterrupt) or the callback's stops the work and is
-/// raised once the work has stopped.
+/// 50 ms, and at the end. A signal's exception (KeyboardInterrupt) or the callback's stops the
+/// work and is raised once the work has stopped.
 fn interruptible<T: Send>(
     py: Python<'_>,
     progress: Option<&Bound<'_, PyAny>>,
@@ -404,8 +404,8 @@ fn to_python(py: Python<'_>, value: toml::Value) -> PyResult<Bound<'_, PyAny>> {
 
 #[pymethods]
 impl NativeScene {
-    /// The scene file at `path` (read now, once; named by its absolute path), with `set` (`KEY=VALUE` strings) applied as
-    /// `--set`.
+    /// The scene file at `path` (read now, once; named by its absolute path), with `set`
+    /// (`KEY=VALUE` strings) applied as `--set`.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf, set: Vec<String>) -> PyResult<NativeScene> {
         // Absolute, so that the paths in it stay found after the working directory changes.
