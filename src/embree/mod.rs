@@ -90,16 +90,19 @@ impl Bounds {
     }
 }
 
-/// The largest f32 not above `x`.
+/// The largest f32 not above `x`. (Both neighbours are computed and one is selected, without
+/// a branch: which way `x` was rounded is a coin toss that a branch predictor cannot learn.)
 fn f32_below(x: f64) -> f32 {
     let f = x as f32;
-    if f as f64 > x { f.next_down() } else { f }
+    let down = f.next_down();
+    if f as f64 > x { down } else { f }
 }
 
-/// The smallest f32 not below `x`.
+/// The smallest f32 not below `x` (branch-free, as [`f32_below`]).
 fn f32_above(x: f64) -> f32 {
     let f = x as f32;
-    if (f as f64) < x { f.next_up() } else { f }
+    let up = f.next_up();
+    if (f as f64) < x { up } else { f }
 }
 
 /// A ray in f64 as timbre traces it; Embree receives it rounded to f32.
