@@ -292,3 +292,96 @@ fn packets_find_what_single_rays_find() {
         assert!(lane, "a shadow ray of the packet missed the disc");
     }
 }
+
+/// Flat primitives facing the axes (boxes of no depth), as single objects and in an array, in
+/// a scene that holds triangles (whose packets Embree traverses coherently): every packet of 1
+/// to 8 neighbouring rays, from one origin or from nearby ones, finds exactly what the rays
+/// find one by one, and so does every shadow packet. (Without the f32 step of depth that
+/// `Bounds::enclosing` gives flat boxes, packets of nearly parallel rays miss flat primitives.)
+#[test]
+fn packets_of_flat_primitives_find_what_single_rays_find() {
+    let text = r#"
+studio = "none"
+[[object]]
+shape = { type = "disc", centre = [0, 0, 6], normal = [0, 0, -1], radius = 0.7 }
+surface = { type = "matt", colour = [1, 1, 1] }
+[[object]]
+shape = { type = "disc", centre = [1.2, 0, 8], normal = [1, 0, 0], radius = 0.9 }
+surface = { type = "matt", colour = [1, 1, 1] }
+[[object]]
+shape = { type = "parallelogram", corner = [-2, -0.8, 5], span_u = [1.5, 0, 0], span_v = [0, 0, 4] }
+surface = { type = "matt", colour = [1, 1, 1] }
+[[object]]
+shape = { type = "convex-polygon", vertices = [[-1, 0.3, 9], [-0.2, 0.3, 9], [-0.4, 1.2, 9]] }
+surface = { type = "matt", colour = [1, 1, 1] }
+[[object]]
+shape = { type = "disc", centre = [0, -0.5, 7], normal = [0, 1, 0], radius = 0.05 }
+surface = { type = "matt", colour = [1, 1, 1] }
+array = { vectors = [[0.17, 0, 0], [0, 0, 0.13]], counts = [12, 9], centred = true }
+[[object]]
+shape = { type = "triangle-mesh", vertices = [[1, -1, 10], [3, -1, 10], [3, 1, 10], [1, 1, 10]], triangles = [[0, 2, 1], [0, 3, 2]] }
+surface = { type = "matt", colour = [1, 1, 1] }
+"#;
+    let description = file::parse(text, "flat.toml").unwrap();
+    let device = Device::new("").unwrap();
+    let scene = Scene::build(&device, &description).unwrap();
+    let g = &scene.scene_frame.geometry;
+    let mut random = {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    };
+    let (mut hits, mut blocked) = (0, 0);
+    for packet in 0..4000 {
+        // A packet of neighbouring rays towards the flat primitives, from the camera's side or
+        // from the far side, from one origin or (shadow rays, a finite aperture) from 8.
+        let back = packet % 2 == 1;
+        let origin = DVec3::new(
+            4.0 * random() - 2.0,
+            3.0 * random() - 1.5,
+            if back { 14.0 } else { 0.0 },
+        );
+        let towards = DVec3::new(
+            4.0 * random() - 2.0,
+            2.5 * random() - 1.25,
+            5.0 + 5.0 * random(),
+        );
+        let spread = 10f64.powf(-6.0 + 4.0 * random());
+        let rays: [ExactRay; 8] = std::array::from_fn(|i| {
+            let o = match packet % 4 < 2 {
+                true => origin,
+                false => origin + DVec3::new(random(), random(), 0.0) * spread,
+            };
+            let d = towards + DVec3::new((i % 4) as f64, (i / 4) as f64, 0.0) * spread - o;
+            ExactRay {
+                origin: o,
+                direction: d.normalize(),
+            }
+        });
+        // Packets of every size: Embree bounds the packet's frustum by its active lanes.
+        let rays = &rays[..1 + packet % 8];
+        for (ray, lane) in rays.iter().zip(g.nearest_packet(rays, 0.0, f64::INFINITY)) {
+            let single = g.nearest(ray.origin, ray.direction, 0.0, f64::INFINITY);
+            assert_eq!(lane, single, "packet {packet}: {ray:?}");
+            hits += single.is_some() as u32;
+        }
+        let segments: Vec<(ExactRay, f64, f64)> = rays
+            .iter()
+            .map(|&ray| (ray, 1e-9, 4.0 + 10.0 * random()))
+            .collect();
+        for (&(ray, t_min, t_max), lane) in segments.iter().zip(g.shadowed8(&segments)) {
+            assert_eq!(lane, g.shadowed(ray.origin, ray.direction, t_min, t_max));
+            blocked += lane as u32;
+        }
+    }
+    // The packets met the flat primitives often, and missed them often.
+    assert!((3000..15000).contains(&hits), "{hits} of 18000 rays hit");
+    assert!(
+        (3000..15000).contains(&blocked),
+        "{blocked} of 18000 shadow rays blocked"
+    );
+}

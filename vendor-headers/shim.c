@@ -341,10 +341,18 @@ static void to_embree_packet8(const int *valid, const TimbreRay *rays, int *vali
     }
 }
 
-/* Packets are traced without Embree's "coherent" hint: with it, Embree 3.13 missed a disc (whose
- * box has no depth) for rays that found it one by one (tests/tracing.rs). */
+/* Embree's hint for a packet: coherent (neighbouring rays, traversed together with frustum
+ * culling) or not. */
+#if defined(TIMBRE_EMBREE4)
+#define PACKET_FLAGS(coherent) \
+    ((coherent) ? RTC_RAY_QUERY_FLAG_COHERENT : RTC_RAY_QUERY_FLAG_INCOHERENT)
+#else
+#define PACKET_FLAGS(coherent) \
+    ((coherent) ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT)
+#endif
+
 void timbre_intersect8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
-                       TimbreHit *hits) {
+                       int coherent, TimbreHit *hits) {
     TimbreContext ctx;
     init_context(&ctx, query);
     /* Embree requires the packet and its valid mask to be 32-byte aligned. */
@@ -362,8 +370,10 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
     struct RTCIntersectArguments args;
     rtcInitIntersectArguments(&args);
     args.context = &ctx.base;
+    args.flags = PACKET_FLAGS(coherent);
     rtcIntersect8(valid8, (RTCScene)scene, rh, &args);
 #else
+    ctx.base.flags = PACKET_FLAGS(coherent);
     rtcIntersect8(valid8, (RTCScene)scene, &ctx.base, rh);
 #endif
     for (unsigned i = 0; i < 8; i++) {
@@ -375,7 +385,7 @@ void timbre_intersect8(void *scene, const void *query, const int *valid, const T
 }
 
 void timbre_occluded8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
-                      int *occluded) {
+                      int coherent, int *occluded) {
     TimbreContext ctx;
     init_context(&ctx, query);
     _Alignas(32) struct RTCRay8 r;
@@ -385,8 +395,10 @@ void timbre_occluded8(void *scene, const void *query, const int *valid, const Ti
     struct RTCOccludedArguments args;
     rtcInitOccludedArguments(&args);
     args.context = &ctx.base;
+    args.flags = PACKET_FLAGS(coherent);
     rtcOccluded8(valid8, (RTCScene)scene, &r, &args);
 #else
+    ctx.base.flags = PACKET_FLAGS(coherent);
     rtcOccluded8(valid8, (RTCScene)scene, &ctx.base, &r);
 #endif
     for (unsigned i = 0; i < 8; i++) occluded[i] = valid[i] && r.tfar[i] < 0.0f;

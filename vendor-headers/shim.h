@@ -79,11 +79,13 @@ uint32_t timbre_scene_add_instance(void *device, void *scene, void *instanced_sc
 /* Queries. `query` is passed unchanged to the user-geometry callbacks. */
 void timbre_intersect1(void *scene, const void *query, const TimbreRay *ray, TimbreHit *hit);
 int timbre_occluded1(void *scene, const void *query, const TimbreRay *ray);
-/* Packet of 8 rays; lanes with valid[i] == 0 are ignored and get a miss. */
+/* Packet of 8 rays; lanes with valid[i] == 0 are ignored and get a miss. `coherent` != 0 traces
+ * it with Embree's coherent-traversal hint. */
 void timbre_intersect8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
-                       TimbreHit *hits);
-/* Occlusion of a packet of 8 rays: occluded[i] is 1 where lane i is blocked (0 where invalid). */
+                       int coherent, TimbreHit *hits);
+/* Occlusion of a packet of 8 rays: occluded[i] is 1 where lane i is blocked (0 where invalid);
+ * `coherent` as for timbre_intersect8. */
 void timbre_occluded8(void *scene, const void *query, const int *valid, const TimbreRay *rays,
-                      int *occluded);
+                      int coherent, int *occluded);
 
 #endif
