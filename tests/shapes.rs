@@ -772,7 +772,18 @@ fn check_hit(
         return Err(format!("hit point {p} is {residual:e} off the surface"));
     }
     if let Some(shape) = shape {
-        check_frame(&shape.frame(p, prim), &case.shape.normals(p, prim))?;
+        let frame = shape.frame(p, prim);
+        check_frame(&frame, &case.shape.normals(p, prim))?;
+        // The normal alone (what shading asks for) is the frame's w, to the bit.
+        if shape.normal(p, prim).to_array().map(f64::to_bits)
+            != frame.w.to_array().map(f64::to_bits)
+        {
+            return Err(format!(
+                "normal {} is not the frame's w {}",
+                shape.normal(p, prim),
+                frame.w
+            ));
+        }
         if let Some((lo, hi)) = shape.bounds() {
             let slack = DVec3::splat(2.0 * tol);
             if !(p.cmpge(lo - slack).all() && p.cmple(hi + slack).all()) {

@@ -73,6 +73,23 @@ impl Cylinder {
     }
 }
 
+impl Cylinder {
+    /// The part surface point `p` belongs to (whichever it is nearer to): `Ok` with the unit
+    /// radial direction on the mantle, `Err` with the cap's outward axis (∓axis) on a cap.
+    fn part_at(&self, p: DVec3) -> Result<DVec3, DVec3> {
+        let s = (p - self.start).dot(self.axis);
+        let radial = (p - self.start) - s * self.axis;
+        let to_mantle = (radial.length() - self.radius).abs();
+        if to_mantle <= s.abs().min((s - self.length).abs()) {
+            Ok(radial.normalize())
+        } else if s < 0.5 * self.length {
+            Err(-self.axis)
+        } else {
+            Err(self.axis)
+        }
+    }
+}
+
 impl AnalyticShape for Cylinder {
     fn intersect(
         &self,
@@ -104,20 +121,19 @@ impl AnalyticShape for Cylinder {
     /// Frame at a surface point: on the mantle w is radial, u = axis × w, v = axis; on a cap w
     /// is ∓axis. A point belongs to whichever part it is nearer to.
     fn frame(&self, p: DVec3, _part: u32) -> Frame {
-        let s = (p - self.start).dot(self.axis);
-        let radial = (p - self.start) - s * self.axis;
-        let to_mantle = (radial.length() - self.radius).abs();
-        if to_mantle <= s.abs().min((s - self.length).abs()) {
-            Frame {
-                u: self.axis.cross(radial.normalize()),
+        match self.part_at(p) {
+            Ok(w) => Frame {
+                u: self.axis.cross(w),
                 v: self.axis,
-                w: radial.normalize(),
-            }
-        } else if s < 0.5 * self.length {
-            Frame::from_normal(-self.axis)
-        } else {
-            Frame::from_normal(self.axis)
+                w,
+            },
+            Err(n) => Frame::from_normal(n),
         }
+    }
+
+    /// The frame's w alone (shading needs no more).
+    fn normal(&self, p: DVec3, _part: u32) -> DVec3 {
+        self.part_at(p).unwrap_or_else(|n| n.normalize())
     }
 
     /// (r φ, s): arc length around the axis and distance along it from `start`.

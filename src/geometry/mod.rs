@@ -176,6 +176,12 @@ pub trait AnalyticShape {
     /// The surface frame at surface point `p` of part `part` (u, v, w; w the outward normal).
     fn frame(&self, p: DVec3, part: u32) -> Frame;
 
+    /// The outward normal at surface point `p` of part `part`: the frame's w, exactly (shapes
+    /// whose u and v cost something to compute give it alone).
+    fn normal(&self, p: DVec3, part: u32) -> DVec3 {
+        self.frame(p, part).w
+    }
+
     /// The surface coordinates of surface point `p` of part `part` (units of length; see each
     /// shape).
     fn coordinates(&self, p: DVec3, part: u32) -> DVec2;
@@ -333,6 +339,12 @@ impl Shape {
     #[inline]
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
         dispatch!(self, s => s.frame(p, prim), m => m.frame(p, prim))
+    }
+
+    /// Outward normal at surface point `p` of primitive `prim`: [`Self::frame`]'s w.
+    #[inline]
+    pub fn normal(&self, p: DVec3, prim: u32) -> DVec3 {
+        dispatch!(self, s => s.normal(p, prim), m => m.frame(p, prim).w)
     }
 
     /// Surface coordinates of surface point `p` of primitive `prim` (units of length; see

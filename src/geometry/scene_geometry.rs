@@ -298,7 +298,8 @@ impl SceneGeometry {
     pub fn normal_along(&self, hit: &Hit, p: DVec3, direction: DVec3) -> DVec3 {
         match &self.shapes[hit.object] {
             Shape::TriangleMesh(m) if m.normals().is_none() => m.face_normal(hit.prim).normalize(),
-            _ => self.frame_along(hit, p, direction).w,
+            Shape::TriangleMesh(_) => self.frame_along(hit, p, direction).w,
+            shape => shape.normal(p - self.offset(hit.object, hit.element), hit.prim),
         }
     }
 
