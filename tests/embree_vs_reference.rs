@@ -367,22 +367,6 @@ fn hits_beyond_t_max_within_f32_rounding_are_not_reported() {
     assert_eq!(scene.nearest(o, d, 0.0, 10.0).map(|h| h.t), Some(t_hit));
 }
 
-/// The f32 box of an f64 box contains it, and has depth on every axis even where the f64 box
-/// has none (a flat primitive facing an axis), by one f32 step each way where the bound is an
-/// f32 itself.
-#[test]
-fn enclosing_boxes_contain_the_box_and_are_never_flat() {
-    let (lower, upper) = (DVec3::new(-0.3, 11.0, 0.1), DVec3::new(0.7, 11.0, 0.1));
-    let b = Bounds::enclosing(lower, upper);
-    for i in 0..3 {
-        assert!((b.lower[i] as f64) <= lower[i] && (b.upper[i] as f64) >= upper[i]);
-        assert!(b.lower[i] < b.upper[i], "axis {i}: {b:?}");
-    }
-    assert_eq!((b.lower.y, b.upper.y), (11f32.next_down(), 11f32.next_up()));
-    // 0.1 is no f32: rounded outwards it has depth already, and is left so.
-    assert_eq!((b.lower.z, b.upper.z), (0.1f32.next_down(), 0.1f32));
-}
-
 // ---------------------------------------------------------------------------------------------
 // Embree instancing through timbre::embree
 // ---------------------------------------------------------------------------------------------

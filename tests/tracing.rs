@@ -293,95 +293,191 @@ fn packets_find_what_single_rays_find() {
     }
 }
 
-/// Flat primitives facing the axes (boxes of no depth), as single objects and in an array, in
-/// a scene that holds triangles (whose packets Embree traverses coherently): every packet of 1
-/// to 8 neighbouring rays, from one origin or from nearby ones, finds exactly what the rays
-/// find one by one, and so does every shadow packet. (Without the f32 step of depth that
-/// `Bounds::enclosing` gives flat boxes, packets of nearly parallel rays miss flat primitives.)
-#[test]
-fn packets_of_flat_primitives_find_what_single_rays_find() {
-    let text = r#"
-studio = "none"
-[[object]]
-shape = { type = "disc", centre = [0, 0, 6], normal = [0, 0, -1], radius = 0.7 }
-surface = { type = "matt", colour = [1, 1, 1] }
-[[object]]
-shape = { type = "disc", centre = [1.2, 0, 8], normal = [1, 0, 0], radius = 0.9 }
-surface = { type = "matt", colour = [1, 1, 1] }
-[[object]]
-shape = { type = "parallelogram", corner = [-2, -0.8, 5], span_u = [1.5, 0, 0], span_v = [0, 0, 4] }
-surface = { type = "matt", colour = [1, 1, 1] }
-[[object]]
-shape = { type = "convex-polygon", vertices = [[-1, 0.3, 9], [-0.2, 0.3, 9], [-0.4, 1.2, 9]] }
-surface = { type = "matt", colour = [1, 1, 1] }
-[[object]]
-shape = { type = "disc", centre = [0, -0.5, 7], normal = [0, 1, 0], radius = 0.05 }
-surface = { type = "matt", colour = [1, 1, 1] }
-array = { vectors = [[0.17, 0, 0], [0, 0, 0.13]], counts = [12, 9], centred = true }
-[[object]]
-shape = { type = "triangle-mesh", vertices = [[1, -1, 10], [3, -1, 10], [3, 1, 10], [1, 1, 10]], triangles = [[0, 2, 1], [0, 3, 2]] }
-surface = { type = "matt", colour = [1, 1, 1] }
-"#;
-    let description = file::parse(text, "flat.toml").unwrap();
+/// Packets of 1 to 8 nearly parallel rays (`spread` apart, from one origin or nearby ones, drawn
+/// in the boxes `origins` and towards `targets`) find what the rays find one by one in the scene
+/// `text`, and so do packets of shadow rays; `exact_ties` asks for the same hit to the bit, else
+/// for the same object at the same distance (a ray through an edge two triangles share may
+/// name either). Returns the number of rays that hit something.
+fn packets_agree_with_single_rays(
+    text: &str,
+    origins: [DVec3; 2],
+    targets: [DVec3; 2],
+    exact_ties: bool,
+) -> u32 {
+    let description = file::parse(text, "packets.toml").unwrap();
     let device = Device::new("").unwrap();
     let scene = Scene::build(&device, &description).unwrap();
     let g = &scene.scene_frame.geometry;
-    let mut random = {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        move || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        }
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut random = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    let (mut hits, mut blocked) = (0, 0);
-    for packet in 0..4000 {
-        // A packet of neighbouring rays towards the flat primitives, from the camera's side or
-        // from the far side, from one origin or (shadow rays, a finite aperture) from 8.
-        let back = packet % 2 == 1;
-        let origin = DVec3::new(
-            4.0 * random() - 2.0,
-            3.0 * random() - 1.5,
-            if back { 14.0 } else { 0.0 },
-        );
-        let towards = DVec3::new(
-            4.0 * random() - 2.0,
-            2.5 * random() - 1.25,
-            5.0 + 5.0 * random(),
-        );
-        let spread = 10f64.powf(-6.0 + 4.0 * random());
-        let rays: [ExactRay; 8] = std::array::from_fn(|i| {
-            let o = match packet % 4 < 2 {
-                true => origin,
-                false => origin + DVec3::new(random(), random(), 0.0) * spread,
-            };
-            let d = towards + DVec3::new((i % 4) as f64, (i / 4) as f64, 0.0) * spread - o;
-            ExactRay {
-                origin: o,
-                direction: d.normalize(),
-            }
-        });
-        // Packets of every size: Embree bounds the packet's frustum by its active lanes.
-        let rays = &rays[..1 + packet % 8];
-        for (ray, lane) in rays.iter().zip(g.nearest_packet(rays, 0.0, f64::INFINITY)) {
+    let mut within =
+        |[lo, hi]: [DVec3; 2]| lo + (hi - lo) * DVec3::new(random(), random(), random());
+    let mut hits = 0;
+    for packet in 0..3000 {
+        let (origin, towards) = (within(origins), within(targets));
+        let spread = 10f64.powf(-8.0 + 6.0 * within([DVec3::ZERO, DVec3::ONE]).x);
+        let jitter: Vec<DVec3> = (0..8)
+            .map(|_| within([DVec3::ZERO, DVec3::ONE]) * spread * (packet % 2) as f64)
+            .collect();
+        let rays: Vec<ExactRay> = (0..1 + packet % 8)
+            .map(|i| {
+                let o = origin + jitter[i];
+                let d = towards + DVec3::new((i % 4) as f64, (i / 4) as f64, 0.0) * spread - o;
+                ExactRay {
+                    origin: o,
+                    direction: d.normalize(),
+                }
+            })
+            .collect();
+        for (ray, lane) in rays.iter().zip(g.nearest_packet(&rays, 0.0, f64::INFINITY)) {
             let single = g.nearest(ray.origin, ray.direction, 0.0, f64::INFINITY);
-            assert_eq!(lane, single, "packet {packet}: {ray:?}");
+            let same = match (lane, single) {
+                _ if exact_ties => lane == single,
+                (Some(a), Some(b)) => a.object == b.object && (a.t - b.t).abs() <= 1e-12 * b.t,
+                (a, b) => a == b,
+            };
+            assert!(
+                same,
+                "packet {packet}: {ray:?}: {lane:?} against {single:?}"
+            );
             hits += single.is_some() as u32;
         }
         let segments: Vec<(ExactRay, f64, f64)> = rays
             .iter()
-            .map(|&ray| (ray, 1e-9, 4.0 + 10.0 * random()))
+            .map(|&ray| (ray, 1e-9, 100.0 * within([DVec3::ZERO, DVec3::ONE]).x))
             .collect();
         for (&(ray, t_min, t_max), lane) in segments.iter().zip(g.shadowed8(&segments)) {
-            assert_eq!(lane, g.shadowed(ray.origin, ray.direction, t_min, t_max));
-            blocked += lane as u32;
+            let single = g.shadowed(ray.origin, ray.direction, t_min, t_max);
+            assert_eq!(lane, single, "packet {packet}: {ray:?} to {t_max}");
         }
     }
-    // The packets met the flat primitives often, and missed them often.
-    assert!((3000..15000).contains(&hits), "{hits} of 18000 rays hit");
-    assert!(
-        (3000..15000).contains(&blocked),
-        "{blocked} of 18000 shadow rays blocked"
+    hits
+}
+
+/// 13 500 rays in a box, in packets, hit something in a fair share of cases.
+fn fair_share(hits: u32) {
+    assert!((1000..12500).contains(&hits), "{hits} of 13 500 rays hit");
+}
+
+/// Packets find flat primitives facing the axes, whose boxes are thin or of no depth, as single
+/// rays do. Embree's coherent-traversal hint would break this in every scene but the last:
+/// for user geometry and instances, Embree's frustum test is not conservative (the first scene
+/// holds the disc of `packets_find_what_single_rays_find`, the second discs at a coordinate
+/// that is no f32, the third an array of flat mesh tiles); a scene of triangles alone takes the
+/// hint, and there Embree's test is conservative.
+#[test]
+fn packets_of_flat_primitives_find_what_single_rays_find() {
+    let matt = "surface = { type = \"matt\", colour = [1, 1, 1] }";
+    let far_triangle = format!(
+        "[[object]]\nshape = {{ type = \"triangle-mesh\", vertices = [[50, 50, 50], [51, 50, 50], [50, 51, 50]], triangles = [[0, 1, 2]] }}\n{matt}\n"
     );
+    let mixed = format!(
+        r#"studio = "none"
+[[object]]
+shape = {{ type = "disc", centre = [0, 0.55, 11], normal = [0, 0, -1], radius = 0.5 }}
+{matt}
+[[object]]
+shape = {{ type = "disc", centre = [1.2, 0, 8], normal = [1, 0, 0], radius = 0.9 }}
+{matt}
+[[object]]
+shape = {{ type = "parallelogram", corner = [-2, -0.8, 5], span_u = [1.5, 0, 0], span_v = [0, 0, 4] }}
+{matt}
+[[object]]
+shape = {{ type = "convex-polygon", vertices = [[-1, 0.3, 9], [-0.2, 0.3, 9], [-0.4, 1.2, 9]] }}
+{matt}
+[[object]]
+shape = {{ type = "disc", centre = [0, -0.5, 7], normal = [0, 1, 0], radius = 0.05 }}
+{matt}
+array = {{ vectors = [[0.17, 0, 0], [0, 0, 0.13]], counts = [12, 9], centred = true }}
+{far_triangle}"#
+    );
+    let (behind, front) = (
+        [DVec3::new(-2.0, -1.5, 14.0), DVec3::new(2.0, 1.5, 14.0)],
+        [DVec3::new(-2.0, -1.5, 0.0), DVec3::new(2.0, 1.5, 0.0)],
+    );
+    let scene_targets = [DVec3::new(-2.0, -1.25, 5.0), DVec3::new(2.0, 1.25, 11.0)];
+    fair_share(packets_agree_with_single_rays(
+        &mixed,
+        behind,
+        scene_targets,
+        true,
+    ));
+    fair_share(packets_agree_with_single_rays(
+        &mixed,
+        front,
+        scene_targets,
+        true,
+    ));
+
+    // 64 discs facing z at z = 0.0501236, seen at grazing angles from just above them.
+    let mut field = String::from("studio = \"none\"\n");
+    for i in 0..8 {
+        for j in 0..8 {
+            let (x, y) = (-1.0 + 2.0 * i as f64 / 7.0, -1.0 + 2.0 * j as f64 / 7.0);
+            field += &format!(
+                "[[object]]\nshape = {{ type = \"disc\", centre = [{x}, {y}, 0.0501236], normal = [0, 0, 1], radius = 0.12 }}\n{matt}\n"
+            );
+        }
+    }
+    let plane = [
+        DVec3::new(-1.1, -1.1, 0.0501236),
+        DVec3::new(1.1, 1.1, 0.0501236),
+    ];
+    let above = [DVec3::new(-1.0, -1.0, 0.0502), DVec3::new(1.0, 1.0, 0.2)];
+    fair_share(packets_agree_with_single_rays(
+        &(field + &far_triangle),
+        above,
+        plane,
+        true,
+    ));
+
+    // An 8 x 8 array of 2-triangle tiles at z = 20.969, seen from z = 26.73.
+    let tiles = format!(
+        "studio = \"none\"\n[[object]]\nshape = {{ type = \"triangle-mesh\", vertices = [[0, 0, 20.969], [0.2, 0, 20.969], [0.2, 0.2, 20.969], [0, 0.2, 20.969]], triangles = [[0, 1, 2], [0, 2, 3]] }}\n{matt}\narray = {{ vectors = [[0.25, 0, 0], [0, 0.25, 0]], counts = [8, 8] }}\n"
+    );
+    let tile_plane = [DVec3::new(-0.1, -0.1, 20.969), DVec3::new(2.1, 2.1, 20.969)];
+    let tile_origins = [DVec3::new(-1.0, -1.0, 26.73), DVec3::new(3.0, 3.0, 26.73)];
+    fair_share(packets_agree_with_single_rays(
+        &tiles,
+        tile_origins,
+        tile_plane,
+        true,
+    ));
+
+    // The same tiles as one mesh of triangles alone (coherent packets): the same hits, up to
+    // which of two triangles a ray through their shared edge names.
+    let (mut vertices, mut triangles) = (Vec::new(), Vec::new());
+    for i in 0..8 {
+        for j in 0..8 {
+            let (x, y, k) = (0.25 * i as f64, 0.25 * j as f64, vertices.len());
+            for (dx, dy) in [(0.0, 0.0), (0.2, 0.0), (0.2, 0.2), (0.0, 0.2)] {
+                vertices.push(format!("[{}, {}, 0.0501236]", x + dx, y + dy));
+            }
+            triangles.push(format!(
+                "[{k}, {}, {}], [{k}, {}, {}]",
+                k + 1,
+                k + 2,
+                k + 2,
+                k + 3
+            ));
+        }
+    }
+    let mesh = format!(
+        "studio = \"none\"\n[[object]]\nshape = {{ type = \"triangle-mesh\", vertices = [{}], triangles = [{}] }}\n{matt}\n",
+        vertices.join(", "),
+        triangles.join(", ")
+    );
+    let mesh_plane = [
+        DVec3::new(-0.1, -0.1, 0.0501236),
+        DVec3::new(2.1, 2.1, 0.0501236),
+    ];
+    let mesh_above = [DVec3::new(-1.0, -1.0, 0.0502), DVec3::new(3.0, 3.0, 0.2)];
+    fair_share(packets_agree_with_single_rays(
+        &mesh, mesh_above, mesh_plane, false,
+    ));
 }

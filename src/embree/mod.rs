@@ -81,22 +81,11 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    /// The f32 box that contains the f64 box `[lower, upper]` (rounded outwards), at least a
-    /// step of f32 deep on every axis: Embree 3.13's coherent packet traversal missed a flat
-    /// primitive (a disc facing an axis) in a box of no depth (`tests/tracing.rs`).
+    /// The f32 box that contains the f64 box `[lower, upper]` (rounded outwards).
     pub fn enclosing(lower: DVec3, upper: DVec3) -> Bounds {
-        let (mut l, mut u) = (
-            lower.to_array().map(f32_below),
-            upper.to_array().map(f32_above),
-        );
-        for i in 0..3 {
-            if l[i] == u[i] {
-                (l[i], u[i]) = (l[i].next_down(), u[i].next_up());
-            }
-        }
         Bounds {
-            lower: Vec3::from(l),
-            upper: Vec3::from(u),
+            lower: Vec3::new(f32_below(lower.x), f32_below(lower.y), f32_below(lower.z)),
+            upper: Vec3::new(f32_above(upper.x), f32_above(upper.y), f32_above(upper.z)),
         }
     }
 }
@@ -407,7 +396,6 @@ impl SceneBuilder {
                 mask,
             )
         };
-        self.scene.triangles |= instanced.triangles;
         self.scene.children.push(instanced);
         let id = self.id(id, "an instance")?;
         let offsets = &mut self.scene.instance_offsets;
@@ -445,10 +433,7 @@ pub struct Scene {
     children: Vec<Arc<Scene>>,
     /// Exact translation of each instance, by geometry id (zero for other geometry).
     instance_offsets: Vec<DVec3>,
-    /// Whether it holds triangles (or instances of scenes that do). Its packets then carry
-    /// Embree's coherent-traversal hint: on the 1M-triangle anchor mesh that made primary and
-    /// shadow packets 27 % faster, while scenes of user geometry alone were 2–3 % slower with it
-    /// (docs/PERFORMANCE.md).
+    /// Whether it holds triangle meshes (see [`Scene::coherent`]).
     triangles: bool,
 }
 
@@ -527,6 +512,16 @@ fn to_embree(ray: &ExactRay, t_near: f64, t_far: f64, mask: u32, id: u32) -> ffi
 }
 
 impl Scene {
+    /// Whether its packets take Embree's coherent-traversal hint: only a scene of triangles
+    /// alone. Embree traverses the triangles of a ROBUST scene with a conservative frustum test,
+    /// but user geometry and instances with one that misses thin boxes (a field of discs facing
+    /// an axis, an array of flat mesh tiles; `tests/tracing.rs`). On the 1M-triangle anchor
+    /// mesh the hint makes primary and shadow packets 30 % faster; for user geometry alone the
+    /// incoherent traversal is 2–3 % faster anyway (docs/PERFORMANCE.md).
+    fn coherent(&self) -> bool {
+        self.triangles && self.user.is_empty() && self.children.is_empty()
+    }
+
     fn finish(raw: &ffi::TimbreHit, best: BestHit) -> Option<RawHit> {
         if raw.geom_id == INVALID_ID {
             return None;
@@ -614,7 +609,7 @@ impl Scene {
                 &query as *const Query as *const c_void,
                 valid.as_ptr(),
                 packet.as_ptr(),
-                self.triangles as c_int,
+                self.coherent() as c_int,
                 hits.as_mut_ptr(),
             )
         };
@@ -647,7 +642,7 @@ impl Scene {
                 &query as *const Query as *const c_void,
                 valid.as_ptr(),
                 packet.as_ptr(),
-                self.triangles as c_int,
+                self.coherent() as c_int,
                 occluded.as_mut_ptr(),
             )
         };
