@@ -11,8 +11,8 @@ pub fn reserve(threads: u64) -> u64 {
 
 /// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
 /// less what is mapped now and `reserve` (what the render will map besides its buffers and has
-/// not mapped yet: [`reserve`]), and the memory the system has available (MemAvailable and
-/// free swap) less 128 MiB for the rest of the program; `None` where neither is known.
+/// not mapped yet, e.g. [`reserve`]'s), and the memory the system has available (MemAvailable
+/// and free swap) less 128 MiB for the rest of the program; `None` where neither is known.
 pub fn available(reserve: u64) -> Option<u64> {
     let address_space = proc_number("/proc/self/limits", "Max address space").and_then(|limit| {
         let mapped = proc_number("/proc/self/status", "VmSize:")? * 1024;

@@ -71,9 +71,7 @@ impl Cylinder {
     pub fn axis(&self) -> DVec3 {
         self.axis
     }
-}
 
-impl Cylinder {
     /// The part surface point `p` belongs to (whichever it is nearer to): `Ok` with the unit
     /// radial direction on the mantle, `Err` with the cap's outward axis (∓axis) on a cap.
     fn part_at(&self, p: DVec3) -> Result<DVec3, DVec3> {
