@@ -31,12 +31,12 @@ esac
 anchors="$(cd .. && pwd)/shared/anchors"
 [ -d "$anchors/embree-limit" ] || { echo "no anchors at $anchors" >&2; exit 2; }
 source scripts/workdir.sh "$@"
-cargo build --release --quiet --example image_diff
+cargo build --release --locked --quiet --example image_diff
 diff_images="$PWD/target/release/examples/image_diff"
 # timbre built against Embree 4 too (the embree4 feature), in its own target directory.
 scripts/setup-embree4.sh >/dev/null
 EMBREE_DIR="$PWD/target/embree4" CARGO_TARGET_DIR="$PWD/target/embree4-build" \
-    cargo build --release --quiet --features embree4
+    cargo build --release --locked --quiet --features embree4
 timbre4="$PWD/target/embree4-build/release/timbre"
 
 # --- the anchors -------------------------------------------------------------------------------

@@ -2,7 +2,8 @@
 # Coverage-guided fuzzing of what timbre reads (docs/RELIABILITY.md): the targets of fuzz/
 # (scene files with includes and meshes, OBJ, PLY, `--set` values) under libFuzzer, through
 # cargo-fuzz on the stable toolchain (no sanitizer: safe Rust needs none; a panic, an abort, a
-# hang past 10 s or more than 2 GiB is a finding).
+# hang (a run past 60 s, far above any honest one on a busy machine) or more than 2 GiB is a
+# finding).
 #
 #   scripts/fuzz.sh SECONDS [TARGET...]   fuzz each target (default: all four) for SECONDS,
 #                                         from the committed corpus and the project's own
@@ -55,7 +56,15 @@ dictionary() {
     printf '"[[object]]"\n"[[group]]"\n"[[include]]"\n"[[group.object]]"\n"= {"\n"= ["\n"\\xff"\n'
 }
 
-cargo build --release --quiet
+# The fuzz crate's lock file holds timbre's own versions (Cargo.lock) and libFuzzer's. cargo-fuzz
+# has no --locked, so a lock file that would change is refused here, not resolved anew (which
+# would build other versions on every machine).
+(cd fuzz && cargo metadata --locked --format-version 1 >/dev/null) || {
+    echo "fuzz: fuzz/Cargo.lock is not up to date with Cargo.lock; make it anew with" \
+        "cp Cargo.lock fuzz/Cargo.lock && (cd fuzz && cargo metadata --format-version 1 >/dev/null)" >&2
+    exit 1
+}
+cargo build --release --locked --quiet
 if [ "${1:-}" = "--minimize" ]; then
     for t in "${targets[@]}"; do
         mkdir -p "tests/data/fuzz/$t" "fuzz/corpus/$t"
@@ -65,7 +74,7 @@ if [ "${1:-}" = "--minimize" ]; then
         # libFuzzer's set-cover merge: few inputs of both with all their features, into the first.
         fuzz build -s none --release "$t"
         "fuzz/target/x86_64-unknown-linux-gnu/release/$t" -set_cover_merge=1 -rss_limit_mb=2048 \
-            -timeout=10 "tests/data/fuzz/$t" "$old" "fuzz/corpus/$t" 2>&1 | tail -n 1
+            -timeout=60 "tests/data/fuzz/$t" "$old" "fuzz/corpus/$t" 2>&1 | tail -n 1
         rm -rf "$old"
         echo "$t: $(ls "tests/data/fuzz/$t" | wc -l) inputs, $(du -sh "tests/data/fuzz/$t" | cut -f1)"
     done
@@ -79,7 +88,7 @@ dictionary > fuzz/scene.dict
 findings=()
 for t in "${targets[@]}"; do
     seed "$t"
-    flags=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -max_len=65536
+    flags=(-max_total_time="$seconds" -rss_limit_mb=2048 -timeout=60 -max_len=65536
            -print_final_stats=1)
     case $t in scene | set) flags+=(-dict="$root/fuzz/scene.dict") ;; esac
     echo "== $t: ${seconds} s from $(ls "fuzz/corpus/$t" | wc -l) inputs"

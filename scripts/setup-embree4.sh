@@ -4,7 +4,8 @@
 #   the library  PyPI's embreex wheel (4.4.0.post1, manylinux x86_64) ships Intel's Embree 4.4
 #                shared library and the oneTBB it needs (libembree4-<hash>.so.4, libtbb-<hash>.so.12,
 #                found by each other through $ORIGIN); they load on Debian 12's glibc
-#   the headers  the crates.io crate embree4-sys (0.0.12) ships Embree 4's C headers
+#   the headers  the crates.io crate embree4-sys (0.0.12, downloaded as a file; nothing of it is
+#                built) ships Embree 4's C headers
 #                (lib/embree4/rtcore*.h, Embree 4.2's; the shim copes with 4.2 headers over a
 #                4.4 library, see vendor-headers/shim.c)
 # and lays them out as an EMBREE_DIR for build.rs:
@@ -13,8 +14,9 @@
 # Usage: scripts/setup-embree4.sh [DIR]      (DIR defaults to target/embree4 of this repository)
 # then:  EMBREE_DIR=DIR cargo build --release --features embree4
 # Idempotent: when DIR holds this exact install (its stamp file says so) it only checks and
-# returns. Needs python3 with pip (installed from Debian's packages when missing), cargo, and
-# the registries; nothing is installed into the system's Python or into the repository.
+# returns. Needs python3 with pip (installed from Debian's packages when missing) and the
+# registries (PyPI, crates.io); nothing is installed into the system's Python or into the
+# repository, and no cache of cargo's or pip's is needed.
 set -euo pipefail
 
 repo="$(cd "$(dirname "$0")/.." && pwd)"
@@ -29,8 +31,10 @@ wheel_name="embreex-$wheel_version-cp311-cp311-manylinux_2_27_x86_64.manylinux_2
 wheel_sha256="2cd0f7d5c6342e6247e31f700761689cae7829454d8c6de0c41e62124a023e1f"
 headers_crate="embree4-sys"
 headers_version="0.0.12"
+headers_url="https://static.crates.io/crates/$headers_crate/$headers_crate-$headers_version.crate"
+headers_sha256="a1c23ca437f91a52068a03088b80395115c87a669874e54120f4552f1bedaf67"
 stamp="$dir/.timbre-embree4"
-stamp_text="embreex $wheel_version $wheel_sha256; $headers_crate $headers_version"
+stamp_text="embreex $wheel_version $wheel_sha256; $headers_crate $headers_version $headers_sha256"
 
 installed() {
     [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$stamp_text" ] &&
@@ -49,13 +53,8 @@ fi
 # pip, only to download the wheel (nothing is installed with it).
 if ! python3 -m pip --version >/dev/null 2>&1; then
     echo "setup-embree4: installing python3-pip" >&2
-    sudo=""
-    [ "$(id -u)" -eq 0 ] || sudo="sudo"
-    export DEBIAN_FRONTEND=noninteractive
-    $sudo apt-get update -qq
-    $sudo apt-get install -y -qq --no-install-recommends python3 python3-pip >/dev/null
+    "$repo/scripts/apt-install.sh" python3 python3-pip
 fi
-command -v cargo >/dev/null || { echo "setup-embree4: cargo not found; install the Rust toolchain (rustup)" >&2; exit 1; }
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -80,29 +79,25 @@ if [ -z "$embree_lib" ] || [ -z "$tbb_lib" ]; then
     exit 1
 fi
 
-echo "setup-embree4: fetching the headers of $headers_crate $headers_version from crates.io" >&2
-# A throwaway package that depends on the crate; `cargo fetch` downloads and unpacks it into
-# cargo's registry cache (no build script runs), and `cargo metadata` says where.
-mkdir -p "$work/fetch/src"
-touch "$work/fetch/src/lib.rs"
-cat >"$work/fetch/Cargo.toml" <<EOF
-[package]
-name = "timbre-embree4-headers"
-version = "0.0.0"
-edition = "2021"
-
-[dependencies]
-$headers_crate = "=$headers_version"
-EOF
-host="$(rustc -vV | sed -n 's/^host: //p')"
-(cd "$work/fetch" && cargo fetch --quiet --target "$host")
-manifest="$(cd "$work/fetch" && cargo metadata --format-version 1 --offline |
-    python3 -c 'import json, sys
-for p in json.load(sys.stdin)["packages"]:
-    if p["name"] == sys.argv[1]:
-        print(p["manifest_path"])' "$headers_crate")"
-headers="$(dirname "$manifest")/lib/embree4"
-[ -f "$headers/rtcore.h" ] || { echo "setup-embree4: no lib/embree4/rtcore.h in $(dirname "$manifest")" >&2; exit 1; }
+echo "setup-embree4: downloading the headers of $headers_crate $headers_version from crates.io" >&2
+# The .crate file (a gzipped tar) from crates.io's download address, pinned by its digest; only
+# its headers are used, so none of its dependencies is resolved or fetched (cargo would resolve
+# them for every platform, and need from cargo's cache what a fresh machine lacks).
+crate_file="$work/$headers_crate-$headers_version.crate"
+python3 - "$headers_url" "$crate_file" <<'PYTHON'
+import sys, urllib.request
+with urllib.request.urlopen(sys.argv[1], timeout=120) as response, open(sys.argv[2], "wb") as out:
+    out.write(response.read())
+PYTHON
+have_sha="$(sha256sum "$crate_file" | awk '{print $1}')"
+if [ "$have_sha" != "$headers_sha256" ]; then
+    echo "setup-embree4: $headers_url has sha256 $have_sha, expected $headers_sha256" >&2
+    exit 1
+fi
+mkdir -p "$work/crate"
+tar -xzf "$crate_file" -C "$work/crate"
+headers="$work/crate/$headers_crate-$headers_version/lib/embree4"
+[ -f "$headers/rtcore.h" ] || { echo "setup-embree4: no lib/embree4/rtcore.h in $headers_crate $headers_version" >&2; exit 1; }
 
 # Lay out the new install beside the old one and swap them, so that an interrupted run leaves
 # either the old install or none (the stamp is written last).

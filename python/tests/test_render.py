@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import ROOT, SCENES, cli, exr_rgb, read_exr
+from conftest import HANG, ROOT, SCENES, cli, exr_rgb, read_exr
 from PIL import Image as PILImage
 
 import timbre
@@ -212,7 +212,7 @@ def test_renders_from_two_python_threads_at_once():
 
     def render(job):
         scene, seed = job
-        barrier.wait(timeout=60)
+        barrier.wait(timeout=HANG)
         return scene.render(64, 48, spp=2, seed=seed, threads=1)
 
     with ThreadPoolExecutor(2) as pool:
@@ -249,7 +249,7 @@ def test_an_exception_in_the_progress_callback_stops_the_render():
         """
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=HANG)
     assert done.stdout.strip() == "stopped", done.stderr
 
 
@@ -270,7 +270,7 @@ def test_a_render_too_large_for_the_memory_is_refused_not_aborted():
         """
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=HANG)
     assert done.returncode == 0 and done.stdout.startswith("refused: a 16000x8000 render"), (
         done.returncode, done.stdout, done.stderr)
 
@@ -296,7 +296,7 @@ def test_ctrl_c_interrupts_a_render(tmp_path):
     try:
         assert child.stdout.readline().strip() == "started"
         child.send_signal(signal.SIGINT)
-        out, _ = child.communicate(timeout=120)
+        out, _ = child.communicate(timeout=HANG)
     finally:
         child.kill()
     assert out.strip() == "interrupted"
@@ -426,7 +426,7 @@ def test_renders_go_on_under_an_address_space_limit():
         """
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=HANG)
     assert done.stdout.strip() == "rendered", done.stderr
 
 

@@ -3,10 +3,16 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::time::Duration;
 
 use glam::DVec3;
 
 pub const TIMBRE: &str = env!("CARGO_BIN_EXE_timbre");
+
+/// The bound on every wait of the tests (a command, a connection, a message): reached only by a
+/// hang, far above any honest run on a 2-core machine kept busy by other work. Speed is measured
+/// by the benchmarks, never by a test.
+pub const HANG: Duration = Duration::from_secs(300);
 
 /// What a run of `timbre` did.
 pub struct Run {

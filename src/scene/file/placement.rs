@@ -319,7 +319,8 @@ pub(super) struct Placer {
     count: usize,
     /// Files included so far (each time they are included).
     includes: usize,
-    /// Bytes of scene-file text read so far (each time a file is included).
+    /// Bytes of scene-file text so far (each time a file is included), counted from the files'
+    /// sizes as soon as the includes naming them are read, before their text is.
     bytes: usize,
     /// Teleporting surfaces, to be linked to their destinations once every object is placed.
     pub(super) links: Vec<Link>,
@@ -355,6 +356,20 @@ impl Placer {
         frame: ReferenceFrame,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
+        // The included files are counted from their sizes before any is read, so that a scene
+        // of too many bytes is refused at once; a file that grows before it is read adds the
+        // difference. A file that cannot be read counts 0 here; reading it reports why.
+        let sizes: Vec<usize> = items
+            .include
+            .iter()
+            .map(|i| {
+                let path = source.dir().join(i.file.get_ref());
+                std::fs::metadata(path).map_or(0, |m| m.len().try_into().unwrap_or(usize::MAX))
+            })
+            .collect();
+        for (i, &size) in items.include.iter().zip(&sizes) {
+            self.count_bytes(source, i.file.span(), size)?;
+        }
         let mut placed = Placed::default();
         for o in items.object {
             let span = o.shape.span();
@@ -384,7 +399,7 @@ impl Placer {
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
         }
-        for i in items.include {
+        for (i, size) in items.include.into_iter().zip(sizes) {
             let name = join(prefix, i.name.as_deref());
             let (own, offsets) = self.placement(source, i.transform, i.array, parent, &name)?;
             let span = i.file.span();
@@ -419,17 +434,11 @@ impl Placer {
             }
             let (included, file) = super::read(&path, &[])
                 .map_err(|e| source.error(Some(span.clone()), format!("include: {e}")))?;
-            self.bytes += included.text.len();
-            if self.bytes > MAX_SCENE_BYTES {
-                return Err(source.error(
-                    Some(span),
-                    format!(
-                        "the scene's files come to more than {} MiB in all (a file included \
-                         twice counts twice)",
-                        MAX_SCENE_BYTES >> 20
-                    ),
-                ));
-            }
+            self.count_bytes(
+                source,
+                span.clone(),
+                included.text.len().saturating_sub(size),
+            )?;
             self.stack.push(key);
             let frame = FrameName::or(i.frame, frame);
             let inner = self.items(&included, file.items(), &own, frame, &name)?;
@@ -440,6 +449,27 @@ impl Placer {
                 .map_err(|e| source.error(Some(span.clone()), e))?;
         }
         Ok(placed)
+    }
+
+    /// Adds `bytes` of scene-file text, included at `span` of `source`, to the scene's total.
+    fn count_bytes(
+        &mut self,
+        source: &Source,
+        span: Range<usize>,
+        bytes: usize,
+    ) -> Result<(), SceneFileError> {
+        self.bytes = self.bytes.saturating_add(bytes);
+        if self.bytes > MAX_SCENE_BYTES {
+            return Err(source.error(
+                Some(span),
+                format!(
+                    "the scene's files come to more than {} MiB in all (a file included twice \
+                     counts twice)",
+                    MAX_SCENE_BYTES >> 20
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn object(
