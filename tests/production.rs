@@ -9,6 +9,8 @@ use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
+use nix::sys::signal::{Signal, kill};
+use nix::unistd::Pid;
 use tempfile::TempDir;
 
 use common::cli::{Run, files_in, path_str, timbre, write};
@@ -130,7 +132,7 @@ fn merged_sample_ranges_equal_the_single_render_byte_for_byte() {
 
 /// Starts `timbre render SCENE ARGS --progress json` in `dir`, waits until it reports some but
 /// not all pixels done, and sends it `signal`; returns what it did.
-fn interrupt(dir: &Path, scene: &Path, args: &[&str], signal: &str) -> Run {
+fn interrupt(dir: &Path, scene: &Path, args: &[&str], signal: Signal) -> Run {
     let mut child = Command::new(common::cli::TIMBRE)
         .args(["render", path_str(scene), "--progress", "json"])
         .args(args)
@@ -148,14 +150,8 @@ fn interrupt(dir: &Path, scene: &Path, args: &[&str], signal: &str) -> Run {
         let value: serde_json::Value = serde_json::from_str(line.trim()).unwrap_or_default();
         let fraction = value["fraction"].as_f64().unwrap_or(0.0);
         if !sent && fraction > 0.0 && fraction < 0.9 {
-            let pid = child.id().to_string();
-            assert!(
-                Command::new("kill")
-                    .args(["-s", signal, &pid])
-                    .status()
-                    .unwrap()
-                    .success()
-            );
+            let pid = Pid::from_raw(child.id().try_into().unwrap());
+            kill(pid, signal).unwrap();
             sent = true;
         }
         line.clear();
@@ -187,7 +183,7 @@ fn a_render_stopped_by_a_signal_and_resumed_equals_the_uninterrupted_render() {
         d,
         &scene,
         &["-o", "out.exr", "--checkpoint-interval", "0.2", AOVS],
-        "INT",
+        Signal::SIGINT,
     );
     assert_eq!(run.code, Some(130), "{}", run.stderr);
     assert!(run.stderr.contains("--resume"), "{}", run.stderr);
@@ -237,7 +233,7 @@ fn a_render_stopped_by_a_signal_and_resumed_equals_the_uninterrupted_render() {
         d,
         &scene,
         &["-o", "more.exr", "--spp", "256", "--resume"],
-        "TERM",
+        Signal::SIGTERM,
     );
     assert_eq!(run.code, Some(143), "{}", run.stderr);
     render(d, &scene, &["-o", "more.exr", "--spp", "320", "--resume"]).assert_success();
