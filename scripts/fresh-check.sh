@@ -117,7 +117,7 @@ for n, certificate in enumerate(extra):
     pathlib.Path(sys.argv[3], f"fresh-check-{n}.crt").write_text(certificate + "\n")
 print(f"fresh-check: {len(extra)} certificate authorities of this machine's trusted there too", file=sys.stderr)
 PYTHON
-chroot "$root" update-ca-certificates >/dev/null
+chroot "$root" update-ca-certificates >>"$dir/debootstrap.log" 2>&1
 
 # The toolchain: rustup, its proxies, its settings naming the one toolchain (mounted below).
 mkdir -p "$root/root/.cargo/bin" "$root/root/.rustup/toolchains/$toolchain"
@@ -139,8 +139,10 @@ run() {
     if unshare --mount --pid --fork --propagation private bash -c '
         set -e
         root=$1 sysroot=$2 toolchain=$3 command=$4
+        # The machine's /sys (with its cgroup file system, which slurmd needs) and /dev, as
+        # a machine has them; a /proc of the new PID namespace.
         mount -t proc proc "$root/proc"
-        mount -t sysfs sysfs "$root/sys"
+        mount --rbind /sys "$root/sys"
         mount --rbind /dev "$root/dev"
         mount -t tmpfs -o mode=1777 tmpfs "$root/dev/shm"
         mount --bind -o ro "$sysroot" "$root/root/.rustup/toolchains/$toolchain"
