@@ -139,8 +139,8 @@ run() {
     if unshare --mount --pid --fork --propagation private bash -c '
         set -e
         root=$1 sysroot=$2 toolchain=$3 command=$4
-        # The machine's /sys (with its cgroup file system, which slurmd needs) and /dev, as
-        # a machine has them; a /proc of the new PID namespace.
+        # /sys (with the cgroup file system, which slurmd needs) and /dev as on this machine,
+        # and a /proc of the new PID namespace.
         mount -t proc proc "$root/proc"
         mount --rbind /sys "$root/sys"
         mount --rbind /dev "$root/dev"
