@@ -14,6 +14,7 @@ pub mod embree;
 pub mod files;
 pub mod geometry;
 pub mod io;
+pub mod keys;
 pub mod math;
 pub mod memory;
 pub mod mesh;

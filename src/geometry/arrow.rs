@@ -2,8 +2,10 @@
 //! CSG.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::{Cone, Csg, CsgOperation, Cylinder, GeometryError, Shape};
+use crate::keys::{Finite, Positive, Vector};
 
 /// An arrow from `start` to the tip at `end`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,5 +63,29 @@ impl Arrow {
             ],
         )?;
         Ok(Shape::Csg(arrow.called("arrow")))
+    }
+}
+
+/// `type = "arrow"`: Dr TIM's arrow, a shaft and a conical tip at `end`, of Dr TIM's proportions where not given.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArrowKeys {
+    start: Vector,
+    end: Vector,
+    shaft_radius: Option<Positive>,
+    tip_length: Option<Positive>,
+    tip_angle_deg: Option<Finite>,
+}
+
+impl ArrowKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let default = Arrow::with_default_proportions(self.start.0, self.end.0);
+        Arrow {
+            shaft_radius: self.shaft_radius.map_or(default.shaft_radius, |r| r.0),
+            tip_length: self.tip_length.map_or(default.tip_length, |l| l.0),
+            tip_angle_deg: self.tip_angle_deg.map_or(default.tip_angle_deg, |a| a.0),
+            ..default
+        }
+        .shape()
     }
 }

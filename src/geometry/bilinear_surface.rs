@@ -12,8 +12,10 @@
 //! more, and t from the point found.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, GeometryError, Shape};
+use crate::keys::Vector;
 use crate::math::{Frame, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -169,6 +171,21 @@ impl AnalyticShape for BilinearSurface {
     /// The box around the corners (the patch is inside their convex hull).
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some(super::point_bounds(&self.corners))
+    }
+}
+
+/// `type = "bilinear-surface"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BilinearSurfaceKeys {
+    corners: [Vector; 4],
+}
+
+impl BilinearSurfaceKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::BilinearSurface(BilinearSurface::new(
+            self.corners.map(|c| c.0),
+        )?))
     }
 }
 

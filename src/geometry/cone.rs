@@ -8,9 +8,11 @@
 //! k² |q_z d⊥ − d_z q⊥|² − (q⊥ × d⊥)², the same without the large, nearly cancelling terms.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::axial::{Axis, Line};
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::{Finite, Vector};
 use crate::math::{Frame, quadratic_roots};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -210,5 +212,29 @@ impl ConvexSolid for Cone {
         let c = self.axis.local(p);
         (0.0..=self.height).contains(&c.z)
             && c.truncate().length_squared() <= self.tan * self.tan * c.z * c.z
+    }
+}
+
+/// `type = "cone"`: `open`, the mantle alone without the base.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConeKeys {
+    apex: Vector,
+    axis: Vector,
+    half_angle_deg: Finite,
+    height: Finite,
+    #[serde(default)]
+    open: bool,
+}
+
+impl ConeKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Cone(Cone::new(
+            self.apex.0,
+            self.axis.0,
+            self.half_angle_deg.0,
+            self.height.0,
+            self.open,
+        )?))
     }
 }

@@ -2,9 +2,11 @@
 //! vertices in order, counter-clockwise seen from the outward side.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::plane::plane_distance;
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, GeometryError, Shape};
+use crate::keys::Vector;
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -135,5 +137,19 @@ impl AnalyticShape for ConvexPolygon {
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some(super::point_bounds(&self.vertices))
+    }
+}
+
+/// `type = "convex-polygon"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConvexPolygonKeys {
+    vertices: Vec<Vector>,
+}
+
+impl ConvexPolygonKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let vertices = self.vertices.into_iter().map(|v| v.0).collect();
+        Ok(Shape::ConvexPolygon(ConvexPolygon::new(vertices)?))
     }
 }

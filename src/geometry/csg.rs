@@ -14,9 +14,10 @@
 //! leaf's own part.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 use smallvec::SmallVec;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, ShapeKeys, Span};
 use crate::math::Frame;
 
 /// What a CSG shape does with its members.
@@ -429,6 +430,67 @@ impl AnalyticShape for Csg {
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         self.bounds
     }
+}
+
+/// `type = "union"`: inside any member.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnionKeys {
+    of: Vec<ShapeKeys>,
+}
+
+impl UnionKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        csg(CsgOperation::Union, self.of)
+    }
+}
+
+/// `type = "intersection"`: inside every member.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IntersectionKeys {
+    of: Vec<ShapeKeys>,
+}
+
+impl IntersectionKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        csg(CsgOperation::Intersection, self.of)
+    }
+}
+
+/// `type = "difference"`: inside the first member and outside the others.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DifferenceKeys {
+    of: Vec<ShapeKeys>,
+}
+
+impl DifferenceKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        csg(CsgOperation::Difference, self.of)
+    }
+}
+
+/// `type = "inverse"`: outside the member.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InverseKeys {
+    of: Box<ShapeKeys>,
+}
+
+impl InverseKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        csg(CsgOperation::Inverse, vec![*self.of])
+    }
+}
+
+/// `operation` on the members' shapes.
+fn csg(operation: CsgOperation, of: Vec<ShapeKeys>) -> Result<Shape, GeometryError> {
+    let members = of
+        .into_iter()
+        .map(ShapeKeys::build)
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Shape::Csg(Csg::new(operation, members)?))
 }
 
 #[cfg(test)]

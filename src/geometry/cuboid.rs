@@ -2,10 +2,11 @@
 //! parallelepiped with the edges (size_x, 0, 0), (0, size_y, 0) and (0, 0, size_z).
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::GeometryError;
-use super::parallelepiped;
 use super::polyhedron::{Polyhedral, Polyhedron};
+use super::{GeometryError, Shape, parallelepiped};
+use crate::keys::{Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cuboid {
@@ -40,5 +41,23 @@ impl Cuboid {
 impl Polyhedral for Cuboid {
     fn polyhedron(&self) -> &Polyhedron {
         &self.polyhedron
+    }
+}
+
+/// `type = "cuboid"`: `size` along x, y and z.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CuboidKeys {
+    centre: Vector,
+    size: [Positive; 3],
+}
+
+impl CuboidKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let [x, y, z] = self.size.map(|s| s.0);
+        Ok(Shape::Cuboid(Cuboid::new(
+            self.centre.0,
+            DVec3::new(x, y, z),
+        )?))
     }
 }

@@ -7,8 +7,12 @@
 //! closest point to the axis, which keeps precision when the cylinder is seen broadside from afar.
 
 use glam::{DMat3, DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{
+    AnalyticShape, ConvexSolid, Csg, CsgOperation, EllipticCylinder, GeometryError, Shape, Span,
+};
+use crate::keys::{Finite, Positive, Vector};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -206,5 +210,65 @@ impl ConvexSolid for Cylinder {
         let s = d.dot(self.axis);
         (0.0..=self.length).contains(&s)
             && (d - s * self.axis).length_squared() <= self.radius * self.radius
+    }
+}
+
+/// `type = "cylinder"`: `open`, the mantle alone without the end caps (an [`EllipticCylinder`](super::EllipticCylinder) with equal semi-axes).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderKeys {
+    start: Vector,
+    end: Vector,
+    radius: Positive,
+    #[serde(default)]
+    open: bool,
+}
+
+impl CylinderKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let closed = Cylinder::new(self.start.0, self.end.0, self.radius.0)?;
+        if !self.open {
+            return Ok(Shape::Cylinder(closed));
+        }
+        Ok(Shape::EllipticCylinder(EllipticCylinder::new(
+            closed.start(),
+            closed.end(),
+            DVec2::splat(closed.radius()),
+            None,
+            true,
+        )?))
+    }
+}
+
+/// `type = "tube"`: the hollow cylinder between the radii, the outer cylinder less the inner
+/// one, whose caps lie in the outer one's planes (the spans of a line through the hole cancel
+/// exactly there, so the hole has no cap).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TubeKeys {
+    start: Vector,
+    end: Vector,
+    outer_radius: Finite,
+    inner_radius: Finite,
+}
+
+impl TubeKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let (outer, inner) = (self.outer_radius.0, self.inner_radius.0);
+        super::check_positive("tube outer_radius", outer)?;
+        super::check_positive("tube inner_radius", inner)?;
+        if inner >= outer {
+            return Err(GeometryError::OutOfRange {
+                what: "tube inner_radius",
+                range: format!("less than outer_radius ({outer})"),
+                value: inner,
+            });
+        }
+        let cylinder = |r| Cylinder::new(self.start.0, self.end.0, r).map(Shape::Cylinder);
+        let tube = Csg::new(
+            CsgOperation::Difference,
+            vec![cylinder(outer)?, cylinder(inner)?],
+        )?;
+        Ok(Shape::Csg(tube.called("tube")))
     }
 }

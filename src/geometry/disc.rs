@@ -1,9 +1,11 @@
 //! Disc: the points of a plane within `radius` of `centre`.
 
 use glam::{DMat3, DVec2, DVec3};
+use serde::Deserialize;
 
 use super::plane::plane_distance;
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, GeometryError, Shape};
+use crate::keys::{Positive, Vector};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -101,5 +103,24 @@ impl AnalyticShape for Disc {
     /// The surface coordinates, which are Cartesian.
     fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
         Some(self.coordinates(p, part))
+    }
+}
+
+/// `type = "disc"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscKeys {
+    centre: Vector,
+    normal: Vector,
+    radius: Positive,
+}
+
+impl DiscKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Disc(Disc::new(
+            self.centre.0,
+            self.normal.0,
+            self.radius.0,
+        )?))
     }
 }

@@ -3,8 +3,10 @@
 //! unchanged) and met there as a sphere is.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::Vector;
 use crate::math::{Frame, circle_crossings};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -111,5 +113,22 @@ impl ConvexSolid for Ellipsoid {
 
     fn contains(&self, p: DVec3) -> bool {
         self.unit(p).length_squared() <= 1.0
+    }
+}
+
+/// `type = "ellipsoid"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EllipsoidKeys {
+    centre: Vector,
+    semi_axes: Vector,
+}
+
+impl EllipsoidKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Ellipsoid(Ellipsoid::new(
+            self.centre.0,
+            self.semi_axes.0,
+        )?))
     }
 }

@@ -7,9 +7,11 @@
 //! met there as a cylinder is.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::axial::{Axis, Line};
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::{Vector, Vector2};
 use crate::math::{Frame, circle_crossings};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -204,5 +206,29 @@ impl ConvexSolid for EllipticCylinder {
         let c = self.axis.local(p);
         (0.0..=self.length).contains(&c.z)
             && (c.truncate() / self.semi_axes).length_squared() <= 1.0
+    }
+}
+
+/// `type = "elliptic-cylinder"`: `open`, the mantle alone without the end caps.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EllipticCylinderKeys {
+    start: Vector,
+    end: Vector,
+    semi_axes: Vector2,
+    a_direction: Option<Vector>,
+    #[serde(default)]
+    open: bool,
+}
+
+impl EllipticCylinderKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::EllipticCylinder(EllipticCylinder::new(
+            self.start.0,
+            self.end.0,
+            self.semi_axes.0,
+            self.a_direction.map(|a| a.0),
+            self.open,
+        )?))
     }
 }

@@ -7,8 +7,10 @@
 //! R₁ > 0 and R₂ < 0; `None` is a flat surface.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::{Csg, CsgOperation, Cylinder, GeometryError, Plane, Shape, Sphere};
+use crate::keys::{Finite, Positive, Vector};
 
 /// A thick lens with spherical (or flat) surfaces.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -194,6 +196,58 @@ impl FresnelLens {
         }
         let lens = Csg::new(CsgOperation::Union, parts)?;
         Ok(Shape::Csg(lens.called("fresnel-lens")))
+    }
+}
+
+/// `type = "spherical-lens"`: a [`SphericalLens`] (a radius not given: a flat surface).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphericalLensKeys {
+    centre: Vector,
+    axis: Vector,
+    front_radius: Option<Finite>,
+    back_radius: Option<Finite>,
+    thickness: Positive,
+    aperture_radius: Positive,
+}
+
+impl SphericalLensKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        SphericalLens {
+            centre: self.centre.0,
+            axis: self.axis.0,
+            front_radius: self.front_radius.map(|r| r.0),
+            back_radius: self.back_radius.map(|r| r.0),
+            thickness: self.thickness.0,
+            aperture_radius: self.aperture_radius.0,
+        }
+        .shape()
+    }
+}
+
+/// `type = "fresnel-lens"`: a plano-convex [`FresnelLens`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FresnelLensKeys {
+    centre: Vector,
+    axis: Vector,
+    radius_of_curvature: Positive,
+    aperture_radius: Positive,
+    zones: u32,
+    thickness: Positive,
+}
+
+impl FresnelLensKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        FresnelLens {
+            centre: self.centre.0,
+            axis: self.axis.0,
+            radius_of_curvature: self.radius_of_curvature.0,
+            aperture_radius: self.aperture_radius.0,
+            zones: self.zones,
+            thickness: self.thickness.0,
+        }
+        .shape()
     }
 }
 

@@ -3,8 +3,9 @@
 //! round holes. The mask itself is invisible.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, GeometryError, Shape};
+use super::{AnalyticShape, GeometryError, Shape, ShapeKeys};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -100,5 +101,22 @@ impl AnalyticShape for Masked {
             (Some((a, b)), Some((c, d))) => Some((a.max(c), b.min(d))),
             (one, None) | (None, one) => one,
         }
+    }
+}
+
+/// `type = "masked"`: the surface `of` where it lies inside the solid `mask`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaskedKeys {
+    of: Box<ShapeKeys>,
+    mask: Box<ShapeKeys>,
+}
+
+impl MaskedKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Masked(Masked::new(
+            self.of.build()?,
+            self.mask.build()?,
+        )?))
     }
 }

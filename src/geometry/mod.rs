@@ -37,36 +37,90 @@ mod wedge;
 use glam::{DMat3, DVec2, DVec3};
 use thiserror::Error;
 
-pub use arrow::Arrow;
-pub use bilinear_surface::BilinearSurface;
-pub use cone::Cone;
-pub use convex_polygon::ConvexPolygon;
-pub use csg::{Csg, CsgOperation};
-pub use cuboid::Cuboid;
-pub use cylinder::Cylinder;
-pub use disc::Disc;
-pub use ellipsoid::Ellipsoid;
-pub use elliptic_cylinder::EllipticCylinder;
+pub use arrow::{Arrow, ArrowKeys};
+pub use bilinear_surface::{BilinearSurface, BilinearSurfaceKeys};
+pub use cone::{Cone, ConeKeys};
+pub use convex_polygon::{ConvexPolygon, ConvexPolygonKeys};
+pub use csg::{Csg, CsgOperation, DifferenceKeys, IntersectionKeys, InverseKeys, UnionKeys};
+pub use cuboid::{Cuboid, CuboidKeys};
+pub use cylinder::{Cylinder, CylinderKeys, TubeKeys};
+pub use disc::{Disc, DiscKeys};
+pub use ellipsoid::{Ellipsoid, EllipsoidKeys};
+pub use elliptic_cylinder::{EllipticCylinder, EllipticCylinderKeys};
 pub use interaction::{Exit, Interaction};
-pub use lenses::{FresnelLens, SphericalLens};
-pub use masked::Masked;
-pub use paraboloid::Paraboloid;
-pub use parallelepiped::Parallelepiped;
-pub use parallelogram::Parallelogram;
-pub use plane::Plane;
-pub use platonic_solid::{PlatonicKind, PlatonicSolid};
+pub use lenses::{FresnelLens, FresnelLensKeys, SphericalLens, SphericalLensKeys};
+pub use masked::{Masked, MaskedKeys};
+pub use paraboloid::{Paraboloid, ParaboloidKeys};
+pub use parallelepiped::{Parallelepiped, ParallelepipedKeys};
+pub use parallelogram::{Parallelogram, ParallelogramKeys};
+pub use plane::{Plane, PlaneKeys};
+pub use platonic_solid::{PlatonicKind, PlatonicSolid, PlatonicSolidKeys};
 pub use polyhedron::{Polyhedral, Polyhedron};
-pub use ruler::Ruler;
+pub use ruler::{Ruler, RulerKeys};
 pub use scene_geometry::{Hit, ObjectArray, SceneGeometry};
-pub use sphere::Sphere;
-pub use spherical_cap::SphericalCap;
-pub use transform::Transform;
-pub use transformed::Transformed;
-pub use triangle_mesh::TriangleMesh;
-pub use triangular_prism::TriangularPrism;
-pub use wedge::Wedge;
+pub use sphere::{Sphere, SphereKeys};
+pub use spherical_cap::{SphericalCap, SphericalCapKeys};
+pub use transform::{Transform, TransformKeys};
+pub use transformed::{Transformed, TransformedKeys};
+pub use triangle_mesh::{MeshKeys, TriangleMesh, TriangleMeshKeys};
+pub use triangular_prism::{TriangularPrism, TriangularPrismKeys};
+pub use wedge::{Wedge, WedgeKeys};
 
+use std::path::Path;
+
+use crate::keys::kinds;
 use crate::math::Frame;
+
+kinds! {
+    /// A `shape` table: its `type` names the shape, its other keys are the shape's own (read by
+    /// the shape's `...Keys`, in the shape's file). A mesh file is loaded by
+    /// [`MeshKeys::load`]; as a member of another shape it is an error.
+    pub enum ShapeKeys -> Result<Shape, GeometryError> {
+        Sphere(SphereKeys),
+        Plane(PlaneKeys),
+        Disc(DiscKeys),
+        Cylinder(CylinderKeys),
+        Parallelogram(ParallelogramKeys),
+        Cuboid(CuboidKeys),
+        Parallelepiped(ParallelepipedKeys),
+        TriangularPrism(TriangularPrismKeys),
+        Wedge(WedgeKeys),
+        PlatonicSolid(PlatonicSolidKeys),
+        ConvexPolygon(ConvexPolygonKeys),
+        BilinearSurface(BilinearSurfaceKeys),
+        Cone(ConeKeys),
+        Ellipsoid(EllipsoidKeys),
+        Paraboloid(ParaboloidKeys),
+        SphericalCap(SphericalCapKeys),
+        EllipticCylinder(EllipticCylinderKeys),
+        Arrow(ArrowKeys),
+        Ruler(RulerKeys),
+        Tube(TubeKeys),
+        #[serde(alias = "triangle_mesh")]
+        TriangleMesh(TriangleMeshKeys),
+        SphericalLens(SphericalLensKeys),
+        FresnelLens(FresnelLensKeys),
+        Union(UnionKeys),
+        Intersection(IntersectionKeys),
+        Difference(DifferenceKeys),
+        Inverse(InverseKeys),
+        Masked(MaskedKeys),
+        Transformed(TransformedKeys),
+        Mesh(MeshKeys),
+    }
+}
+
+impl ShapeKeys {
+    /// The shape, or for a mesh file (relative to `dir`) one shape per object or group in the
+    /// file, each with the part's name ("" for a single part).
+    pub fn parts(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {
+        if let ShapeKeys::Mesh(mesh) = self {
+            return mesh.load(dir);
+        }
+        let shape = self.build().map_err(|e| e.to_string())?;
+        Ok(vec![(String::new(), shape)])
+    }
+}
 
 /// Invalid shape parameters.
 #[derive(Debug, Error, Clone, PartialEq)]

@@ -8,9 +8,11 @@
 //! (q⊥ × d⊥)², the same without the nearly cancelling (q⊥·d⊥)² − q⊥² d⊥².
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::axial::{Axis, Line};
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::{Finite, Vector};
 use crate::math::{Frame, quadratic_roots};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -193,5 +195,29 @@ impl ConvexSolid for Paraboloid {
     fn contains(&self, p: DVec3) -> bool {
         let c = self.axis.local(p);
         c.z <= self.height && c.truncate().length_squared() <= 4.0 * self.focal_length * c.z
+    }
+}
+
+/// `type = "paraboloid"`: `open`, the curved surface alone without the cap.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParaboloidKeys {
+    vertex: Vector,
+    axis: Vector,
+    focal_length: Finite,
+    height: Finite,
+    #[serde(default)]
+    open: bool,
+}
+
+impl ParaboloidKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Paraboloid(Paraboloid::new(
+            self.vertex.0,
+            self.axis.0,
+            self.focal_length.0,
+            self.height.0,
+            self.open,
+        )?))
     }
 }

@@ -2,9 +2,11 @@
 //! `Parallelepiped`: a centre and three edge vectors).
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::GeometryError;
 use super::polyhedron::{Face, Polyhedral, Polyhedron, spans_no_volume};
+use super::{GeometryError, Shape};
+use crate::keys::Vector;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parallelepiped {
@@ -64,4 +66,21 @@ pub(super) fn polyhedron(centre: DVec3, edges: [DVec3; 3]) -> Polyhedron {
         })
         .collect();
     Polyhedron::new(faces, &vertices)
+}
+
+/// `type = "parallelepiped"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelepipedKeys {
+    centre: Vector,
+    edges: [Vector; 3],
+}
+
+impl ParallelepipedKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Parallelepiped(Parallelepiped::new(
+            self.centre.0,
+            self.edges.map(|e| e.0),
+        )?))
+    }
 }

@@ -1,9 +1,11 @@
 //! Parallelogram: corner + α span_u + β span_v with α, β ∈ [0, 1].
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::plane::plane_distance;
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, GeometryError, Shape};
+use crate::keys::Vector;
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -117,5 +119,24 @@ impl AnalyticShape for Parallelogram {
         let lo = corners.iter().fold(DVec3::INFINITY, |a, &b| a.min(b));
         let hi = corners.iter().fold(DVec3::NEG_INFINITY, |a, &b| a.max(b));
         Some((lo, hi))
+    }
+}
+
+/// `type = "parallelogram"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelogramKeys {
+    corner: Vector,
+    span_u: Vector,
+    span_v: Vector,
+}
+
+impl ParallelogramKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Parallelogram(Parallelogram::new(
+            self.corner.0,
+            self.span_u.0,
+            self.span_v.0,
+        )?))
     }
 }

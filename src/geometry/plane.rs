@@ -2,8 +2,10 @@
 //! Embree's BVH: the scene intersects planes directly (see `geometry::SceneGeometry`).
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::Vector;
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -113,4 +115,23 @@ pub fn plane_distance(point: DVec3, n: DVec3, origin: DVec3, direction: DVec3) -
     }
     let t = (point - origin).dot(n) / dn;
     t.is_finite().then_some(t)
+}
+
+/// `type = "plane"`: `u_direction` (any tangent when not given) sets the surface coordinates.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneKeys {
+    point: Vector,
+    normal: Vector,
+    u_direction: Option<Vector>,
+}
+
+impl PlaneKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let normal = self.normal.0;
+        let u = self
+            .u_direction
+            .map_or_else(|| normal.any_orthogonal_vector(), |u| u.0);
+        Ok(Shape::Plane(Plane::new(self.point.0, normal, u)?))
+    }
 }

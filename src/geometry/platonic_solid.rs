@@ -7,12 +7,15 @@
 //! are the planes through three vertices with every vertex on or behind them.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::GeometryError;
 use super::polyhedron::{Face, Polyhedral, Polyhedron};
+use super::{GeometryError, Shape};
+use crate::keys::{Positive, Vector};
 
 /// The five Platonic solids.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum PlatonicKind {
     Tetrahedron,
     Cube,
@@ -181,6 +184,25 @@ fn placed(unit: &[DVec3], centre: DVec3, radius: f64) -> Vec<DVec3> {
 impl Polyhedral for PlatonicSolid {
     fn polyhedron(&self) -> &Polyhedron {
         &self.polyhedron
+    }
+}
+
+/// `type = "platonic-solid"`: `solid` names it, `radius` is its circumradius.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatonicSolidKeys {
+    solid: PlatonicKind,
+    centre: Vector,
+    radius: Positive,
+}
+
+impl PlatonicSolidKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::PlatonicSolid(PlatonicSolid::new(
+            self.solid,
+            self.centre.0,
+            self.radius.0,
+        )?))
     }
 }
 

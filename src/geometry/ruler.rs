@@ -2,8 +2,10 @@
 //! `major_every`-th one longer, one solid built by CSG.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::{Csg, CsgOperation, Cylinder, GeometryError, Shape};
+use crate::keys::{Positive, Vector};
 
 /// The most ticks a ruler may have.
 pub const MAX_TICKS: usize = 1000;
@@ -66,5 +68,40 @@ impl Ruler {
         }
         let ruler = Csg::new(CsgOperation::Union, parts)?;
         Ok(Shape::Csg(ruler.called("ruler")))
+    }
+}
+
+/// `type = "ruler"`: a rod with tick marks every `tick_spacing` from `start` (radius 1/200 of its length, ticks four radii long, along y (or x for a rod along y), every tenth one major, where not given).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RulerKeys {
+    start: Vector,
+    end: Vector,
+    tick_spacing: Positive,
+    radius: Option<Positive>,
+    tick_direction: Option<Vector>,
+    tick_length: Option<Positive>,
+    major_every: Option<u32>,
+}
+
+impl RulerKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let along = self.end.0 - self.start.0;
+        let radius = self.radius.map_or(along.length() / 200.0, |r| r.0);
+        let up = if along.reject_from(DVec3::Y).length() > 1e-6 * along.length() {
+            DVec3::Y
+        } else {
+            DVec3::X
+        };
+        Ruler {
+            start: self.start.0,
+            end: self.end.0,
+            radius,
+            tick_spacing: self.tick_spacing.0,
+            tick_direction: self.tick_direction.map_or(up, |d| d.0),
+            tick_length: self.tick_length.map_or(4.0 * radius, |l| l.0),
+            major_every: self.major_every.unwrap_or(10),
+        }
+        .shape()
     }
 }

@@ -1,8 +1,10 @@
 //! Sphere: |p − centre| = radius.
 
 use glam::{DMat3, DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use crate::keys::{Positive, Vector};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -121,5 +123,19 @@ impl ConvexSolid for Sphere {
 
     fn contains(&self, p: DVec3) -> bool {
         (p - self.centre).length_squared() <= self.radius * self.radius
+    }
+}
+
+/// `type = "sphere"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereKeys {
+    centre: Vector,
+    radius: Positive,
+}
+
+impl SphereKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Sphere(Sphere::new(self.centre.0, self.radius.0)?))
     }
 }

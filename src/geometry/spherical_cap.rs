@@ -4,9 +4,11 @@
 //! sphere and the half-space behind a plane).
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::axial::Axis;
-use super::{AnalyticShape, GeometryError};
+use super::{AnalyticShape, GeometryError, Shape};
+use crate::keys::{Finite, Vector};
 use crate::math::{Frame, circle_crossings, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -169,5 +171,33 @@ impl AnalyticShape for SphericalCap {
             lo[i] -= reach(-f.w[i], across[i]);
         }
         Some((lo, hi))
+    }
+}
+
+/// `type = "spherical-cap"`: its size by exactly one of `aperture_radius` and `half_angle_deg`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphericalCapKeys {
+    sphere_centre: Vector,
+    cap_centre: Vector,
+    aperture_radius: Option<Finite>,
+    half_angle_deg: Option<Finite>,
+}
+
+impl SphericalCapKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let (centre, cap) = (self.sphere_centre.0, self.cap_centre.0);
+        Ok(Shape::SphericalCap(
+            match (self.aperture_radius, self.half_angle_deg) {
+                (Some(r), None) => SphericalCap::with_aperture_radius(centre, cap, r.0)?,
+                (None, Some(angle)) => SphericalCap::new(centre, cap, angle.0)?,
+                _ => {
+                    return Err(GeometryError::Degenerate(
+                        "a spherical-cap needs exactly one of aperture_radius and half_angle_deg"
+                            .into(),
+                    ));
+                }
+            },
+        ))
     }
 }

@@ -8,11 +8,13 @@
 //! windings are reversed and a parallelogram's first span vector is negated.
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
+use serde::{Deserialize, Deserializer, de};
 
 use super::{
     AnalyticShape, Cylinder, GeometryError, Parallelogram, Plane, Shape, Transformed,
     check_direction, check_point,
 };
+use crate::keys::{Finite, MAX_MAGNITUDE, Matrix, Vector};
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transform {
@@ -194,6 +196,72 @@ impl Transform {
     /// Whether the map reverses orientation (a reflection).
     pub(super) fn reflects(&self) -> bool {
         self.linear().determinant() < 0.0
+    }
+}
+
+/// A `transform` table: `matrix` (a general linear map, given by its rows) first, then
+/// `scale`, then `rotate`, then `translate`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformKeys {
+    matrix: Option<Matrix>,
+    scale: Option<Scale>,
+    rotate: Option<RotateKeys>,
+    translate: Option<Vector>,
+}
+
+/// A rotation by `angle_deg` (degrees, right-handed) about `axis`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RotateKeys {
+    axis: Vector,
+    angle_deg: Finite,
+}
+
+/// A scale factor: one number (uniform) or three (per axis).
+#[derive(Debug)]
+struct Scale(DVec3);
+
+impl<'de> Deserialize<'de> for Scale {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Either {
+            Uniform(f64),
+            PerAxis([f64; 3]),
+        }
+        let v = match Either::deserialize(d).map_err(|_| {
+            de::Error::custom("expected a scale factor or three of them, [sx, sy, sz]")
+        })? {
+            Either::Uniform(s) => DVec3::splat(s),
+            Either::PerAxis(s) => DVec3::from(s),
+        };
+        if v.abs().max_element() <= MAX_MAGNITUDE {
+            Ok(Scale(v))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected finite scale factors of magnitude at most 1e15, got {v}"
+            )))
+        }
+    }
+}
+
+impl TransformKeys {
+    /// The map: `matrix`, then `scale`, then `rotate`, then `translate`.
+    pub fn build(self) -> Result<Transform, GeometryError> {
+        let (axis, angle) = self
+            .rotate
+            .map_or((DVec3::Z, 0.0), |r| (r.axis.0, r.angle_deg.0.to_radians()));
+        let placed = Transform::new(
+            self.scale.map_or(DVec3::ONE, |s| s.0),
+            axis,
+            angle,
+            self.translate.map_or(DVec3::ZERO, |t| t.0),
+        )?;
+        match self.matrix {
+            Some(m) => Ok(Transform::from_matrix(m.0)?.then(&placed)),
+            None => Ok(placed),
+        }
     }
 }
 

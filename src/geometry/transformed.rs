@@ -5,8 +5,9 @@
 //! Tangents map by A itself; the frame's u is A u′ made perpendicular to the normal.
 
 use glam::{DAffine3, DMat3, DVec2, DVec3};
+use serde::Deserialize;
 
-use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, Span};
+use super::{AnalyticShape, ConvexSolid, GeometryError, Shape, ShapeKeys, Span, TransformKeys};
 use crate::math::Frame;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -148,5 +149,20 @@ impl ConvexSolid for Transformed {
         self.inner
             .analytic_solid()
             .is_some_and(|s| s.contains(self.local(p)))
+    }
+}
+
+/// `type = "transformed"`: a shape under its own transform (in the coordinates of the entry it
+/// is in).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformedKeys {
+    of: Box<ShapeKeys>,
+    transform: TransformKeys,
+}
+
+impl TransformedKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        self.transform.build()?.shape(&self.of.build()?)
     }
 }

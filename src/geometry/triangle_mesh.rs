@@ -4,13 +4,17 @@
 //! In a scene Embree traverses meshes natively; the f64 code here recomputes Embree's hits and
 //! serves the brute-force reference intersector.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::plane::plane_distance;
-use super::{GeometryError, Transform};
+use super::{GeometryError, Shape, Transform};
+use crate::keys::Vector;
 use crate::math::Frame;
+use crate::mesh;
 
 /// A triangle mesh. Its data is shared, so cloning (into a scene) is cheap.
 #[derive(Debug, Clone, PartialEq)]
@@ -247,6 +251,78 @@ impl TriangleMesh {
         used.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v), hi.max(v))
         })
+    }
+}
+
+/// `type = "triangle-mesh"`: the triangles as indices into the vertices.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleMeshKeys {
+    vertices: Vec<Vector>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl TriangleMeshKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        let vertices = self.vertices.into_iter().map(|v| v.0).collect();
+        Ok(Shape::TriangleMesh(TriangleMesh::new(
+            vertices,
+            self.triangles,
+        )?))
+    }
+}
+
+/// `type = "mesh"`: a mesh file (OBJ or PLY), relative to the scene file, shaded with the
+/// file's vertex normals where it has them unless `smooth = false`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshKeys {
+    file: String,
+    #[serde(default = "yes")]
+    smooth: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+impl MeshKeys {
+    /// A mesh file is not a shape of its own that others can be made of: it may be many parts.
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Err(GeometryError::Degenerate(format!(
+            "a mesh file ('{}') cannot be a member of another shape (of a union, intersection, \
+             difference, inverse, masked or transformed shape)",
+            self.file
+        )))
+    }
+
+    /// The parts of the mesh file, relative to `dir`, as triangle meshes, each with its name
+    /// ("" for a file of one part).
+    pub fn load(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {
+        let path = dir.join(self.file);
+        let meshes = mesh::load(&path).map_err(|e| e.to_string())?;
+        let single = meshes.len() == 1;
+        meshes
+            .into_iter()
+            .enumerate()
+            .filter(|(_, m)| !m.triangles.is_empty())
+            .map(|(i, m)| {
+                let name = match (single, m.name.is_empty()) {
+                    (true, _) => String::new(),
+                    (false, true) => format!("part {}", i + 1),
+                    (false, false) => m.name.clone(),
+                };
+                let normals = m.normals.filter(|_| self.smooth);
+                let part = if single {
+                    String::new()
+                } else {
+                    format!(" (part '{name}')")
+                };
+                TriangleMesh::with_normals(m.vertices, m.triangles, normals)
+                    .map(|t| (name, Shape::TriangleMesh(t)))
+                    .map_err(|e| format!("{}{part}: {e}", path.display()))
+            })
+            .collect()
     }
 }
 

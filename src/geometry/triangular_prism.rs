@@ -3,9 +3,11 @@
 //! parallelograms.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::GeometryError;
 use super::polyhedron::{Face, Polyhedral, Polyhedron, spans_no_volume};
+use super::{GeometryError, Shape};
+use crate::keys::Vector;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangularPrism {
@@ -61,5 +63,22 @@ impl TriangularPrism {
 impl Polyhedral for TriangularPrism {
     fn polyhedron(&self) -> &Polyhedron {
         &self.polyhedron
+    }
+}
+
+/// `type = "triangular-prism"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TriangularPrismKeys {
+    vertices: [Vector; 3],
+    extrusion: Vector,
+}
+
+impl TriangularPrismKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::TriangularPrism(TriangularPrism::new(
+            self.vertices.map(|v| v.0),
+            self.extrusion.0,
+        )?))
     }
 }

@@ -9,9 +9,11 @@
 //! P = centre − ½L â.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::polyhedron::{Polyhedral, Polyhedron};
-use super::{GeometryError, TriangularPrism};
+use super::{GeometryError, Shape, TriangularPrism};
+use crate::keys::{Direction, Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Wedge {
@@ -64,5 +66,30 @@ impl Wedge {
 impl Polyhedral for Wedge {
     fn polyhedron(&self) -> &Polyhedron {
         self.prism.polyhedron()
+    }
+}
+
+/// `type = "wedge"`: the apex angle in degrees.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WedgeKeys {
+    apex_edge_centre: Vector,
+    apex_edge_direction: Direction,
+    bisector_direction: Direction,
+    apex_angle_deg: Positive,
+    leg_length: Positive,
+    apex_edge_length: Positive,
+}
+
+impl WedgeKeys {
+    pub fn build(self) -> Result<Shape, GeometryError> {
+        Ok(Shape::Wedge(Wedge::new(
+            self.apex_edge_centre.0,
+            self.apex_edge_direction.0,
+            self.bisector_direction.0,
+            self.apex_angle_deg.0.to_radians(),
+            self.leg_length.0,
+            self.apex_edge_length.0,
+        )?))
     }
 }

@@ -1,7 +1,10 @@
 //! Chequerboard: two surfaces alternating on square tiles of the shape's surface coordinates.
 
-use super::Surface;
+use serde::Deserialize;
+
+use super::{Surface, SurfaceKeys};
 use crate::geometry::Interaction;
+use crate::keys::Positive;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chequerboard {
@@ -25,6 +28,27 @@ impl Chequerboard {
     pub fn tile_at(&self, at: &Interaction) -> &Surface {
         let uv = at.coordinates();
         self.tile(uv.x, uv.y)
+    }
+}
+
+/// `type = "chequerboard"`: tiles of `tile_width` (1 when not given) with the two `surfaces`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChequerboardKeys {
+    tile_width: Option<Positive>,
+    surfaces: Box<[SurfaceKeys; 2]>,
+}
+
+impl ChequerboardKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let [a, b] = *self.surfaces;
+        if a.destination().is_some() || b.destination().is_some() {
+            return Err("a teleporting surface cannot be a chequerboard tile".into());
+        }
+        Ok(Surface::Chequerboard(Chequerboard {
+            tile_width: self.tile_width.map_or(1.0, |w| w.0),
+            surfaces: Box::new([a.build()?, b.build()?]),
+        }))
     }
 }
 

@@ -1,6 +1,10 @@
 //! Coloured surface, lit by the scene's lights: ambient × diffuse colour plus, for each point
 //! light, a two-sided Lambert term and a Phong specular term (shaded by `render::shading`).
 
+use serde::Deserialize;
+
+use super::Surface;
+use crate::keys::Rgb;
 use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -24,5 +28,48 @@ impl Coloured {
             diffuse,
             specular: Colour::ZERO,
         }
+    }
+}
+
+/// `type = "coloured"`: a diffuse colour and a specular one (none when not given).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColouredKeys {
+    diffuse: Rgb,
+    specular: Option<Rgb>,
+}
+
+impl ColouredKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Coloured(Coloured {
+            diffuse: self.diffuse.0,
+            specular: self.specular.map_or(Colour::ZERO, |s| s.0),
+        }))
+    }
+}
+
+/// `type = "shiny"`: [`Coloured::shiny`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShinyKeys {
+    colour: Rgb,
+}
+
+impl ShinyKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Coloured(Coloured::shiny(self.colour.0)))
+    }
+}
+
+/// `type = "matt"`: [`Coloured::matt`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MattKeys {
+    colour: Rgb,
+}
+
+impl MattKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Coloured(Coloured::matt(self.colour.0)))
     }
 }

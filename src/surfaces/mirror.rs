@@ -1,9 +1,11 @@
 //! Mirror: specular reflection, r = d − 2 (d·n) n, scaled by a reflection coefficient.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::Redirection;
+use super::{Redirection, Surface, coefficient};
 use crate::geometry::Interaction;
+use crate::keys::Coefficient;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {
@@ -22,6 +24,22 @@ impl Mirror {
             direction: reflect(at.ray.direction, at.normal()),
             factor: self.reflection_coefficient,
         }
+    }
+}
+
+/// `type = "mirror"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MirrorKeys {
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl MirrorKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Mirror(Mirror {
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
     }
 }
 

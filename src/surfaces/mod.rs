@@ -5,6 +5,7 @@
 
 mod chequerboard;
 mod coloured;
+mod constant_colour;
 pub mod ideal_lenses;
 pub mod lenses;
 pub mod metatoys;
@@ -12,22 +13,96 @@ mod mirror;
 mod refractive;
 mod transparent;
 
-pub use chequerboard::Chequerboard;
-pub use coloured::Coloured;
-pub use ideal_lenses::{Focus, Glens, LensletArray, ThinLens, ThinMirror};
-pub use lenses::Lens;
-pub use metatoys::{
-    ConfocalLensletArrays, LorentzWindow, MetricInterface, PhaseConjugating, PhaseHologram,
-    RayFlipping, RayRotating, Teleporting,
+pub use chequerboard::{Chequerboard, ChequerboardKeys};
+pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
+pub use constant_colour::ConstantColourKeys;
+pub use ideal_lenses::{
+    Focus, Glens, GlensKeys, IdealThinCylindricalLensKeys, IdealThinCylindricalMirrorKeys,
+    IdealThinLensKeys, IdealThinLensletArrayKeys, IdealThinMirrorKeys, LensletArray, ThinLens,
+    ThinMirror,
 };
-pub use mirror::{Mirror, reflect};
-pub use refractive::{Refractive, refract};
-pub use transparent::Transparent;
+pub use lenses::{
+    EatonLensKeys, GgrinLensKeys, GradientIndexLensKeys, Lens, LuneburgLensKeys,
+    MaxwellFisheyeLensKeys,
+};
+pub use metatoys::{
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, LorentzWindow, LorentzWindowKeys,
+    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
+    PhaseHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys, Teleporting,
+    TeleportingKeys,
+};
+pub use mirror::{Mirror, MirrorKeys, reflect};
+pub use refractive::{Refractive, RefractiveKeys, refract};
+pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
 
 use crate::geometry::{Exit, Interaction, Shape, Transform};
+use crate::keys::{Coefficient, kinds};
 use crate::math::Colour;
+
+kinds! {
+    /// A `surface` table: its `type` names the law, its other keys are the law's own (read by
+    /// the law's `...Keys`, in the law's file).
+    pub enum SurfaceKeys -> Result<Surface, String> {
+        Coloured(ColouredKeys),
+        Shiny(ShinyKeys),
+        Matt(MattKeys),
+        #[serde(alias = "constant_colour")]
+        ConstantColour(ConstantColourKeys),
+        Chequerboard(ChequerboardKeys),
+        Mirror(MirrorKeys),
+        Refractive(RefractiveKeys),
+        Transparent(TransparentKeys),
+        #[serde(alias = "luneburg_lens")]
+        LuneburgLens(LuneburgLensKeys),
+        #[serde(alias = "eaton_lens")]
+        EatonLens(EatonLensKeys),
+        #[serde(alias = "maxwell_fisheye_lens")]
+        MaxwellFisheyeLens(MaxwellFisheyeLensKeys),
+        #[serde(alias = "ggrin_lens")]
+        GgrinLens(GgrinLensKeys),
+        #[serde(alias = "gradient_index_lens")]
+        GradientIndexLens(GradientIndexLensKeys),
+        #[serde(alias = "metric_interface")]
+        MetricInterface(MetricInterfaceKeys),
+        #[serde(alias = "confocal_lenslet_arrays", alias = "gcla")]
+        ConfocalLensletArrays(ConfocalLensletArraysKeys),
+        #[serde(alias = "ray_rotating")]
+        RayRotating(RayRotatingKeys),
+        #[serde(alias = "ray_flipping")]
+        RayFlipping(RayFlippingKeys),
+        #[serde(alias = "phase_hologram")]
+        PhaseHologram(PhaseHologramKeys),
+        #[serde(alias = "phase_conjugating")]
+        PhaseConjugating(PhaseConjugatingKeys),
+        #[serde(alias = "lorentz_window")]
+        LorentzWindow(LorentzWindowKeys),
+        IdealThinLens(IdealThinLensKeys),
+        IdealThinCylindricalLens(IdealThinCylindricalLensKeys),
+        IdealThinMirror(IdealThinMirrorKeys),
+        IdealThinCylindricalMirror(IdealThinCylindricalMirrorKeys),
+        IdealThinLensletArray(IdealThinLensletArrayKeys),
+        Glens(GlensKeys),
+        Teleporting(TeleportingKeys),
+    }
+}
+
+impl SurfaceKeys {
+    /// The name of the object a teleporting surface leads to.
+    pub fn destination(&self) -> Option<&str> {
+        if let SurfaceKeys::Teleporting(keys) = self {
+            Some(&keys.destination)
+        } else {
+            None
+        }
+    }
+}
+
+/// A coefficient as a law's keys give it: 1 (all the light) when not given.
+fn coefficient(c: Option<Coefficient>) -> f64 {
+    c.map_or(1.0, |c| c.0)
+}
 
 /// What a surface's law does with a ray that meets it: the one place each law is applied, both
 /// by the renderer and by ray trajectories.

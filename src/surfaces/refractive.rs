@@ -5,10 +5,12 @@
 //! coefficient; Fresnel reflection is not modelled, as in TIM.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::Redirection;
 use super::mirror::reflect;
+use super::{Redirection, Surface, coefficient};
 use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Positive};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {
@@ -47,6 +49,24 @@ impl Refractive {
             direction: refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n)),
             factor: self.transmission_coefficient,
         }
+    }
+}
+
+/// `type = "refractive"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefractiveKeys {
+    index_ratio: Positive,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl RefractiveKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Refractive(Refractive {
+            index_ratio: self.index_ratio.0,
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }
 

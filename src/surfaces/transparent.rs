@@ -1,7 +1,10 @@
 //! Transparent pass-through: the ray continues undeviated, scaled by a transmission coefficient.
 
-use super::Redirection;
+use serde::Deserialize;
+
+use super::{Redirection, Surface, coefficient};
 use crate::geometry::Interaction;
+use crate::keys::Coefficient;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {
@@ -15,5 +18,21 @@ impl Transparent {
             direction: at.ray.direction,
             factor: self.transmission_coefficient,
         }
+    }
+}
+
+/// `type = "transparent"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransparentKeys {
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl TransparentKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::Transparent(Transparent {
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }

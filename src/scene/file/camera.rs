@@ -3,18 +3,17 @@
 
 use std::ops::Range;
 
-use super::parts::Spanned;
 use glam::DVec3;
-use serde::{Deserialize, Deserializer, de};
+use serde::Deserialize;
 
-use super::shapes::ShapeSection;
-use super::values::{Finite, Positive, Vector};
+use super::parts::Spanned;
+use crate::geometry::ShapeKeys;
 use super::{SceneFileError, Source};
 use crate::cameras::{Camera, DEFAULT_FOCUS_DISTANCE, Focus, Projection, Shutter};
 use crate::geometry::Shape;
+use crate::keys::{Finite, NonNegative, Positive, Vector};
 use crate::math::LorentzTransform;
-use crate::scene::studio;
-use crate::scene::{Packing, Stereo};
+use crate::scene::{Packing, Stereo, studio};
 
 /// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
 /// file without a `[camera]`).
@@ -30,7 +29,7 @@ pub(super) struct CameraSection {
     view_width: Option<Spanned<Positive>>,
     aperture_radius: Option<Spanned<NonNegative>>,
     focus_distance: Option<Spanned<Positive>>,
-    focus_surface: Option<Spanned<Vec<Spanned<ShapeSection>>>>,
+    focus_surface: Option<Spanned<Vec<Spanned<ShapeKeys>>>>,
     beta: Option<Spanned<Vector>>,
     shutter: Option<ShutterName>,
     shutter_time: Option<Finite>,
@@ -87,23 +86,6 @@ struct AutostereogramSection {
     far: Option<Positive>,
     #[serde(default = "super::yes")]
     colour: bool,
-}
-
-/// A number ≥ 0 of at most 1e15.
-#[derive(Debug, Clone, Copy)]
-struct NonNegative(f64);
-
-impl<'de> Deserialize<'de> for NonNegative {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let x = f64::deserialize(d)?;
-        if (0.0..=super::values::MAX_MAGNITUDE).contains(&x) {
-            Ok(NonNegative(x))
-        } else {
-            Err(de::Error::custom(format!(
-                "expected a number from 0 to 1e15, got {x}"
-            )))
-        }
-    }
 }
 
 /// What the `[camera]` table describes.
@@ -264,7 +246,7 @@ fn aperture_radius(
 
 /// The shapes of `focus_surface` (mesh files relative to the scene file).
 fn focus_surface(
-    shapes: Option<Spanned<Vec<Spanned<ShapeSection>>>>,
+    shapes: Option<Spanned<Vec<Spanned<ShapeKeys>>>>,
     source: &Source,
     at: At,
 ) -> Result<Vec<Shape>, SceneFileError> {
@@ -280,7 +262,7 @@ fn focus_surface(
             let span = shape.span();
             let parts = shape
                 .into_inner()
-                .build(source.dir())
+                .parts(source.dir())
                 .map_err(|e| at(Some(span.clone()), &format!("focus_surface: {e}")))?;
             focus_surface.extend(parts.into_iter().map(|(_, s)| s));
         }

@@ -1,21 +1,19 @@
 //! The `[[device]]` entries: devices made of ideal thin lenses (`crate::devices`), with the
 //! parameters Dr TIM's editable objects take, each expanding into one scene object per part.
 
+use glam::DVec3;
 use serde::Deserialize;
 
 use super::parts::Spanned;
-use super::placement::{ArraySection, FrameName, TransformSection};
-use super::shapes::SolidName;
-use super::surfaces::SurfaceSection;
-use super::values::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
-use glam::DVec3;
-
+use super::placement::{ArraySection, FrameName};
+use crate::geometry::{PlatonicKind, TransformKeys};
 use crate::devices::{
     CoordinateSystem, Edges, FourPiLens, IdealLensCloak, LensSimplicialComplex, LensStar, Part,
     PlatonicLens, PolygonalIdealLensCloak, TimHead,
 };
+use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use crate::math::Colour;
-use crate::surfaces::{Coloured, Surface};
+use crate::surfaces::{Coloured, Surface, SurfaceKeys};
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -25,14 +23,14 @@ pub(super) struct DeviceSection {
     #[serde(default)]
     pub shadow_throwing: bool,
     pub frame: Option<FrameName>,
-    pub transform: Option<Spanned<TransformSection>>,
+    pub transform: Option<Spanned<TransformKeys>>,
     pub array: Option<Spanned<ArraySection>>,
     lenses: Option<Spanned<LensesSection>>,
     aid: Option<Spanned<AidSection>>,
     #[serde(default)]
     show_edges: bool,
     edge_radius: Option<Positive>,
-    edge_surface: Option<Spanned<SurfaceSection>>,
+    edge_surface: Option<Spanned<SurfaceKeys>>,
 }
 
 /// Dr TIM's defaults for edges: radius 0.01, shiny red.
@@ -70,7 +68,7 @@ enum LensesSection {
         no_of_base_vertices: usize,
     },
     PlatonicLens {
-        platonic_solid: SolidName,
+        platonic_solid: PlatonicKind,
         centre: Vector,
         radius: Positive,
         basis_vector_1: Option<Direction>,
@@ -297,7 +295,7 @@ impl DeviceSection {
                 focal_length,
                 lens_transmission_coefficient,
             } => PlatonicLens {
-                platonic_solid: platonic_solid.kind(),
+                platonic_solid: *platonic_solid,
                 centre: centre.0,
                 radius: radius.0,
                 basis_vector_1: basis_vector_1.map_or(DVec3::X, |b| b.0),

@@ -10,10 +10,7 @@ mod devices;
 mod overrides;
 mod parts;
 mod placement;
-mod shapes;
-mod surfaces;
 mod trajectories;
-mod values;
 
 use std::num::NonZeroU32;
 use std::ops::Range;
@@ -26,17 +23,17 @@ use super::SceneDescription;
 use super::lights::{Lights, PointLight};
 use super::studio::{self, Studio};
 use crate::geometry::{Shape, Transform};
+use crate::keys::{Positive, Rgb, Vector};
 use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
+use crate::surfaces::SurfaceKeys;
 use camera::CameraSection;
 use devices::DeviceSection;
 pub use overrides::Override;
 use parts::Spanned;
 pub use placement::MAX_ARRAY_ELEMENTS;
 use placement::{GroupSection, IncludeSection, Items, Link, MAX_OBJECTS, ObjectSection, Placer};
-use surfaces::SurfaceSection;
 use trajectories::TrajectorySection;
-use values::{Positive, Rgb, Vector};
 
 /// A scene file that could not be read or understood.
 #[derive(Debug, Error)]
@@ -92,7 +89,10 @@ impl SceneFileError {
 fn plain(message: &str) -> String {
     // The punctuation after the last word of a phrase, kept when the phrase is replaced.
     let punctuation = |word: &str| word[word.trim_end_matches([',', '.']).len()..].to_string();
-    let section = |word: &&str| word.trim_end_matches([',', '.']).ends_with("Section");
+    let section = |word: &&str| {
+        let word = word.trim_end_matches([',', '.']);
+        word.ends_with("Section") || word.ends_with("Keys")
+    };
     let mut words: Vec<String> = Vec::new();
     let mut tokens = message.split(' ').peekable();
     while let Some(token) = tokens.next() {
@@ -329,7 +329,7 @@ struct File {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct WindowSection {
-    surface: Spanned<SurfaceSection>,
+    surface: Spanned<SurfaceKeys>,
 }
 
 impl File {

@@ -11,20 +11,18 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use super::parts::Spanned;
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
 use super::devices::DeviceSection;
-use super::shapes::ShapeSection;
-use super::surfaces::SurfaceSection;
-use super::values::{Finite, Positive, Vector};
+use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::devices::{CoordinateSystem, Part};
-use crate::geometry::{ObjectArray, Shape, Transform};
+use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
+use crate::keys::{Finite, Positive, Vector};
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
-use crate::surfaces::Surface;
+use crate::surfaces::{Surface, SurfaceKeys};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
@@ -57,9 +55,9 @@ pub(super) struct ObjectSection {
     #[serde(default = "super::yes")]
     shadow_throwing: bool,
     frame: Option<FrameName>,
-    shape: Spanned<ShapeSection>,
-    surface: Spanned<SurfaceSection>,
-    transform: Option<Spanned<TransformSection>>,
+    shape: Spanned<ShapeKeys>,
+    surface: Spanned<SurfaceKeys>,
+    transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     surface_axes: Option<Spanned<SurfaceAxesSection>>,
 }
@@ -104,7 +102,7 @@ impl SurfaceAxesSection {
 pub(super) struct GroupSection {
     name: Option<String>,
     frame: Option<FrameName>,
-    transform: Option<Spanned<TransformSection>>,
+    transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     #[serde(default)]
     object: Vec<ObjectSection>,
@@ -122,7 +120,7 @@ pub(super) struct IncludeSection {
     file: Spanned<String>,
     name: Option<String>,
     frame: Option<FrameName>,
-    transform: Option<Spanned<TransformSection>>,
+    transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
 }
 
@@ -151,51 +149,6 @@ pub(super) struct Items {
     pub device: Vec<Spanned<DeviceSection>>,
     pub group: Vec<GroupSection>,
     pub include: Vec<IncludeSection>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(super) struct TransformSection {
-    /// A general linear map, applied first: its rows.
-    matrix: Option<[[Finite; 3]; 3]>,
-    scale: Option<Scale>,
-    rotate: Option<RotateSection>,
-    translate: Option<Vector>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RotateSection {
-    axis: Vector,
-    angle_deg: Finite,
-}
-
-/// A scale factor: one number (uniform) or three (per axis).
-#[derive(Debug)]
-struct Scale(DVec3);
-
-impl<'de> Deserialize<'de> for Scale {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Either {
-            Uniform(f64),
-            PerAxis([f64; 3]),
-        }
-        let v = match Either::deserialize(d).map_err(|_| {
-            de::Error::custom("expected a scale factor or three of them, [sx, sy, sz]")
-        })? {
-            Either::Uniform(s) => DVec3::splat(s),
-            Either::PerAxis(s) => DVec3::from(s),
-        };
-        if v.abs().max_element() <= super::values::MAX_MAGNITUDE {
-            Ok(Scale(v))
-        } else {
-            Err(de::Error::custom(format!(
-                "expected finite scale factors of magnitude at most 1e15, got {v}"
-            )))
-        }
-    }
 }
 
 #[derive(Debug, Deserialize)]
@@ -486,7 +439,7 @@ impl Placer {
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
-        let parts = o.shape.into_inner().build(source.dir()).map_err(|e| {
+        let parts = o.shape.into_inner().parts(source.dir()).map_err(|e| {
             source.error(
                 Some(shape_span.clone()),
                 format!("{}: {e}", super::object_label(&name)),
@@ -615,7 +568,7 @@ impl Placer {
     fn placement(
         &self,
         source: &Source,
-        transform: Option<Spanned<TransformSection>>,
+        transform: Option<Spanned<TransformKeys>>,
         array: Option<Spanned<ArraySection>>,
         parent: &Transform,
         name: &str,
@@ -698,28 +651,6 @@ fn join(prefix: &str, name: Option<&str>) -> String {
         (_, None) => prefix.to_string(),
         (true, Some(n)) => n.to_string(),
         (false, Some(n)) => format!("{prefix}/{n}"),
-    }
-}
-
-impl TransformSection {
-    /// The map: `matrix`, then `scale`, then `rotate`, then `translate`.
-    pub(super) fn build(self) -> Result<Transform, crate::geometry::GeometryError> {
-        let (axis, angle) = self
-            .rotate
-            .map_or((DVec3::Z, 0.0), |r| (r.axis.0, r.angle_deg.0.to_radians()));
-        let placed = Transform::new(
-            self.scale.map_or(DVec3::ONE, |s| s.0),
-            axis,
-            angle,
-            self.translate.map_or(DVec3::ZERO, |t| t.0),
-        )?;
-        match self.matrix {
-            Some(rows) => {
-                let m = DMat3::from_cols_array_2d(&rows.map(|r| r.map(|e| e.0))).transpose();
-                Ok(Transform::from_matrix(m)?.then(&placed))
-            }
-            None => Ok(placed),
-        }
     }
 }
 

@@ -2,11 +2,11 @@
 
 use std::ops::Range;
 
-use super::parts::Spanned;
 use serde::{Deserialize, Deserializer, de};
 
-use super::values::{Direction, Positive, Rgb, Vector};
+use super::parts::Spanned;
 use super::{SceneFileError, Source};
+use crate::keys::{Direction, Positive, Rgb, Vector};
 use crate::math::Colour;
 use crate::scene::{RayTrajectory, Spread};
 

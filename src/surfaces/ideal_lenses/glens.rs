@@ -21,9 +21,11 @@
 //! does not depend on where the ray meets it.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use crate::keys::{Coefficient, Direction, NonZero, Vector};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 /// A glens's focal lengths and nodal point, finite or at infinity.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +99,58 @@ impl Glens {
             |d, s| self.direction(d, s),
             self.transmission_coefficient,
         )
+    }
+}
+
+/// `type = "glens"`: finite focal lengths with a principal point, or (homogeneous) a nodal
+/// direction and the ratio f₋/f₊; one set of keys, whole, and not the other.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GlensKeys {
+    optical_axis: Direction,
+    principal_point: Option<Vector>,
+    focal_length_negative: Option<NonZero>,
+    focal_length_positive: Option<NonZero>,
+    nodal_direction: Option<Direction>,
+    focal_length_ratio: Option<NonZero>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl GlensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let axis = self.optical_axis.0;
+        let finite = (
+            self.principal_point,
+            self.focal_length_negative,
+            self.focal_length_positive,
+        );
+        let focus = match (finite, (self.nodal_direction, self.focal_length_ratio)) {
+            ((Some(p), Some(f_neg), Some(f_pos)), (None, None)) => Focus::Finite {
+                principal_point: p.0,
+                focal_length_negative: f_neg.0,
+                focal_length_positive: f_pos.0,
+            },
+            ((None, None, None), (Some(n), Some(ratio))) => {
+                // Directions are unit vectors: a cosine below 1e-9 is perpendicular.
+                if n.0.dot(axis).abs() < 1e-9 {
+                    return Err(format!(
+                        "glens: nodal_direction = {} must not lie in the glens's plane (perpendicular to optical_axis = {axis})",
+                        n.0
+                    ));
+                }
+                Focus::Homogeneous {
+                    nodal_direction: n.0,
+                    ratio: ratio.0,
+                }
+            }
+            _ => return Err("glens: give principal_point, focal_length_negative and focal_length_positive (a glens with finite focal lengths), or nodal_direction and focal_length_ratio (a homogeneous glens), not a mixture".into()),
+        };
+        Ok(Surface::Glens(Glens {
+            optical_axis: axis,
+            focus,
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }
 

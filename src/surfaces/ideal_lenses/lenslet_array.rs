@@ -11,11 +11,12 @@
 //! (the ray is lost).
 
 use glam::{DVec2, DVec3};
-
-use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use serde::Deserialize;
 
 use super::ThinLens;
+use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Direction, NonZero, Vector};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LensletArray {
@@ -61,6 +62,45 @@ impl LensletArray {
             direction: lens.direction(at.ray.direction, s).normalize(),
             factor: self.transmission_coefficient,
         }
+    }
+}
+
+/// `type = "ideal-thin-lenslet-array"`: lenslets of `focal_length` on the lattice of `period`
+/// along `u_direction` and `v_direction` (not parallel) about `centre`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealThinLensletArrayKeys {
+    focal_length: NonZero,
+    centre: Vector,
+    u_direction: Direction,
+    v_direction: Direction,
+    period: [NonZero; 2],
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl IdealThinLensletArrayKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let (u, v) = (self.u_direction.0, self.v_direction.0);
+        let [pu, pv] = self.period.map(|p| p.0);
+        if pu <= 0.0 || pv <= 0.0 {
+            return Err(format!(
+                "ideal-thin-lenslet-array: period = [{pu}, {pv}] must be positive"
+            ));
+        }
+        if u.cross(v).length() < 1e-9 {
+            return Err(format!(
+                "ideal-thin-lenslet-array: v_direction = {v} must not be parallel to u_direction = {u}"
+            ));
+        }
+        Ok(Surface::IdealThinLensletArray(LensletArray {
+            centre: self.centre.0,
+            u,
+            v,
+            period: DVec2::new(pu, pv),
+            focal_length: self.focal_length.0,
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }
 

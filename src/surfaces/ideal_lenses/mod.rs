@@ -25,10 +25,10 @@ use glam::DVec3;
 use crate::geometry::Interaction;
 use crate::surfaces::Redirection;
 
-pub use glens::{Focus, Glens};
-pub use lenslet_array::LensletArray;
-pub use thin_lens::ThinLens;
-pub use thin_mirror::ThinMirror;
+pub use glens::{Focus, Glens, GlensKeys};
+pub use lenslet_array::{IdealThinLensletArrayKeys, LensletArray};
+pub use thin_lens::{IdealThinCylindricalLensKeys, IdealThinLensKeys, ThinLens};
+pub use thin_mirror::{IdealThinCylindricalMirrorKeys, IdealThinMirrorKeys, ThinMirror};
 
 /// The ray met at `at` leaves along `law(d, S)` (S the hit in the object's own positions),
 /// carrying `factor` of the light.

@@ -13,9 +13,11 @@
 //! (perpendicular to â): only the ĝ component of P − S counts.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use crate::keys::{Coefficient, Direction, NonZero, Vector};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinLens {
@@ -54,6 +56,85 @@ impl ThinLens {
             |d, s| self.direction(d, s),
             self.transmission_coefficient,
         )
+    }
+}
+
+/// The keys of every ideal thin lens and mirror.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThinLensKeys {
+    focal_length: NonZero,
+    principal_point: Vector,
+    optical_axis: Direction,
+}
+
+impl ThinLensKeys {
+    /// The lens, cylindrical if a gradient direction is given (made perpendicular to the
+    /// optical axis, along which it must not lie); `name` is the kind's, for errors.
+    pub fn lens(
+        self,
+        name: &str,
+        gradient: Option<Direction>,
+        coefficient: f64,
+    ) -> Result<ThinLens, String> {
+        let a = self.optical_axis.0;
+        let gradient = match gradient {
+            None => None,
+            Some(g) if a.cross(g.0).length() < 1e-9 => {
+                return Err(format!(
+                    "{name}: gradient_direction = {} must not be parallel to optical_axis = {a}",
+                    g.0
+                ));
+            }
+            Some(g) => Some((g.0 - g.0.dot(a) * a).normalize()),
+        };
+        Ok(ThinLens {
+            principal_point: self.principal_point.0,
+            optical_axis: a,
+            focal_length: self.focal_length.0,
+            gradient,
+            transmission_coefficient: coefficient,
+        })
+    }
+}
+
+/// `type = "ideal-thin-lens"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealThinLensKeys {
+    #[serde(flatten)]
+    lens: ThinLensKeys,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl IdealThinLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let coefficient = coefficient(self.transmission_coefficient);
+        let lens = self.lens.lens("ideal-thin-lens", None, coefficient)?;
+        Ok(Surface::IdealThinLens(lens))
+    }
+}
+
+/// `type = "ideal-thin-cylindrical-lens"`: power along `gradient_direction` only.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealThinCylindricalLensKeys {
+    #[serde(flatten)]
+    lens: ThinLensKeys,
+    gradient_direction: Direction,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl IdealThinCylindricalLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let coefficient = coefficient(self.transmission_coefficient);
+        let gradient = Some(self.gradient_direction);
+        let lens = self
+            .lens
+            .lens("ideal-thin-cylindrical-lens", gradient, coefficient)?;
+        Ok(Surface::IdealThinLens(lens))
     }
 }
 

@@ -5,10 +5,13 @@
 //! principal point are mirrored, and parallel rays meet in the focal plane at distance f in
 //! front of the mirror (f > 0: concave, f < 0: convex).
 
-use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use serde::Deserialize;
 
 use super::ThinLens;
+use super::thin_lens::ThinLensKeys;
+use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Direction};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinMirror {
@@ -32,5 +35,45 @@ impl ThinMirror {
             |d, s| self.direction(d, s),
             self.lens.transmission_coefficient,
         )
+    }
+}
+
+/// `type = "ideal-thin-mirror"`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealThinMirrorKeys {
+    #[serde(flatten)]
+    lens: ThinLensKeys,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl IdealThinMirrorKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let coefficient = coefficient(self.reflection_coefficient);
+        let lens = self.lens.lens("ideal-thin-mirror", None, coefficient)?;
+        Ok(Surface::IdealThinMirror(ThinMirror { lens }))
+    }
+}
+
+/// `type = "ideal-thin-cylindrical-mirror"`: power along `gradient_direction` only.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdealThinCylindricalMirrorKeys {
+    #[serde(flatten)]
+    lens: ThinLensKeys,
+    gradient_direction: Direction,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl IdealThinCylindricalMirrorKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let coefficient = coefficient(self.reflection_coefficient);
+        let gradient = Some(self.gradient_direction);
+        let lens = self
+            .lens
+            .lens("ideal-thin-cylindrical-mirror", gradient, coefficient)?;
+        Ok(Surface::IdealThinMirror(ThinMirror { lens }))
     }
 }

@@ -10,9 +10,12 @@
 //! IEEE arithmetic gives that angle's exact limit, π, not an approximation by a large r.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use crate::geometry::Exit;
-use crate::geometry::Sphere;
+use super::{LensKeys, LensLaw};
+use crate::geometry::{Exit, Sphere};
+use crate::keys::{Finite, MAX_MAGNITUDE, number};
+use crate::surfaces::Surface;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ggrin {
@@ -60,4 +63,33 @@ impl Ggrin {
 /// clamped at zero against rounding when h = |x|.
 fn leg(h: f64, x: f64) -> f64 {
     ((h - x) * (h + x)).max(0.0).sqrt()
+}
+
+number!(
+    /// A distance of a GGRIN lens's focal point from its centre, in units of the lens radius:
+    /// at least 1, or `inf` (TOML's infinity).
+    LensDistance,
+    |x: f64| x >= 1.0 && (x <= MAX_MAGNITUDE || x == f64::INFINITY),
+    "a distance in units of the lens radius, at least 1 (the surface) or inf"
+);
+
+/// `type = "ggrin-lens"`: r, r′ (in units of the lens radius) and φ in degrees.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GgrinLensKeys {
+    r: LensDistance,
+    r_prime: LensDistance,
+    phi_deg: Finite,
+    #[serde(flatten)]
+    lens: LensKeys,
+}
+
+impl GgrinLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(self.lens.lens(LensLaw::Ggrin(Ggrin {
+            r: self.r.0,
+            r_prime: self.r_prime.0,
+            phi: self.phi_deg.0.to_radians(),
+        })))
+    }
 }

@@ -24,11 +24,13 @@
 //! This is the check on §3's closed forms: integrated rays leave where Eqs 5–10 say.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
-use super::IndexProfile;
-use crate::geometry::Exit;
-use crate::geometry::Sphere;
+use super::{IndexProfile, LensKeys, LensLaw, TableProfile};
+use crate::geometry::{Exit, Sphere};
+use crate::keys::Finite;
 use crate::math::{Dop853, ErrorEstimate, Phase};
+use crate::surfaces::Surface;
 
 /// Local error tolerance of each integration step for a smooth profile. Exit points and
 /// directions agree with the closed forms to about 5e-12 (in units of R and rad) for the
@@ -191,6 +193,28 @@ impl GradientIndex {
 fn leaving(phase: &Phase<2>) -> (f64, f64) {
     let ([x, y], [vx, vy]) = (phase.x, phase.v);
     (x * x + y * y - 1.0, 2.0 * (x * vx + y * vy))
+}
+
+/// `type = "gradient-index-lens"`: the index `n` at the radii `rho` (in units of the lens
+/// radius), a [`TableProfile`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GradientIndexLensKeys {
+    rho: Vec<Finite>,
+    n: Vec<Finite>,
+    #[serde(flatten)]
+    lens: LensKeys,
+}
+
+impl GradientIndexLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let values = |v: Vec<Finite>| v.into_iter().map(|x| x.0).collect();
+        let table = TableProfile::new(values(self.rho), values(self.n))
+            .map_err(|e| format!("gradient-index-lens profile: {e}"))?;
+        Ok(self.lens.lens(LensLaw::GradientIndex(GradientIndex {
+            profile: IndexProfile::Table(table),
+        })))
+    }
 }
 
 #[cfg(test)]

@@ -4,9 +4,11 @@
 //! direction of d from the centre C, travelling along C − P.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use crate::geometry::Exit;
-use crate::geometry::Sphere;
+use super::{ClosedFormLensKeys, IndexProfile, LensLaw};
+use crate::geometry::{Exit, Sphere};
+use crate::surfaces::Surface;
 
 /// The ray leaving the Luneburg lens `lens` after entering at `p` with direction `d`.
 pub fn luneburg(lens: &Sphere, p: DVec3, d: DVec3) -> Exit {
@@ -14,4 +16,15 @@ pub fn luneburg(lens: &Sphere, p: DVec3, d: DVec3) -> Exit {
     let exit = c + lens.radius() * d.normalize(); // Eq 5
     let direction = (c - p).normalize(); // Eq 6
     Exit::chord(p, exit, direction)
+}
+
+/// `type = "luneburg-lens"`.
+#[derive(Debug, Deserialize)]
+#[serde(transparent)]
+pub struct LuneburgLensKeys(ClosedFormLensKeys);
+
+impl LuneburgLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        self.0.build(LensLaw::Luneburg, IndexProfile::Luneburg)
+    }
 }

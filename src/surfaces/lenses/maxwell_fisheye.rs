@@ -5,9 +5,11 @@
 //! perpendicular to R = C − P reversed.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use crate::geometry::Exit;
-use crate::geometry::Sphere;
+use super::{ClosedFormLensKeys, IndexProfile, LensLaw};
+use crate::geometry::{Exit, Sphere};
+use crate::surfaces::Surface;
 
 /// The ray leaving the Maxwell-fisheye lens `lens` after entering at `p` with direction `d`.
 pub fn maxwell_fisheye(lens: &Sphere, p: DVec3, d: DVec3) -> Exit {
@@ -17,4 +19,16 @@ pub fn maxwell_fisheye(lens: &Sphere, p: DVec3, d: DVec3) -> Exit {
     let r_hat = r.normalize();
     let direction = 2.0 * d.dot(r_hat) * r_hat - d; // Eq 10
     Exit::chord(p, exit, direction)
+}
+
+/// `type = "maxwell-fisheye-lens"`.
+#[derive(Debug, Deserialize)]
+#[serde(transparent)]
+pub struct MaxwellFisheyeLensKeys(ClosedFormLensKeys);
+
+impl MaxwellFisheyeLensKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        self.0
+            .build(LensLaw::MaxwellFisheye, IndexProfile::MaxwellFisheye)
+    }
 }

@@ -13,17 +13,21 @@ mod luneburg;
 mod maxwell_fisheye;
 mod profile;
 
-pub use eaton::eaton;
-pub use ggrin::Ggrin;
-pub use gradient_index::GradientIndex;
-pub use luneburg::luneburg;
-pub use maxwell_fisheye::maxwell_fisheye;
+pub use eaton::{EatonLensKeys, eaton};
+pub use ggrin::{Ggrin, GgrinLensKeys};
+pub use gradient_index::{GradientIndex, GradientIndexLensKeys};
+pub use luneburg::{LuneburgLensKeys, luneburg};
+pub use maxwell_fisheye::{MaxwellFisheyeLensKeys, maxwell_fisheye};
 pub use profile::{IndexProfile, TableProfile};
 
 use glam::DVec3;
 
 use super::{Redirection, reflect, refract};
 use crate::geometry::{Exit, Interaction, Shape, Sphere};
+use serde::Deserialize;
+
+use super::{Surface, coefficient};
+use crate::keys::{Coefficient, Positive, number};
 
 /// What a lens does between entry and exit.
 #[derive(Debug, Clone, PartialEq)]
@@ -212,5 +216,67 @@ impl Lens {
             Some(exit) => Redirection::Crosses { exit, factor },
             None => Redirection::Lost,
         }
+    }
+}
+
+number!(
+    /// A radius in units of the lens radius, in [0, 1).
+    InnerRadius,
+    |x: f64| (0.0..1.0).contains(&x),
+    "a radius in units of the lens radius, at least 0 and less than 1"
+);
+
+/// The keys every lens has: its invisible core (none when not given), the index step at its
+/// surface (none) and its transmission coefficient (1).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LensKeys {
+    invisible_radius: Option<InnerRadius>,
+    index_ratio: Option<Positive>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl LensKeys {
+    /// The lens of law `law` with these keys.
+    fn lens(self, law: LensLaw) -> Surface {
+        Surface::Lens(Lens {
+            law,
+            invisible_radius: self.invisible_radius.map_or(0.0, |r| r.0),
+            index_ratio: self.index_ratio.map_or(1.0, |n| n.0),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        })
+    }
+}
+
+/// How a Luneburg, Eaton or Maxwell-fisheye lens is rendered.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum Method {
+    /// The paper's closed-form entry-to-exit map.
+    #[default]
+    Mapping,
+    /// The ray equation integrated through the index profile.
+    Integration,
+}
+
+/// The keys of a lens whose law has a closed form (Luneburg, Eaton, Maxwell fisheye): the
+/// `method` and every lens's keys.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClosedFormLensKeys {
+    method: Option<Method>,
+    #[serde(flatten)]
+    lens: LensKeys,
+}
+
+impl ClosedFormLensKeys {
+    /// The lens of closed form `mapping`, or integrated through `profile`.
+    fn build(self, mapping: LensLaw, profile: IndexProfile) -> Result<Surface, String> {
+        let law = match self.method.unwrap_or_default() {
+            Method::Mapping => mapping,
+            Method::Integration => LensLaw::GradientIndex(GradientIndex { profile }),
+        };
+        Ok(self.lens.lens(law))
     }
 }

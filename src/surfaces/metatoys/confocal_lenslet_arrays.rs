@@ -20,10 +20,12 @@
 //! losslessly unless a reflection coefficient is given. (Dr TIM applies Eq 39 to every ray.)
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use crate::keys::{Coefficient, Direction, Finite, NonZero};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +101,46 @@ impl ConfocalLensletArrays {
         .and_then(|t| t.refract(d, frame.w));
         Outgoing::or_mirrored(out, d, frame.w)
             .leaves(self.transmission_coefficient, self.reflection_coefficient)
+    }
+}
+
+/// `type = "confocal-lenslet-arrays"` (or `gcla`): â, û, η and δ of Eq 39; û must not be
+/// along â.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConfocalLensletArraysKeys {
+    a: Direction,
+    u: Direction,
+    basis: Option<Basis>,
+    eta_u: NonZero,
+    eta_v: NonZero,
+    delta_u: Option<Finite>,
+    delta_v: Option<Finite>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl ConfocalLensletArraysKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let (a, u) = (self.a.0, self.u.0);
+        // Directions are unit vectors: a sine below 1e-9 is parallel.
+        if a.cross(u).length() < 1e-9 {
+            return Err(format!(
+                "confocal-lenslet-arrays: u = {u} must not be parallel to a = {a}"
+            ));
+        }
+        let delta = |d: Option<Finite>| d.map_or(0.0, |d| d.0);
+        Ok(Surface::ConfocalLensletArrays(ConfocalLensletArrays {
+            a,
+            u,
+            basis: self.basis.unwrap_or_default(),
+            eta: DVec2::new(self.eta_u.0, self.eta_v.0),
+            delta: DVec2::new(delta(self.delta_u), delta(self.delta_v)),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
     }
 }
 

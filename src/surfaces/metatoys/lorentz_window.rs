@@ -15,10 +15,12 @@
 //! β_DrTIM = −β.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Vector};
 use crate::math::LorentzTransform;
-use crate::surfaces::Redirection;
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LorentzWindow {
@@ -39,6 +41,29 @@ impl LorentzWindow {
             direction: self.direction(at.ray.direction),
             factor: self.transmission_coefficient,
         }
+    }
+}
+
+/// `type = "lorentz-window"`: the window's velocity `beta` (in units of c, magnitude below 1).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LorentzWindowKeys {
+    beta: Vector,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl LorentzWindowKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let beta = self.beta.0;
+        Ok(Surface::LorentzWindow(LorentzWindow {
+            boost: LorentzTransform::new(beta).ok_or_else(|| {
+                format!(
+                    "lorentz-window: beta = {beta} must have magnitude below 1 (the speed of light)"
+                )
+            })?,
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }
 

@@ -24,14 +24,17 @@
 //!   globally given indefinite metric at points where the surface's tangent plane is null.
 
 use glam::{DMat3, DVec2, DVec3};
+use serde::{Deserialize, Deserializer, de};
 
 use super::{Basis, Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::surfaces::{Redirection, reflect};
+use crate::keys::{Coefficient, Matrix};
+use crate::surfaces::{Redirection, Surface, coefficient, reflect};
 
 /// Whether the optical path lengths on the two sides have the same sign (positive refraction)
 /// or opposite signs (negative refraction, e.g. n = −1 against n = +1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Refraction {
     #[default]
     Positive,
@@ -147,6 +150,89 @@ impl MetricInterface {
         self.outgoing(at.ray.direction, &jacobian(&at.frame()))
             .leaves(self.transmission_coefficient, self.reflection_coefficient)
     }
+}
+
+/// A metric tensor (Eq 18): a symmetric, non-singular 3×3 matrix, given row by row.
+#[derive(Debug, Clone, Copy)]
+struct MetricTensor(DMat3);
+
+impl<'de> Deserialize<'de> for MetricTensor {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let m = Matrix::deserialize(d)?.0;
+        // Row i, column j.
+        let g = |i: usize, j: usize| m.col(j)[i];
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            if g(i, j) != g(j, i) {
+                return Err(de::Error::custom(format!(
+                    "a metric tensor must be symmetric, but g{}{} = {} and g{}{} = {}",
+                    i + 1,
+                    j + 1,
+                    g(i, j),
+                    j + 1,
+                    i + 1,
+                    g(j, i)
+                )));
+            }
+        }
+        // Scaled to a largest element of 1 so that the test neither underflows nor overflows.
+        let scale = m.to_cols_array().iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        if scale == 0.0 || (m * (1.0 / scale)).determinant().abs() <= 1e-12 {
+            return Err(de::Error::custom(
+                "the metric tensor is singular or ill-conditioned (determinant 0 relative to its largest element), so refraction into it is undefined (Eq 30: a = 0)",
+            ));
+        }
+        Ok(MetricTensor(m))
+    }
+}
+
+/// `type = "metric-interface"`: the metrics `inside` and `outside` (Euclidean when not given);
+/// in the local basis their tangential parts must be invertible.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MetricInterfaceKeys {
+    inside: Option<MetricTensor>,
+    outside: Option<MetricTensor>,
+    basis: Option<Basis>,
+    refraction: Option<Refraction>,
+    allow_imaginary: Option<bool>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl MetricInterfaceKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let euclidean = DMat3::IDENTITY;
+        let g = self.inside.map_or(euclidean, |m| m.0);
+        let h = self.outside.map_or(euclidean, |m| m.0);
+        let basis = self.basis.unwrap_or_default();
+        if basis == Basis::Local {
+            check_tangential("inside", &g)?;
+            check_tangential("outside", &h)?;
+        }
+        Ok(Surface::MetricInterface(MetricInterface {
+            inside: g,
+            outside: h,
+            basis,
+            refraction: self.refraction.unwrap_or_default(),
+            allow_imaginary: self.allow_imaginary.unwrap_or(false),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
+    }
+}
+
+/// The (u, v, w) components of h whose tangential part h₁₁h₂₂ − h₁₂² must not vanish.
+fn check_tangential(name: &str, h: &DMat3) -> Result<(), String> {
+    let det2 = h.x_axis.x * h.y_axis.y - h.y_axis.x * h.y_axis.x;
+    let scale = h.x_axis.x.abs().max(h.y_axis.y.abs()).max(h.y_axis.x.abs());
+    if det2.abs() <= 1e-12 * scale * scale {
+        return Err(format!(
+            "metric-interface: in the local basis, the {name} tensor's tangential part has g11 g22 - g12^2 = 0, so Eqs 27-28 have no unique solution"
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -26,16 +26,21 @@ mod ray_flipping;
 mod ray_rotating;
 mod teleporting;
 
-pub use confocal_lenslet_arrays::{ConfocalLensletArrays, Telescopelets};
-pub use lorentz_window::LorentzWindow;
-pub use metric_interface::{
-    MetricInterface, Refraction, metric_reflected_direction, metric_refracted_direction,
+pub use confocal_lenslet_arrays::{
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
 };
-pub use phase_conjugating::{Conjugation, PhaseConjugating, phase_conjugated};
-pub use phase_hologram::{Phase, PhaseHologram, hologram_direction};
-pub use ray_flipping::{RayFlipping, flipped};
-pub use ray_rotating::{RayRotating, RotationAxis, rotated};
-pub use teleporting::{Teleportation, Teleporting};
+pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};
+pub use metric_interface::{
+    MetricInterface, MetricInterfaceKeys, Refraction, metric_reflected_direction,
+    metric_refracted_direction,
+};
+pub use phase_conjugating::{
+    Conjugation, PhaseConjugating, PhaseConjugatingKeys, phase_conjugated,
+};
+pub use phase_hologram::{Phase, PhaseHologram, PhaseHologramKeys, hologram_direction};
+pub use ray_flipping::{RayFlipping, RayFlippingKeys, flipped};
+pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
+pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
 
 use glam::{DMat3, DVec3};
 
@@ -45,7 +50,8 @@ use crate::surfaces::Redirection;
 /// Whether a law's vectors and tensors are given in the global (x, y, z) basis or in the
 /// surface's local (u, v, w) basis at each point (w the outward normal), which makes a curved
 /// surface homogeneous (§4.3, §5.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Basis {
     #[default]
     Global,

@@ -9,12 +9,15 @@
 //! Both laws are their own inverses and reciprocal: −d′ is sent to −d.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use crate::keys::Coefficient;
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 /// Whether the phase-conjugated light is reflected or transmitted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Conjugation {
     #[default]
     Reflective,
@@ -44,6 +47,45 @@ impl PhaseConjugating {
             direction: phase_conjugated(at.ray.direction, at.normal(), self.conjugation),
             factor: self.coefficient,
         }
+    }
+}
+
+/// `type = "phase-conjugating"`: a reflective one (the default) takes a reflection
+/// coefficient, a transmissive one a transmission coefficient.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseConjugatingKeys {
+    mode: Option<Conjugation>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl PhaseConjugatingKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let conjugation = self.mode.unwrap_or_default();
+        let (given, wrong) = match conjugation {
+            Conjugation::Reflective => (
+                self.reflection_coefficient,
+                self.transmission_coefficient.map(|_| {
+                    "a reflective one has a reflection_coefficient, not a transmission_coefficient"
+                }),
+            ),
+            Conjugation::Transmissive => (
+                self.transmission_coefficient,
+                self.reflection_coefficient.map(|_| {
+                    "a transmissive one (mode = \"transmissive\") has a transmission_coefficient, not a reflection_coefficient"
+                }),
+            ),
+        };
+        if let Some(wrong) = wrong {
+            return Err(format!("phase-conjugating: {wrong}"));
+        }
+        Ok(Surface::PhaseConjugating(PhaseConjugating {
+            conjugation,
+            coefficient: coefficient(given),
+        }))
     }
 }
 

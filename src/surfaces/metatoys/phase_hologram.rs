@@ -25,10 +25,12 @@
 //!   with m the in-plane unit vector perpendicular to the axis.
 
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
 
 use super::{Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::surfaces::Redirection;
+use crate::keys::{Coefficient, Finite, NonZero, Vector2};
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 /// The hologram's phase φ(u, v), as an optical path length.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,6 +110,84 @@ impl PhaseHologram {
             hologram_direction(lambda.transpose() * d, self.phase.gradient(r)).map(|e| lambda * e);
         Outgoing::or_mirrored(out, d, frame.w)
             .leaves(self.transmission_coefficient, self.reflection_coefficient)
+    }
+}
+
+/// `type = "phase-hologram"`: a `phase` table.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseHologramKeys {
+    phase: PhaseKeys,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl PhaseHologramKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::PhaseHologram(PhaseHologram {
+            phase: self.phase.build(),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
+    }
+}
+
+/// A [`Phase`] in the scene file: centres (0, 0) and the cylinder axis angle (degrees) 0 when
+/// not given.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+enum PhaseKeys {
+    Linear {
+        gradient: Vector2,
+    },
+    Quadratic {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+    },
+    Lens {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+    },
+    Cylindrical {
+        focal_length: NonZero,
+        centre: Option<Vector2>,
+        axis_angle_deg: Option<Finite>,
+    },
+}
+
+impl PhaseKeys {
+    fn build(self) -> Phase {
+        let centre = |c: Option<Vector2>| c.map_or(DVec2::ZERO, |c| c.0);
+        match self {
+            PhaseKeys::Linear { gradient } => Phase::Linear {
+                gradient: gradient.0,
+            },
+            PhaseKeys::Quadratic {
+                focal_length,
+                centre: c,
+            } => Phase::Quadratic {
+                focal_length: focal_length.0,
+                centre: centre(c),
+            },
+            PhaseKeys::Lens {
+                focal_length,
+                centre: c,
+            } => Phase::Lens {
+                focal_length: focal_length.0,
+                centre: centre(c),
+            },
+            PhaseKeys::Cylindrical {
+                focal_length,
+                centre: c,
+                axis_angle_deg,
+            } => Phase::Cylindrical {
+                focal_length: focal_length.0,
+                centre: centre(c),
+                axis_angle: axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
+            },
+        }
     }
 }
 

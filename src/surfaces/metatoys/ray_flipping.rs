@@ -7,10 +7,12 @@
 //! tangent perpendicular to the flip axis. It is its own inverse, hence reciprocal.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Finite};
 use crate::math::Frame;
-use crate::surfaces::Redirection;
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RayFlipping {
@@ -37,6 +39,24 @@ impl RayFlipping {
             direction: flipped(at.ray.direction, self.flipped_tangent(&at.frame())),
             factor: self.transmission_coefficient,
         }
+    }
+}
+
+/// `type = "ray-flipping"`: the flip axis at `flip_axis_angle_deg` (0 when not given) from u.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RayFlippingKeys {
+    flip_axis_angle_deg: Option<Finite>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+}
+
+impl RayFlippingKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        Ok(Surface::RayFlipping(RayFlipping {
+            flip_axis_angle: self.flip_axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+        }))
     }
 }
 

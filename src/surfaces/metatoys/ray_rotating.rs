@@ -15,11 +15,13 @@
 //! `RayRotatingAboutArbitraryAxisDirection` rotates by its angle as α here.
 
 use glam::{DQuat, DVec3};
+use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
+use crate::keys::{Coefficient, Direction, Finite};
 use crate::math::Frame;
-use crate::surfaces::Redirection;
+use crate::surfaces::{Redirection, Surface, coefficient};
 
 /// The axis rays are rotated about.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -66,6 +68,41 @@ impl RayRotating {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         self.outgoing(at.ray.direction, &at.frame())
             .leaves(self.transmission_coefficient, self.reflection_coefficient)
+    }
+}
+
+/// `type = "ray-rotating"`: the angle in degrees (Dr TIM's default when not given) about the
+/// normal, or about `axis` in `basis`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RayRotatingKeys {
+    angle_deg: Option<Finite>,
+    axis: Option<Direction>,
+    basis: Option<Basis>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl RayRotatingKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let axis = match (self.axis, self.basis) {
+            (None, None) => RotationAxis::Normal,
+            (None, Some(_)) => {
+                return Err("ray-rotating: basis applies to an axis, but none is given".into());
+            }
+            (Some(a), b) => RotationAxis::Direction(a.0, b.unwrap_or_default()),
+        };
+        Ok(Surface::RayRotating(RayRotating {
+            angle: self
+                .angle_deg
+                .map_or(RayRotating::DEFAULT_ANGLE_DEG, |a| a.0)
+                .to_radians(),
+            axis,
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
     }
 }
 

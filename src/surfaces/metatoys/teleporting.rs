@@ -27,17 +27,18 @@
 //! coefficient, times the transmission coefficient at the second).
 
 use glam::{DQuat, DVec2, DVec3};
+use serde::Deserialize;
 
 use super::{hologram_direction, jacobian};
-use crate::geometry::Exit;
-use crate::geometry::Interaction;
-use crate::geometry::Shape;
+use crate::geometry::{Exit, Interaction, Shape};
+use crate::keys::{Coefficient, NonNegative};
 use crate::math::Frame;
 use crate::math::random::uniform_keyed;
-use crate::surfaces::{Redirection, reflect};
+use crate::surfaces::{Redirection, Surface, coefficient, reflect};
 
 /// How a teleporting surface sends rays to its destination.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Teleportation {
     /// Same surface coordinates, same local direction components.
     #[default]
@@ -171,6 +172,57 @@ impl Teleporting {
             factor: self.transmission_coefficient,
         }
     }
+}
+
+/// `type = "teleporting"`: the surface is linked to the object named `destination` once
+/// every object is placed. Errors apply to perfect teleportation, hologram reflections to
+/// holographic.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TeleportingKeys {
+    pub destination: String,
+    teleportation: Option<Teleportation>,
+    positional_error: Option<NonNegative>,
+    angular_error_deg: Option<NonNegative>,
+    #[serde(alias = "transmission")]
+    transmission_coefficient: Option<Coefficient>,
+    #[serde(alias = "reflection")]
+    reflection_coefficient: Option<Coefficient>,
+}
+
+impl TeleportingKeys {
+    pub fn build(self) -> Result<Surface, String> {
+        let positional_error = self.positional_error.map_or(0.0, |e| e.0);
+        let angular_error_deg = self.angular_error_deg.map_or(0.0, |a| a.0);
+        if angular_error_deg > 180.0 {
+            return Err(format!(
+                "teleporting: angular_error_deg = {angular_error_deg} is more than 180"
+            ));
+        }
+        let teleportation = self.teleportation.unwrap_or_default();
+        match teleportation {
+            Teleportation::Perfect if self.reflection_coefficient.is_some() => {
+                return Err("teleporting: reflection_coefficient applies to teleportation = \"holographic\" only (perfect teleportation reflects nothing)".into());
+            }
+            Teleportation::Holographic if positional_error > 0.0 || angular_error_deg > 0.0 => {
+                return Err("teleporting: positional_error and angular_error_deg apply to perfect teleportation only, not to teleportation = \"holographic\"".into());
+            }
+            Teleportation::Perfect | Teleportation::Holographic => {}
+        }
+        Ok(Surface::Teleporting(Teleporting {
+            destination: unlinked(),
+            teleportation,
+            positional_error,
+            angular_error: angular_error_deg.to_radians(),
+            transmission_coefficient: coefficient(self.transmission_coefficient),
+            reflection_coefficient: coefficient(self.reflection_coefficient),
+        }))
+    }
+}
+
+/// The destination of a teleporting surface before it is linked: a point-sized sphere.
+fn unlinked() -> Shape {
+    Shape::Sphere(crate::geometry::Sphere::new(DVec3::ZERO, f64::MIN_POSITIVE).expect("valid"))
 }
 
 #[cfg(test)]

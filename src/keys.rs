@@ -1,0 +1,197 @@
+//! What scene-file keys take: validated values, each checked while serde reads it (so that an
+//! error carries the span of the offending value), and [`kinds!`], the tables with a `type` key
+//! whose kinds (laws, shapes, devices) each read their own keys.
+//!
+//! Each kind's keys are a `#[derive(Deserialize)]` struct beside the type they make, in the
+//! type's own file (`SphereKeys` in `geometry/sphere.rs`), with its aliases, units and defaults,
+//! and a `build` that checks what no single value can (a direction parallel to another) and
+//! makes the type.
+
+use glam::{DMat3, DVec2, DVec3};
+use serde::{Deserialize, Deserializer, de};
+
+/// Largest magnitude of any length or coordinate: far beyond any scene's scale, and small enough
+/// that products of a few such numbers (cross products, squared lengths) stay finite.
+pub const MAX_MAGNITUDE: f64 = 1e15;
+
+/// Smallest magnitude of a [`NonZero`] number: far below any scene's scale, and large enough
+/// that a scene's lengths divided by it stay finite.
+pub const MIN_MAGNITUDE: f64 = 1e-15;
+
+/// A number read by serde and accepted by `ok`, or the error "expected `expected`, got x".
+pub fn checked<'de, D: Deserializer<'de>>(
+    d: D,
+    ok: impl Fn(f64) -> bool,
+    expected: &str,
+) -> Result<f64, D::Error> {
+    let x = f64::deserialize(d)?;
+    if ok(x) {
+        Ok(x)
+    } else {
+        Err(de::Error::custom(format!("expected {expected}, got {x}")))
+    }
+}
+
+/// A newtype of f64 read through [`checked`].
+macro_rules! number {
+    ($(#[$doc:meta])* $name:ident, $ok:expr, $expected:expr) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy)]
+        pub struct $name(pub f64);
+
+        impl<'de> serde::Deserialize<'de> for $name {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                $crate::keys::checked(d, $ok, &$expected).map($name)
+            }
+        }
+    };
+}
+pub(crate) use number;
+
+number!(
+    /// A finite number of magnitude at most [`MAX_MAGNITUDE`].
+    Finite,
+    |x: f64| x.abs() <= MAX_MAGNITUDE,
+    format!("a finite number of magnitude at most {MAX_MAGNITUDE:e}")
+);
+
+number!(
+    /// A positive number of at most [`MAX_MAGNITUDE`].
+    Positive,
+    |x: f64| x > 0.0 && x <= MAX_MAGNITUDE,
+    format!("a positive number of at most {MAX_MAGNITUDE:e}")
+);
+
+number!(
+    /// A non-negative number of at most [`MAX_MAGNITUDE`].
+    NonNegative,
+    |x: f64| (0.0..=MAX_MAGNITUDE).contains(&x),
+    format!("a number from 0 to {MAX_MAGNITUDE:e}")
+);
+
+number!(
+    /// A fraction of light in [0, 1].
+    Coefficient,
+    |x: f64| (0.0..=1.0).contains(&x),
+    "a coefficient between 0 and 1"
+);
+
+/// A finite, non-zero number of magnitude at least [`MIN_MAGNITUDE`] (a focal length, a
+/// focal-length ratio η: laws divide by it).
+#[derive(Debug, Clone, Copy)]
+pub struct NonZero(pub f64);
+
+impl<'de> Deserialize<'de> for NonZero {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = Finite::deserialize(d)?.0;
+        if x.abs() >= MIN_MAGNITUDE {
+            Ok(NonZero(x))
+        } else if x == 0.0 {
+            Err(de::Error::custom("expected a non-zero number, got 0"))
+        } else {
+            Err(de::Error::custom(format!(
+                "expected a non-zero number of magnitude at least {MIN_MAGNITUDE:e}, got {x:e}"
+            )))
+        }
+    }
+}
+
+/// Three finite numbers: a point, a vector or an RGB colour.
+#[derive(Debug, Clone, Copy)]
+pub struct Vector(pub DVec3);
+
+impl<'de> Deserialize<'de> for Vector {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let [x, y, z] = <[Finite; 3]>::deserialize(d)?;
+        Ok(Vector(DVec3::new(x.0, y.0, z.0)))
+    }
+}
+
+/// Two finite numbers: surface coordinates or a tangential vector.
+#[derive(Debug, Clone, Copy)]
+pub struct Vector2(pub DVec2);
+
+impl<'de> Deserialize<'de> for Vector2 {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let [x, y] = <[Finite; 2]>::deserialize(d)?;
+        Ok(Vector2(DVec2::new(x.0, y.0)))
+    }
+}
+
+/// A direction: three finite numbers, not all zero, normalised (after scaling by the largest
+/// component, so tiny but non-zero vectors keep their direction).
+#[derive(Debug, Clone, Copy)]
+pub struct Direction(pub DVec3);
+
+impl<'de> Deserialize<'de> for Direction {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Vector::deserialize(d)?.0;
+        let largest = v.abs().max_element();
+        if largest == 0.0 {
+            return Err(de::Error::custom(
+                "expected a direction, got the zero vector",
+            ));
+        }
+        Ok(Direction((v / largest).normalize()))
+    }
+}
+
+/// A colour: three finite, non-negative numbers (red, green, blue).
+#[derive(Debug, Clone, Copy)]
+pub struct Rgb(pub DVec3);
+
+impl<'de> Deserialize<'de> for Rgb {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let c = Vector::deserialize(d)?.0;
+        if c.min_element() < 0.0 {
+            return Err(de::Error::custom(format!(
+                "expected a colour with non-negative components, got {c}"
+            )));
+        }
+        Ok(Rgb(c))
+    }
+}
+
+/// A 3×3 matrix of finite numbers, given row by row.
+#[derive(Debug, Clone, Copy)]
+pub struct Matrix(pub DMat3);
+
+impl<'de> Deserialize<'de> for Matrix {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let rows = <[[Finite; 3]; 3]>::deserialize(d)?;
+        Ok(Matrix(
+            DMat3::from_cols_array_2d(&rows.map(|r| r.map(|x| x.0))).transpose(),
+        ))
+    }
+}
+
+/// A table with a `type` key naming one of several kinds, each read by its own keys struct
+/// (`#[serde(deny_unknown_fields)]`, in the kind's own file, with a `build(self)` that makes
+/// the kind): the enum of the kinds, one line each, and its `build`, which hands the table to
+/// the kind's keys. The kinds' names are their variants' in kebab case; attributes on a
+/// variant give aliases.
+macro_rules! kinds {
+    (
+        $(#[$meta:meta])*
+        $vis:vis enum $name:ident -> $built:ty {
+            $($(#[$variant_meta:meta])* $variant:ident($keys:ty),)*
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, serde::Deserialize)]
+        #[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+        $vis enum $name {
+            $($(#[$variant_meta])* $variant($keys),)*
+        }
+
+        impl $name {
+            /// What the table describes, made by its kind's keys.
+            $vis fn build(self) -> $built {
+                match self {
+                    $($name::$variant(keys) => keys.build(),)*
+                }
+            }
+        }
+    };
+}
+pub(crate) use kinds;
