@@ -76,6 +76,11 @@ number!(
     "a coefficient between 0 and 1"
 );
 
+/// A coefficient as a law's or device's keys give it: 1 (all the light) when not given.
+pub fn coefficient(c: Option<Coefficient>) -> f64 {
+    c.map_or(1.0, |c| c.0)
+}
+
 /// A finite, non-zero number of magnitude at least [`MIN_MAGNITUDE`] (a focal length, a
 /// focal-length ratio η: laws divide by it).
 #[derive(Debug, Clone, Copy)]
@@ -167,9 +172,9 @@ impl<'de> Deserialize<'de> for Matrix {
 
 /// A table with a `type` key naming one of several kinds, each read by its own keys struct
 /// (`#[serde(deny_unknown_fields)]`, in the kind's own file, with a `build(self)` that makes
-/// the kind): the enum of the kinds, one line each, and its `build`, which hands the table to
-/// the kind's keys. The kinds' names are their variants' in kebab case; attributes on a
-/// variant give aliases.
+/// the kind): the enum of the kinds, one line each, its `build`, which hands the table to the
+/// kind's keys, and `kind`, the name the table's `type` gives. The names are the variants' in
+/// kebab case; attributes on a variant give aliases.
 macro_rules! kinds {
     (
         $(#[$meta:meta])*
@@ -191,7 +196,26 @@ macro_rules! kinds {
                     $($name::$variant(keys) => keys.build(),)*
                 }
             }
+
+            /// The kind's name, as `type` gives it.
+            $vis fn kind(&self) -> String {
+                match self {
+                    $($name::$variant(_) => $crate::keys::kebab_case(stringify!($variant)),)*
+                }
+            }
         }
     };
 }
 pub(crate) use kinds;
+
+/// `LensStar` as `lens-star`: a kind's name from its variant's.
+pub fn kebab_case(camel: &str) -> String {
+    let mut name = String::new();
+    for (i, c) in camel.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            name.push('-');
+        }
+        name.extend(c.to_lowercase());
+    }
+    name
+}

@@ -3,9 +3,11 @@
 //! outward normal, the paper's §4.4 footnote).
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::Part;
 use crate::geometry::Arrow;
+use crate::keys::{Direction, Positive, Vector};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -54,5 +56,33 @@ impl CoordinateSystem {
                 })
             })
             .collect()
+    }
+}
+
+/// `aid = { type = "coordinate-system" }`: x, y and z at the origin, of length 1 and shafts
+/// 1/40 of it, where not given.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CoordinateSystemKeys {
+    origin: Option<Vector>,
+    axes: Option<[Direction; 3]>,
+    length: Option<Positive>,
+    shaft_radius: Option<Positive>,
+}
+
+impl CoordinateSystemKeys {
+    pub fn build(self) -> Result<Vec<Part>, String> {
+        let length = self.length.map_or(1.0, |l| l.0);
+        CoordinateSystem {
+            origin: self.origin.map_or(DVec3::ZERO, |o| o.0),
+            axes: self
+                .axes
+                .map_or([DVec3::X, DVec3::Y, DVec3::Z], |a| a.map(|d| d.0)),
+            names: ["x axis", "y axis", "z axis"],
+            length,
+            shaft_radius: self.shaft_radius.map_or(0.025 * length, |r| r.0),
+        }
+        .parts()
+        .map_err(|e| format!("coordinate-system: {e}"))
     }
 }

@@ -13,8 +13,10 @@
 //! (the inverse of f₀₀ = h₁ h₁′ / (h₁′ − h₁)).
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::{Edges, IdealLensCloak, Part};
+use super::{Edges, IdealLensCloak, LensDevice, Part};
+use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct FourPiLens {
@@ -36,9 +38,9 @@ pub struct FourPiLens {
     pub show_r1: bool,
 }
 
-impl FourPiLens {
+impl LensDevice for FourPiLens {
     /// The lenses, named as the cloak's (L1 is `base outer lens`), and with `edges` its frames.
-    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         // Directions are unit vectors: a triple product below 1e-9 is a plane.
         let (a, t1, t2) = (
             self.optical_axis_direction,
@@ -78,5 +80,44 @@ impl FourPiLens {
                 }
         });
         Ok(parts)
+    }
+}
+
+/// `lenses = { type = "four-pi-lens" }`: Dr TIM's `Editable4PiLens`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FourPiLensKeys {
+    principal_point: Vector,
+    optical_axis_direction: Direction,
+    focal_length_outwards: NonZero,
+    transverse_direction1: Direction,
+    transverse_direction2: Direction,
+    radius: Positive,
+    length: Positive,
+    closer_inner_vertex_distance: Finite,
+    farther_inner_vertex_distance: Finite,
+    individual_lens_transmission_coefficient: Option<Coefficient>,
+    show_l1: Option<bool>,
+    show_r1: Option<bool>,
+}
+
+impl FourPiLensKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        Ok(Box::new(FourPiLens {
+            principal_point: self.principal_point.0,
+            optical_axis_direction: self.optical_axis_direction.0,
+            focal_length_outwards: self.focal_length_outwards.0,
+            transverse_direction1: self.transverse_direction1.0,
+            transverse_direction2: self.transverse_direction2.0,
+            radius: self.radius.0,
+            length: self.length.0,
+            closer_inner_vertex_distance: self.closer_inner_vertex_distance.0,
+            farther_inner_vertex_distance: self.farther_inner_vertex_distance.0,
+            individual_lens_transmission_coefficient: crate::keys::coefficient(
+                self.individual_lens_transmission_coefficient,
+            ),
+            show_l1: self.show_l1.unwrap_or(true),
+            show_r1: self.show_r1.unwrap_or(true),
+        }))
     }
 }

@@ -17,9 +17,11 @@
 //! Vertices: 0 back, 1 left, 2 right (the base), 3 lower inner, 4 upper inner, 5 top.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::lens_simplicial_complex::face_name;
-use super::{Edges, LensSimplicialComplex, Part};
+use super::{Edges, LensDevice, LensSimplicialComplex, Part};
+use crate::keys::{Coefficient, Direction, Finite, Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct IdealLensCloak {
@@ -108,10 +110,12 @@ impl IdealLensCloak {
             h2e,
         })
     }
+}
 
+impl LensDevice for IdealLensCloak {
     /// The lenses, named as in Dr TIM (`base outer lens`, ...), and with `edges` its frames
     /// `edge I-J` (vertex numbers above).
-    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let (h, h1, h2, h1e) = (
             self.height,
             self.height_lower_inner_vertex_p,
@@ -191,6 +195,52 @@ pub(super) fn rename(parts: &mut [Part], names: impl Iterator<Item = ([usize; 3]
         if let Some(p) = parts.iter_mut().find(|p| p.name == complex_name) {
             p.name = name;
         }
+    }
+}
+
+/// The keys of the tetrahedral and the polygonal ideal-lens cloak.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CloakKeys {
+    base_centre: Vector,
+    front_direction: Direction,
+    right_direction: Direction,
+    top_direction: Direction,
+    base_radius: Positive,
+    height: Positive,
+    height_lower_inner_vertex_p: Finite,
+    height_upper_inner_vertex_p: Finite,
+    height_lower_inner_vertex_e: Finite,
+    interface_transmission_coefficient: Option<Coefficient>,
+}
+
+impl CloakKeys {
+    pub(super) fn cloak(self) -> IdealLensCloak {
+        IdealLensCloak {
+            base_centre: self.base_centre.0,
+            front_direction: self.front_direction.0,
+            right_direction: self.right_direction.0,
+            top_direction: self.top_direction.0,
+            base_radius: self.base_radius.0,
+            height: self.height.0,
+            height_lower_inner_vertex_p: self.height_lower_inner_vertex_p.0,
+            height_upper_inner_vertex_p: self.height_upper_inner_vertex_p.0,
+            height_lower_inner_vertex_e: self.height_lower_inner_vertex_e.0,
+            interface_transmission_coefficient: crate::keys::coefficient(
+                self.interface_transmission_coefficient,
+            ),
+        }
+    }
+}
+
+/// `lenses = { type = "ideal-lens-cloak" }`: Dr TIM's `EditableIdealLensCloak`.
+#[derive(Debug, Deserialize)]
+#[serde(transparent)]
+pub struct IdealLensCloakKeys(CloakKeys);
+
+impl IdealLensCloakKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        Ok(Box::new(self.0.cloak()))
     }
 }
 

@@ -22,9 +22,11 @@
 use std::collections::{BTreeSet, HashMap, VecDeque};
 
 use glam::{DMat4, DVec3, DVec4};
+use serde::Deserialize;
 
-use super::{Edges, Part};
+use super::{Edges, LensDevice, Part};
 use crate::geometry::{Shape, TriangleMesh};
+use crate::keys::{Coefficient, Vector};
 use crate::surfaces::{Surface, ThinLens};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -49,10 +51,10 @@ const TOLERANCE: f64 = 1e-9;
 /// A face's lens: `None` where the cells on either side see space alike (no lens is needed).
 type FaceLens = Option<ThinLens>;
 
-impl LensSimplicialComplex {
+impl LensDevice for LensSimplicialComplex {
     /// The faces `face I-J-K` (vertex indices, from 0) that need a lens and, with `edges`, the
     /// edges `edge I-J`.
-    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let complex = Complex::new(self)?;
         let mut parts = Vec::new();
         for (f, face) in complex.faces.iter().enumerate() {
@@ -381,4 +383,29 @@ fn inside(p: &[DVec3], cell: [usize; 4], x: DVec3) -> bool {
         let [a, b, c, d] = corners;
         (b - a).cross(c - a).dot(d - a) / whole >= -TOLERANCE
     })
+}
+
+/// `lenses = { type = "lens-simplicial-complex" }`: Dr TIM's
+/// `EditableLensSimplicialComplex`, its vertices in physical and virtual space and its edges.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LensSimplicialComplexKeys {
+    vertices: Vec<Vector>,
+    vertices_v: Vec<Vector>,
+    edges: Vec<[usize; 2]>,
+    lens_transmission_coefficient: Option<Coefficient>,
+}
+
+impl LensSimplicialComplexKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        let points = |v: Vec<Vector>| v.into_iter().map(|p| p.0).collect();
+        Ok(Box::new(LensSimplicialComplex {
+            vertices: points(self.vertices),
+            vertices_v: points(self.vertices_v),
+            edges: self.edges,
+            lens_transmission_coefficient: crate::keys::coefficient(
+                self.lens_transmission_coefficient,
+            ),
+        }))
+    }
 }

@@ -12,9 +12,11 @@
 //! trajectory's inscribed circle has radius 2f sin(π/N).
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::{Edges, Part};
+use super::{Edges, LensDevice, Part};
 use crate::geometry::{Parallelogram, Shape};
+use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use crate::surfaces::{Surface, ThinLens};
 
 /// Most lenses a star may have: with their edges, a quarter of a scene's objects at most
@@ -42,10 +44,10 @@ pub struct LensStar {
     pub shown_lenses: Option<(i64, u32)>,
 }
 
-impl LensStar {
+impl LensDevice for LensStar {
     /// The lenses `lens 1` … `lens N` and, with `edges`, the edges of the shown lenses
     /// (`top edge i`, `outer edge i`, `bottom edge i`) and the common `axial edge`.
-    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let n = self.number_of_lenses;
         if n == 0 || n > MAX_LENSES {
             return Err(format!(
@@ -103,6 +105,46 @@ impl LensStar {
             parts.push(e.part("axial edge".into(), top, top + axial)?);
         }
         Ok(parts)
+    }
+}
+
+/// `lenses = { type = "lens-star" }`: Dr TIM's `EditableLensStar`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LensStarKeys {
+    number_of_lenses: u32,
+    focal_length: NonZero,
+    principal_point_distance: Option<Finite>,
+    centre: Vector,
+    intersection_direction: Direction,
+    point_on_lens1: Vector,
+    star_radius: Positive,
+    star_length: Positive,
+    lens_transmission_coefficient: Option<Coefficient>,
+    shown_lenses_start_index: Option<i64>,
+    number_of_shown_lenses: Option<u32>,
+}
+
+impl LensStarKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        let shown_lenses = match (self.shown_lenses_start_index, self.number_of_shown_lenses) {
+            (None, None) => None,
+            (start, n) => Some((start.unwrap_or(0), n.unwrap_or(self.number_of_lenses))),
+        };
+        Ok(Box::new(LensStar {
+            number_of_lenses: self.number_of_lenses,
+            focal_length: self.focal_length.0,
+            principal_point_distance: self.principal_point_distance.map_or(0.0, |d| d.0),
+            centre: self.centre.0,
+            intersection_direction: self.intersection_direction.0,
+            point_on_lens1: self.point_on_lens1.0,
+            star_radius: self.star_radius.0,
+            star_length: self.star_length.0,
+            lens_transmission_coefficient: crate::keys::coefficient(
+                self.lens_transmission_coefficient,
+            ),
+            shown_lenses,
+        }))
     }
 }
 

@@ -11,17 +11,45 @@ mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod tim_head;
 
-pub use coordinate_system::CoordinateSystem;
-pub use four_pi_lens::FourPiLens;
-pub use ideal_lens_cloak::IdealLensCloak;
-pub use lens_simplicial_complex::LensSimplicialComplex;
-pub use lens_star::LensStar;
-pub use platonic_lens::PlatonicLens;
-pub use polygonal_ideal_lens_cloak::PolygonalIdealLensCloak;
-pub use tim_head::TimHead;
+pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
+pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
+pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
+pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
+pub use lens_star::{LensStar, LensStarKeys};
+pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
+pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
+pub use tim_head::{TimHead, TimHeadKeys};
 
 use crate::geometry::{Cylinder, Shape};
+use crate::keys::kinds;
 use crate::surfaces::Surface;
+
+/// A device of ideal thin lenses, as its keys make it.
+pub trait LensDevice: std::fmt::Debug {
+    /// The device's parts, with its edges (Dr TIM's frames) where `edges` are shown.
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String>;
+}
+
+kinds! {
+    /// A device's `lenses` table: its `type` names the device, its other keys are the device's
+    /// own (read by the device's `...Keys`, in the device's file).
+    pub enum LensesKeys -> Result<Box<dyn LensDevice>, String> {
+        LensStar(LensStarKeys),
+        LensSimplicialComplex(LensSimplicialComplexKeys),
+        IdealLensCloak(IdealLensCloakKeys),
+        PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
+        PlatonicLens(PlatonicLensKeys),
+        FourPiLens(FourPiLensKeys),
+    }
+}
+
+kinds! {
+    /// A device's `aid` table: a visual aid made of several coloured objects (Dr TIM's).
+    pub enum AidKeys -> Result<Vec<Part>, String> {
+        TimHead(TimHeadKeys),
+        CoordinateSystem(CoordinateSystemKeys),
+    }
+}
 
 /// Checks for the cloaks' unit tests.
 #[cfg(test)]

@@ -13,9 +13,11 @@
 //! from `basis_vector_1` and `basis_vector_2` (the third their cross product).
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::{Edges, Part};
+use super::{Edges, LensDevice, Part};
 use crate::geometry::{PlatonicKind, Shape, TriangleMesh};
+use crate::keys::{Coefficient, Direction, NonZero, Positive, Vector};
 use crate::surfaces::{Surface, ThinLens};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -53,11 +55,13 @@ impl PlatonicLens {
             .map(|v| self.centre + self.radius * (v.x * x + v.y * y + v.z * z))
             .collect())
     }
+}
 
+impl LensDevice for PlatonicLens {
     /// `lens i-j` for every edge i-j of the solid (vertex indices as in
     /// [`PlatonicKind::vertices`]) and, with `edges`, Dr TIM's inner edges (`inner edge i`,
     /// from the centre to vertex i) and outer edges (`edge i-j`).
-    pub fn parts(&self, edges_shown: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges_shown: Option<&Edges>) -> Result<Vec<Part>, String> {
         let v = self.vertices()?;
         let c = self.centre;
         let joined = self.platonic_solid.edges();
@@ -89,5 +93,35 @@ impl PlatonicLens {
             }
         }
         Ok(parts)
+    }
+}
+
+/// `lenses = { type = "platonic-lens" }`: Dr TIM's `EditablePlatonicLens`; the vertex tables'
+/// x and y along x and y when not given.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlatonicLensKeys {
+    platonic_solid: PlatonicKind,
+    centre: Vector,
+    radius: Positive,
+    basis_vector_1: Option<Direction>,
+    basis_vector_2: Option<Direction>,
+    focal_length: NonZero,
+    lens_transmission_coefficient: Option<Coefficient>,
+}
+
+impl PlatonicLensKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        Ok(Box::new(PlatonicLens {
+            platonic_solid: self.platonic_solid,
+            centre: self.centre.0,
+            radius: self.radius.0,
+            basis_vector_1: self.basis_vector_1.map_or(DVec3::X, |b| b.0),
+            basis_vector_2: self.basis_vector_2.map_or(DVec3::Y, |b| b.0),
+            focal_length: self.focal_length.0,
+            lens_transmission_coefficient: crate::keys::coefficient(
+                self.lens_transmission_coefficient,
+            ),
+        }))
     }
 }

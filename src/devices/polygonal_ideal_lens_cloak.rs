@@ -10,9 +10,10 @@
 //! Vertices: 0 … N − 1 the base, N its centre, N + 1 lower inner, N + 2 upper inner, N + 3 top.
 
 use glam::DVec3;
+use serde::Deserialize;
 
-use super::ideal_lens_cloak::{Layout, rename};
-use super::{Edges, IdealLensCloak, LensSimplicialComplex, Part};
+use super::ideal_lens_cloak::{CloakKeys, Layout, rename};
+use super::{Edges, IdealLensCloak, LensDevice, LensSimplicialComplex, Part};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolygonalIdealLensCloak {
@@ -26,11 +27,11 @@ pub struct PolygonalIdealLensCloak {
 /// Most base vertices (Dr TIM's cloaks have a few).
 const MAX_BASE_VERTICES: usize = 100;
 
-impl PolygonalIdealLensCloak {
+impl LensDevice for PolygonalIdealLensCloak {
     /// The lenses, named as in Dr TIM (`outer lens #I`, `upper inner pyramid lens #I`, `lower
     /// inner pyramid lens #I`, `upper vertical lens #I`, `lower vertical lens #I` for I = 0 …
     /// N − 1, and the pieces `base outer lens #I`), and with `edges` its frames `edge I-J`.
-    pub fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let n = self.no_of_base_vertices;
         if !(3..=MAX_BASE_VERTICES).contains(&n) {
             return Err(format!(
@@ -89,6 +90,25 @@ impl PolygonalIdealLensCloak {
         });
         rename(&mut parts, names);
         Ok(parts)
+    }
+}
+
+/// `lenses = { type = "polygonal-ideal-lens-cloak" }`: Dr TIM's
+/// `EditablePolygonalIdealLensCloak`, the tetrahedral cloak's keys and `no_of_base_vertices`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolygonalIdealLensCloakKeys {
+    #[serde(flatten)]
+    cloak: CloakKeys,
+    no_of_base_vertices: usize,
+}
+
+impl PolygonalIdealLensCloakKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        Ok(Box::new(PolygonalIdealLensCloak {
+            cloak: self.cloak.cloak(),
+            no_of_base_vertices: self.no_of_base_vertices,
+        }))
     }
 }
 

@@ -3,9 +3,11 @@
 //! in units of the head's radius in the head's own basis (right, top, back), are Dr TIM's.
 
 use glam::DVec3;
+use serde::Deserialize;
 
 use super::Part;
 use crate::geometry::{Cylinder, Disc, GeometryError, Shape, Sphere, SphericalCap};
+use crate::keys::{Direction, Positive, Vector};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -136,5 +138,29 @@ impl TimHead {
             ));
         }
         Ok(parts)
+    }
+}
+
+/// `aid = { type = "tim-head" }`: radius 1, looking along −z with its top along y, where not
+/// given.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimHeadKeys {
+    centre: Vector,
+    radius: Option<Positive>,
+    front_direction: Option<Direction>,
+    top_direction: Option<Direction>,
+}
+
+impl TimHeadKeys {
+    pub fn build(self) -> Result<Vec<Part>, String> {
+        TimHead {
+            centre: self.centre.0,
+            radius: self.radius.map_or(1.0, |r| r.0),
+            front_direction: self.front_direction.map_or(DVec3::NEG_Z, |d| d.0),
+            top_direction: self.top_direction.map_or(DVec3::Y, |d| d.0),
+        }
+        .parts()
+        .map_err(|e| format!("tim-head: {e}"))
     }
 }

@@ -3,9 +3,9 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::{Redirection, Surface, coefficient};
+use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::Coefficient;
+use crate::keys::{Coefficient, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {

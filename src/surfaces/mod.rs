@@ -38,7 +38,7 @@ pub use transparent::{Transparent, TransparentKeys};
 use glam::DVec3;
 
 use crate::geometry::{Exit, Interaction, Shape, Transform};
-use crate::keys::{Coefficient, kinds};
+use crate::keys::kinds;
 use crate::math::Colour;
 
 kinds! {
@@ -97,11 +97,6 @@ impl SurfaceKeys {
             None
         }
     }
-}
-
-/// A coefficient as a law's keys give it: 1 (all the light) when not given.
-fn coefficient(c: Option<Coefficient>) -> f64 {
-    c.map_or(1.0, |c| c.0)
 }
 
 /// What a surface's law does with a ray that meets it: the one place each law is applied, both

@@ -8,9 +8,9 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use super::mirror::reflect;
-use super::{Redirection, Surface, coefficient};
+use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Positive};
+use crate::keys::{Coefficient, Positive, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {

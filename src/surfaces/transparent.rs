@@ -2,9 +2,9 @@
 
 use serde::Deserialize;
 
-use super::{Redirection, Surface, coefficient};
+use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::Coefficient;
+use crate::keys::{Coefficient, coefficient};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {

@@ -7,10 +7,10 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use super::parts::Spanned;
-use crate::geometry::ShapeKeys;
 use super::{SceneFileError, Source};
 use crate::cameras::{Camera, DEFAULT_FOCUS_DISTANCE, Focus, Projection, Shutter};
 use crate::geometry::Shape;
+use crate::geometry::ShapeKeys;
 use crate::keys::{Finite, NonNegative, Positive, Vector};
 use crate::math::LorentzTransform;
 use crate::scene::{Packing, Stereo, studio};

@@ -6,7 +6,6 @@
 //! (`placement.rs`); `--set key=value` overrides any value (`overrides.rs`).
 
 mod camera;
-mod devices;
 mod overrides;
 mod parts;
 mod placement;
@@ -28,11 +27,13 @@ use crate::math::ReferenceFrame;
 use crate::surfaces::Surface;
 use crate::surfaces::SurfaceKeys;
 use camera::CameraSection;
-use devices::DeviceSection;
+
 pub use overrides::Override;
 use parts::Spanned;
 pub use placement::MAX_ARRAY_ELEMENTS;
-use placement::{GroupSection, IncludeSection, Items, Link, MAX_OBJECTS, ObjectSection, Placer};
+use placement::{
+    DeviceSection, GroupSection, IncludeSection, Items, Link, MAX_OBJECTS, ObjectSection, Placer,
+};
 use trajectories::TrajectorySection;
 
 /// A scene file that could not be read or understood.

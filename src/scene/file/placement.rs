@@ -14,15 +14,15 @@ use std::path::{Path, PathBuf};
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
-use super::devices::DeviceSection;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
-use crate::devices::{CoordinateSystem, Part};
+use crate::devices::{AidKeys, CoordinateSystem, Edges, LensesKeys, Part};
 use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
 use crate::keys::{Finite, Positive, Vector};
+use crate::math::Colour;
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
-use crate::surfaces::{Surface, SurfaceKeys};
+use crate::surfaces::{Coloured, Surface, SurfaceKeys};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
@@ -94,6 +94,90 @@ impl SurfaceAxesSection {
         }
         .parts()
         .map_err(|e| format!("surface_axes: {e}"))
+    }
+}
+
+/// A `[[device]]` entry: a device of ideal thin lenses (`lenses`) or a visual aid (`aid`), each
+/// expanding into one scene object per part.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DeviceSection {
+    name: Option<String>,
+    /// Whether the lenses throw shadows (edges always do).
+    #[serde(default)]
+    shadow_throwing: bool,
+    frame: Option<FrameName>,
+    transform: Option<Spanned<TransformKeys>>,
+    array: Option<Spanned<ArraySection>>,
+    lenses: Option<Spanned<LensesKeys>>,
+    aid: Option<Spanned<AidKeys>>,
+    #[serde(default)]
+    show_edges: bool,
+    edge_radius: Option<Positive>,
+    edge_surface: Option<Spanned<SurfaceKeys>>,
+}
+
+/// Dr TIM's defaults for edges: radius 0.01, shiny red.
+const EDGE_RADIUS: f64 = 0.01;
+
+impl DeviceSection {
+    /// Where the device's `lenses` or `aid` table is, for errors about the whole device.
+    fn span(&self) -> Option<Range<usize>> {
+        let aid = self.aid.as_ref().map(Spanned::span);
+        self.lenses.as_ref().map(Spanned::span).or(aid)
+    }
+
+    /// The device's parts, or the span of the table at fault and what is wrong (`table`: the
+    /// device's whole table).
+    fn parts(&mut self, table: Range<usize>) -> Result<Vec<Part>, (Range<usize>, String)> {
+        let lenses = match (self.lenses.take(), self.aid.take()) {
+            (Some(lenses), None) => lenses,
+            (None, Some(aid)) => {
+                if self.show_edges || self.edge_radius.is_some() || self.edge_surface.is_some() {
+                    return Err((
+                        aid.span(),
+                        "edges (show_edges, edge_radius, edge_surface) belong to lens devices, \
+                         not to visual aids"
+                            .into(),
+                    ));
+                }
+                let span = aid.span();
+                return aid.into_inner().build().map_err(|e| (span, e));
+            }
+            _ => {
+                return Err((
+                    table,
+                    "a device needs exactly one of a `lenses` table (a device of lenses) and an \
+                     `aid` table (a visual aid)"
+                        .into(),
+                ));
+            }
+        };
+        let edges = if self.show_edges {
+            let surface = match self.edge_surface.take() {
+                Some(s) => {
+                    let span = s.span();
+                    if s.get_ref().destination().is_some() {
+                        return Err((span, "edge_surface cannot be a teleporting surface".into()));
+                    }
+                    s.into_inner().build().map_err(|e| (span, e))?
+                }
+                None => Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
+            };
+            Some(Edges {
+                radius: self.edge_radius.as_ref().map_or(EDGE_RADIUS, |r| r.0),
+                surface,
+            })
+        } else {
+            None
+        };
+        let span = lenses.span();
+        let lenses = lenses.into_inner();
+        let kind = lenses.kind();
+        lenses
+            .build()
+            .and_then(|device| device.parts(edges.as_ref()))
+            .map_err(|e| (span, format!("{kind}: {e}")))
     }
 }
 

@@ -24,8 +24,8 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, NonZero, Vector};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 /// A glens's focal lengths and nodal point, finite or at infinity.
 #[derive(Debug, Clone, PartialEq)]

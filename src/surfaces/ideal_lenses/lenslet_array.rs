@@ -15,8 +15,8 @@ use serde::Deserialize;
 
 use super::ThinLens;
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, NonZero, Vector};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LensletArray {

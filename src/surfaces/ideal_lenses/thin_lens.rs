@@ -16,8 +16,8 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, NonZero, Vector};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinLens {

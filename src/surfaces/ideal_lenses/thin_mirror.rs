@@ -10,8 +10,8 @@ use serde::Deserialize;
 use super::ThinLens;
 use super::thin_lens::ThinLensKeys;
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Direction, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinMirror {

@@ -26,7 +26,8 @@ use super::{Redirection, reflect, refract};
 use crate::geometry::{Exit, Interaction, Shape, Sphere};
 use serde::Deserialize;
 
-use super::{Surface, coefficient};
+use super::Surface;
+use crate::keys::coefficient;
 use crate::keys::{Coefficient, Positive, number};
 
 /// What a lens does between entry and exit.

@@ -24,8 +24,8 @@ use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, Finite, NonZero};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Direction, Finite, NonZero, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
 #[derive(Debug, Clone, PartialEq)]

@@ -18,9 +18,9 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Vector};
+use crate::keys::{Coefficient, Vector, coefficient};
 use crate::math::LorentzTransform;
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LorentzWindow {

@@ -28,8 +28,8 @@ use serde::{Deserialize, Deserializer, de};
 
 use super::{Basis, Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Matrix};
-use crate::surfaces::{Redirection, Surface, coefficient, reflect};
+use crate::keys::{Coefficient, Matrix, coefficient};
+use crate::surfaces::{Redirection, Surface, reflect};
 
 /// Whether the optical path lengths on the two sides have the same sign (positive refraction)
 /// or opposite signs (negative refraction, e.g. n = −1 against n = +1).

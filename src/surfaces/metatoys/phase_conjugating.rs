@@ -12,8 +12,8 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::Coefficient;
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 /// Whether the phase-conjugated light is reflected or transmitted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]

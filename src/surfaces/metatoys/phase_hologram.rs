@@ -29,8 +29,8 @@ use serde::Deserialize;
 
 use super::{Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Finite, NonZero, Vector2};
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::keys::{Coefficient, Finite, NonZero, Vector2, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 /// The hologram's phase φ(u, v), as an optical path length.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -10,9 +10,9 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Finite};
+use crate::keys::{Coefficient, Finite, coefficient};
 use crate::math::Frame;
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RayFlipping {

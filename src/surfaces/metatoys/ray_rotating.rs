@@ -19,9 +19,9 @@ use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, Finite};
+use crate::keys::{Coefficient, Direction, Finite, coefficient};
 use crate::math::Frame;
-use crate::surfaces::{Redirection, Surface, coefficient};
+use crate::surfaces::{Redirection, Surface};
 
 /// The axis rays are rotated about.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -31,10 +31,10 @@ use serde::Deserialize;
 
 use super::{hologram_direction, jacobian};
 use crate::geometry::{Exit, Interaction, Shape};
-use crate::keys::{Coefficient, NonNegative};
+use crate::keys::{Coefficient, NonNegative, coefficient};
 use crate::math::Frame;
 use crate::math::random::uniform_keyed;
-use crate::surfaces::{Redirection, Surface, coefficient, reflect};
+use crate::surfaces::{Redirection, Surface, reflect};
 
 /// How a teleporting surface sends rays to its destination.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
