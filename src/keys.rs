@@ -1,5 +1,5 @@
 //! What scene-file keys take: validated values, each checked while serde reads it (so that an
-//! error carries the span of the offending value), and [`kinds!`], the tables with a `type` key
+//! error carries the span of the offending value), and `kinds!`, the tables with a `type` key
 //! whose kinds (laws, shapes, devices) each read their own keys.
 //!
 //! Each kind's keys are a `#[derive(Deserialize)]` struct beside the type they make, in the
@@ -218,4 +218,45 @@ pub fn kebab_case(camel: &str) -> String {
         name.extend(c.to_lowercase());
     }
     name
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_are_named_in_kebab_case() {
+        assert_eq!(kebab_case("LensStar"), "lens-star");
+        assert_eq!(kebab_case("Sphere"), "sphere");
+        assert_eq!(
+            kebab_case("IdealThinCylindricalLens"),
+            "ideal-thin-cylindrical-lens"
+        );
+    }
+
+    #[test]
+    fn values_out_of_range_are_refused_with_what_was_expected() {
+        let read = |text: &str| toml::from_str::<toml::Table>(&format!("x = {text}")).unwrap();
+        let positive = |text: &str| {
+            read(text)["x"]
+                .clone()
+                .try_into::<Positive>()
+                .map(|p| p.0)
+                .map_err(|e| e.to_string())
+        };
+        assert_eq!(positive("2.5"), Ok(2.5));
+        let e = positive("-1").unwrap_err();
+        assert!(
+            e.contains("expected a positive number of at most 1e15, got -1"),
+            "{e}"
+        );
+        assert!(positive("1e16").is_err() && positive("nan").is_err());
+        let direction = |text: &str| read(text)["x"].clone().try_into::<Direction>();
+        let d = direction("[0, 3, 4]").unwrap().0;
+        assert!((d - DVec3::new(0.0, 0.6, 0.8)).length() < 1e-15);
+        // A tiny vector keeps its direction (scaled before it is normalised).
+        let d = direction("[1e-200, 0, 1e-200]").unwrap().0;
+        assert!((d - DVec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-15);
+        assert!(direction("[0, 0, 0]").is_err());
+    }
 }

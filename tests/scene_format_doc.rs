@@ -160,3 +160,99 @@ fn a_bad_block_fails_the_check() {
     let mesh = "```toml\n[object.shape]\ntype = \"mesh\"\nfile = \"meshes/prism.obj\"\n```\n";
     check(&device, "test.md", &toml_blocks(mesh).unwrap()[0]).unwrap();
 }
+
+/// `text` with the key `zzz = 1` added to the table whose `type = "…"` starts at byte `at`: on
+/// the next line of a table given by its header, after the type in an inline table.
+fn with_unknown_key(text: &str, at: usize) -> String {
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let value_end = at + text[at..].find('"').unwrap() + 1;
+    let value_end = value_end + text[value_end..].find('"').unwrap() + 1;
+    let inline = !text[line_start..at].trim().is_empty();
+    let added = if inline { ", zzz = 1" } else { "\nzzz = 1" };
+    format!("{}{added}{}", &text[..value_end], &text[value_end..])
+}
+
+/// Every example there is: (where it is, its text, the path it is read as) for each TOML block
+/// of the documentation (completed) and each example scene.
+fn examples() -> Vec<(String, String, PathBuf)> {
+    let doc = "docs/SCENE_FORMAT.md";
+    let markdown = std::fs::read_to_string(root().join(doc)).unwrap();
+    let in_scenes = root().join("scenes").join("SCENE_FORMAT.md-example.toml");
+    let mut examples: Vec<(String, String, PathBuf)> = toml_blocks(&markdown)
+        .unwrap()
+        .into_iter()
+        .map(|b| {
+            let at = format!("line {} of {doc}", b.line);
+            (at, completed(&b.text), in_scenes.clone())
+        })
+        .collect();
+    let mut scenes: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    scenes.sort();
+    for path in scenes {
+        let text = std::fs::read_to_string(&path).unwrap();
+        examples.push((path.display().to_string(), text, path));
+    }
+    examples
+}
+
+#[test]
+fn every_table_with_a_type_refuses_a_key_it_does_not_know() {
+    // Each kind (law, shape, device, phase, camera, light, ...) reads its own keys in its own
+    // file; none may take a key it does not know without a word. Every `type = "…"` of every
+    // example gets an extra key, which must be refused.
+    let mut tables = 0;
+    let mut failures = Vec::new();
+    for (at, text, path) in examples() {
+        let path = path.to_string_lossy();
+        if file::parse(&text, &path).is_err() {
+            continue; // reported by every_toml_block_of_the_scene_format_is_a_valid_scene
+        }
+        for (start, _) in text.match_indices("type = \"") {
+            let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+            if text[line_start..].trim_start().starts_with('#') {
+                continue; // a comment
+            }
+            tables += 1;
+            let changed = with_unknown_key(&text, start);
+            match file::parse(&changed, &path) {
+                Err(e) if e.to_string().contains("unknown field `zzz`") => {}
+                other => failures.push(format!("{at}: {:?}\n{changed}", other.map(|_| "accepted"))),
+            }
+        }
+    }
+    assert!(tables > 150, "only {tables} tables with a type");
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+#[test]
+fn every_kind_has_an_example() {
+    // The kinds of each table with a `type`, as the loader lists them for an unknown one, each
+    // shown in a TOML example of the documentation or an example scene (and so each also
+    // checked by the test above).
+    let examples: String = examples().into_iter().map(|(_, text, _)| text).collect();
+    let sphere = "shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }";
+    let matt = "surface = { type = \"matt\", colour = [1, 1, 1] }";
+    let mut missing = Vec::new();
+    for table in [
+        format!("[[object]]\nshape = {{ type = \"zzz\" }}\n{matt}\n"),
+        format!("[[object]]\n{sphere}\nsurface = {{ type = \"zzz\" }}\n"),
+        "[[device]]\nlenses = { type = \"zzz\" }\n".to_string(),
+        "[[device]]\naid = { type = \"zzz\" }\n".to_string(),
+    ] {
+        let e = file::parse(&table, "kinds.toml").unwrap_err().to_string();
+        let listed = e.split("expected ").nth(1).expect("the kinds listed");
+        let names: Vec<&str> = listed.split('`').skip(1).step_by(2).collect();
+        assert!(names.len() >= 2, "{e}");
+        // Older spellings with underscores are aliases (tests/names.rs).
+        for name in names.into_iter().filter(|n| !n.contains('_')) {
+            if !examples.contains(&format!("type = \"{name}\"")) {
+                missing.push(name.to_string());
+            }
+        }
+    }
+    assert!(missing.is_empty(), "no example of {missing:?}");
+}

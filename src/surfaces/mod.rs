@@ -232,94 +232,73 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the ideal
     /// lenses' laws move with the shape, and their focal lengths scale with it (which needs a
-    /// similarity map); the other laws have none.
+    /// similarity map). The other laws have no positions; the vectors and tensors of a law in
+    /// the global basis are read in x, y and z, wherever the object is.
     pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
         if t.is_identity() {
             return Ok(self.clone());
         }
-        let scale = || {
-            t.uniform_scale().ok_or_else(|| {
-                "an ideal lens's focal length is defined only under rotations, uniform scaling and translations, so it cannot be scaled non-uniformly".to_string()
-            })
-        };
-        let axis = |a: DVec3| t.vector(a).normalize();
-        let lens = |l: &ThinLens| -> Result<ThinLens, String> {
-            Ok(ThinLens {
-                principal_point: t.point(l.principal_point),
-                optical_axis: axis(l.optical_axis),
-                focal_length: l.focal_length * scale()?,
-                gradient: l.gradient.map(axis),
-                transmission_coefficient: l.transmission_coefficient,
-            })
-        };
         Ok(match self {
-            Surface::IdealThinLens(l) => Surface::IdealThinLens(lens(l)?),
+            Surface::IdealThinLens(l) => Surface::IdealThinLens(l.transformed(t)?),
             Surface::IdealThinMirror(m) => Surface::IdealThinMirror(ThinMirror {
-                lens: lens(&m.lens)?,
+                lens: m.lens.transformed(t)?,
             }),
-            Surface::IdealThinLensletArray(a) => {
-                let s = scale()?;
-                Surface::IdealThinLensletArray(LensletArray {
-                    centre: t.point(a.centre),
-                    u: axis(a.u),
-                    v: axis(a.v),
-                    period: a.period * s,
-                    focal_length: a.focal_length * s,
-                    transmission_coefficient: a.transmission_coefficient,
-                })
-            }
-            Surface::Glens(g) => {
-                let s = scale()?;
-                Surface::Glens(Glens {
-                    optical_axis: axis(g.optical_axis),
-                    focus: match g.focus {
-                        Focus::Finite {
-                            principal_point,
-                            focal_length_negative,
-                            focal_length_positive,
-                        } => Focus::Finite {
-                            principal_point: t.point(principal_point),
-                            focal_length_negative: focal_length_negative * s,
-                            focal_length_positive: focal_length_positive * s,
-                        },
-                        Focus::Homogeneous {
-                            nodal_direction,
-                            ratio,
-                        } => Focus::Homogeneous {
-                            nodal_direction: axis(nodal_direction),
-                            ratio,
-                        },
-                    },
-                    transmission_coefficient: g.transmission_coefficient,
-                })
-            }
+            Surface::IdealThinLensletArray(a) => Surface::IdealThinLensletArray(a.transformed(t)?),
+            Surface::Glens(g) => Surface::Glens(g.transformed(t)?),
             Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
-            other => other.clone(),
+            Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Mirror(_)
+            | Surface::Refractive(_)
+            | Surface::Transparent(_)
+            | Surface::Lens(_)
+            | Surface::MetricInterface(_)
+            | Surface::ConfocalLensletArrays(_)
+            | Surface::RayRotating(_)
+            | Surface::RayFlipping(_)
+            | Surface::PhaseHologram(_)
+            | Surface::PhaseConjugating(_)
+            | Surface::LorentzWindow(_)
+            | Surface::Teleporting(_) => self.clone(),
         })
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms need a flat shape's coordinates.
+    /// sphere's centre and radius; phase holograms need a flat shape's coordinates. The other
+    /// laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
-        match (self, shape) {
-            (Surface::Lens(_), Shape::Sphere(_)) => Ok(()),
-            (Surface::Lens(l), _) => Err(format!(
+        match self {
+            Surface::Lens(l) if !matches!(shape, Shape::Sphere(_)) => Err(format!(
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
-            (Surface::PhaseHologram(_), s) if s.is_flat() => Ok(()),
-            (Surface::PhaseHologram(_), _) => Err(
+            Surface::PhaseHologram(_) if !shape.is_flat() => Err(
                 "a phase-hologram surface needs a flat shape (plane, disc, parallelogram, \
                  convex polygon, or one of them transformed)"
                     .to_string(),
             ),
-            (Surface::Chequerboard(c), _) => {
-                c.surfaces.iter().try_for_each(|s| s.check_shape(shape))
-            }
-            _ => Ok(()),
+            Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::Lens(_)
+            | Surface::PhaseHologram(_)
+            | Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Mirror(_)
+            | Surface::Refractive(_)
+            | Surface::Transparent(_)
+            | Surface::MetricInterface(_)
+            | Surface::ConfocalLensletArrays(_)
+            | Surface::RayRotating(_)
+            | Surface::RayFlipping(_)
+            | Surface::PhaseConjugating(_)
+            | Surface::LorentzWindow(_)
+            | Surface::Teleporting(_)
+            | Surface::IdealThinLens(_)
+            | Surface::IdealThinMirror(_)
+            | Surface::IdealThinLensletArray(_)
+            | Surface::Glens(_) => Ok(()),
         }
     }
 }

@@ -23,7 +23,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::geometry::Interaction;
+use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
 use crate::surfaces::{Redirection, Surface};
 
@@ -51,6 +51,35 @@ pub struct Glens {
 }
 
 impl Glens {
+    /// The glens of an object placed by `t` (a similarity map): its point and directions move
+    /// with the shape, its focal lengths scale with it.
+    pub fn transformed(&self, t: &Transform) -> Result<Glens, String> {
+        let s = super::length_scale(t)?;
+        let focus = match self.focus {
+            Focus::Finite {
+                principal_point,
+                focal_length_negative,
+                focal_length_positive,
+            } => Focus::Finite {
+                principal_point: t.point(principal_point),
+                focal_length_negative: focal_length_negative * s,
+                focal_length_positive: focal_length_positive * s,
+            },
+            Focus::Homogeneous {
+                nodal_direction,
+                ratio,
+            } => Focus::Homogeneous {
+                nodal_direction: super::direction(t, nodal_direction),
+                ratio,
+            },
+        };
+        Ok(Glens {
+            optical_axis: super::direction(t, self.optical_axis),
+            focus,
+            transmission_coefficient: self.transmission_coefficient,
+        })
+    }
+
     /// N = P + (f₋ + f₊) â, for finite focal lengths.
     pub fn nodal_point(&self) -> Option<DVec3> {
         match self.focus {

@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::ThinLens;
-use crate::geometry::Interaction;
+use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
 use crate::surfaces::{Redirection, Surface};
 
@@ -33,6 +33,20 @@ pub struct LensletArray {
 }
 
 impl LensletArray {
+    /// The array of an object placed by `t` (a similarity map): its centre and directions move
+    /// with the shape, its period and focal length scale with it.
+    pub fn transformed(&self, t: &Transform) -> Result<LensletArray, String> {
+        let s = super::length_scale(t)?;
+        Ok(LensletArray {
+            centre: t.point(self.centre),
+            u: super::direction(t, self.u),
+            v: super::direction(t, self.v),
+            period: self.period * s,
+            focal_length: self.focal_length * s,
+            transmission_coefficient: self.transmission_coefficient,
+        })
+    }
+
     /// The lenslet met at `s`, where the surface normal is `n`.
     pub fn lenslet(&self, s: DVec3, n: DVec3) -> ThinLens {
         let along = |a: DVec3| (a - a.dot(n) * n).normalize_or_zero();

@@ -22,7 +22,7 @@ mod thin_mirror;
 
 use glam::DVec3;
 
-use crate::geometry::Interaction;
+use crate::geometry::{Interaction, Transform};
 use crate::surfaces::Redirection;
 
 pub use glens::{Focus, Glens, GlensKeys};
@@ -41,4 +41,17 @@ fn leaving(
         direction: law(at.ray.direction, at.local_point()).normalize(),
         factor,
     }
+}
+
+/// The factor by which `t` scales lengths, for the focal lengths and periods of a law placed by
+/// it: only a similarity map (rotation, uniform scale, translation) has one.
+fn length_scale(t: &Transform) -> Result<f64, String> {
+    t.uniform_scale().ok_or_else(|| {
+        "an ideal lens's focal length is defined only under rotations, uniform scaling and translations, so it cannot be scaled non-uniformly".to_string()
+    })
+}
+
+/// The unit direction `a` placed by `t`.
+fn direction(t: &Transform, a: DVec3) -> DVec3 {
+    t.vector(a).normalize()
 }

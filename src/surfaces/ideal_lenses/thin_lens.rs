@@ -15,7 +15,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use crate::geometry::Interaction;
+use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
 use crate::surfaces::{Redirection, Surface};
 
@@ -35,6 +35,18 @@ pub struct ThinLens {
 }
 
 impl ThinLens {
+    /// The lens of an object placed by `t` (a similarity map): its point and directions move
+    /// with the shape, its focal length scales with it.
+    pub fn transformed(&self, t: &Transform) -> Result<ThinLens, String> {
+        Ok(ThinLens {
+            principal_point: t.point(self.principal_point),
+            optical_axis: super::direction(t, self.optical_axis),
+            focal_length: self.focal_length * super::length_scale(t)?,
+            gradient: self.gradient.map(|g| super::direction(t, g)),
+            transmission_coefficient: self.transmission_coefficient,
+        })
+    }
+
     /// The direction (not normalised) a ray with direction `d` leaves in where it meets the
     /// lens at `s`; a ray along the lens plane (d·â = 0) continues undeviated.
     pub fn direction(&self, d: DVec3, s: DVec3) -> DVec3 {
