@@ -19,14 +19,15 @@ use timbre::io::{AovSelection, OutputFormat, Provenance, write_image};
 use timbre::math::Colour;
 use timbre::memory;
 use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::prepare::{self, Needs, PrepareError, Ready};
 use timbre::production::{self, Checkpointing, Done, Job, JobError, Signals};
 use timbre::render::PixelBounds;
 use timbre::render::RenderError;
 use timbre::scene::file::{self, Override};
 use timbre::scene::studio::Studio;
-use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
+use timbre::scene::{RenderSettings, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo};
-use timbre::trajectories::{self, Trajectory, TrajectoryError};
+use timbre::trajectories::{self, Trajectory};
 
 /// `println!` of [`printable`] text that ignores a closed standard output
 /// (`timbre check s.toml | head -1`) instead of panicking.
@@ -441,15 +442,6 @@ fn in_file(scene: Option<&Path>, message: String) -> String {
     }
 }
 
-/// Trajectories that could not be traced: Embree's failures are ours, too many points the
-/// file's.
-fn untraceable(scene: Option<&Path>, e: TrajectoryError) -> Failure {
-    match e {
-        TrajectoryError::Embree(e) => internal(e),
-        e => bad_input(in_file(scene, e.to_string())),
-    }
-}
-
 /// A spinner saying what is going on (loading meshes, building the BVH can take seconds), on a
 /// terminal only.
 fn spinner(quiet: bool, message: &'static str) -> ProgressBar {
@@ -476,39 +468,17 @@ fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputForma
     stereo::memory_needed(settings.aovs, stereo, pixels) + pixels * output
 }
 
-/// Refuses `what` (a render, or a check) before it starts if its `image` buffers and the
-/// scene's BVH would need more memory than can be had here: a clear error, not an abort.
-fn check_memory(
-    what: &str,
-    image: u64,
-    description: &SceneDescription,
-    threads: usize,
-) -> Result<(), Failure> {
-    let scene = description.build_memory();
-    let Some(available) = memory::available(memory::reserve(threads as u64)) else {
-        return Ok(());
-    };
-    if image + scene <= available {
-        return Ok(());
+/// A scene that could not be made ready, as the command reports it: what the scene file or the
+/// options ask for that cannot be done is bad input (with the file's name where it is about
+/// the file), Embree's failures are internal.
+fn unprepared(scene: Option<&Path>, e: PrepareError) -> Failure {
+    match e {
+        PrepareError::Stereo(_) | PrepareError::Trajectories(_) if e.is_bad_input() => {
+            bad_input(in_file(scene, e.to_string()))
+        }
+        e if e.is_bad_input() => bad_input(e),
+        e => internal(e),
     }
-    let gib = |b: u64| b as f64 / f64::from(1 << 30);
-    let advice = if scene > image {
-        "give the scene fewer array copies, triangles or objects"
-    } else {
-        "render a smaller image"
-    };
-    Err(bad_input(format!(
-        "{what} needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {advice}",
-        gib(image + scene),
-        gib(scene),
-        gib(available)
-    )))
-}
-
-/// [`check_memory`] for `what` builds the scene (with Embree's default threads) and no image.
-fn check_scene_memory(what: &str, description: &SceneDescription) -> Result<(), Failure> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    check_memory(what, 0, description, threads)
 }
 
 fn run_render(args: RenderArgs) -> Result<(), Failure> {
@@ -524,16 +494,15 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         }
     }
     args.apply_to(&mut description.render);
-    description.render.validate().map_err(bad_input)?;
     let settings = description.render.clone();
+    let stereo = &description.stereo;
+    let scene_file = args.scene.as_deref();
+    prepare::check_settings(&settings, stereo).map_err(|e| unprepared(scene_file, e))?;
     if !args.quiet && description.camera.aperture_radius() > 0.0 && settings.spp == 1 {
         err!(
             "timbre: warning: a finite-aperture camera with 1 sample per pixel sees through one random pupil point per pixel (noisy); set --spp or [render] spp"
         );
     }
-    let stereo = &description.stereo;
-    stereo::validate(stereo, settings.width, settings.height)
-        .map_err(|m| bad_input(in_file(args.scene.as_deref(), m)))?;
     if settings.aovs && *stereo != Stereo::Mono {
         return Err(bad_input(
             "--aov works with single views only (camera.stereo = \"none\")",
@@ -603,18 +572,13 @@ fn run_render(args: RenderArgs) -> Result<(), Failure> {
         },
         if shown { " shown in tev" } else { "" }
     );
-    check_memory(&what, image, &description, threads)?;
-
-    let device = match settings.threads {
-        Some(t) => Device::new(&format!("threads={t}")),
-        None => Device::new(""),
-    }
-    .map_err(internal)?;
+    let needs = Needs::render(what, image, threads);
     let building = Instant::now();
     let waiting = spinner(args.quiet, "building the BVH");
-    let drawn = trajectories::draw(&device, &description)
-        .map_err(|e| untraceable(args.scene.as_deref(), e))?;
-    let scene = Scene::build(&device, &drawn).map_err(internal)?;
+    let Ready {
+        scene,
+        device: _device,
+    } = prepare::prepare(&description, &settings, &needs).map_err(|e| unprepared(scene_file, e))?;
     waiting.finish_and_clear();
     let build_seconds = building.elapsed().as_secs_f64();
     job.provenance.object_names = scene.object_names.clone();
@@ -926,17 +890,14 @@ fn run_check(scene: &Path, set: &[Override]) -> Result<(), Failure> {
         err!("timbre: warning: {w}");
     }
     // Every check a render makes before it starts: the render settings, the stereo output,
-    // the ray trajectories (traced and drawn) and the BVH.
-    let r = &description.render;
-    r.validate().map_err(bad_input)?;
-    stereo::validate(&description.stereo, r.width, r.height)
-        .map_err(|m| bad_input(in_file(Some(scene), m)))?;
-    check_scene_memory(&format!("checking {}", scene.display()), &description)?;
+    // the memory, the ray trajectories (traced and drawn) and the BVH.
     let waiting = spinner(false, "building the BVH");
-    let device = Device::new("").map_err(internal)?;
-    let drawn =
-        trajectories::draw(&device, &description).map_err(|e| untraceable(Some(scene), e))?;
-    Scene::build(&device, &drawn).map_err(internal)?;
+    let needs = Needs::scene(format!("checking {}", scene.display()));
+    let settings = RenderSettings {
+        threads: None,
+        ..description.render.clone()
+    };
+    prepare::prepare(&description, &settings, &needs).map_err(|e| unprepared(Some(scene), e))?;
     waiting.finish_and_clear();
     out!("{}: OK", scene.display());
     for line in description.report().to_string().lines() {
@@ -980,10 +941,12 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
             scene.display()
         )));
     }
-    check_scene_memory(&format!("tracing {}", scene.display()), &description)?;
-    let device = Device::new("").map_err(internal)?;
-    let traced =
-        trajectories::trace(&device, &description).map_err(|e| untraceable(Some(scene), e))?;
+    let needs = Needs::scene(format!("tracing {}", scene.display()));
+    let unprepared = |e| unprepared(Some(scene), e);
+    prepare::check_memory(&needs, description.build_memory()).map_err(unprepared)?;
+    let device = prepare::device(None).map_err(unprepared)?;
+    let traced = trajectories::trace(&device, &description)
+        .map_err(|e| unprepared(PrepareError::from(e)))?;
     let names = |t: &Trajectory| &description.trajectories[t.source].name;
     let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
     if json {

@@ -5,8 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use timbre::embree::Device;
-use timbre::scene::Scene;
+use timbre::prepare::{self, Needs};
+use timbre::scene::RenderSettings;
 use timbre::scene::file::{self, Override};
 
 /// Scene files with includes and meshes, checked as `timbre check` checks them: the input is up
@@ -23,21 +23,16 @@ pub fn scene(data: &[u8]) {
         Ok(d) => d,
         Err(e) => return assert_plain(&e.to_string(), &path, data),
     };
-    // Every check `timbre check` makes after loading.
-    let r = &description.render;
-    if r.validate().is_err()
-        || timbre::stereo::validate(&description.stereo, r.width, r.height).is_err()
-    {
-        return;
-    }
-    // `timbre check` refuses what would not fit (check_scene_memory); here more than 1 GiB.
+    // Every check `timbre check` makes after loading, as it makes them; it refuses what would
+    // not fit in memory, here (the fuzzer's limit is 2 GiB) a BVH of more than 1 GiB.
     if description.build_memory() > 1 << 30 {
         return;
     }
-    let device = Device::new("threads=1").expect("an Embree device");
-    if let Ok(drawn) = timbre::trajectories::draw(&device, &description) {
-        let _ = Scene::build(&device, &drawn);
-    }
+    let settings = RenderSettings {
+        threads: Some(1),
+        ..description.render.clone()
+    };
+    let _ = prepare::prepare(&description, &settings, &Needs::scene("fuzzing".into()));
 }
 
 /// A mesh file named `name` (its extension says how it is read), read as a `type = "mesh"`

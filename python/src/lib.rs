@@ -24,6 +24,7 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 use timbre::embree::Device;
 use timbre::math::Colour;
 use timbre::memory;
+use timbre::prepare::{self, Needs, PrepareError};
 use timbre::render::{AovSample, Image, PixelBounds, RenderError, render_part};
 use timbre::scene::file::{self, Override, SceneFileError};
 use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
@@ -132,6 +133,21 @@ fn trajectory_error(py: Python<'_>, source: &Source, e: TrajectoryError) -> PyEr
     match e {
         TrajectoryError::Embree(e) => PyRuntimeError::new_err(e.to_string()),
         e => about_scene(py, source, e),
+    }
+}
+
+/// A scene that could not be made ready, as Python reports it: settings out of range are a
+/// ValueError, what needs more memory than can be had a MemoryError, what is wrong in the scene
+/// file is about the scene, Embree's failures are a RuntimeError.
+fn unprepared(py: Python<'_>, source: &Source, e: PrepareError) -> PyErr {
+    match e {
+        PrepareError::Settings(m) => PyValueError::new_err(m),
+        PrepareError::Stereo(m) => about_scene(py, source, m),
+        e @ PrepareError::Memory { .. } => PyMemoryError::new_err(e.to_string()),
+        PrepareError::Trajectories(e) => trajectory_error(py, source, e),
+        e @ (PrepareError::Embree(_) | PrepareError::Build(_)) => {
+            PyRuntimeError::new_err(e.to_string())
+        }
     }
 }
 
@@ -254,27 +270,15 @@ impl NativeScene {
             return Ok(built.clone());
         }
         let description = state.description.clone();
-        let made = detached(
-            py,
-            move || -> Result<Built, Result<TrajectoryError, String>> {
-                let device = match threads {
-                    Some(t) => Device::new(&format!("threads={t}")),
-                    None => Device::new(""),
-                }
-                .map_err(|e| Err(e.to_string()))?;
-                let drawn = trajectories::draw(&device, &description).map_err(Ok)?;
-                let scene = Scene::build(&device, &drawn).map_err(|e| Err(e.to_string()))?;
-                Ok(Built {
-                    scene,
-                    _device: device,
-                })
-            },
-        )?;
-        let built = Arc::new(match made {
-            Ok(b) => b,
-            Err(Ok(e)) => return Err(trajectory_error(py, &state.source, e)),
-            Err(Err(e)) => return Err(PyRuntimeError::new_err(e)),
-        });
+        let made = detached(py, move || -> Result<Built, PrepareError> {
+            let device = prepare::device(threads.map(|t| t as usize))?;
+            let scene = prepare::build(&device, &description)?;
+            Ok(Built {
+                scene,
+                _device: device,
+            })
+        })?;
+        let built = Arc::new(made.map_err(|e| unprepared(py, &state.source, e))?);
         let mut now = self.state();
         if now.built.is_none() && now.description.same_objects(&state.description) {
             now.built = Some(built.clone());
@@ -609,10 +613,8 @@ impl NativeScene {
             }
             settings.threads = Some(t as usize);
         }
-        settings.validate().map_err(PyValueError::new_err)?;
         let stereo = &description.stereo;
-        stereo::validate(stereo, settings.width, settings.height)
-            .map_err(|m| about_scene(py, &state.source, m))?;
+        prepare::check_settings(&settings, stereo).map_err(|e| unprepared(py, &state.source, e))?;
         let full = PixelBounds::full(settings.width, settings.height);
         let bounds = match pixel_bounds {
             None => full,
@@ -647,24 +649,12 @@ impl NativeScene {
             Some(_) => 0,
             None => description.build_memory(),
         };
-        if let Some(available) = memory::available(memory_reserve(workers))
-            && image + scene > available
-        {
-            let gib = |b: u64| b as f64 / f64::from(1 << 30);
-            let advice = if scene > image {
-                "give the scene fewer array copies, triangles or objects"
-            } else {
-                "render a smaller image"
-            };
-            return Err(PyMemoryError::new_err(format!(
-                "a {}x{} render needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {advice}",
-                bounds.width(),
-                bounds.height(),
-                gib(image + scene),
-                gib(scene),
-                gib(available)
-            )));
-        }
+        let needs = Needs {
+            what: format!("a {}x{} render", bounds.width(), bounds.height()),
+            image,
+            reserve: memory_reserve(workers),
+        };
+        prepare::check_memory(&needs, scene).map_err(|e| unprepared(py, &state.source, e))?;
         let built = self.built(py, &state, threads)?;
         THREADS_SEEN.fetch_max(workers, Ordering::Relaxed);
         let camera = &description.camera;
@@ -694,11 +684,17 @@ impl NativeScene {
     fn trajectories<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let state = self.snapshot();
         let description = state.description.clone();
-        let traced = detached(py, move || -> Result<Vec<Trajectory>, TrajectoryError> {
-            let device = Device::new("")?;
-            trajectories::trace(&device, &description)
+        let needs = Needs {
+            what: "tracing the scene's ray trajectories".into(),
+            image: 0,
+            reserve: memory_reserve(prepare::default_threads() as u64),
+        };
+        let traced = detached(py, move || -> Result<Vec<Trajectory>, PrepareError> {
+            prepare::check_memory(&needs, description.build_memory())?;
+            let device = prepare::device(None)?;
+            Ok(trajectories::trace(&device, &description)?)
         })?
-        .map_err(|e| trajectory_error(py, &state.source, e))?;
+        .map_err(|e| unprepared(py, &state.source, e))?;
         let description = &state.description;
         let list = PyList::empty(py);
         for t in &traced {

@@ -16,11 +16,12 @@ use glam::DVec3;
 use crate::cameras::Camera;
 use crate::embree::Device;
 use crate::math::{Colour, Ray, ReferenceFrame};
+use crate::memory;
+use crate::prepare::{self, Needs, PrepareError};
 use crate::render::{self, Image, PixelBounds, Rows, Samples, Sum, Tracer};
 use crate::scene::file::{self, Override, SceneFileError};
 use crate::scene::{Packing, RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::{self, anaglyph, pack, render_stereo};
-use crate::trajectories;
 
 /// Pixels of the coarse picture shown first after a change, about.
 pub const COARSE_PIXELS: u64 = 20_000;
@@ -126,11 +127,8 @@ pub struct Preview {
 
 impl Preview {
     pub fn new(path: PathBuf, options: PreviewOptions) -> Result<Preview, String> {
-        let device = match options.threads {
-            Some(t) => Device::new(&format!("threads={t}")),
-            None => Device::new(""),
-        }
-        .map_err(|e| e.to_string())?;
+        let threads = options.threads.map(|t| t as usize);
+        let device = prepare::device(threads).map_err(|e| e.to_string())?;
         Ok(Preview {
             device,
             path,
@@ -155,8 +153,7 @@ impl Preview {
         s.spp = o.spp.unwrap_or(s.spp.max(DEFAULT_SPP));
         s.threads = o.threads.map(|t| t as usize);
         s.aovs = false;
-        s.validate().map_err(LoadError::plain)?;
-        stereo::validate(&description.stereo, s.width, s.height).map_err(LoadError::plain)?;
+        prepare::check_settings(&s, &description.stereo).map_err(LoadError::plain)?;
         if s.width as u64 * s.height as u64 > MAX_PREVIEW_PIXELS {
             return Err(LoadError::plain(format!(
                 "a preview of {}x{} pixels is larger than the limit of {MAX_PREVIEW_PIXELS} pixels (4096x4096): choose a smaller --width and --height for the preview; `timbre render` renders any size",
@@ -167,18 +164,37 @@ impl Preview {
     }
 
     /// Loads the scene `text` with `overrides` and starts accumulating afresh. The BVH is
-    /// kept when only the camera, the output or the render settings changed.
+    /// kept when only the camera, the output or the render settings changed. A preview that
+    /// would need more memory than can be had is refused before anything is built.
     pub fn load(&mut self, text: &str, overrides: &[Override]) -> Result<(), LoadError> {
         let (parsed, settings) = self.describe(text, overrides)?;
-        let built = match &self.loaded {
-            Some(old) if old.parsed.same_objects(&parsed) => None,
-            _ => {
-                let drawn = trajectories::draw(&self.device, &parsed)
-                    .map_err(|e| LoadError::plain(format!("ray trajectories: {e}")))?;
-                Some(Scene::build(&self.device, &drawn).map_err(LoadError::plain)?)
-            }
-        };
         let n = settings.width as usize * settings.height as usize;
+        let keep = matches!(&self.loaded, Some(old) if old.parsed.same_objects(&parsed));
+        // Each view's sums, and the picture made of them.
+        let views = parsed.stereo.views() as u64;
+        let image = n as u64 * views * std::mem::size_of::<Sum>() as u64
+            + stereo::memory_needed(false, &parsed.stereo, n as u64);
+        let threads = settings.threads.unwrap_or_else(prepare::default_threads) as u64;
+        let needs = Needs {
+            what: format!("a {}x{} preview", settings.width, settings.height),
+            image,
+            // The render threads of an earlier preview are mapped already, and stay.
+            reserve: match self.loaded {
+                Some(_) => 0,
+                None => memory::reserve(threads),
+            },
+        };
+        let scene_bytes = if keep { 0 } else { parsed.build_memory() };
+        prepare::check_memory(&needs, scene_bytes).map_err(LoadError::plain)?;
+        let built = if keep {
+            None
+        } else {
+            let scene = prepare::build(&self.device, &parsed).map_err(|e| match e {
+                PrepareError::Trajectories(e) => LoadError::plain(format!("ray trajectories: {e}")),
+                e => LoadError::plain(e),
+            })?;
+            Some(scene)
+        };
         let camera = &parsed.camera;
         let cameras = match &parsed.stereo {
             Stereo::Mono => vec![camera.clone()],
