@@ -24,6 +24,7 @@ use timbre::production::{self, Checkpointing, Done, Job, JobError, Signals};
 use timbre::render::PixelBounds;
 use timbre::render::RenderError;
 use timbre::scene::file::{self, Override};
+use timbre::scene::settings::{Kind, SETTINGS, SettingValues, Value};
 use timbre::scene::studio::Studio;
 use timbre::scene::{RenderSettings, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo};
@@ -155,15 +156,59 @@ enum Command {
     Serve(ServeArgs),
 }
 
-/// `--width` and `--height`, shared by `render` and `serve`.
-#[derive(clap::Args)]
-struct SizeArgs {
-    /// Image width in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    width: Option<u32>,
-    /// Image height in pixels (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    height: Option<u32>,
+/// The render settings as options, one for each of `timbre::scene::settings::SETTINGS`
+/// (`--width`, `--max-trace-level`, ...), in place of the scene file's values; shared by
+/// `render` and `serve`.
+#[derive(Debug, Clone, Default)]
+struct SettingArgs(SettingValues);
+
+impl clap::Args for SettingArgs {
+    fn augment_args(command: clap::Command) -> clap::Command {
+        SETTINGS.iter().fold(command, |command, setting| {
+            let arg = clap::Arg::new(setting.key)
+                .long(setting.key.replace('_', "-"))
+                .value_name(setting.key.to_uppercase())
+                .help(format!("{} (overrides the scene file)", setting.help));
+            command.arg(match setting.kind {
+                Kind::Whole { least, most } => {
+                    arg.value_parser(clap::value_parser!(u64).range(least..=most))
+                }
+                Kind::Switch => arg.value_parser(clap::value_parser!(bool)),
+            })
+        })
+    }
+
+    fn augment_args_for_update(command: clap::Command) -> clap::Command {
+        Self::augment_args(command)
+    }
+}
+
+impl clap::FromArgMatches for SettingArgs {
+    fn from_arg_matches(matches: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut args = SettingArgs::default();
+        args.update_from_arg_matches(matches)?;
+        Ok(args)
+    }
+
+    fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
+        for setting in &SETTINGS {
+            let value = match setting.kind {
+                Kind::Whole { .. } => matches
+                    .get_one::<u64>(setting.key)
+                    .map(|n| Value::Whole(*n)),
+                Kind::Switch => matches
+                    .get_one::<bool>(setting.key)
+                    .map(|b| Value::Switch(*b)),
+            };
+            if let Some(value) = value {
+                // Parsed in range, so the setting takes it.
+                self.0
+                    .push(setting, value)
+                    .map_err(|e| clap::Error::raw(clap::error::ErrorKind::ValueValidation, e))?;
+            }
+        }
+        Ok(())
+    }
 }
 
 #[derive(Parser)]
@@ -177,12 +222,10 @@ struct ServeArgs {
     /// require a random access token, printed at start.
     #[arg(long, default_value = "127.0.0.1")]
     bind: std::net::IpAddr,
+    /// The render settings (`--spp`: the samples per pixel the preview accumulates, by
+    /// default the scene's, at least 64; the picture converges to `timbre render --spp N`'s).
     #[command(flatten)]
-    size: SizeArgs,
-    /// Samples per pixel the preview accumulates (default: the scene's, at least 64); the
-    /// picture converges to `timbre render --spp N`'s.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    spp: Option<u32>,
+    settings: SettingArgs,
     /// Worker threads (default: all cores), at most 1024.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
@@ -199,19 +242,10 @@ struct RenderArgs {
     #[arg(short, long, default_value = "out.png")]
     output: PathBuf,
     #[command(flatten)]
-    size: SizeArgs,
-    /// Samples per pixel (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    spp: Option<u32>,
+    settings: SettingArgs,
     /// Worker threads (default: all cores), at most 1024.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
-    /// Seed of the random sample positions (overrides the scene file).
-    #[arg(long)]
-    seed: Option<u64>,
-    /// Maximum trace level: how many surfaces a ray path may meet (overrides the scene file).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
-    max_trace_level: Option<u32>,
     /// Extra EXR channels: depth (depth.Z), normal (normal.X/Y/Z), object (object.id).
     #[arg(long, value_delimiter = ',')]
     aov: Vec<Aov>,
@@ -382,11 +416,7 @@ impl JsonProgress {
 impl RenderArgs {
     /// The command line's values in place of the scene file's.
     fn apply_to(&self, s: &mut RenderSettings) {
-        s.width = self.size.width.unwrap_or(s.width);
-        s.height = self.size.height.unwrap_or(s.height);
-        s.spp = self.spp.unwrap_or(s.spp);
-        s.seed = self.seed.unwrap_or(s.seed);
-        s.max_trace_level = self.max_trace_level.unwrap_or(s.max_trace_level);
+        self.settings.0.apply(s);
         s.aovs = !self.aov.is_empty();
         s.threads = self.threads.map(|t| t as usize);
     }
@@ -1048,9 +1078,7 @@ fn run_serve(args: ServeArgs) -> Result<(), Failure> {
         port: args.port,
         overrides: args.set,
         preview: timbre::serve::PreviewOptions {
-            width: args.size.width,
-            height: args.size.height,
-            spp: args.spp,
+            settings: args.settings.0,
             threads: args.threads,
         },
     };

@@ -1074,3 +1074,62 @@ fn a_large_render_streams_in_bounded_memory_and_what_cannot_fit_is_refused_up_fr
     assert!(!run.stdout.contains("rays in"), "nothing was rendered");
     assert_eq!(files_in(&dir), ["anaglyph.toml", "big.png"]);
 }
+
+#[test]
+fn each_render_setting_is_an_option_meaning_the_render_key() {
+    // The render settings are defined once (SETTINGS): `--KEY V` (dashes for underscores) means
+    // what `[render] KEY = V` means, for every one of them, and changes the picture.
+    use timbre::scene::settings::SETTINGS;
+    let values = [
+        ("width", "60"),
+        ("height", "40"),
+        ("spp", "3"),
+        ("seed", "5"),
+        ("max_trace_level", "1"),
+        ("shadows", "false"),
+    ];
+    let keys: Vec<&str> = SETTINGS.iter().map(|s| s.key).collect();
+    assert_eq!(
+        keys,
+        values.map(|(k, _)| k),
+        "a new setting needs a value here"
+    );
+    let dir = TempDir::new().unwrap();
+    let d = dir.path();
+    // Two samples a pixel, so that the seed (of the samples after the first) shows, and a
+    // mirror, so that the trace level does (it sees the lattice at the second level).
+    let studio = "studio = \"lattice\"\n[[object]]\n\
+                  shape = { type = \"sphere\", centre = [1.2, 0.8, 7], radius = 0.5 }\n\
+                  surface = { type = \"mirror\" }\n\
+                  [render]\nwidth = 64\nheight = 48\nspp = 2\n";
+    write(d, "plain.toml", studio);
+    // The pixels (the files name their scene files, which differ).
+    let pixels = |name: &str| decode_png(&d.join(name)).into_raw();
+    let render = |args: &[&str]| {
+        timbre(d, &[&["render", "-q"], args].concat()).assert_success();
+    };
+    render(&["plain.toml", "-o", "plain.png"]);
+    for (key, value) in values {
+        // The plain scene with the key set in the file.
+        let in_file = match studio.find(&format!("{key} = ")) {
+            Some(at) => {
+                let end = at + studio[at..].find('\n').unwrap();
+                format!("{}{key} = {value}{}", &studio[..at], &studio[end..])
+            }
+            None => format!("{studio}{key} = {value}\n"),
+        };
+        write(d, "keyed.toml", &in_file);
+        render(&["keyed.toml", "-o", "file.png"]);
+        let option = format!("--{}", key.replace('_', "-"));
+        render(&["plain.toml", "-o", "option.png", &option, value]);
+        let option = pixels("option.png");
+        assert!(
+            pixels("file.png") == option,
+            "--{key} is not [render] {key}"
+        );
+        assert!(
+            option != pixels("plain.png"),
+            "--{key} {value} changes nothing"
+        );
+    }
+}

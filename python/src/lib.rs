@@ -27,6 +27,7 @@ use timbre::memory;
 use timbre::prepare::{self, Needs, PrepareError};
 use timbre::render::{AovSample, Image, PixelBounds, RenderError, render_part};
 use timbre::scene::file::{self, Override, SceneFileError};
+use timbre::scene::settings::{Kind, SETTINGS, Setting, SettingValues, Value};
 use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo_until};
 use timbre::trajectories::{self, Trajectory, TrajectoryError};
@@ -207,6 +208,37 @@ fn memory_reserve(threads: u64) -> u64 {
         0 => memory::reserve(threads),
         seen => memory::reserve(threads).saturating_sub(memory::reserve(seen)),
     }
+}
+
+/// The render settings given by key: each one of `SETTINGS`, a whole number or a bool as the
+/// setting takes.
+fn setting_values(given: &[(String, Bound<'_, PyAny>)]) -> PyResult<SettingValues> {
+    let mut values = SettingValues::default();
+    for (key, value) in given {
+        let setting = Setting::named(key)
+            .ok_or_else(|| PyValueError::new_err(format!("no render setting is called '{key}'")))?;
+        let value = match setting.kind {
+            Kind::Whole { .. } => Value::Whole(value.extract()?),
+            Kind::Switch => Value::Switch(value.extract()?),
+        };
+        values
+            .push(setting, value)
+            .map_err(|e| PyValueError::new_err(format!("{key}: {e}")))?;
+    }
+    Ok(values)
+}
+
+/// The render settings' keys and kinds, for the Python side: (key, "whole", least, most) or
+/// (key, "switch", 0, 1).
+#[pyfunction]
+fn render_settings() -> Vec<(&'static str, &'static str, u64, u64)> {
+    SETTINGS
+        .iter()
+        .map(|s| match s.kind {
+            Kind::Whole { least, most } => (s.key, "whole", least, most),
+            Kind::Switch => (s.key, "switch", 0, 1),
+        })
+        .collect()
 }
 
 fn parse_overrides(set: Vec<String>) -> PyResult<Vec<Override>> {
@@ -529,18 +561,17 @@ impl NativeScene {
         to_python(py, value)
     }
 
-    /// The render settings of the scene (width, height, spp, seed, max_trace_level, shadows),
-    /// its stereo output (`camera.stereo`) and the number of views that renders.
+    /// The render settings of the scene (each of `SETTINGS`), its stereo output
+    /// (`camera.stereo`) and the number of views that renders.
     fn settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let description = self.snapshot().description;
-        let s = &description.render;
         let d = PyDict::new(py);
-        d.set_item("width", s.width)?;
-        d.set_item("height", s.height)?;
-        d.set_item("spp", s.spp)?;
-        d.set_item("seed", s.seed)?;
-        d.set_item("max_trace_level", s.max_trace_level)?;
-        d.set_item("shadows", s.shadows)?;
+        for setting in &SETTINGS {
+            match setting.get(&description.render) {
+                Value::Whole(n) => d.set_item(setting.key, n)?,
+                Value::Switch(b) => d.set_item(setting.key, b)?,
+            }
+        }
         d.set_item("stereo", description.stereo.name())?;
         d.set_item("views", description.stereo.views())?;
         Ok(d)
@@ -567,21 +598,16 @@ impl NativeScene {
         self.state().description.hash()
     }
 
-    /// Renders the scene (arguments in place of the scene's `[render]` values, as `timbre
-    /// render`'s options) and returns a dict: `rgb` (float32, (h, w, 3)), the AOVs named in
-    /// `aovs`, and `rays`.
-    #[pyo3(signature = (*, width=None, height=None, spp=None, seed=None, threads=None,
-        max_trace_level=None, aovs=Vec::new(), pixel_bounds=None, progress=None))]
-    #[allow(clippy::too_many_arguments)]
+    /// Renders the scene (`settings`, render settings by key, in place of the scene's
+    /// `[render]` values, as `timbre render`'s options) and returns a dict: `rgb` (float32,
+    /// (h, w, 3)), the AOVs named in `aovs`, and `rays`.
+    #[pyo3(signature = (*, settings=Vec::new(), threads=None, aovs=Vec::new(), pixel_bounds=None,
+        progress=None))]
     fn render<'py>(
         &self,
         py: Python<'py>,
-        width: Option<u32>,
-        height: Option<u32>,
-        spp: Option<u32>,
-        seed: Option<u64>,
+        settings: Vec<(String, Bound<'py, PyAny>)>,
         threads: Option<u32>,
-        max_trace_level: Option<u32>,
         aovs: Vec<String>,
         pixel_bounds: Option<(u32, u32, u32, u32)>,
         progress: Option<Bound<'py, PyAny>>,
@@ -589,12 +615,9 @@ impl NativeScene {
         // One version of the scene throughout, whatever other threads change meanwhile.
         let state = self.snapshot();
         let description = &state.description;
+        let given = setting_values(&settings)?;
         let mut settings: RenderSettings = description.render.clone();
-        settings.width = width.unwrap_or(settings.width);
-        settings.height = height.unwrap_or(settings.height);
-        settings.spp = spp.unwrap_or(settings.spp);
-        settings.seed = seed.unwrap_or(settings.seed);
-        settings.max_trace_level = max_trace_level.unwrap_or(settings.max_trace_level);
+        given.apply(&mut settings);
         let mut channels = 0;
         for name in &aovs {
             let Some((_, n)) = AOVS.iter().find(|(a, _)| a == name) else {
@@ -793,5 +816,6 @@ fn _timbre(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(png_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(rgb8, m)?)?;
     m.add_function(wrap_pyfunction!(embree_version, m)?)?;
+    m.add_function(wrap_pyfunction!(render_settings, m)?)?;
     Ok(())
 }

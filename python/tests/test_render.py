@@ -4,6 +4,7 @@ stop on Ctrl-C."""
 
 from __future__ import annotations
 
+import inspect
 import io
 import json
 import signal
@@ -60,6 +61,31 @@ def test_a_stereo_scene_renders_its_combined_output_as_the_cli(timbre_cli, tmp_p
     assert np.array_equal(image.view(np.ndarray), exr_rgb(read_exr(exr)))
     with pytest.raises(ValueError, match="single views only"):
         timbre.load(scene).render(64, 48, aovs=["depth"])
+
+
+def test_every_render_setting_is_a_keyword_of_render_and_means_the_cli_option(
+        timbre_cli, tmp_path):
+    # The render settings are defined once (timbre's SETTINGS): each is a keyword of
+    # Scene.render and an entry of Scene.settings, and means what `timbre render --KEY` means.
+    keys = [key for key, *_ in timbre._timbre.render_settings()]
+    assert set(keys) <= set(inspect.signature(timbre.Scene.render).parameters)
+    assert set(keys) <= set(timbre.studio().settings)
+    # A value of each, none of them the studio's own (a new setting needs one here).
+    values = {"width": 40, "height": 30, "spp": 2, "seed": 7, "max_trace_level": 3,
+              "shadows": False}
+    assert set(values) == set(keys)
+    assert all(timbre.studio().settings[k] != v for k, v in values.items())
+    exr = tmp_path / "out.exr"
+    options = [a for k, v in values.items()
+               for a in (f"--{k.replace('_', '-')}", str(v).lower())]
+    cli(timbre_cli, "render", *options, "-q", "-o", exr)
+    image = timbre.studio().render(**values)
+    assert np.array_equal(image.view(np.ndarray), exr_rgb(read_exr(exr)))
+    # And differs from the studio's own settings at the same size.
+    plain = timbre.studio().render(40, 30, spp=2, seed=7)
+    assert not np.array_equal(image.view(np.ndarray), plain.view(np.ndarray))
+    with pytest.raises(TypeError, match="shadows"):
+        timbre.studio().render(8, 6, shadows=1)
 
 
 def test_pixel_bounds_are_those_pixels_of_the_whole_render_and_of_the_cli_part(timbre_cli, tmp_path):

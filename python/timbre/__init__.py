@@ -26,6 +26,7 @@ import numpy as np
 from ._timbre import NativeScene as _NativeScene
 from ._timbre import SceneError, embree_version
 from ._timbre import png_bytes as _png_bytes
+from ._timbre import render_settings as _render_settings
 from ._timbre import rgb8 as _rgb8
 
 __all__ = [
@@ -50,6 +51,10 @@ STUDIOS = ("empty", "lattice", "metatoy-window", "none")
 #: The arbitrary output variables ``Scene.render(aovs=...)`` can add: the distance to the surface
 #: seen through each pixel centre, its outward normal, and the object's index (-1 for none).
 AOVS = ("depth", "normal", "object")
+
+# The render settings, defined once in timbre (its ``SETTINGS``): each key's kind ("whole" or
+# "switch") and range. ``Scene.render`` takes each as a keyword (a test checks that it does).
+_SETTINGS = {key: (kind, least, most) for key, kind, least, most in _render_settings()}
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -109,6 +114,16 @@ def _override(key: str, value: Any) -> str:
     if not isinstance(key, str) or "=" in key or not key.strip():
         raise ValueError(f"{key!r} is not a scene-file key such as 'camera.position'")
     return f"{key.strip()}={_toml(value, True)}"
+
+
+def _setting(key: str, value: Any) -> Union[int, bool]:
+    """The render setting ``key`` given ``value``: a whole number in its range, or a bool."""
+    kind, least, most = _SETTINGS[key]
+    if kind == "switch":
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{key} must be True or False, got {value!r}")
+        return bool(value)
+    return _whole(key, value, least, most)
 
 
 def _whole(name: str, value: Any, least: int, most: int) -> int:
@@ -296,6 +311,7 @@ class Scene:
         seed: Optional[int] = None,
         threads: Optional[int] = None,
         max_trace_level: Optional[int] = None,
+        shadows: Optional[bool] = None,
         aovs: Iterable[str] = (),
         pixel_bounds: Optional[tuple[int, int, int, int]] = None,
         progress: Union[None, bool, Callable[[int], Any]] = None,
@@ -322,10 +338,10 @@ class Scene:
             raise ValueError(f"unknown AOV {unknown[0]!r}: the AOVs are {', '.join(AOVS)}")
         wanted = [a for a in AOVS if a in wanted]
         u32 = 2**32 - 1
-        sizes = dict(width=width, height=height, spp=spp, threads=threads,
-                     max_trace_level=max_trace_level)
-        sizes = {k: None if v is None else _whole(k, v, 1, u32) for k, v in sizes.items()}
-        seed = None if seed is None else _whole("seed", seed, 0, 2**64 - 1)
+        given = dict(width=width, height=height, spp=spp, seed=seed,
+                     max_trace_level=max_trace_level, shadows=shadows)
+        settings = {k: _setting(k, v) for k, v in given.items() if v is not None}
+        threads = None if threads is None else _whole("threads", threads, 1, 1024)
         if pixel_bounds is not None:
             if not isinstance(pixel_bounds, Sequence) or isinstance(pixel_bounds, (str, bytes)) \
                     or len(pixel_bounds) != 4:
@@ -342,8 +358,8 @@ class Scene:
                 from tqdm.auto import tqdm
             except ImportError:
                 pass
-            s = self._native.settings()
-            w, h = sizes["width"] or s["width"], sizes["height"] or s["height"]
+            s = {**self._native.settings(), **settings}
+            w, h = s["width"], s["height"]
             if pixel_bounds is not None:
                 x0, x1, y0, y1 = pixel_bounds
                 w, h = x1 - x0, y1 - y0
@@ -353,7 +369,8 @@ class Scene:
             progress = None
         try:
             out = self._native.render(
-                **sizes, seed=seed, aovs=wanted, pixel_bounds=pixel_bounds, progress=progress
+                settings=list(settings.items()), threads=threads, aovs=wanted,
+                pixel_bounds=pixel_bounds, progress=progress
             )
         finally:
             if bar is not None:

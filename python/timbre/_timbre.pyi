@@ -1,6 +1,6 @@
 # Types of the native module (python/src/lib.rs); the public API is timbre/__init__.py.
 from collections.abc import Callable
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -28,12 +28,8 @@ class NativeScene:
     def render(
         self,
         *,
-        width: Optional[int] = None,
-        height: Optional[int] = None,
-        spp: Optional[int] = None,
-        seed: Optional[int] = None,
+        settings: list[tuple[str, Union[int, bool]]] = ...,
         threads: Optional[int] = None,
-        max_trace_level: Optional[int] = None,
         aovs: list[str] = ...,
         pixel_bounds: Optional[tuple[int, int, int, int]] = None,
         progress: Optional[Callable[[int], Any]] = None,
@@ -43,3 +39,4 @@ class NativeScene:
 def rgb8(rgb: npt.NDArray[np.float32]) -> npt.NDArray[np.uint8]: ...
 def png_bytes(rgb: npt.NDArray[np.float32]) -> bytes: ...
 def embree_version() -> str: ...
+def render_settings() -> list[tuple[str, str, int, int]]: ...

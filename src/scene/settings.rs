@@ -1,4 +1,10 @@
-//! How to render a scene: image size, sampling and tracing limits (what `render` obeys).
+//! How to render a scene: image size, sampling and tracing limits (what `render` obeys), and
+//! [`SETTINGS`], the one definition of the settings a scene file's `[render]` table, the command
+//! line (`--max-trace-level`), the live preview's page (`render.max_trace_level`) and Python
+//! (`max_trace_level=`) give.
+
+use serde::Deserialize;
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 
 /// How to render: image size, sampling and tracing limits.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,5 +77,253 @@ impl Default for RenderSettings {
             aovs: false,
             threads: None,
         }
+    }
+}
+
+/// The value of a render setting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Value {
+    Whole(u64),
+    Switch(bool),
+}
+
+/// The values a render setting takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    /// A whole number from `least` to `most`.
+    Whole { least: u64, most: u64 },
+    /// `true` or `false`.
+    Switch,
+}
+
+/// One render setting: its key (`[render]`'s, the command line's with dashes for underscores,
+/// the page's as `render.KEY`, Python's keyword), what it is, the values it takes, and how it
+/// is read from and written into [`RenderSettings`].
+#[derive(Debug)]
+pub struct Setting {
+    pub key: &'static str,
+    /// What it is, as the command line's help says it.
+    pub help: &'static str,
+    pub kind: Kind,
+    get: fn(&RenderSettings) -> Value,
+    set: fn(&mut RenderSettings, u64, bool),
+}
+
+/// Whole numbers from 1 that fit a u32 (sizes, samples, levels).
+const COUNT: Kind = Kind::Whole {
+    least: 1,
+    most: u32::MAX as u64,
+};
+
+/// Every render setting of a scene. Adding one here gives it its `[render]` key, its command-line
+/// option of `timbre render`, its parameter on the live preview's page, its entry in Python's
+/// `Scene.settings` and its keyword of `Scene.render` (whose signature and stub list it, as a
+/// test checks).
+pub const SETTINGS: [Setting; 6] = [
+    Setting {
+        key: "width",
+        help: "Image width in pixels",
+        kind: COUNT,
+        get: |s| Value::Whole(s.width.into()),
+        set: |s, n, _| s.width = n as u32,
+    },
+    Setting {
+        key: "height",
+        help: "Image height in pixels",
+        kind: COUNT,
+        get: |s| Value::Whole(s.height.into()),
+        set: |s, n, _| s.height = n as u32,
+    },
+    Setting {
+        key: "spp",
+        help: "Samples per pixel",
+        kind: COUNT,
+        get: |s| Value::Whole(s.spp.into()),
+        set: |s, n, _| s.spp = n as u32,
+    },
+    Setting {
+        key: "seed",
+        help: "Seed of the random sample positions",
+        kind: Kind::Whole {
+            least: 0,
+            most: u64::MAX,
+        },
+        get: |s| Value::Whole(s.seed),
+        set: |s, n, _| s.seed = n,
+    },
+    Setting {
+        key: "max_trace_level",
+        help: "Maximum trace level: how many surfaces a ray path may meet",
+        kind: COUNT,
+        get: |s| Value::Whole(s.max_trace_level.into()),
+        set: |s, n, _| s.max_trace_level = n as u32,
+    },
+    Setting {
+        key: "shadows",
+        help: "Whether objects throw shadows (hard shadows of the point lights)",
+        kind: Kind::Switch,
+        get: |s| Value::Switch(s.shadows),
+        set: |s, _, b| s.shadows = b,
+    },
+];
+
+impl Setting {
+    /// The setting called `key`.
+    pub fn named(key: &str) -> Option<&'static Setting> {
+        SETTINGS.iter().find(|s| s.key == key)
+    }
+
+    /// The setting's value in `settings`.
+    pub fn get(&self, settings: &RenderSettings) -> Value {
+        (self.get)(settings)
+    }
+
+    /// Sets the setting in `settings` to `value`, or says what it takes instead.
+    pub fn set(&self, settings: &mut RenderSettings, value: Value) -> Result<(), String> {
+        match (self.kind, value) {
+            (Kind::Whole { least, most }, Value::Whole(n)) if (least..=most).contains(&n) => {
+                (self.set)(settings, n, false);
+                Ok(())
+            }
+            (Kind::Switch, Value::Switch(b)) => {
+                (self.set)(settings, 0, b);
+                Ok(())
+            }
+            (kind, value) => Err(format!("expected {}, got {value}", kind.expected())),
+        }
+    }
+}
+
+impl Kind {
+    /// What a value of this kind is, for messages: "a whole number from 1 to 4294967295".
+    pub fn expected(self) -> String {
+        match self {
+            Kind::Whole { least, most } => format!("a whole number from {least} to {most}"),
+            Kind::Switch => "true or false".into(),
+        }
+    }
+}
+
+impl std::fmt::Display for Value {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Value::Whole(n) => write!(f, "{n}"),
+            Value::Switch(b) => write!(f, "{b}"),
+        }
+    }
+}
+
+/// Values of some of [`SETTINGS`], in the order they are given: a `[render]` table's (read with
+/// each value checked, an error at the key or value otherwise) or the command line's options.
+#[derive(Debug, Clone, Default)]
+pub struct SettingValues(Vec<(&'static Setting, Value)>);
+
+impl SettingValues {
+    /// Adds `value` of `setting`, or says what the setting takes instead.
+    pub fn push(&mut self, setting: &'static Setting, value: Value) -> Result<(), String> {
+        setting.set(&mut RenderSettings::default(), value)?;
+        self.0.push((setting, value));
+        Ok(())
+    }
+
+    /// `settings` with these values in place.
+    pub fn apply(&self, settings: &mut RenderSettings) {
+        for (setting, value) in &self.0 {
+            setting.set(settings, *value).expect("checked when given");
+        }
+    }
+
+    /// Whether `key` is given.
+    pub fn gives(&self, key: &str) -> bool {
+        self.0.iter().any(|(s, _)| s.key == key)
+    }
+}
+
+impl<'de> Deserialize<'de> for SettingValues {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Table;
+        impl<'de> Visitor<'de> for Table {
+            type Value = SettingValues;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a table of render settings")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, _: A) -> Result<SettingValues, A::Error> {
+                Err(de::Error::custom("expected a table, not an array"))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SettingValues, A::Error> {
+                let mut table = SettingValues::default();
+                while let Some(setting) = map.next_key_seed(Key)? {
+                    let value = map.next_value_seed(setting)?;
+                    table.0.push((setting, value));
+                }
+                Ok(table)
+            }
+        }
+        d.deserialize_map(Table)
+    }
+}
+
+/// A `[render]` key, read as the setting it names (an error at the key otherwise).
+struct Key;
+
+impl<'de> DeserializeSeed<'de> for Key {
+    type Value = &'static Setting;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<&'static Setting, D::Error> {
+        const KEYS: [&str; SETTINGS.len()] = {
+            let mut keys = [""; SETTINGS.len()];
+            let mut i = 0;
+            while i < SETTINGS.len() {
+                keys[i] = SETTINGS[i].key;
+                i += 1;
+            }
+            keys
+        };
+        let key = String::deserialize(d)?;
+        Setting::named(&key).ok_or_else(|| de::Error::unknown_field(&key, &KEYS))
+    }
+}
+
+/// A setting's value read where it is written, so that an error has the value's place.
+impl<'de> DeserializeSeed<'de> for &'static Setting {
+    type Value = Value;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for &'static Setting {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.kind.expected())
+    }
+
+    fn visit_i64<E: de::Error>(self, n: i64) -> Result<Value, E> {
+        match u64::try_from(n) {
+            Ok(n) => self.visit_u64(n),
+            Err(_) => Err(E::custom(format!(
+                "expected {}, got {n}",
+                self.kind.expected()
+            ))),
+        }
+    }
+
+    fn visit_u64<E: de::Error>(self, n: u64) -> Result<Value, E> {
+        self.checked(Value::Whole(n))
+    }
+
+    fn visit_bool<E: de::Error>(self, b: bool) -> Result<Value, E> {
+        self.checked(Value::Switch(b))
+    }
+}
+
+impl Setting {
+    /// `value`, if it is one this setting takes.
+    fn checked<E: de::Error>(&self, value: Value) -> Result<Value, E> {
+        self.set(&mut RenderSettings::default(), value)
+            .map(|()| value)
+            .map_err(E::custom)
     }
 }

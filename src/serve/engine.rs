@@ -20,6 +20,7 @@ use crate::io::{Provenance, to_rgb8, write_image};
 use crate::production::{self, Job, Signals};
 use crate::render::{Image, PixelBounds};
 use crate::scene::file::{self, MAX_FILE_BYTES, Override};
+use crate::scene::settings::{SETTINGS, Value};
 use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::render_stereo;
 
@@ -924,16 +925,12 @@ fn state(
                 .entry("render")
                 .or_insert_with(|| toml::Value::Table(toml::Table::new()));
             if let Some(render) = render.as_table_mut() {
-                let whole = |n: u64| toml::Value::Integer(n.min(i64::MAX as u64) as i64);
-                for (key, value) in [
-                    ("width", whole(r.width.into())),
-                    ("height", whole(r.height.into())),
-                    ("spp", whole(r.spp.into())),
-                    ("seed", whole(r.seed)),
-                    ("max_trace_level", whole(r.max_trace_level.into())),
-                    ("shadows", toml::Value::Boolean(r.shadows)),
-                ] {
-                    render.entry(key).or_insert(value);
+                for setting in &SETTINGS {
+                    let value = match setting.get(r) {
+                        Value::Whole(n) => toml::Value::Integer(n.min(i64::MAX as u64) as i64),
+                        Value::Switch(b) => toml::Value::Boolean(b),
+                    };
+                    render.entry(setting.key).or_insert(value);
                 }
             }
             parameters(&listed)

@@ -20,6 +20,7 @@ use crate::memory;
 use crate::prepare::{self, Needs, PrepareError};
 use crate::render::{self, Image, PixelBounds, Rows, Samples, Sum, Tracer};
 use crate::scene::file::{self, Override, SceneFileError};
+use crate::scene::settings::SettingValues;
 use crate::scene::{Packing, RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::{self, anaglyph, pack, render_stereo};
 
@@ -67,10 +68,9 @@ impl From<SceneFileError> for LoadError {
 /// The command line's choices that the scene text does not override.
 #[derive(Debug, Clone, Default)]
 pub struct PreviewOptions {
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    /// Samples per pixel the preview accumulates; by default the scene's, at least 64.
-    pub spp: Option<u32>,
+    /// Render settings in place of the scene's; `spp` is the samples per pixel the preview
+    /// accumulates, by default the scene's, at least [`DEFAULT_SPP`].
+    pub settings: SettingValues,
     pub threads: Option<u32>,
 }
 
@@ -148,9 +148,10 @@ impl Preview {
         let description = file::parse_with(text, &self.path.display().to_string(), overrides)?;
         let mut s = description.render.clone();
         let o = &self.options;
-        s.width = o.width.unwrap_or(s.width);
-        s.height = o.height.unwrap_or(s.height);
-        s.spp = o.spp.unwrap_or(s.spp.max(DEFAULT_SPP));
+        if !o.settings.gives("spp") {
+            s.spp = s.spp.max(DEFAULT_SPP);
+        }
+        o.settings.apply(&mut s);
         s.threads = o.threads.map(|t| t as usize);
         s.aovs = false;
         prepare::check_settings(&s, &description.stereo).map_err(LoadError::plain)?;

@@ -11,7 +11,6 @@ mod parts;
 mod placement;
 mod trajectories;
 
-use std::num::NonZeroU32;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -20,6 +19,7 @@ use thiserror::Error;
 
 use super::SceneDescription;
 use super::lights::{Lights, PointLight};
+use super::settings::SettingValues;
 use super::studio::{self, Studio};
 use crate::geometry::{Shape, Transform};
 use crate::keys::{Positive, Rgb, Vector};
@@ -309,7 +309,7 @@ impl Source {
 #[serde(deny_unknown_fields)]
 struct File {
     studio: Option<StudioName>,
-    render: Option<Spanned<RenderSection>>,
+    render: Option<Spanned<SettingValues>>,
     camera: Option<Spanned<CameraSection>>,
     #[serde(default)]
     light: Vec<LightSection>,
@@ -382,17 +382,6 @@ enum StudioName {
     MetatoyWindow,
     /// Nothing at all: no sky, no floor, no lights.
     None,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RenderSection {
-    width: Option<NonZeroU32>,
-    height: Option<NonZeroU32>,
-    spp: Option<NonZeroU32>,
-    seed: Option<u64>,
-    max_trace_level: Option<NonZeroU32>,
-    shadows: Option<bool>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -519,14 +508,8 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
 
     if let Some(r) = file.render {
         let span = r.span();
-        let r = r.into_inner();
         let s = &mut scene.render;
-        s.width = r.width.map_or(s.width, NonZeroU32::get);
-        s.height = r.height.map_or(s.height, NonZeroU32::get);
-        s.spp = r.spp.map_or(s.spp, NonZeroU32::get);
-        s.seed = r.seed.unwrap_or(s.seed);
-        s.max_trace_level = r.max_trace_level.map_or(s.max_trace_level, NonZeroU32::get);
-        s.shadows = r.shadows.unwrap_or(s.shadows);
+        r.into_inner().apply(s);
         s.validate().map_err(|m| invalid(Some(span), m))?;
     }
 
