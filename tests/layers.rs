@@ -216,6 +216,11 @@ fn no_module_refers_to_a_layer_above_or_beside_its_own() {
             ));
             continue;
         };
+        // The top layer is the binary (main.rs and its modules): its `crate::` is the binary's
+        // own root, and the library (`timbre::`) is all below it.
+        if own_rank == layers.len() - 1 {
+            continue;
+        }
         let text = code(&std::fs::read_to_string(&file).unwrap());
         for target in referenced(&module, &text) {
             checked += 1;
@@ -349,5 +354,101 @@ fn unsafe_code_lives_only_in_the_embree_module() {
     assert_eq!(
         without_strings("a \"x \\\" unsafe\" b r#\"unsafe \"# c '\"' unsafe"),
         "a \"\" b r\" c '\"' unsafe"
+    );
+}
+
+/// The sibling modules a file of `dir` names through `super::NAME` (one level up: the files
+/// and folders beside it).
+fn siblings_used(dir: &Path, text: &str) -> Vec<String> {
+    let mut used = Vec::new();
+    for (i, _) in text.match_indices("super::") {
+        let before = text[..i].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+            continue;
+        }
+        for name in first_names(&text[i + "super::".len()..]) {
+            let file = dir.join(format!("{name}.rs"));
+            if (file.is_file() || dir.join(&name).join("mod.rs").is_file()) && !used.contains(&name)
+            {
+                used.push(name);
+            }
+        }
+    }
+    used
+}
+
+#[test]
+fn no_two_files_of_a_module_use_each_other() {
+    // Within a module, the files beside each other use one another in one direction only (no
+    // circle such as devices -> placement -> shapes -> devices): each folder's graph of
+    // `super::sibling` uses has no cycle.
+    fn folders(dir: &Path, found: &mut Vec<PathBuf>) {
+        found.push(dir.to_path_buf());
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders(&path, found);
+            }
+        }
+    }
+    let mut dirs = Vec::new();
+    folders(&Path::new(ROOT).join("src"), &mut dirs);
+    let mut edges = 0;
+    for dir in dirs {
+        // Each sibling (file or folder, not mod.rs) and the siblings it uses.
+        let mut graph: BTreeMap<String, Vec<String>> = BTreeMap::new();
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_stem().unwrap().to_string_lossy().to_string();
+            let files = if path.is_dir() {
+                sources(&path)
+            } else if path.extension().is_some_and(|e| e == "rs") && name != "mod" {
+                vec![path.clone()]
+            } else {
+                continue;
+            };
+            let mut used = Vec::new();
+            for file in files {
+                // Only this folder's own files look one level up to the siblings.
+                if file.parent() != Some(&dir) {
+                    continue;
+                }
+                let text = code(&std::fs::read_to_string(&file).unwrap());
+                used.extend(
+                    siblings_used(&dir, &text)
+                        .into_iter()
+                        .filter(|u| *u != name),
+                );
+            }
+            edges += used.len();
+            graph.insert(name, used);
+        }
+        // Depth-first search for a cycle.
+        fn cycle(
+            graph: &BTreeMap<String, Vec<String>>,
+            node: &str,
+            path: &mut Vec<String>,
+        ) -> Option<Vec<String>> {
+            if let Some(at) = path.iter().position(|n| n == node) {
+                return Some(path[at..].to_vec());
+            }
+            path.push(node.to_string());
+            for next in graph.get(node).into_iter().flatten() {
+                if let Some(c) = cycle(graph, next, path) {
+                    return Some(c);
+                }
+            }
+            path.pop();
+            None
+        }
+        for node in graph.keys() {
+            if let Some(c) = cycle(&graph, node, &mut Vec::new()) {
+                panic!("{}: {} use each other", dir.display(), c.join(" -> "));
+            }
+        }
+    }
+    assert!(
+        edges > 20,
+        "only {edges} uses of siblings found: is the finder broken?"
     );
 }

@@ -701,10 +701,9 @@ impl NativeScene {
         Ok(out)
     }
 
-    /// The ray trajectories of the scene, traced: one dict per ray with `trajectory` (its
-    /// name), `ray` (its index), `points` (float64, (n, 3)), `arrivals`, `objects` (a name or
-    /// None per point), `end` and `direction`.
-    fn trajectories<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    /// The ray trajectories of the scene, traced, as JSON: the rays of `timbre trace --json`
+    /// (`trajectories::TracedRay`, the one format of both).
+    fn trajectories(&self, py: Python<'_>) -> PyResult<String> {
         let state = self.snapshot();
         let description = state.description.clone();
         let needs = Needs {
@@ -718,33 +717,8 @@ impl NativeScene {
             Ok(trajectories::trace(&device, &description)?)
         })?
         .map_err(|e| unprepared(py, &state.source, e))?;
-        let description = &state.description;
-        let list = PyList::empty(py);
-        for t in &traced {
-            let d = PyDict::new(py);
-            d.set_item("trajectory", &description.trajectories[t.source].name)?;
-            d.set_item("ray", t.ray)?;
-            let xyz: Vec<f64> = t
-                .points
-                .iter()
-                .flat_map(|p| p.position.to_array())
-                .collect();
-            let points = PyArray1::from_vec(py, xyz).reshape([t.points.len(), 3])?;
-            d.set_item("points", points)?;
-            let arrivals: Vec<&str> = t.points.iter().map(|p| p.arrival.name()).collect();
-            d.set_item("arrivals", arrivals)?;
-            let objects: Vec<Option<&str>> = t
-                .points
-                .iter()
-                .map(|p| p.object.map(|i| description.objects[i].name.as_str()))
-                .collect();
-            d.set_item("objects", objects)?;
-            d.set_item("end", t.end.name())?;
-            let direction = PyArray1::from_vec(py, t.direction.to_array().to_vec());
-            d.set_item("direction", direction)?;
-            list.append(d)?;
-        }
-        Ok(list)
+        let rays = trajectories::traced_rays(&state.description, &traced);
+        serde_json::to_string(&rays).map_err(|e| PyRuntimeError::new_err(e.to_string()))
     }
 }
 

@@ -333,16 +333,11 @@ def test_trajectories_are_those_of_timbre_trace(timbre_cli):
     path = SCENES / "trajectories-glass-ball.toml"
     traced = json.loads(cli(timbre_cli, "trace", "--json", path).stdout)["rays"]
     got = timbre.load(path).trajectories()
-    assert len(got) == len(traced) > 0
-    for g, t in zip(got, traced):
-        assert g["trajectory"] == t["trajectory"] and g["ray"] == t["ray"]
-        assert g["points"].dtype == np.float64 and g["points"].shape == (len(t["points"]), 3)
-        # JSON carries each f64 exactly (shortest round-trip form).
-        assert np.array_equal(g["points"], np.array([p["position"] for p in t["points"]]))
-        assert g["arrivals"] == [p["arrival"] for p in t["points"]]
-        assert g["objects"] == [p["object"] for p in t["points"]]
-        assert g["end"] == t["end"]
-        assert np.array_equal(g["direction"], np.array(t["direction"]))
+    # The same format and values (JSON carries each f64 exactly, in its shortest round-trip
+    # form), ray for ray.
+    assert got == traced and len(got) > 0
+    assert set(got[0]) == {"trajectory", "ray", "points", "end", "direction"}
+    assert set(got[0]["points"][0]) == {"arrival", "object", "position"}
     # A glass ball refracts: some ray changes direction.
     assert any(len(g["points"]) > 2 for g in got)
 

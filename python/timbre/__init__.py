@@ -13,6 +13,7 @@ sweeps. docs/PYTHON.md is the guide.
 
 from __future__ import annotations
 
+import json
 import math
 import numbers
 import operator
@@ -378,11 +379,12 @@ class Scene:
         return Image(out["rgb"], {a: out[a] for a in wanted}, out["rays"])
 
     def trajectories(self) -> list[dict[str, Any]]:
-        """The scene's ``[[ray_trajectory]]`` rays, traced (``timbre trace``): for each ray a
-        dict with ``trajectory`` (its name), ``ray`` (its index), ``points`` (float64, (n, 3):
-        the start and each point where it met a surface), ``arrivals`` (how it got to each
-        point), ``objects`` (the object at each point, or None), ``end`` and ``direction``."""
-        return self._native.trajectories()
+        """The scene's ``[[ray_trajectory]]`` rays, traced, exactly as ``timbre trace --json``
+        gives them (its ``rays``): for each ray a dict with ``trajectory`` (its name), ``ray``
+        (its index), ``points`` (the start and each point where it met a surface, each a dict
+        with ``arrival``, how the ray got there, ``object``, the object there or None, and
+        ``position``, [x, y, z]), ``end`` and ``direction`` ([x, y, z])."""
+        return json.loads(self._native.trajectories())
 
 
 def _is_text(source: str) -> bool:

@@ -7,6 +7,7 @@
 
 pub mod checkpoint;
 pub mod merge;
+pub mod plan;
 
 use std::ops::Range;
 use std::path::PathBuf;
@@ -23,6 +24,7 @@ use crate::render::{self, PixelBounds, RenderError, Rows, Samples};
 use crate::scene::{RenderSettings, Scene};
 
 pub use merge::merge;
+pub use plan::{Checkpoints, Part, Stopping};
 
 /// Why a production render or a merge failed.
 #[derive(Debug, Error)]

@@ -16,6 +16,7 @@ pub use follow::trace;
 pub use tubes::tubes;
 
 use glam::DVec3;
+use serde::Serialize;
 use thiserror::Error;
 
 use crate::embree::{Device, EmbreeError};
@@ -74,6 +75,53 @@ pub struct Trajectory {
     /// The unit direction the ray travels in after its last point (for an absorbed or lost ray,
     /// the direction it arrived in).
     pub direction: DVec3,
+}
+
+/// Traced rays as `timbre trace --json` writes them and Python's `Scene.trajectories()` returns
+/// them (the one format of both): per ray its trajectory's name, its index, its points (how
+/// the ray arrived there, the object there by name, the position) and how it ended. Fields are
+/// in alphabetical order, as JSON tools print them.
+#[derive(Debug, Serialize)]
+pub struct TracedRay<'a> {
+    pub direction: [f64; 3],
+    pub end: &'static str,
+    pub points: Vec<TracedPoint<'a>>,
+    pub ray: usize,
+    pub trajectory: &'a str,
+}
+
+/// A point of a [`TracedRay`].
+#[derive(Debug, Serialize)]
+pub struct TracedPoint<'a> {
+    pub arrival: &'static str,
+    pub object: Option<&'a str>,
+    pub position: [f64; 3],
+}
+
+/// The rays `traced` in `description`, named by its trajectories and objects.
+pub fn traced_rays<'a>(
+    description: &'a SceneDescription,
+    traced: &[Trajectory],
+) -> Vec<TracedRay<'a>> {
+    let object = |o: Option<usize>| o.map(|i| description.objects[i].name.as_str());
+    traced
+        .iter()
+        .map(|t| TracedRay {
+            direction: t.direction.to_array(),
+            end: t.end.name(),
+            points: t
+                .points
+                .iter()
+                .map(|p| TracedPoint {
+                    arrival: p.arrival.name(),
+                    object: object(p.object),
+                    position: p.position.to_array(),
+                })
+                .collect(),
+            ray: t.ray,
+            trajectory: &description.trajectories[t.source].name,
+        })
+        .collect()
 }
 
 /// A point of a trajectory.
