@@ -127,8 +127,10 @@ struct Element<'a> {
     properties: Vec<Property<'a>>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 enum Encoding {
+    /// Until a format line says otherwise.
+    #[default]
     Ascii,
     BinaryLittleEndian,
     BinaryBigEndian,
@@ -196,11 +198,7 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
     }
     let mut pos = 0;
     let mut line_no = 0;
-    let mut format: Option<usize> = None;
-    let mut encoding = Encoding::Ascii;
-    let mut elements: Vec<Element> = Vec::new();
-    let mut element_lines: HashMap<&[u8], usize> = HashMap::new();
-    let mut property_lines: HashMap<&[u8], usize> = HashMap::new();
+    let mut header = HeaderLines::default();
     loop {
         if pos >= bytes.len() {
             return Err(ParseProblem::new(
@@ -229,131 +227,9 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
         let w = words(line);
         match w.first().copied() {
             None | Some(b"comment" | b"obj_info") => {}
-            Some(b"format") => {
-                if let Some(first) = format {
-                    return Err(at(format!(
-                        "the format is declared twice (first on line {first})"
-                    )));
-                }
-                if !elements.is_empty() {
-                    return Err(at("the format must come before the elements".into()));
-                }
-                let &[_, name, version] = w.as_slice() else {
-                    return Err(at(format!(
-                        "'{}' is not a format line such as 'format ascii 1.0'",
-                        shown(trimmed(line))
-                    )));
-                };
-                let declared = format!("{} {}", shown(name), shown(version));
-                encoding = match name {
-                    b"ascii" => Encoding::Ascii,
-                    b"binary_little_endian" => Encoding::BinaryLittleEndian,
-                    b"binary_big_endian" => Encoding::BinaryBigEndian,
-                    _ => {
-                        return Err(at(format!(
-                            "format '{declared}' is not supported: the encoding must be \
-                             ascii, binary_little_endian or binary_big_endian"
-                        )));
-                    }
-                };
-                if version != b"1.0" {
-                    return Err(at(format!(
-                        "format '{declared}' is not supported: PLY 1.0 only"
-                    )));
-                }
-                format = Some(line_no);
-            }
-            Some(b"element") => {
-                let &[_, name, count] = w.as_slice() else {
-                    return Err(at(format!(
-                        "'{}' is not an element line such as 'element vertex 8'",
-                        shown(trimmed(line))
-                    )));
-                };
-                if format.is_none() {
-                    return Err(at(format!(
-                        "element '{}' comes before the 'format' line",
-                        shown(name)
-                    )));
-                }
-                if let Some(first) = element_lines.insert(name, line_no) {
-                    return Err(at(format!(
-                        "element '{}' is declared twice (first on line {first})",
-                        shown(name)
-                    )));
-                }
-                let count = std::str::from_utf8(count)
-                    .ok()
-                    .filter(|c| c.bytes().all(|b| b.is_ascii_digit()))
-                    .ok_or_else(|| {
-                        at(format!(
-                            "element '{}' has count '{}': a count must be a whole number",
-                            shown(name),
-                            shown(count)
-                        ))
-                    })?
-                    .parse::<u64>()
-                    .map_err(|_| {
-                        at(format!(
-                            "element '{}' has count '{}', more than any file can hold",
-                            shown(name),
-                            shown(count)
-                        ))
-                    })?;
-                property_lines.clear();
-                elements.push(Element {
-                    name,
-                    count,
-                    line: line_no,
-                    properties: Vec::new(),
-                });
-            }
-            Some(b"property") => {
-                let (kind, words, name) = match *w.as_slice() {
-                    [_, b"list", count, item, name] => {
-                        let (c, i) = (scalar(count, &at)?, scalar(item, &at)?);
-                        (Kind::List { count: c, item: i }, [count, item], name)
-                    }
-                    [_, t, name] if t != b"list" => (Kind::Scalar(scalar(t, &at)?), [t, t], name),
-                    _ => {
-                        return Err(at(format!(
-                            "'{}' is not a property line such as 'property float x' or \
-                             'property list uchar int vertex_indices'",
-                            shown(trimmed(line))
-                        )));
-                    }
-                };
-                let Some(element) = elements.last_mut() else {
-                    return Err(at(format!(
-                        "property '{}' comes before any element",
-                        shown(name)
-                    )));
-                };
-                if let Some(first) = property_lines.insert(name, line_no) {
-                    return Err(at(format!(
-                        "property '{}' of element '{}' is declared twice (first on line {first})",
-                        shown(name),
-                        shown(element.name)
-                    )));
-                }
-                if let Kind::List { count, .. } = kind
-                    && !count.is_integer()
-                {
-                    return Err(at(format!(
-                        "the count of list property '{}' of element '{}' has type '{}': a list \
-                         count must be of an integer type",
-                        shown(name),
-                        shown(element.name),
-                        shown(words[0])
-                    )));
-                }
-                element.properties.push(Property {
-                    name,
-                    kind,
-                    words,
-                    line: line_no,
-                });
-            }
+            Some(b"format") => header.format(&w, line, line_no, &at)?,
+            Some(b"element") => header.element(&w, line, line_no, &at)?,
+            Some(b"property") => header.property(&w, line, line_no, &at)?,
             Some(b"end_header") => {
                 if w.len() > 1 {
                     return Err(at(format!(
@@ -361,12 +237,12 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
                         shown(trimmed(line))
                     )));
                 }
-                if format.is_none() {
+                if header.format.is_none() {
                     return Err(at("the header has no 'format' line".into()));
                 }
                 return Ok(Header {
-                    encoding,
-                    elements,
+                    encoding: header.encoding,
+                    elements: header.elements,
                     body: next,
                     lines: line_no,
                 });
@@ -380,6 +256,175 @@ fn parse_header(bytes: &[u8]) -> Result<Header<'_>, ParseProblem> {
             }
         }
         pos = next;
+    }
+}
+
+/// The header lines read so far: the format (and its line), the elements with their
+/// properties, and the lines each element and each property of the last element are declared
+/// on (to report one declared twice).
+#[derive(Default)]
+struct HeaderLines<'a> {
+    format: Option<usize>,
+    encoding: Encoding,
+    elements: Vec<Element<'a>>,
+    element_lines: HashMap<&'a [u8], usize>,
+    property_lines: HashMap<&'a [u8], usize>,
+}
+
+/// Makes the error of a header line.
+type At<'f> = &'f dyn Fn(String) -> ParseProblem;
+
+impl<'a> HeaderLines<'a> {
+    /// A `format ENCODING 1.0` line (its words `w`).
+    fn format(
+        &mut self,
+        w: &[&[u8]],
+        line: &[u8],
+        line_no: usize,
+        at: At,
+    ) -> Result<(), ParseProblem> {
+        if let Some(first) = self.format {
+            return Err(at(format!(
+                "the format is declared twice (first on line {first})"
+            )));
+        }
+        if !self.elements.is_empty() {
+            return Err(at("the format must come before the elements".into()));
+        }
+        let &[_, name, version] = w else {
+            return Err(at(format!(
+                "'{}' is not a format line such as 'format ascii 1.0'",
+                shown(trimmed(line))
+            )));
+        };
+        let declared = format!("{} {}", shown(name), shown(version));
+        self.encoding = match name {
+            b"ascii" => Encoding::Ascii,
+            b"binary_little_endian" => Encoding::BinaryLittleEndian,
+            b"binary_big_endian" => Encoding::BinaryBigEndian,
+            _ => {
+                return Err(at(format!(
+                    "format '{declared}' is not supported: the encoding must be \
+                     ascii, binary_little_endian or binary_big_endian"
+                )));
+            }
+        };
+        if version != b"1.0" {
+            return Err(at(format!(
+                "format '{declared}' is not supported: PLY 1.0 only"
+            )));
+        }
+        self.format = Some(line_no);
+        Ok(())
+    }
+
+    /// An `element NAME COUNT` line (its words `w`).
+    fn element(
+        &mut self,
+        w: &[&'a [u8]],
+        line: &[u8],
+        line_no: usize,
+        at: At,
+    ) -> Result<(), ParseProblem> {
+        let &[_, name, count] = w else {
+            return Err(at(format!(
+                "'{}' is not an element line such as 'element vertex 8'",
+                shown(trimmed(line))
+            )));
+        };
+        if self.format.is_none() {
+            return Err(at(format!(
+                "element '{}' comes before the 'format' line",
+                shown(name)
+            )));
+        }
+        if let Some(first) = self.element_lines.insert(name, line_no) {
+            return Err(at(format!(
+                "element '{}' is declared twice (first on line {first})",
+                shown(name)
+            )));
+        }
+        let count = std::str::from_utf8(count)
+            .ok()
+            .filter(|c| c.bytes().all(|b| b.is_ascii_digit()))
+            .ok_or_else(|| {
+                at(format!(
+                    "element '{}' has count '{}': a count must be a whole number",
+                    shown(name),
+                    shown(count)
+                ))
+            })?
+            .parse::<u64>()
+            .map_err(|_| {
+                at(format!(
+                    "element '{}' has count '{}', more than any file can hold",
+                    shown(name),
+                    shown(count)
+                ))
+            })?;
+        self.property_lines.clear();
+        self.elements.push(Element {
+            name,
+            count,
+            line: line_no,
+            properties: Vec::new(),
+        });
+        Ok(())
+    }
+
+    /// A `property TYPE NAME` or `property list COUNT ITEM NAME` line (its words `w`).
+    fn property(
+        &mut self,
+        w: &[&'a [u8]],
+        line: &[u8],
+        line_no: usize,
+        at: At,
+    ) -> Result<(), ParseProblem> {
+        let (kind, words, name) = match *w {
+            [_, b"list", count, item, name] => {
+                let (c, i) = (scalar(count, &at)?, scalar(item, &at)?);
+                (Kind::List { count: c, item: i }, [count, item], name)
+            }
+            [_, t, name] if t != b"list" => (Kind::Scalar(scalar(t, &at)?), [t, t], name),
+            _ => {
+                return Err(at(format!(
+                    "'{}' is not a property line such as 'property float x' or \
+                     'property list uchar int vertex_indices'",
+                    shown(trimmed(line))
+                )));
+            }
+        };
+        let Some(element) = self.elements.last_mut() else {
+            return Err(at(format!(
+                "property '{}' comes before any element",
+                shown(name)
+            )));
+        };
+        if let Some(first) = self.property_lines.insert(name, line_no) {
+            return Err(at(format!(
+                "property '{}' of element '{}' is declared twice (first on line {first})",
+                shown(name),
+                shown(element.name)
+            )));
+        }
+        if let Kind::List { count, .. } = kind
+            && !count.is_integer()
+        {
+            return Err(at(format!(
+                "the count of list property '{}' of element '{}' has type '{}': a list \
+                 count must be of an integer type",
+                shown(name),
+                shown(element.name),
+                shown(words[0])
+            )));
+        }
+        element.properties.push(Property {
+            name,
+            kind,
+            words,
+            line: line_no,
+        });
+        Ok(())
     }
 }
 
@@ -1060,54 +1105,11 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                     (Kind::Scalar(t), _) => src
                         .skip(t, 1)
                         .map_err(|f| instance.fault(&src, f, p, property.words[0], t))?,
-                    (Kind::List { count, item }, role) => {
-                        let n = src
-                            .int(count)
-                            .map_err(|f| instance.fault(&src, f, p, property.words[0], count))?;
-                        let Ok(n) = u64::try_from(n) else {
-                            return Err(instance.at(
-                                &src,
-                                format_args!(
-                                    "list '{}' has a negative count ({n})",
-                                    shown(property.name)
-                                ),
-                            ));
-                        };
-                        instance.declared += n;
-                        let word = property.words[1];
-                        if role == Role::Indices && n >= 3 {
-                            let mut vertex = || -> Result<u32, ParseProblem> {
-                                let k = src
-                                    .int(item)
-                                    .map_err(|f| instance.fault(&src, f, p, word, item))?;
-                                if k < 0 || k as u64 >= vertex_count {
-                                    return Err(instance.at(
-                                        &src,
-                                        format_args!(
-                                            "vertex index {k} is out of range (the file has \
-                                             {vertex_count} vertices)"
-                                        ),
-                                    ));
-                                }
-                                Ok(k as u32)
-                            };
-                            let first = vertex()?;
-                            let mut previous = vertex()?;
-                            for _ in 2..n {
-                                let next = vertex()?;
-                                triangles.push([first, previous, next]);
-                                previous = next;
-                            }
-                        } else {
-                            if role == Role::Indices {
-                                short_face = Some(instance.at(
-                                    &src,
-                                    format_args!("a face needs at least 3 vertices, got {n}"),
-                                ));
-                            }
-                            src.skip(item, n)
-                                .map_err(|f| instance.fault(&src, f, p, word, item))?;
-                        }
+                    (Kind::List { .. }, role) => {
+                        let faces = (role == Role::Indices).then_some(&mut triangles);
+                        let read =
+                            read_list(&mut src, &mut instance, p, property, vertex_count, faces);
+                        short_face = short_face.or(read?);
                     }
                 }
             }
@@ -1150,6 +1152,70 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
         triangles,
         normals,
     })
+}
+
+/// Reads list property `p` of `instance` (a property of kind `Kind::List`): into `faces` as a
+/// fan of triangles when it is a face's vertex indices (each checked against `vertex_count`),
+/// or checked and skipped. A face of fewer than 3 vertices is returned, to be reported once the
+/// instance is read whole.
+fn read_list<S: Source>(
+    src: &mut S,
+    instance: &mut Instance,
+    p: usize,
+    property: &Property,
+    vertex_count: u64,
+    faces: Option<&mut Vec<[u32; 3]>>,
+) -> Result<Option<ParseProblem>, ParseProblem> {
+    let Kind::List { count, item } = property.kind else {
+        unreachable!("a list property");
+    };
+    let n = src
+        .int(count)
+        .map_err(|f| instance.fault(src, f, p, property.words[0], count))?;
+    let Ok(n) = u64::try_from(n) else {
+        return Err(instance.at(
+            src,
+            format_args!("list '{}' has a negative count ({n})", shown(property.name)),
+        ));
+    };
+    instance.declared += n;
+    let word = property.words[1];
+    let triangles = match faces {
+        Some(triangles) if n >= 3 => triangles,
+        faces => {
+            let short = faces.is_some().then(|| {
+                instance.at(
+                    src,
+                    format_args!("a face needs at least 3 vertices, got {n}"),
+                )
+            });
+            src.skip(item, n)
+                .map_err(|f| instance.fault(src, f, p, word, item))?;
+            return Ok(short);
+        }
+    };
+    let mut vertex = || -> Result<u32, ParseProblem> {
+        let k = src
+            .int(item)
+            .map_err(|f| instance.fault(src, f, p, word, item))?;
+        if k < 0 || k as u64 >= vertex_count {
+            return Err(instance.at(
+                src,
+                format_args!(
+                    "vertex index {k} is out of range (the file has {vertex_count} vertices)"
+                ),
+            ));
+        }
+        Ok(k as u32)
+    };
+    let first = vertex()?;
+    let mut previous = vertex()?;
+    for _ in 2..n {
+        let next = vertex()?;
+        triangles.push([first, previous, next]);
+        previous = next;
+    }
+    Ok(None)
 }
 
 pub(super) fn write(
