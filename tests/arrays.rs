@@ -37,6 +37,18 @@ use common::{
 use timbre::geometry::{
     AnalyticShape, Cylinder, Hit, ObjectArray, Plane, SceneGeometry, Shape, Sphere, TriangleMesh,
 };
+use timbre::math::Frame;
+
+/// The surface frame at `p` of the element `h` hit: the object's shape's own frame, moved by
+/// the element's offset.
+fn element_frame(scene: &SceneGeometry, h: &Hit, p: DVec3) -> Frame {
+    scene.shapes()[h.object].frame(p - scene.offset(h.object, h.element), h.prim)
+}
+
+/// The surface coordinates at `p` of the element `h` hit, as [`element_frame`].
+fn element_coordinates(scene: &SceneGeometry, h: &Hit, p: DVec3) -> DVec2 {
+    scene.shapes()[h.object].coordinates(p - scene.offset(h.object, h.element), h.prim)
+}
 
 fn sphere(c: DVec3, r: f64) -> Shape {
     Shape::Sphere(Sphere::new(c, r).unwrap())
@@ -437,7 +449,7 @@ fn sphere_elements_have_their_own_frames() {
             ((p - c).length() - r).abs() < 1e-12,
             "{p} not on element {k}"
         );
-        let frame = scene.frame(&hit, p);
+        let frame = element_frame(&scene, &hit, p);
         let expected = (p - c).normalize();
         assert!(
             (frame.w - expected).length() < 1e-12,
@@ -450,8 +462,10 @@ fn sphere_elements_have_their_own_frames() {
             (frame.u - moved.frame(p, 0).u).length() < 1e-12,
             "{frame:?}"
         );
-        let (uv, expected_uv): (DVec2, DVec2) =
-            (scene.coordinates(&hit, p), moved.coordinates(p, 0));
+        let (uv, expected_uv): (DVec2, DVec2) = (
+            element_coordinates(&scene, &hit, p),
+            moved.coordinates(p, 0),
+        );
         assert!((uv - expected_uv).length() < 1e-9, "{uv} vs {expected_uv}");
         // A shadow ray towards the element is shadowed, one stopping short of it is not.
         assert!(scene.shadowed(origin, d, 0.0, f64::INFINITY));
@@ -474,7 +488,7 @@ fn sphere_elements_have_their_own_frames() {
             scene.nearest(origin, dirs[i], 0.0, f64::INFINITY),
             Some(hit)
         );
-        let w = scene.frame(&hit, origin + hit.t * dirs[i]).w;
+        let w = element_frame(&scene, &hit, origin + hit.t * dirs[i]).w;
         assert!((w - DVec3::Z).length() < 1e-6, "{w}");
     }
 }
@@ -665,9 +679,9 @@ fn planes_in_an_array_are_intersected_per_element() {
     // Frames and coordinates are the floor's own, moved by the element's offset.
     let p = o + 1.5 * DVec3::NEG_Z;
     let h = hit(1, 3, 1.5).unwrap();
-    assert_eq!(scene.frame(&h, p).w, DVec3::Z);
+    assert_eq!(element_frame(&scene, &h, p).w, DVec3::Z);
     let q = DVec3::new(1.25, -2.5, 6.0);
-    assert!((scene.coordinates(&h, q) - DVec2::new(1.25, -2.5)).length() < 1e-15);
+    assert!((element_coordinates(&scene, &h, q) - DVec2::new(1.25, -2.5)).length() < 1e-15);
     // Random rays: everything here is analytic (exact in f64); only a ray grazing a bounding box
     // could need an excuse, and none of this sample does.
     let t = check_scene(&objects, &arrays, 11, 2000, 100).unwrap();
@@ -900,7 +914,7 @@ fn an_array_element_and_a_plain_copy_are_told_apart() {
         );
         // The frame is the hit element's own.
         let p = origin + h.t * d;
-        let w = scene.frame(&h, p).w;
+        let w = element_frame(&scene, &h, p).w;
         let expected = match object {
             0 | 1 => (p - scene.offset(object, element)).normalize(),
             _ => DVec3::Z,
@@ -912,7 +926,7 @@ fn an_array_element_and_a_plain_copy_are_told_apart() {
     let h = scene
         .nearest(DVec3::new(0.2, 4.1, 10.0), DVec3::NEG_Z, 0.0, f64::INFINITY)
         .unwrap();
-    let w = scene.frame(&h, p).w;
+    let w = element_frame(&scene, &h, p).w;
     assert!(
         (w - DVec3::new(0.4, 0.2, p.z / 0.5)).length() < 1e-12,
         "{w}"

@@ -144,7 +144,7 @@ fn smooth_mesh_frames_agree_with_the_triangle_about_sides() {
             hits += 1;
             let p = origin + hit.t * d;
             let g = mesh.face_normal(hit.prim);
-            let w = scene.frame_along(&hit, p, d).w;
+            let w = scene.shapes()[hit.object].frame_along(p, hit.prim, d).w;
             let r = d - 2.0 * d.dot(w) * w;
             assert!(
                 d.dot(g) < 0.0 && d.dot(w) < 0.0,

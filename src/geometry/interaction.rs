@@ -2,17 +2,27 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{Hit, SceneGeometry, Shape};
+#[cfg(doc)]
+use super::SceneGeometry;
+use super::{Hit, Shape};
 use crate::embree::ExactRay;
 use crate::math::{Frame, Ray};
 
-/// Where a ray meets a surface, with everything a surface law needs.
+/// Where a ray meets a surface, with everything a surface law needs: the ray, the hit (the
+/// object, the array copy, the part of its shape, the distance), the object's shape and the
+/// copy's offset. A plain value, made from a hit in a scene ([`SceneGeometry::interaction`]) or
+/// on a shape alone ([`Interaction::on`]); the frame, normal and surface coordinates are
+/// computed from the shape when a law asks for them (some never do).
+#[derive(Debug, Clone, Copy)]
 pub struct Interaction<'a> {
     /// The incoming ray, in the frame of the object it meets.
     pub ray: Ray,
     /// The object, array element, primitive and distance along the ray.
     pub hit: Hit,
-    pub geometry: &'a SceneGeometry,
+    /// The object's shape, where it is placed (before the array copy's offset).
+    pub shape: &'a Shape,
+    /// The offset of the array copy that was hit (zero outside arrays).
+    pub offset: DVec3,
 }
 
 /// Where and how a ray leaves an object at another point than it met it: a lens's exit, a
@@ -41,7 +51,23 @@ impl Exit {
     }
 }
 
-impl Interaction<'_> {
+impl<'a> Interaction<'a> {
+    /// `ray` meeting part `prim` of `shape` (object 0, in no array) at distance `t`: an
+    /// interaction without a scene, for a law's own tests.
+    pub fn on(shape: &'a Shape, ray: Ray, t: f64, prim: u32) -> Interaction<'a> {
+        Interaction {
+            ray,
+            hit: Hit {
+                object: 0,
+                element: 0,
+                prim,
+                t,
+            },
+            shape,
+            offset: DVec3::ZERO,
+        }
+    }
+
     pub fn point(&self) -> DVec3 {
         self.ray.at(self.hit.t)
     }
@@ -49,31 +75,31 @@ impl Interaction<'_> {
     /// The hit point relative to the array copy that was hit: in the coordinates of the
     /// object's own positions (those of its surface law, after the object's transform).
     pub fn local_point(&self) -> DVec3 {
-        self.point() - self.geometry.offset(self.hit.object, self.hit.element)
+        self.point() - self.offset
     }
 
     /// The surface frame at the hit (w the outward normal), of the array element that was hit,
-    /// as seen by this ray (see [`SceneGeometry::frame_along`]); computed on demand, since some
-    /// surfaces (constant colour) never need it.
+    /// as seen by this ray (see [`Shape::frame_along`]).
     pub fn frame(&self) -> Frame {
-        self.geometry
-            .frame_along(&self.hit, self.point(), self.ray.direction)
+        let (p, prim) = (self.local_point(), self.hit.prim);
+        self.shape.frame_along(p, prim, self.ray.direction)
     }
 
     /// The outward normal of [`Self::frame`], alone.
     pub fn normal(&self) -> DVec3 {
-        self.geometry
-            .normal_along(&self.hit, self.point(), self.ray.direction)
+        let (p, prim) = (self.local_point(), self.hit.prim);
+        self.shape.normal_along(p, prim, self.ray.direction)
     }
 
     /// The element's surface coordinates at the hit.
     pub fn coordinates(&self) -> DVec2 {
-        self.geometry.coordinates(&self.hit, self.point())
+        self.shape.coordinates(self.local_point(), self.hit.prim)
     }
 
     /// Cartesian coordinates of the hit on a flat surface (see [`Shape::plane_coordinates`]).
     pub fn plane_coordinates(&self) -> Option<DVec2> {
-        self.geometry.plane_coordinates(&self.hit, self.point())
+        self.shape
+            .plane_coordinates(self.local_point(), self.hit.prim)
     }
 
     /// Smallest distance a ray leaving this point must travel before it may hit anything, so
@@ -118,7 +144,7 @@ impl Interaction<'_> {
     /// [`Self::self_hit_margin`] for a ray leaving the same object at another point `p`.
     fn self_hit_margin_at(&self, p: DVec3) -> f64 {
         let scale = 1.0 + p.abs().max_element();
-        match self.geometry.shapes()[self.hit.object] {
+        match self.shape {
             Shape::TriangleMesh(_) => 1e-5 * scale,
             _ => 1e-9 * scale,
         }

@@ -401,6 +401,39 @@ impl Shape {
         dispatch!(self, s => s.normal(p, prim), m => m.frame(p, prim).w)
     }
 
+    /// The frame a surface law sees for a ray arriving along `direction` at surface point `p`
+    /// of primitive `prim`: [`Self::frame`], except that a mesh's interpolated (smooth) normal
+    /// gives way to the triangle's own where the two disagree about the side the ray comes
+    /// from, or where reflecting about the smooth normal would send the ray through the
+    /// triangle (at silhouettes). Surface laws tell inside from outside by w, so that decision
+    /// follows the geometry.
+    pub fn frame_along(&self, p: DVec3, prim: u32, direction: DVec3) -> Frame {
+        let f = self.frame(p, prim);
+        let Shape::TriangleMesh(m) = self else {
+            return f;
+        };
+        let g = m.face_normal(prim);
+        let from_front = direction.dot(g) < 0.0;
+        let reflected = direction - 2.0 * direction.dot(f.w) * f.w;
+        if (direction.dot(f.w) < 0.0) == from_front && (reflected.dot(g) > 0.0) == from_front {
+            f
+        } else {
+            Frame::from_normal_and_u(g, f.u)
+        }
+    }
+
+    /// The outward normal w of [`Self::frame_along`], without the rest of the frame (shading
+    /// needs no more): for a mesh without vertex normals, the triangle's own normal whichever
+    /// way the ray comes, as `frame_along` has it on both of its branches.
+    #[inline]
+    pub fn normal_along(&self, p: DVec3, prim: u32, direction: DVec3) -> DVec3 {
+        match self {
+            Shape::TriangleMesh(m) if m.normals().is_none() => m.face_normal(prim).normalize(),
+            Shape::TriangleMesh(_) => self.frame_along(p, prim, direction).w,
+            shape => shape.normal(p, prim),
+        }
+    }
+
     /// Surface coordinates of surface point `p` of primitive `prim` (units of length; see
     /// each shape).
     pub fn coordinates(&self, p: DVec3, prim: u32) -> DVec2 {

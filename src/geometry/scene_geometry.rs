@@ -5,11 +5,11 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 
-use super::{AnalyticShape, Shape};
+use super::{AnalyticShape, Interaction, Shape};
 use crate::embree::{self, Bounds, Device, EmbreeError, ExactRay, UserGeometry};
-use crate::math::Frame;
+use crate::math::Ray;
 
 /// Embree silently drops primitives whose bounds reach beyond about ±1.8e18, so shapes that
 /// extend beyond this are intersected directly, like the unbounded planes.
@@ -267,51 +267,14 @@ impl SceneGeometry {
         self.array_of[object].map_or(DVec3::ZERO, |a| self.arrays[a].offsets[element as usize])
     }
 
-    /// Surface frame at world point `p` of a hit, in the hit element's own placement.
-    pub fn frame(&self, hit: &Hit, p: DVec3) -> Frame {
-        self.shapes[hit.object].frame(p - self.offset(hit.object, hit.element), hit.prim)
-    }
-
-    /// The frame a surface law sees for a ray arriving along `direction`: [`Self::frame`],
-    /// except that a mesh's interpolated (smooth) normal gives way to the triangle's own where
-    /// the two disagree about the side the ray comes from, or where reflecting about the smooth
-    /// normal would send the ray through the triangle (at silhouettes). Surface laws tell
-    /// inside from outside by w, so that decision follows the geometry.
-    pub fn frame_along(&self, hit: &Hit, p: DVec3, direction: DVec3) -> Frame {
-        let f = self.frame(hit, p);
-        let Shape::TriangleMesh(m) = &self.shapes[hit.object] else {
-            return f;
-        };
-        let g = m.face_normal(hit.prim);
-        let from_front = direction.dot(g) < 0.0;
-        let reflected = direction - 2.0 * direction.dot(f.w) * f.w;
-        if (direction.dot(f.w) < 0.0) == from_front && (reflected.dot(g) > 0.0) == from_front {
-            f
-        } else {
-            Frame::from_normal_and_u(g, f.u)
+    /// Where `ray` meets the scene at `hit`, for the object's surface law.
+    pub fn interaction(&self, ray: Ray, hit: Hit) -> Interaction<'_> {
+        Interaction {
+            ray,
+            hit,
+            shape: &self.shapes[hit.object],
+            offset: self.offset(hit.object, hit.element),
         }
-    }
-
-    /// The outward normal w of [`Self::frame_along`], without the rest of the frame (shading
-    /// needs no more): for a mesh without vertex normals, the triangle's own normal whichever
-    /// way the ray comes, as `frame_along` has it on both of its branches.
-    pub fn normal_along(&self, hit: &Hit, p: DVec3, direction: DVec3) -> DVec3 {
-        match &self.shapes[hit.object] {
-            Shape::TriangleMesh(m) if m.normals().is_none() => m.face_normal(hit.prim).normalize(),
-            Shape::TriangleMesh(_) => self.frame_along(hit, p, direction).w,
-            shape => shape.normal(p - self.offset(hit.object, hit.element), hit.prim),
-        }
-    }
-
-    /// Surface coordinates of world point `p` of a hit, on the hit element.
-    pub fn coordinates(&self, hit: &Hit, p: DVec3) -> DVec2 {
-        self.shapes[hit.object].coordinates(p - self.offset(hit.object, hit.element), hit.prim)
-    }
-
-    /// Flat-surface coordinates (see [`Shape::plane_coordinates`]) of world point `p` of a hit.
-    pub fn plane_coordinates(&self, hit: &Hit, p: DVec3) -> Option<DVec2> {
-        self.shapes[hit.object]
-            .plane_coordinates(p - self.offset(hit.object, hit.element), hit.prim)
     }
 
     /// Turns Embree's hit into an exact f64 hit.

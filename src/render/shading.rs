@@ -19,7 +19,7 @@ use std::cell::Cell;
 use super::Tracer;
 use crate::embree::ExactRay;
 use crate::geometry::{Interaction, SceneGeometry};
-use crate::math::Colour;
+use crate::math::{Colour, ReferenceFrame};
 use crate::scene::lights::PointLight;
 use crate::surfaces::Coloured;
 
@@ -43,11 +43,17 @@ pub fn phong(light: &PointLight, surface: &Coloured, n: DVec3, v: DVec3, l: DVec
 }
 
 impl Tracer<'_> {
-    /// The colour of a coloured surface seen at `at`, lit by the scene's lights.
-    pub(super) fn lit(&self, surface: &Coloured, at: &Interaction) -> Colour {
+    /// The colour of a coloured surface seen at `at` (on an object at rest in `frame`), lit by
+    /// the scene's lights.
+    pub(super) fn lit(
+        &self,
+        surface: &Coloured,
+        at: &Interaction,
+        frame: ReferenceFrame,
+    ) -> Colour {
         let mut sum = surface.diffuse * self.scene.lights.ambient;
         self.light_paths(surface, at, |lit, l, distance| {
-            if !self.shadowed(at, l, distance) {
+            if !self.shadowed(at, l, distance, frame) {
                 sum += lit;
             }
         });

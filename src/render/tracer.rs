@@ -138,11 +138,7 @@ impl<'a> Tracer<'a> {
         let mut shadow_rays = ShadowRays::new(&world.geometry);
         for (i, (hit, ray)) in hits.iter().zip(scene_rays).enumerate() {
             if let Some(hit) = hit {
-                let at = Interaction {
-                    ray: *ray,
-                    hit: *hit,
-                    geometry: &world.geometry,
-                };
+                let at = world.geometry.interaction(*ray, *hit);
                 match world.objects[hit.object].surface.redirect(&at, &mut |_| {}) {
                     Redirection::Lit(coloured) if self.shadows => {
                         lit[i] = Some(coloured.diffuse * self.scene.lights.ambient);
@@ -195,11 +191,7 @@ impl<'a> Tracer<'a> {
     /// [`Self::shade`] of `hit` on `ray`, in `frame`.
     fn shade_hit(&self, frame: ReferenceFrame, ray: &Ray, hit: &Hit, level: u32) -> Colour {
         let world = self.world(frame);
-        let at = Interaction {
-            ray: *ray,
-            hit: *hit,
-            geometry: &world.geometry,
-        };
+        let at = world.geometry.interaction(*ray, *hit);
         let surface = &world.objects[hit.object].surface;
         self.follow(surface.redirect(&at, &mut |_| {}), &at, level, frame)
     }
@@ -215,7 +207,7 @@ impl<'a> Tracer<'a> {
     ) -> Colour {
         let on = |(ray, margin)| self.trace_on(&ray, margin, level - 1, frame);
         match redirection {
-            Redirection::Lit(coloured) => self.lit(coloured, at),
+            Redirection::Lit(coloured) => self.lit(coloured, at, frame),
             Redirection::Emits(colour) => colour,
             Redirection::Lost => Colour::ZERO,
             Redirection::Leaves { direction, factor } => factor * on(at.leaving(direction)),
@@ -235,23 +227,28 @@ impl<'a> Tracer<'a> {
     /// The description index and outward normal of the surface found.
     pub fn identify(&self, found: &Found) -> (usize, DVec3) {
         let world = self.world(found.frame);
-        let normal = world
-            .geometry
-            .frame(&found.hit, found.ray.at(found.hit.t))
-            .w;
+        let at = world.geometry.interaction(found.ray, found.hit);
+        let normal = at.shape.frame(at.local_point(), at.hit.prim).w;
         (world.objects[found.hit.object].id, normal)
     }
 
-    /// Whether a shadow-throwing object at rest in the interaction's frame hides a light at
-    /// `distance` in unit direction `l` from the interaction point (always false with shadows
-    /// switched off).
-    pub(super) fn shadowed(&self, at: &Interaction, l: DVec3, distance: f64) -> bool {
+    /// Whether a shadow-throwing object at rest in `frame` (the interaction's) hides a light
+    /// at `distance` in unit direction `l` from the interaction point (always false with
+    /// shadows switched off).
+    pub(super) fn shadowed(
+        &self,
+        at: &Interaction,
+        l: DVec3,
+        distance: f64,
+        frame: ReferenceFrame,
+    ) -> bool {
         if !self.shadows {
             return false;
         }
         self.rays.set(self.rays.get() + 1);
         let (ray, t_min, t_max) = at.shadow_segment(l, distance);
-        at.geometry
+        self.world(frame)
+            .geometry
             .shadowed(ray.origin, ray.direction, t_min, t_max)
     }
 }

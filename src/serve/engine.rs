@@ -27,6 +27,10 @@ use crate::stereo::render_stereo;
 /// How often the scene file is checked for changes.
 const WATCH_INTERVAL: Duration = Duration::from_millis(250);
 
+/// How long after a change of the scene file its text is compared at every check, not only its
+/// modification time and size: longer than any file system's time resolution.
+const RACY_STAMP: Duration = Duration::from_secs(2);
+
 /// Scene texts longer than this get no parameter list (it would be enormous).
 const MAX_PARAMETER_TEXT: usize = 8 << 20;
 
@@ -840,11 +844,18 @@ fn watch(shared: &Shared, mut known: String) {
         let m = std::fs::metadata(path).ok()?;
         Some((m.modified().ok()?, m.len()))
     };
-    let mut last = stamp(&shared.scene);
+    // None: the file is read at once, since it may have changed after `known` was read and
+    // before this thread started.
+    let mut last = None;
     loop {
         std::thread::sleep(WATCH_INTERVAL);
         let now = stamp(&shared.scene);
-        if now == last {
+        // A file written twice within the clock's resolution keeps its stamp (the same size,
+        // too, for an edited number): while the stamp is that recent its text is compared
+        // ("racy" stamps, as git calls them).
+        let racy = now
+            .is_some_and(|(modified, _)| modified.elapsed().map_or(true, |age| age < RACY_STAMP));
+        if now == last && !racy {
             continue;
         }
         last = now;

@@ -4,7 +4,6 @@ use glam::DVec3;
 
 use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory, TrajectoryError};
 use crate::embree::Device;
-use crate::geometry::Interaction;
 use crate::math::{Ray, ReferenceFrame};
 use crate::scene::{SceneDescription, World};
 use crate::surfaces::Redirection;
@@ -75,11 +74,7 @@ fn follow(
             return finish(points, End::Escaped, ray.direction);
         };
         let object = &world.objects[hit.object];
-        let at = Interaction {
-            ray,
-            hit,
-            geometry: &world.geometry,
-        };
+        let at = world.geometry.interaction(ray, hit);
         points.push(Point {
             position: at.point(),
             arrival: Arrival::Straight,

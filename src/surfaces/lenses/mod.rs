@@ -196,11 +196,10 @@ impl Lens {
     ) -> Redirection<'static> {
         let d = at.ray.direction;
         let factor = self.transmission_coefficient;
-        let Shape::Sphere(sphere) = &at.geometry.shapes()[at.hit.object] else {
+        let Shape::Sphere(sphere) = at.shape else {
             return Redirection::Lost;
         };
-        let offset = at.geometry.offset(at.hit.object, at.hit.element);
-        let lens = Sphere::new(sphere.centre() + offset, sphere.radius())
+        let lens = Sphere::new(sphere.centre() + at.offset, sphere.radius())
             .expect("a sphere's translated copy is a sphere");
         let p = at.point();
         if d.dot(p - lens.centre()) >= 0.0 {
