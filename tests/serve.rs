@@ -239,12 +239,14 @@ impl Page {
         }
     }
 
-    /// The next notice, which must have `field` (`"message"` or `"error"`) containing `text`.
-    async fn notice(&mut self, field: &str, text: &str) -> Value {
+    /// The next notice, which must be an error or not as `error` says, with a message
+    /// containing `text`.
+    async fn notice(&mut self, error: bool, text: &str) -> Value {
         let notice = self.json("notice").await;
         assert!(
-            notice[field].as_str().is_some_and(|m| m.contains(text)),
-            "a notice with {field} containing {text:?}: {notice}"
+            notice["error"] == error
+                && notice["message"].as_str().is_some_and(|m| m.contains(text)),
+            "a notice (error: {error}) containing {text:?}: {notice}"
         );
         notice
     }
@@ -477,7 +479,7 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
     page.converged(0).await;
     page.send(serde_json::json!({"type": "save", "file": "saved.png"}))
         .await;
-    page.notice("message", "saved").await;
+    page.notice(false, "saved").await;
     let saved = decode_png(&server.path().join("saved.png"));
     assert_eq!(saved, server.reference(&[]));
     for bad in [
@@ -490,7 +492,7 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
         page.send(serde_json::json!({"type": "save", "file": bad}))
             .await;
         let refused = page.json("notice").await;
-        assert!(refused["error"].is_string(), "{bad}: {refused}");
+        assert_eq!(refused["error"], true, "{bad}: {refused}");
     }
     assert!(!server.path().join("../escape.png").exists());
     // Never through a link: a name that is a link to elsewhere is refused.
@@ -500,7 +502,7 @@ async fn saving_renders_the_converged_picture_beside_the_scene_file() {
     std::os::unix::fs::symlink(&target, server.path().join("link.png")).unwrap();
     page.send(serde_json::json!({"type": "save", "file": "link.png"}))
         .await;
-    page.notice("error", "not a plain file").await;
+    page.notice(true, "not a plain file").await;
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep me");
 }
 
@@ -623,7 +625,7 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
     let mut page = server.connect().await;
     page.send(serde_json::json!({"type": "set", "set": ["no equals sign"]}))
         .await;
-    page.notice("error", "key=value").await;
+    page.notice(true, "key=value").await;
     // The server and its other pages go on.
     watcher
         .send(serde_json::json!({"type": "set", "set": ["render.seed=7"]}))
@@ -676,7 +678,7 @@ async fn a_page_may_name_only_the_scenes_own_files() {
         .await;
     page.json("error").await;
     page.send(serde_json::json!({"type": "write_scene"})).await;
-    page.notice("error", "only files").await;
+    page.notice(true, "only files").await;
     assert_eq!(server.scene_file(), before);
 }
 
@@ -759,7 +761,7 @@ async fn requests_answer_for_the_scene_as_changed_before_them_and_no_ops_keep_th
     page.send(serde_json::json!({"type": "save", "file": "after.png"}))
         .await;
     let saved = page.json("notice").await;
-    assert!(saved["message"].is_string(), "{saved}");
+    assert_eq!(saved["error"], false, "{saved}");
     let reference = server.reference(&[set]);
     assert_eq!(decode_png(&server.path().join("after.png")), reference);
     // (A page that connects now gets the newest frame: this one may have passed it already.)
@@ -786,6 +788,6 @@ async fn requests_answer_for_the_scene_as_changed_before_them_and_no_ops_keep_th
     page.json("error").await;
     page.send(serde_json::json!({"type": "save", "file": "broken.png"}))
         .await;
-    page.notice("error", "does not load").await;
+    page.notice(true, "does not load").await;
     assert!(!server.path().join("broken.png").exists());
 }

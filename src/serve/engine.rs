@@ -9,9 +9,9 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::{Duration, Instant, SystemTime};
 
 use axum::body::Bytes;
-use serde_json::json;
 use tokio::sync::{broadcast, watch};
 
+use super::messages::{CameraState, Hit, SceneState, ToPage};
 use super::parameters::parameters;
 use super::preview::{LoadError, Preview};
 use super::{ServeError, ServeOptions};
@@ -302,8 +302,8 @@ impl Engine {
 }
 
 /// Sends a JSON message to every page.
-fn send(shared: &Shared, message: serde_json::Value) {
-    let _ = shared.out.send(message.to_string().into());
+fn send(shared: &Shared, message: ToPage) {
+    let _ = shared.out.send(message.text().into());
 }
 
 /// Which files of a scene to check before it is loaded ([`own_files`]).
@@ -398,7 +398,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
             {
                 Ok(()) => {
                     let state = state(shared, &preview, &text, &overrides, generation);
-                    let state: Arc<str> = state.to_string().into();
+                    let state: Arc<str> = ToPage::Scene(state).text().into();
                     {
                         let mut latest = lock(&shared.latest);
                         latest.state = Some(state.clone());
@@ -409,11 +409,11 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     match preview.coarse() {
                         Ok(Some(image)) => show(&image, shown, preview.progress()),
                         Ok(None) => {}
-                        Err(e) => send(shared, json!({"type": "error", "message": e})),
+                        Err(e) => send(shared, pass_failed(e)),
                     }
                 }
                 Err(e) => {
-                    let message: Arc<str> = error(&e, &text, generation).to_string().into();
+                    let message: Arc<str> = error(&e, &text, generation).text().into();
                     lock(&shared.latest).error = Some(message.clone());
                     let _ = shared.out.send(message);
                 }
@@ -428,7 +428,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     show(&image, shown, progress)
                 }) {
                     failed = shown;
-                    send(shared, json!({"type": "error", "message": e}));
+                    send(shared, pass_failed(e));
                 }
             }
             Work::Request(r) => answer(shared, &preview, r),
@@ -566,17 +566,27 @@ fn shown_text(text: &str) -> Option<&str> {
     (text.len() <= super::MAX_MESSAGE_BYTES / 2).then_some(text)
 }
 
-/// A failed load as JSON: the message, its line and column in `text` if it has them, and the
-/// text itself (the page shows it with the error, and keeps the last good picture).
-fn error(e: &LoadError, text: &str, generation: u64) -> serde_json::Value {
-    json!({
-        "type": "error",
-        "generation": generation,
-        "message": e.message,
-        "line": e.line,
-        "column": e.column,
-        "text": shown_text(text),
-    })
+/// A failed load: the message, its line and column in `text` if it has them, and the text
+/// itself (the page shows it with the error, and keeps the last good picture).
+fn error<'a>(e: &LoadError, text: &'a str, generation: u64) -> ToPage<'a> {
+    ToPage::Error {
+        generation: Some(generation),
+        message: e.message.clone(),
+        line: e.line,
+        column: e.column,
+        text: shown_text(text),
+    }
+}
+
+/// A render pass that failed.
+fn pass_failed(message: String) -> ToPage<'static> {
+    ToPage::Error {
+        generation: None,
+        message,
+        line: None,
+        column: None,
+        text: None,
+    }
 }
 
 /// A frame: [`FRAME_HEADER`], then the picture as 8-bit RGBA, each channel as a PNG output
@@ -607,13 +617,7 @@ fn encode(image: &Image, exposure: f64, generation: u64, done: u32, target: u32)
 
 /// Sends a notice (a message, or an error) to every page.
 fn notice(shared: &Shared, result: Result<String, String>) {
-    send(
-        shared,
-        match result {
-            Ok(m) => json!({"type": "notice", "message": m}),
-            Err(e) => json!({"type": "notice", "error": e}),
-        },
-    )
+    send(shared, ToPage::notice(result))
 }
 
 /// Answers a page's request (to every page: they show the same scene).
@@ -621,25 +625,8 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
     match request {
         Request::Inspect { x, y } => {
             let found = preview.inspect(x, y);
-            send(
-                shared,
-                json!({
-                    "type": "inspection",
-                    "x": x,
-                    "y": y,
-                    "hit": found.map(|f| json!({
-                        "object": f.object,
-                        "id": f.id,
-                        "surface": f.surface,
-                        "distance": f.distance,
-                        "point": f.point.to_array(),
-                        "normal": f.normal.to_array(),
-                        "element": f.element,
-                        "part": f.part,
-                        "frame": f.frame,
-                    })),
-                }),
-            );
+            let hit = found.as_ref().map(Hit::from);
+            send(shared, ToPage::Inspection { x, y, hit });
         }
         Request::Trajectory { x, y } => {
             let Some(ray) = preview.pixel_ray(x, y) else {
@@ -781,10 +768,8 @@ fn render_to(
         let mut last = lock(&last);
         if last.elapsed() >= Duration::from_millis(250) {
             *last = Instant::now();
-            send(
-                shared,
-                json!({"type": "saving", "fraction": d as f64 / total.max(1) as f64}),
-            );
+            let fraction = d as f64 / total.max(1) as f64;
+            send(shared, ToPage::Saving { fraction });
         }
     };
     let mut provenance = Provenance {
@@ -884,13 +869,13 @@ fn watch(shared: &Shared, mut known: String) {
 
 /// The JSON state of a loaded scene: its text, the page's and the command line's `--set`s,
 /// the parameters, the camera (for navigation and as TOML to copy) and the render settings.
-fn state(
+fn state<'a>(
     shared: &Shared,
     preview: &Preview,
-    text: &str,
+    text: &'a str,
     overrides: &[Override],
     generation: u64,
-) -> serde_json::Value {
+) -> SceneState<'a> {
     let description = preview.description().expect("loaded");
     let settings = preview.settings().expect("loaded");
     // A large scene is read in parts by the loader; here it would take tens of times its size.
@@ -948,26 +933,25 @@ fn state(
         }
         _ => (Vec::new(), text.len() > MAX_PARAMETER_TEXT),
     };
-    json!({
-        "type": "scene",
-        "generation": generation,
-        "path": shared.scene.display().to_string(),
-        "text": shown_text(text),
-        "overrides": overrides.iter().map(|o| o.to_string()).collect::<Vec<_>>(),
-        "parameters": parameters,
-        "more_parameters": more,
-        "camera": {
-            "position": camera.position().to_array(),
-            "view_direction": camera.view_direction().to_array(),
-            "up": up.to_array(),
-            "horizontal_view_angle_deg": angle,
-            "view_width": view_width,
+    SceneState {
+        generation,
+        path: shared.scene.display().to_string(),
+        text: shown_text(text),
+        overrides: overrides.iter().map(|o| o.to_string()).collect(),
+        parameters,
+        more_parameters: more,
+        camera: CameraState {
+            position: camera.position().to_array(),
+            view_direction: camera.view_direction().to_array(),
+            up: up.to_array(),
+            horizontal_view_angle_deg: angle,
+            view_width,
         },
-        "camera_toml": toml::to_string(&wrapped).unwrap_or_default(),
-        "stereo": description.stereo.name(),
-        "width": settings.width,
-        "height": settings.height,
-        "spp": settings.spp,
-        "warnings": description.warnings(),
-    })
+        camera_toml: toml::to_string(&wrapped).unwrap_or_default(),
+        stereo: description.stereo.name(),
+        width: settings.width,
+        height: settings.height,
+        spp: settings.spp,
+        warnings: description.warnings(),
+    }
 }

@@ -8,6 +8,7 @@
 //! (JSON). See docs/PREVIEW.md for the protocol and the security rules.
 
 mod engine;
+mod messages;
 mod page;
 pub mod parameters;
 pub mod preview;

@@ -13,10 +13,10 @@ use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use serde::Deserialize;
-use serde_json::json;
 use tokio::sync::broadcast::error::RecvError;
 
 use super::engine::{Engine, MAX_PAGE_OVERRIDES, Request as EngineRequest, saveable};
+use super::messages::ToPage;
 use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, page};
 use crate::scene::file::Override;
 
@@ -258,7 +258,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                     match serde_json::from_str::<ClientMessage>(text.as_str()) {
                         Ok(message) => {
                             if let Some(reply) = handle(&state.engine, message)
-                                && !deliver(&mut socket, json(&reply.to_string())).await
+                                && !deliver(&mut socket, json(&reply)).await
                             {
                                 return;
                             }
@@ -314,7 +314,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
 
 /// Passes a page's message to the engine; the answer for this page alone, if any (a value the
 /// engine cannot take).
-fn handle(engine: &Engine, message: ClientMessage) -> Option<serde_json::Value> {
+fn handle(engine: &Engine, message: ClientMessage) -> Option<String> {
     let result = match message {
         ClientMessage::Set { set } if set.len() > MAX_PAGE_OVERRIDES => Err(format!(
             "at most {MAX_PAGE_OVERRIDES} --set values at once, got {}",
@@ -349,7 +349,7 @@ fn handle(engine: &Engine, message: ClientMessage) -> Option<serde_json::Value> 
             Ok(())
         }
     };
-    result.err().map(|e| json!({"type": "notice", "error": e}))
+    result.err().map(|e| ToPage::notice(Err(e)).text())
 }
 
 #[cfg(test)]
