@@ -73,3 +73,36 @@ impl MattKeys {
         Ok(Surface::Coloured(Coloured::matt(self.colour.0)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::geometry::{Shape, Sphere};
+    use crate::surfaces::Redirection;
+    use crate::surfaces::tests::meet;
+
+    /// A coloured surface ends the ray, to be shaded by the lights: `Surface::redirect` answers
+    /// `Lit` with the surface's own colours, from outside and from inside a sphere.
+    #[test]
+    fn a_coloured_surface_is_lit() {
+        let sphere = Shape::Sphere(Sphere::new(DVec3::new(0.0, 1.0, 0.0), 1.0).unwrap());
+        for coloured in [
+            Coloured::shiny(Colour::new(0.2, 0.4, 0.6)),
+            Coloured::matt(Colour::new(0.9, 0.1, 0.0)),
+        ] {
+            let surface = Surface::Coloured(coloured.clone());
+            for (origin, d) in [
+                (DVec3::new(-3.0, 1.2, 0.1), DVec3::X),
+                (DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.2, 0.3, -0.5)),
+            ] {
+                let at = meet(&sphere, origin, d);
+                match surface.redirect(&at, &mut |_| {}) {
+                    Redirection::Lit(c) => assert_eq!(c, &coloured),
+                    other => panic!("{other:?}"),
+                }
+            }
+        }
+    }
+}

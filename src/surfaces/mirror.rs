@@ -46,6 +46,8 @@ impl MirrorKeys {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     #[test]
     fn angle_of_incidence_equals_angle_of_reflection() {
@@ -62,5 +64,68 @@ mod tests {
     fn normal_incidence_reverses_the_ray() {
         let n = DVec3::new(1.0, 2.0, 2.0) / 3.0;
         assert!((reflect(-n, n) - n).length() < 1e-15);
+    }
+
+    /// The law of reflection through `Mirror::redirect`, on a tilted plane (from either side)
+    /// and on a sphere (from outside and from inside): the reflected ray makes the same angle
+    /// with the normal as the incident one, returns to the side it came from, lies in the plane
+    /// of incidence (spanned by d and the normal) and goes on along the surface the way d did;
+    /// it carries the reflection coefficient. The normals are worked out here from the shapes'
+    /// definitions.
+    #[test]
+    fn redirect_reflects_by_the_law_of_reflection_on_a_plane_and_a_sphere() {
+        let mirror = Mirror {
+            reflection_coefficient: 0.8,
+        };
+        let n_plane = DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        let plane =
+            Shape::Plane(Plane::new(DVec3::new(0.2, -0.1, 0.4), n_plane, DVec3::X).unwrap());
+        let centre = DVec3::new(1.0, 0.5, -2.0);
+        let sphere = Shape::Sphere(Sphere::new(centre, 1.5).unwrap());
+        let cases = [
+            (
+                &plane,
+                DVec3::new(3.0, 4.0, 5.0),
+                DVec3::new(-0.4, -0.7, -0.6),
+            ),
+            (
+                &plane,
+                DVec3::new(-2.0, -3.0, -1.0),
+                DVec3::new(0.5, 0.6, 0.3),
+            ),
+            (
+                &sphere,
+                DVec3::new(-3.0, 1.2, -1.0),
+                DVec3::new(1.0, -0.1, -0.2),
+            ),
+            (
+                &sphere,
+                DVec3::new(1.2, 0.3, -2.1),
+                DVec3::new(0.3, 0.8, -0.5),
+            ),
+        ];
+        for (shape, origin, d) in cases {
+            let at = meet(shape, origin, d);
+            let d = d.normalize();
+            let n = match shape {
+                Shape::Sphere(_) => (at.point() - centre) / 1.5,
+                _ => n_plane,
+            };
+            let (out, factor) = leaves(mirror.redirect(&at));
+            assert_eq!(factor, 0.8);
+            assert!((out.length() - 1.0).abs() < 1e-14, "{out}");
+            let incidence = d.dot(n).abs().acos();
+            let reflection = out.dot(n).abs().acos();
+            assert!(
+                (incidence - reflection).abs() < 1e-12,
+                "{incidence} {reflection}"
+            );
+            assert!(out.dot(n) * d.dot(n) < 0.0, "back to the side it came from");
+            assert!(
+                out.dot(d.cross(n)).abs() < 1e-14,
+                "in the plane of incidence"
+            );
+            assert!(out.cross(n).dot(d.cross(n)) > 0.0, "on along the surface");
+        }
     }
 }

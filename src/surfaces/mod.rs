@@ -302,3 +302,64 @@ impl Surface {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests {
+    //! What the surface laws' tests share: interactions of rays with a shape alone (no scene),
+    //! and the parts of a redirection they check.
+
+    use glam::DVec3;
+
+    use super::Redirection;
+    use crate::geometry::{Exit, Interaction, Shape};
+    use crate::math::Ray;
+
+    /// The ray from `origin` along `direction` (normalised here) meeting `shape` at its
+    /// nearest hit ahead; panics if it misses.
+    pub(crate) fn meet(shape: &Shape, origin: DVec3, direction: DVec3) -> Interaction<'_> {
+        meet_copy(shape, DVec3::ZERO, origin, direction)
+    }
+
+    /// The same on the array copy of `shape` moved by `offset` (the ray is in world
+    /// coordinates; the copy is the shape translated by `offset`).
+    pub(crate) fn meet_copy(
+        shape: &Shape,
+        offset: DVec3,
+        origin: DVec3,
+        direction: DVec3,
+    ) -> Interaction<'_> {
+        let ray = Ray::new(origin, direction, 0.0);
+        let (t, prim) = shape
+            .intersect(origin - offset, ray.direction, 0.0, f64::INFINITY)
+            .expect("the test ray meets the shape");
+        Interaction {
+            offset,
+            ..Interaction::on(shape, ray, t, prim)
+        }
+    }
+
+    /// The direction and factor of a ray that leaves the hit point; panics on any other
+    /// redirection.
+    pub(crate) fn leaves(r: Redirection) -> (DVec3, f64) {
+        match r {
+            Redirection::Leaves { direction, factor } => (direction, factor),
+            other => panic!("expected the ray to leave the hit point, got {other:?}"),
+        }
+    }
+
+    /// The exit and factor of a ray that crosses the object; panics on any other redirection.
+    pub(crate) fn crosses(r: Redirection) -> (Exit, f64) {
+        match r {
+            Redirection::Crosses { exit, factor } => (exit, factor),
+            other => panic!("expected the ray to cross the object, got {other:?}"),
+        }
+    }
+
+    /// The distance of `target` from the line through `s` along `direction`, and how far along
+    /// the line (in units of |direction|, negative behind `s`) its foot is.
+    pub(crate) fn line_miss(s: DVec3, direction: DVec3, target: DVec3) -> (f64, f64) {
+        let e = direction.normalize();
+        let along = (target - s).dot(e);
+        ((target - s - along * e).length(), along)
+    }
+}

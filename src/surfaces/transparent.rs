@@ -36,3 +36,52 @@ impl TransparentKeys {
         }))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
+
+    /// A transparent surface changes nothing but the amount of light: the ray goes on in the
+    /// same direction, on a plane and on a sphere, entering or leaving, with the transmission
+    /// coefficient as the factor.
+    #[test]
+    fn redirect_leaves_the_direction_unchanged() {
+        let clear = Transparent {
+            transmission_coefficient: 0.7,
+        };
+        let plane =
+            Shape::Plane(Plane::new(DVec3::ZERO, DVec3::new(0.0, 1.0, 1.0), DVec3::X).unwrap());
+        let sphere = Shape::Sphere(Sphere::new(DVec3::new(1.0, 2.0, 3.0), 1.0).unwrap());
+        for (shape, origin, d) in [
+            (
+                &plane,
+                DVec3::new(0.3, 2.0, 2.0),
+                DVec3::new(0.1, -0.5, -0.8),
+            ),
+            (
+                &plane,
+                DVec3::new(0.3, -2.0, -2.0),
+                DVec3::new(0.1, 0.5, 0.8),
+            ),
+            (
+                &sphere,
+                DVec3::new(-2.0, 2.3, 3.1),
+                DVec3::new(1.0, 0.0, 0.0),
+            ),
+            (
+                &sphere,
+                DVec3::new(1.0, 2.0, 3.0),
+                DVec3::new(0.3, -0.6, 0.2),
+            ),
+        ] {
+            let at = meet(shape, origin, d);
+            let (out, factor) = leaves(clear.redirect(&at));
+            assert!((out - d.normalize()).length() < 1e-15, "{out}");
+            assert_eq!(factor, 0.7);
+        }
+    }
+}

@@ -93,3 +93,92 @@ impl GgrinLensKeys {
         })))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+    use crate::geometry::Shape;
+    use crate::surfaces::Lens;
+    use crate::surfaces::tests::{crosses, line_miss, meet};
+
+    /// The GGRIN lens of Šarbort and Tyc images the point A, a distance r R from the centre,
+    /// perfectly onto A′, a distance r′ R from it, the lines AC and CA′ meeting at the angle
+    /// φ: every ray from A leaves the lens on a line through A′. With φ = 180° (A′ on the far
+    /// side, on the line from A through C) that holds for rays in every plane through A and C.
+    /// Here A is 3R from the centre and A′ 2R on the other side (a real image: the rays leave
+    /// towards it); then, for A at infinity (r = ∞), a parallel bundle along d is focused onto
+    /// C + r′ R d̂, and with r′ = 1 (Table 1's Luneburg lens) onto the far surface itself.
+    #[test]
+    fn rays_from_a_point_are_imaged_onto_its_image_point() {
+        let (centre, radius) = (DVec3::new(1.0, 0.0, -2.0), 0.8);
+        let shape = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let axis = DVec3::new(0.0, 0.6, 0.8); // from A towards C
+        let (e1, e2) = axis.any_orthonormal_pair();
+        let ggrin = |r: f64, r_prime: f64| {
+            Lens::new(LensLaw::Ggrin(Ggrin {
+                r,
+                r_prime,
+                phi: PI,
+            }))
+        };
+        // A ray of the bundle: the k-th across the aperture of the lens, seen from `from` (a
+        // point, or far away along −axis).
+        let aim = |k: usize| {
+            let (b, turn) = (0.95 * radius * (k as f64 + 0.5) / 10.0, 2.4 * k as f64);
+            centre + b * (turn.cos() * e1 + turn.sin() * e2)
+        };
+        let a = centre - 3.0 * radius * axis;
+        let image = centre + 2.0 * radius * axis;
+        let lens = ggrin(3.0, 2.0);
+        for k in 0..10 {
+            let at = meet(&shape, a, aim(k) - a);
+            let (exit, _) = crosses(lens.redirect(&at, &mut |_| {}));
+            let (miss, along) = line_miss(exit.point, exit.direction, image);
+            assert!(miss < 1e-12 && along > 0.0, "k = {k}: {miss:e} {along}");
+        }
+        for (r_prime, focus) in [
+            (2.5, centre + 2.5 * radius * axis),
+            (1.0, centre + radius * axis),
+        ] {
+            let lens = ggrin(f64::INFINITY, r_prime);
+            for k in 0..10 {
+                let at = meet(&shape, aim(k) - 5.0 * axis, axis);
+                let (exit, _) = crosses(lens.redirect(&at, &mut |_| {}));
+                if r_prime == 1.0 {
+                    assert!(
+                        (exit.point - focus).length() < 1e-12,
+                        "k = {k}: {}",
+                        exit.point
+                    );
+                } else {
+                    let (miss, along) = line_miss(exit.point, exit.direction, focus);
+                    assert!(miss < 1e-12 && along > 0.0, "k = {k}: {miss:e} {along}");
+                }
+            }
+        }
+    }
+
+    /// With φ = 0 and r = r′, A′ is A itself: the lens sends every ray from A back through
+    /// A (Table 1's Eaton lens is the case r = r′ = ∞, a retro-reflector).
+    #[test]
+    fn with_phi_zero_and_equal_distances_rays_return_to_their_source() {
+        let (centre, radius) = (DVec3::ZERO, 1.0);
+        let shape = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let lens = Lens::new(LensLaw::Ggrin(Ggrin {
+            r: 2.5,
+            r_prime: 2.5,
+            phi: 0.0,
+        }));
+        let a = DVec3::new(0.0, 0.0, -2.5);
+        for k in 0..10 {
+            let (b, turn) = (0.9 * (k as f64 + 0.5) / 10.0, 2.4 * k as f64);
+            let target = DVec3::new(b * turn.cos(), b * turn.sin(), 0.0);
+            let at = meet(&shape, a, target - a);
+            let (exit, _) = crosses(lens.redirect(&at, &mut |_| {}));
+            let (miss, along) = line_miss(exit.point, exit.direction, a);
+            assert!(miss < 1e-12 && along > 0.0, "k = {k}: {miss:e} {along}");
+        }
+    }
+}

@@ -222,7 +222,10 @@ mod tests {
     use std::f64::consts::{FRAC_PI_2, PI};
 
     use super::*;
+    use crate::geometry::Shape;
+    use crate::surfaces::Lens;
     use crate::surfaces::lenses::{eaton, luneburg, maxwell_fisheye};
+    use crate::surfaces::tests::{crosses, meet, meet_copy};
 
     /// Rays entering a lens of radius 2 at (1, −1, 3) with impact parameters spread across
     /// (0, R) and planes of incidence turning about the lens: (entry point, unit direction).
@@ -469,6 +472,94 @@ mod tests {
                     profile.name()
                 );
             }
+        }
+    }
+
+    /// A gradient-index lens whose table is constant, n = 1.5, is a homogeneous glass ball,
+    /// traced here by hand (through `Lens::redirect`, which refracts into the surface index
+    /// n(1) = 1.5 and out again): a ray meeting the ball at incidence θ₁ is refracted to θ₂
+    /// with sin θ₂ = sin θ₁ / 1.5, crosses the chord of length 2R cos θ₂ in a straight line
+    /// (optical path 1.5 × 2R cos θ₂), meets the far surface at θ₂ again (the chord is
+    /// symmetric) and leaves at θ₁, turned towards the axis by 2(θ₁ − θ₂) in all. The points
+    /// shown to `inside` lie on the chord.
+    #[test]
+    fn a_constant_profile_is_a_glass_ball() {
+        let (centre, radius) = (DVec3::new(0.5, 1.0, -2.0), 1.5);
+        let shape = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let table = TableProfile::new(vec![0.0, 0.5, 1.0], vec![1.5; 3]).unwrap();
+        let lens = Lens {
+            transmission_coefficient: 0.9,
+            ..Lens::new(LensLaw::GradientIndex(GradientIndex {
+                profile: IndexProfile::Table(table),
+            }))
+        };
+        let d = DVec3::new(0.6, 0.0, 0.8);
+        let across = DVec3::new(0.48, 0.6, -0.36).normalize();
+        for k in 1..10 {
+            let b = radius * k as f64 / 10.0;
+            let at = meet(&shape, centre - 5.0 * d + b * across, d);
+            let p = at.point();
+            // In the plane of incidence: the outward normal n̂ and the tangent ê along which
+            // d runs across the surface; angles from the inward normal −n̂, towards ê.
+            let n = (p - centre) / radius;
+            let e = (d - d.dot(n) * n).normalize();
+            let theta1 = (b / radius).asin();
+            let theta2 = (theta1.sin() / 1.5).asin();
+            let inside_direction = -theta2.cos() * n + theta2.sin() * e;
+            let chord = 2.0 * radius * theta2.cos();
+            let q = p + chord * inside_direction;
+            let turned = theta1 - 2.0 * (theta1 - theta2);
+            let out = -turned.cos() * n + turned.sin() * e;
+            let mut shown = Vec::new();
+            let (exit, factor) = crosses(lens.redirect(&at, &mut |x| shown.push(x)));
+            assert_eq!(factor, 0.9);
+            assert!(
+                (exit.point - q).length() < 1e-10,
+                "b = {b}: {} {q}",
+                exit.point
+            );
+            assert!(
+                (exit.direction - out).length() < 1e-10,
+                "b = {b}: {}",
+                exit.direction
+            );
+            assert!(
+                (exit.path - 1.5 * chord).abs() < 1e-10,
+                "b = {b}: {}",
+                exit.path
+            );
+            assert!(!shown.is_empty());
+            for x in shown {
+                let off = (x - p) - (x - p).dot(inside_direction) * inside_direction;
+                assert!(off.length() < 1e-10 && (x - centre).length() <= radius * (1.0 + 1e-12));
+            }
+        }
+    }
+
+    /// The integrated Luneburg profile n = √(2 − ρ²) focuses a parallel bundle onto the far
+    /// surface (C + R d̂, the lens's defining property), through `Lens::redirect`, here on
+    /// the lens's copy in an array (whose centre is C + offset).
+    #[test]
+    fn the_integrated_luneburg_profile_focuses_a_parallel_bundle() {
+        let (centre, radius, offset) = (DVec3::new(0.0, 1.0, 0.0), 2.0, DVec3::new(-3.0, 0.0, 5.0));
+        let shape = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let lens = Lens::new(LensLaw::GradientIndex(GradientIndex {
+            profile: IndexProfile::Luneburg,
+        }));
+        let d = DVec3::new(-0.2, 0.3, 0.9).normalize();
+        let (e1, e2) = d.any_orthonormal_pair();
+        let c = centre + offset;
+        for k in 0..10 {
+            let (b, turn) = (radius * (k as f64 + 0.5) / 10.0, 2.4 * k as f64);
+            let origin = c - 6.0 * d + b * (turn.cos() * e1 + turn.sin() * e2);
+            let at = meet_copy(&shape, offset, origin, d);
+            let (exit, _) = crosses(lens.redirect(&at, &mut |_| {}));
+            let focus = c + radius * d;
+            assert!(
+                (exit.point - focus).length() < 1e-9 * radius,
+                "b = {b}: {}",
+                exit.point
+            );
         }
     }
 }

@@ -280,3 +280,116 @@ impl ClosedFormLensKeys {
         Ok(self.lens.lens(law))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Cylinder, Disc, Plane};
+    use crate::surfaces::tests::{crosses, leaves, meet};
+
+    fn every_law() -> Vec<LensLaw> {
+        vec![
+            LensLaw::Luneburg,
+            LensLaw::Eaton,
+            LensLaw::MaxwellFisheye,
+            LensLaw::Ggrin(Ggrin {
+                r: f64::INFINITY,
+                r_prime: 2.0,
+                phi: std::f64::consts::PI,
+            }),
+            LensLaw::GradientIndex(GradientIndex {
+                profile: IndexProfile::Luneburg,
+            }),
+        ]
+    }
+
+    /// §3's lenses are defined by a sphere's centre and radius: on any other shape (a plane,
+    /// a disc, a cylinder) no light comes back along the ray.
+    #[test]
+    fn a_lens_law_on_a_shape_that_is_not_a_sphere_is_lost() {
+        let shapes = [
+            Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap()),
+            Shape::Disc(Disc::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap()),
+            Shape::Cylinder(Cylinder::new(-DVec3::Z, DVec3::Z, 1.0).unwrap()),
+        ];
+        let d = DVec3::new(0.1, 0.2, -1.0);
+        for shape in &shapes {
+            let at = meet(shape, DVec3::new(0.05, 0.0, 0.5) - 2.0 * d, d);
+            for law in every_law() {
+                let lens = Lens::new(law);
+                assert_eq!(
+                    lens.redirect(&at, &mut |_| {}),
+                    Redirection::Lost,
+                    "{shape:?}"
+                );
+            }
+        }
+    }
+
+    /// The invisible core (§3.2): a ray whose straight line passes closer than R_t to the
+    /// centre crosses the lens undeviated, leaving where that line meets the sphere again
+    /// (the far end of the chord), along d; one passing farther away obeys the law (here
+    /// Luneburg's focus C + R d̂). A ray that meets the lens from inside passes it as if it
+    /// were transparent.
+    #[test]
+    fn rays_through_the_invisible_core_cross_undeviated() {
+        let (centre, radius) = (DVec3::new(1.0, -2.0, 0.5), 2.0);
+        let sphere = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let lens = Lens {
+            invisible_radius: 0.5,
+            transmission_coefficient: 0.8,
+            ..Lens::new(LensLaw::Luneburg)
+        };
+        let d = DVec3::new(0.3, 0.4, -0.6).normalize();
+        let e = d.any_orthonormal_vector();
+        for b in [0.0, 0.3, 0.99] {
+            let at = meet(&sphere, centre - 5.0 * d + b * e, d);
+            let (exit, factor) = crosses(lens.redirect(&at, &mut |_| {}));
+            assert_eq!(factor, 0.8);
+            // The far end of the chord at distance b from the centre.
+            let far = centre + b * e + (radius * radius - b * b).sqrt() * d;
+            assert!(
+                (exit.point - far).length() < 1e-12,
+                "b = {b}: {}",
+                exit.point
+            );
+            assert!((exit.direction - d).length() < 1e-15);
+        }
+        for b in [1.01, 1.5, 1.9] {
+            let at = meet(&sphere, centre - 5.0 * d + b * e, d);
+            let (exit, _) = crosses(lens.redirect(&at, &mut |_| {}));
+            assert!(
+                (exit.point - (centre + radius * d)).length() < 1e-12,
+                "b = {b}"
+            );
+        }
+        let from_inside = meet(&sphere, centre + 0.5 * e, d);
+        assert_eq!(leaves(lens.redirect(&from_inside, &mut |_| {})), (d, 0.8));
+    }
+
+    /// An index step at the surface (§3.3): where the lens's surface index is below the
+    /// surroundings' (ratio 0.8), a ray arriving beyond the critical angle arcsin 0.8 is
+    /// reflected off the surface as off a mirror (angle of reflection equals angle of
+    /// incidence) and does not enter.
+    #[test]
+    fn beyond_the_critical_angle_a_lens_of_lower_index_reflects() {
+        let (centre, radius) = (DVec3::ZERO, 1.0);
+        let sphere = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let lens = Lens {
+            index_ratio: 0.8,
+            ..Lens::new(LensLaw::MaxwellFisheye)
+        };
+        let d = DVec3::Z;
+        // Impact parameter 0.9: sin θ = 0.9 > 0.8.
+        let at = meet(&sphere, DVec3::new(0.9, 0.0, -3.0), d);
+        let n = at.point() - centre;
+        let (out, factor) = leaves(lens.redirect(&at, &mut |_| {}));
+        assert_eq!(factor, 1.0);
+        assert!(
+            (out.dot(n) + d.dot(n)).abs() < 1e-14 && (out.cross(n) - d.cross(n)).length() < 1e-14
+        );
+        // Impact parameter 0.7 (sin θ = 0.7 < 0.8) enters, and crosses.
+        let at = meet(&sphere, DVec3::new(0.7, 0.0, -3.0), d);
+        crosses(lens.redirect(&at, &mut |_| {}));
+    }
+}

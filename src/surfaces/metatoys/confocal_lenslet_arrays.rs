@@ -70,8 +70,8 @@ impl Telescopelets {
     }
 
     /// Eq 39 with the order rule of §5.2, for a ray with direction `d` meeting the sheet with
-    /// unit normal `n`; `None` where no ray gets through (see the module notes). Not
-    /// normalised.
+    /// unit normal `n`, normalised (Eq 39 fixes the component along â at 1, not the length);
+    /// `None` where no ray gets through (see the module notes).
     pub fn refract(&self, d: DVec3, n: DVec3) -> Option<DVec3> {
         let (a_hat, eta, delta) = if self.a_hat.dot(n) * d.dot(n) > 0.0 {
             (self.a_hat, self.eta, self.delta)
@@ -84,7 +84,7 @@ impl Telescopelets {
         }
         let slopes = (DVec2::new(d.dot(self.u_hat), d.dot(self.v_hat)) / da - delta) / eta;
         let out = slopes.x * self.u_hat + slopes.y * self.v_hat + a_hat;
-        (out.is_finite() && crosses(d, out, n)).then_some(out)
+        (out.is_finite() && crosses(d, out, n)).then(|| out.normalize())
     }
 }
 
@@ -147,6 +147,8 @@ impl ConfocalLensletArraysKeys {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     #[test]
     fn u_is_projected_perpendicular_to_a_and_the_basis_is_right_handed() {
@@ -186,5 +188,110 @@ mod tests {
         )
         .unwrap();
         assert_eq!(t.refract(DVec3::new(-0.2, 0.0, 1.0), DVec3::Z), None);
+    }
+
+    fn gcla(a: DVec3, u: DVec3, basis: Basis, eta: DVec2, delta: DVec2) -> ConfocalLensletArrays {
+        ConfocalLensletArrays {
+            a,
+            u,
+            basis,
+            eta,
+            delta,
+            transmission_coefficient: 0.9,
+            reflection_coefficient: 0.5,
+        }
+    }
+
+    /// η = 1 and δ = 0 are telescopes of magnification 1 with aligned axes, which change no
+    /// direction: through `redirect` on a tilted plane, in either direction of crossing and
+    /// with the axis along the normal or tilted, and on a sphere with â along the local normal.
+    #[test]
+    fn unit_telescopes_leave_the_direction_unchanged() {
+        let n = DVec3::new(0.0, 0.6, 0.8);
+        let plane = Shape::Plane(Plane::new(DVec3::ZERO, n, DVec3::X).unwrap());
+        for a in [n, -n, DVec3::new(0.3, 0.5, 0.8)] {
+            let sheet = gcla(a, DVec3::X, Basis::Global, DVec2::ONE, DVec2::ZERO);
+            for d in [DVec3::new(0.2, -0.3, -0.9), DVec3::new(-0.1, 0.5, 0.85)] {
+                let d = d.normalize();
+                let (out, factor) = leaves(sheet.redirect(&meet(&plane, -3.0 * d, d)));
+                let out = out.normalize(); // see `redirect_leaves_along_a_unit_vector`
+                assert!((out - d).length() < 1e-14, "a = {a}, d = {d}: {out}");
+                assert_eq!(factor, 0.9);
+            }
+        }
+        let sphere = Shape::Sphere(Sphere::new(DVec3::new(0.0, 0.0, 5.0), 2.0).unwrap());
+        let sheet = gcla(DVec3::Z, DVec3::X, Basis::Local, DVec2::ONE, DVec2::ZERO);
+        let d = DVec3::new(0.1, 0.2, 1.0).normalize();
+        let (out, _) = leaves(sheet.redirect(&meet(&sphere, DVec3::new(0.5, 0.3, 0.0), d)));
+        assert!((out.normalize() - d).length() < 1e-14, "{out}");
+    }
+
+    /// Eq 39 derived independently, in the (u, a) projection of Fig. 16: lens 1 (focal length
+    /// f₁) focuses rays of slope s = (d·û)/(d·â) to the height f₁ s in the common focal plane;
+    /// lens 2 (focal length f₂ = −η f₁, its axis offset by o = δ f₁) sees that point at
+    /// height f₁ s − o, a distance f₂ in front of it, and sends the rays on parallel to the
+    /// undeviated one through its centre, of slope s′ = −(f₁ s − o)/f₂ = (s − δ)/η; likewise
+    /// in (v, a). So with â along the sheet's normal the tangential components, relative to the
+    /// normal one, become (s_u − δ_u)/η_u and (s_v − δ_v)/η_v. Light sent back along −d′
+    /// retraces its path through the telescope (reciprocity) and leaves along −d.
+    #[test]
+    fn telescopes_along_the_normal_scale_the_slopes() {
+        let plane =
+            Shape::Plane(Plane::new(DVec3::new(0.0, 0.0, 1.0), DVec3::Z, DVec3::X).unwrap());
+        let (eta, delta) = (DVec2::new(2.0, -0.5), DVec2::new(0.1, -0.2));
+        let sheet = gcla(DVec3::Z, DVec3::X, Basis::Global, eta, delta);
+        for d in [
+            DVec3::new(0.2, -0.1, 1.0),
+            DVec3::new(-0.5, 0.3, 0.8),
+            DVec3::new(0.0, 0.0, 1.0),
+        ] {
+            let d = d.normalize();
+            let (out, factor) = leaves(sheet.redirect(&meet(&plane, DVec3::new(0.3, 0.2, 0.0), d)));
+            assert_eq!(factor, 0.9);
+            let out = out.normalize(); // see `redirect_leaves_along_a_unit_vector`
+            let (s_u, s_v) = (d.x / d.z, d.y / d.z);
+            let expected = DVec3::new((s_u - delta.x) / eta.x, (s_v - delta.y) / eta.y, 1.0);
+            assert!((out - expected.normalize()).length() < 1e-14, "{d}: {out}");
+            let back = meet(&plane, DVec3::new(0.3, 0.2, 1.0) + out, -out);
+            let (returned, _) = leaves(sheet.redirect(&back));
+            assert!(
+                (returned.normalize() + d).length() < 1e-14,
+                "{d}: {returned}"
+            );
+        }
+        // With η = −1 (two equal lenses), no offset: telescopes that invert the tangential
+        // components (s′ = −s).
+        let inverting = gcla(DVec3::Z, DVec3::X, Basis::Global, -DVec2::ONE, DVec2::ZERO);
+        let d = DVec3::new(0.3, -0.4, 0.866).normalize();
+        let (out, _) = leaves(inverting.redirect(&meet(&plane, DVec3::ZERO, d)));
+        let out = out.normalize();
+        assert!(
+            (out - DVec3::new(-d.x, -d.y, d.z)).length() < 1e-14,
+            "{out}"
+        );
+    }
+
+    /// `Redirection::Leaves` promises a unit direction, as every other law gives; Eq 39's d′
+    /// has component 1 along â, not length 1: the ray (0.2, −0.1, 1)/|…| leaves along
+    /// (0.05, −0.2, 1)/|…|.
+    #[test]
+    fn redirect_leaves_along_a_unit_vector() {
+        let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
+        let sheet = gcla(
+            DVec3::Z,
+            DVec3::X,
+            Basis::Global,
+            DVec2::new(2.0, -0.5),
+            DVec2::new(0.1, -0.2),
+        );
+        let d = DVec3::new(0.2, -0.1, 1.0).normalize();
+        let (out, _) = leaves(sheet.redirect(&meet(&plane, -d, d)));
+        assert!(
+            (out.length() - 1.0).abs() < 1e-14,
+            "|{out}| = {}",
+            out.length()
+        );
+        let expected = DVec3::new(0.05, -0.2, 1.0).normalize();
+        assert!((out - expected).length() < 1e-14, "{out}");
     }
 }

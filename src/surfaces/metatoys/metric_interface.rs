@@ -238,6 +238,8 @@ fn check_tangential(name: &str, h: &DMat3) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     fn isotropic(n: f64) -> DMat3 {
         DMat3::from_diagonal(DVec3::splat(n * n))
@@ -312,5 +314,136 @@ mod tests {
             panic!("transmitted")
         };
         assert!(out.is_finite() && out.z < 0.0, "{out}");
+    }
+
+    /// The metric interface with the isotropic metrics inside = n² I and outside = I in the
+    /// global basis, refracting at `at`.
+    fn snell_interface(n: f64) -> MetricInterface {
+        MetricInterface {
+            inside: isotropic(n),
+            outside: isotropic(1.0),
+            basis: Basis::Global,
+            refraction: Refraction::Positive,
+            allow_imaginary: false,
+            transmission_coefficient: 0.9,
+            reflection_coefficient: 0.6,
+        }
+    }
+
+    /// Checks `out` against Snell's law n₁ sin θ₁ = n₂ sin θ₂ at a surface with unit normal
+    /// `n` (sines as |d × n|): on the far side, in the plane of incidence, running along the
+    /// surface the way d does (with `n2` negative, negative refraction: the other way).
+    fn assert_snell(d: DVec3, n: DVec3, n1: f64, n2: f64, out: DVec3) {
+        assert!((out.length() - 1.0).abs() < 1e-14, "{out}");
+        let (sin1, sin2) = (d.cross(n).length(), out.cross(n).length());
+        assert!((n1 * sin1 - n2.abs() * sin2).abs() < 1e-13, "{sin1} {sin2}");
+        assert!(out.dot(n) * d.dot(n) > 0.0, "crosses");
+        assert!(
+            out.dot(d.cross(n)).abs() < 1e-14,
+            "in the plane of incidence"
+        );
+        assert!(out.cross(n).dot(d.cross(n)) * n2.signum() > 0.0 || sin1 == 0.0);
+    }
+
+    /// A metric g = n² I makes ds² = n² |dr|², the optical path of a medium of index n, so the
+    /// interface between inside = n² I and outside = I refracts exactly as Snell's law with
+    /// index n inside: on the plane z = 0 (outward normal +z), entering and leaving, and
+    /// totally internally reflected (mirror image, with the reflection coefficient) beyond
+    /// the critical angle arcsin(1/n); transmitted rays carry the transmission coefficient.
+    #[test]
+    fn isotropic_metrics_refract_as_snells_law_on_a_plane() {
+        let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
+        let glass = snell_interface(1.5);
+        let across = DVec3::new(-0.6, 0.8, 0.0);
+        let ray = |deg: f64, z: f64| {
+            let t: f64 = deg.to_radians();
+            t.sin() * across + z * t.cos() * DVec3::Z
+        };
+        for deg in [5.0, 30.0, 60.0, 85.0] {
+            let d = ray(deg, -1.0);
+            let (out, factor) = leaves(glass.redirect(&meet(&plane, -2.0 * d, d)));
+            assert_eq!(factor, 0.9);
+            assert_snell(d, DVec3::Z, 1.0, 1.5, out);
+        }
+        for deg in [5.0, 30.0, 41.0] {
+            let d = ray(deg, 1.0);
+            let (out, factor) = leaves(glass.redirect(&meet(&plane, -2.0 * d, d)));
+            assert_eq!(factor, 0.9);
+            assert_snell(d, DVec3::Z, 1.5, 1.0, out);
+        }
+        for deg in [42.5, 60.0] {
+            let d = ray(deg, 1.0);
+            let (out, factor) = leaves(glass.redirect(&meet(&plane, -2.0 * d, d)));
+            assert_eq!(factor, 0.6);
+            assert!((out - DVec3::new(d.x, d.y, -d.z)).length() < 1e-14, "{out}");
+        }
+    }
+
+    /// Identical metrics on both sides (Euclidean, or the same anisotropic one) are no
+    /// interface: the direction is unchanged. Negative refraction between n = 1 and n = −1
+    /// (Veselago's lens: the same metric, opposite signs of the optical path) keeps the
+    /// normal component and reverses the tangential one, Snell's law with n₂ = −n₁.
+    #[test]
+    fn identical_metrics_leave_the_direction_unchanged() {
+        let plane = Shape::Plane(
+            Plane::new(
+                DVec3::new(0.0, 1.0, 0.0),
+                DVec3::new(0.0, 0.6, 0.8),
+                DVec3::X,
+            )
+            .unwrap(),
+        );
+        let sheared = DMat3::from_cols(
+            DVec3::new(1.0, 0.2, 0.3),
+            DVec3::new(0.2, 1.2, -0.5),
+            DVec3::new(0.3, -0.5, 2.0),
+        );
+        for (g, basis) in [
+            (DMat3::IDENTITY, Basis::Global),
+            (sheared, Basis::Global),
+            (sheared, Basis::Local),
+        ] {
+            let same = MetricInterface {
+                inside: g,
+                outside: g,
+                basis,
+                ..snell_interface(1.0)
+            };
+            for d in [DVec3::new(0.3, -0.5, -0.7), DVec3::new(-0.2, 0.4, 0.9)] {
+                let d = d.normalize();
+                let at = meet(&plane, DVec3::new(0.1, 1.0, 0.0) - 3.0 * d, d);
+                let (out, factor) = leaves(same.redirect(&at));
+                assert!((out - d).length() < 1e-14, "{g} {d}: {out}");
+                assert_eq!(factor, 0.9);
+            }
+        }
+        let veselago = MetricInterface {
+            refraction: Refraction::Negative,
+            ..snell_interface(1.0)
+        };
+        let n = DVec3::new(0.0, 0.6, 0.8);
+        let d = DVec3::new(0.3, -0.5, -0.7).normalize();
+        let at = meet(&plane, DVec3::new(0.1, 1.0, 0.0) - 3.0 * d, d);
+        let (out, _) = leaves(veselago.redirect(&at));
+        assert_snell(d, n, 1.0, -1.0, out);
+        assert!((out - (2.0 * d.dot(n) * n - d)).length() < 1e-14, "{out}");
+    }
+
+    /// On a sphere, an isotropic metric refracts by Snell's law about the sphere's own
+    /// outward normal (P − C)/R at each hit: a metric sphere of n = 1.33.
+    #[test]
+    fn an_isotropic_metric_sphere_refracts_about_its_normal() {
+        let (centre, radius) = (DVec3::new(2.0, 0.0, -1.0), 1.0);
+        let sphere = Shape::Sphere(Sphere::new(centre, radius).unwrap());
+        let drop = snell_interface(1.33);
+        let d = DVec3::new(0.0, 0.28, 0.96);
+        let (e1, e2) = d.any_orthonormal_pair();
+        for k in 0..8 {
+            let (b, turn) = ((k as f64 + 0.5) / 8.0, 1.9 * k as f64);
+            let origin = centre - 3.0 * d + b * (turn.cos() * e1 + turn.sin() * e2);
+            let at = meet(&sphere, origin, d);
+            let n = (at.point() - centre) / radius;
+            assert_snell(d, n, 1.0, 1.33, leaves(drop.redirect(&at)).0);
+        }
     }
 }

@@ -194,6 +194,8 @@ impl PhaseKeys {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Disc, Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     #[test]
     fn the_cylindrical_kick_is_across_the_axis_only() {
@@ -250,5 +252,54 @@ mod tests {
         assert_eq!(hologram_direction(DVec3::Z, DVec2::new(1.5, 0.0)), None);
         let out = hologram_direction(-DVec3::Z, DVec2::new(0.6, 0.0)).unwrap();
         assert!((out - DVec3::new(0.6, 0.0, -0.8)).length() < 1e-15, "{out}");
+    }
+
+    /// A linear phase is a diffraction grating. A grating of period Λ has the phase
+    /// Φ = 2π u/Λ, i.e. the optical path φ = Φ/k = (λ/Λ) u, so ∇φ = λ/Λ; its first order
+    /// obeys the grating equation sin θ′ = sin θ + λ/Λ (angles from the normal, in the plane
+    /// of incidence across the grooves), and a second grating along v, of period Λ_v, adds
+    /// λ/Λ_v to the direction cosine along v. Checked through `redirect` on the plane z = 0
+    /// (u = x, v = y) for light arriving from either side, and on a disc; where
+    /// |sin θ + λ/Λ| > 1 the wave is evanescent and the ray is reflected (mirror image) with
+    /// the reflection coefficient.
+    #[test]
+    fn a_linear_phase_diffracts_by_the_grating_equation() {
+        let (lambda, period_u, period_v) = (0.5e-6, 2e-6, 5e-6);
+        let hologram = PhaseHologram {
+            phase: Phase::Linear {
+                gradient: DVec2::new(lambda / period_u, lambda / period_v),
+            },
+            transmission_coefficient: 0.9,
+            reflection_coefficient: 0.4,
+        };
+        let plane =
+            Shape::Plane(Plane::new(DVec3::new(0.3, 0.2, 0.0), DVec3::Z, DVec3::X).unwrap());
+        let disc = Shape::Disc(Disc::new(DVec3::ZERO, DVec3::new(0.0, 0.6, 0.8), 3.0).unwrap());
+        for shape in [&plane, &disc] {
+            let frame = shape.frame(DVec3::ZERO, 0);
+            for (deg, side) in [(0.0f64, -1.0f64), (20.0, -1.0), (-40.0, 1.0), (30.0, 1.0)] {
+                let theta = deg.to_radians();
+                let d = theta.sin() * frame.u + side * theta.cos() * frame.w;
+                let (out, factor) = leaves(hologram.redirect(&meet(shape, -2.0 * d, d)));
+                assert_eq!(factor, 0.9);
+                assert!((out.length() - 1.0).abs() < 1e-15);
+                let sin_out = out.dot(frame.u);
+                assert!((sin_out - (theta.sin() + lambda / period_u)).abs() < 1e-15);
+                assert!((out.dot(frame.v) - lambda / period_v).abs() < 1e-15);
+                assert!(out.dot(frame.w) * side > 0.0, "transmitted");
+            }
+            // sin θ = 0.9: 0.9 + 0.25 > 1, evanescent.
+            let d = 0.9 * frame.u - (1.0f64 - 0.81).sqrt() * frame.w;
+            let (out, factor) = leaves(hologram.redirect(&meet(shape, -2.0 * d, d)));
+            assert_eq!(factor, 0.4);
+            assert!(
+                (out - (d - 2.0 * d.dot(frame.w) * frame.w)).length() < 1e-15,
+                "{out}"
+            );
+        }
+        // A curved shape has no Cartesian coordinates for the phase: no light.
+        let sphere = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
+        let at = meet(&sphere, DVec3::new(0.1, 0.0, -3.0), DVec3::Z);
+        assert_eq!(hologram.redirect(&at), Redirection::Lost);
     }
 }

@@ -63,6 +63,8 @@ impl RayFlippingKeys {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     #[test]
     fn flipping_about_u_reverses_the_v_component_only() {
@@ -78,5 +80,53 @@ mod tests {
             "{out}"
         );
         assert!((flipped(out, DVec3::Y) - d).length() < 1e-15);
+    }
+
+    /// Ray flipping through `redirect` with the flip axis 30° from u towards v, on the plane
+    /// z = 0 (u = x, v = y) and on a sphere (its frame at the hit): the components along the
+    /// flip axis and along the normal are kept (the ray crosses), the one across the axis in
+    /// the surface is reversed, and flipping the flipped ray again, at the same point, gives
+    /// back the ray.
+    #[test]
+    fn flipping_twice_is_the_identity_and_the_flip_axis_component_is_kept() {
+        let psi = 30f64.to_radians();
+        let flip = RayFlipping {
+            flip_axis_angle: psi,
+            transmission_coefficient: 0.75,
+        };
+        let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
+        let sphere = Shape::Sphere(Sphere::new(DVec3::new(2.0, 0.0, 0.0), 1.0).unwrap());
+        for (shape, origin, d) in [
+            (
+                &plane,
+                DVec3::new(0.4, -0.2, 2.0),
+                DVec3::new(0.3, 0.4, -0.866),
+            ),
+            (
+                &plane,
+                DVec3::new(-0.4, 0.2, -2.0),
+                DVec3::new(-0.5, 0.1, 0.8),
+            ),
+            (
+                &sphere,
+                DVec3::new(0.0, 0.3, 0.4),
+                DVec3::new(1.0, -0.1, 0.2),
+            ),
+        ] {
+            let at = meet(shape, origin, d);
+            let d = d.normalize();
+            let frame = at.frame();
+            let axis = psi.cos() * frame.u + psi.sin() * frame.v;
+            let across = frame.w.cross(axis);
+            let (out, factor) = leaves(flip.redirect(&at));
+            assert_eq!(factor, 0.75);
+            assert!((out.dot(axis) - d.dot(axis)).abs() < 1e-15, "{out}");
+            assert!((out.dot(frame.w) - d.dot(frame.w)).abs() < 1e-15, "{out}");
+            assert!((out.dot(across) + d.dot(across)).abs() < 1e-15, "{out}");
+            let again = meet(shape, at.point() - out, out);
+            assert!((again.point() - at.point()).length() < 1e-14);
+            let (twice, _) = leaves(flip.redirect(&again));
+            assert!((twice - d).length() < 1e-15, "{twice}");
+        }
     }
 }

@@ -109,6 +109,8 @@ impl RayRotatingKeys {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{Plane, Shape, Sphere};
+    use crate::surfaces::tests::{leaves, meet};
 
     #[test]
     fn rotation_about_the_normal_turns_the_tangential_part_and_keeps_the_normal_part() {
@@ -174,5 +176,62 @@ mod tests {
         let wrong = turned(RotationAxis::Direction(local, Basis::Global));
         assert!((wrong - by_global).length() > 1e-3);
         assert!((by_global.dot(global.normalize()) - d.dot(global.normalize())).abs() < 1e-15);
+    }
+
+    /// Ray rotation about the normal through `redirect`, on a tilted plane and on a sphere
+    /// (normal (P − C)/R), crossing either way: the tangential part t = d − (d·n̂) n̂ turns by
+    /// α right-handed about the crossing direction m̂ = sign(d·n̂) n̂, by Rodrigues' formula
+    /// for a vector perpendicular to the axis, t′ = t cos α + (m̂ × t) sin α, while the normal
+    /// part is kept, as for a transmitted ray; the ray carries the transmission coefficient.
+    #[test]
+    fn the_tangential_part_turns_by_the_angle_about_the_normal() {
+        let alpha = 50f64.to_radians();
+        let window = RayRotating {
+            angle: alpha,
+            axis: RotationAxis::Normal,
+            transmission_coefficient: 0.8,
+            reflection_coefficient: 1.0,
+        };
+        let n_plane = DVec3::new(0.0, 1.0, 1.0).normalize();
+        let plane = Shape::Plane(Plane::new(DVec3::new(1.0, 0.0, 0.0), n_plane, DVec3::X).unwrap());
+        let centre = DVec3::new(0.0, -1.0, 2.0);
+        let sphere = Shape::Sphere(Sphere::new(centre, 1.5).unwrap());
+        let cases = [
+            (
+                &plane,
+                DVec3::new(1.2, 2.0, 2.5),
+                DVec3::new(0.2, -0.5, -0.8),
+            ),
+            (
+                &plane,
+                DVec3::new(1.2, -2.0, -2.5),
+                DVec3::new(-0.3, 0.6, 0.7),
+            ),
+            (
+                &sphere,
+                DVec3::new(-3.0, -0.5, 2.3),
+                DVec3::new(1.0, 0.1, -0.1),
+            ),
+            (
+                &sphere,
+                DVec3::new(0.2, -1.1, 2.0),
+                DVec3::new(0.4, 0.5, 0.6),
+            ),
+        ];
+        for (shape, origin, d) in cases {
+            let at = meet(shape, origin, d);
+            let d = d.normalize();
+            let n = match shape {
+                Shape::Sphere(_) => (at.point() - centre) / 1.5,
+                _ => n_plane,
+            };
+            let m = d.dot(n).signum() * n;
+            let t = d - d.dot(n) * n;
+            let expected = d.dot(n) * n + t * alpha.cos() + m.cross(t) * alpha.sin();
+            let (out, factor) = leaves(window.redirect(&at));
+            assert_eq!(factor, 0.8);
+            assert!((out - expected).length() < 1e-14, "{d}: {out} {expected}");
+            assert!((out.length() - 1.0).abs() < 1e-14);
+        }
     }
 }
