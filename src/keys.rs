@@ -7,6 +7,9 @@
 //! and a `build` that checks what no single value can (a direction parallel to another) and
 //! makes the type.
 
+use std::fmt;
+use std::marker::PhantomData;
+
 use glam::{DMat3, DVec2, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
@@ -101,13 +104,55 @@ impl<'de> Deserialize<'de> for NonZero {
     }
 }
 
+/// Exactly `N` values: an array of fixed length. (`[T; N]` read from TOML drops the
+/// elements after the `N`th without a word; this refuses them.)
+#[derive(Debug, Clone, Copy)]
+pub struct Array<T, const N: usize>(pub [T; N]);
+
+impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Array<T, N> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Exactly<T, const N: usize>(PhantomData<T>);
+
+        impl<'de, T: Deserialize<'de>, const N: usize> de::Visitor<'de> for Exactly<T, N> {
+            type Value = [T; N];
+
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                write!(f, "an array of {N} values")
+            }
+
+            fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<[T; N], A::Error> {
+                let mut values = Vec::with_capacity(N);
+                while values.len() < N {
+                    match seq.next_element()? {
+                        Some(value) => values.push(value),
+                        None => break,
+                    }
+                }
+                let mut given = values.len();
+                while seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    given += 1;
+                }
+                match values.try_into() {
+                    Ok(values) if given == N => Ok(values),
+                    _ => Err(de::Error::custom(format!(
+                        "expected an array of {N} values, got {given} value{}",
+                        if given == 1 { "" } else { "s" }
+                    ))),
+                }
+            }
+        }
+
+        d.deserialize_seq(Exactly(PhantomData)).map(Array)
+    }
+}
+
 /// Three finite numbers: a point, a vector or an RGB colour.
 #[derive(Debug, Clone, Copy)]
 pub struct Vector(pub DVec3);
 
 impl<'de> Deserialize<'de> for Vector {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let [x, y, z] = <[Finite; 3]>::deserialize(d)?;
+        let [x, y, z] = Array::<Finite, 3>::deserialize(d)?.0;
         Ok(Vector(DVec3::new(x.0, y.0, z.0)))
     }
 }
@@ -118,7 +163,7 @@ pub struct Vector2(pub DVec2);
 
 impl<'de> Deserialize<'de> for Vector2 {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let [x, y] = <[Finite; 2]>::deserialize(d)?;
+        let [x, y] = Array::<Finite, 2>::deserialize(d)?.0;
         Ok(Vector2(DVec2::new(x.0, y.0)))
     }
 }
@@ -163,9 +208,9 @@ pub struct Matrix(pub DMat3);
 
 impl<'de> Deserialize<'de> for Matrix {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let rows = <[[Finite; 3]; 3]>::deserialize(d)?;
+        let rows = Array::<Array<Finite, 3>, 3>::deserialize(d)?.0;
         Ok(Matrix(
-            DMat3::from_cols_array_2d(&rows.map(|r| r.map(|x| x.0))).transpose(),
+            DMat3::from_cols_array_2d(&rows.map(|r| r.0.map(|x| x.0))).transpose(),
         ))
     }
 }

@@ -18,19 +18,19 @@ use timbre::scene::studio::Studio;
 use timbre::scene::{RenderSettings, SceneDescription};
 use timbre::trajectories::{self, TracedRay};
 
-/// `println!` of [`printable`] text that ignores a closed standard output
+/// `println!` of [`printable`](timbre::text::printable) text that ignores a closed standard output
 /// (`timbre check s.toml | head -1`) instead of panicking.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), "{}", $crate::printable(&format!($($arg)*)));
+        let _ = writeln!(std::io::stdout(), "{}", timbre::text::printable(&format!($($arg)*)));
     }};
 }
 
-/// `eprintln!` of [`printable`] text.
+/// `eprintln!` of [`printable`](timbre::text::printable) text.
 macro_rules! err {
     ($($arg:tt)*) => {{
-        eprintln!("{}", $crate::printable(&format!($($arg)*)));
+        eprintln!("{}", timbre::text::printable(&format!($($arg)*)));
     }};
 }
 
@@ -40,46 +40,6 @@ mod cli;
 use cli::args::{Cli, Command, Encoding, ServeArgs};
 use cli::progress::spinner;
 use cli::render::run_render;
-
-/// Longest run of characters without a space that is printed whole.
-const LONGEST_WORD: usize = 200;
-
-/// `text` made safe to print on a terminal as one line, whatever a file put in it: control
-/// characters (line breaks too: a name cannot start a line that looks like timbre's own) and
-/// invisible or reordering marks are escaped
-/// ([`timbre::text::escape`]), so a name or token cannot drive the terminal; a run of more than
-/// [`LONGEST_WORD`] characters without a space (a 10 MB key, a 309-digit number) is cut in the
-/// middle, saying how much was left out.
-fn printable(text: &str) -> String {
-    let mut out = String::with_capacity(text.len().min(1 << 16));
-    let mut word = String::new();
-    let flush = |word: &mut String, out: &mut String| {
-        let n = word.chars().count();
-        if n > LONGEST_WORD {
-            let head: String = word.chars().take(LONGEST_WORD - 40).collect();
-            let tail: String = word.chars().skip(n - 20).collect();
-            let left_out = n - LONGEST_WORD + 20;
-            out.push_str(&format!("{head}…[{left_out} characters left out]…{tail}"));
-        } else {
-            out.push_str(word);
-        }
-        word.clear();
-    };
-    for c in text.chars() {
-        match c {
-            ' ' => {
-                flush(&mut word, &mut out);
-                out.push(c);
-            }
-            c => match timbre::text::escape(c) {
-                Some(e) => word.push_str(&e),
-                None => word.push(c),
-            },
-        }
-    }
-    flush(&mut word, &mut out);
-    out
-}
 
 /// A failure, with the exit code it maps to: 2 for bad input, 1 for everything else.
 struct Failure {

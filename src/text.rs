@@ -23,6 +23,46 @@ pub fn escape(c: char) -> Option<String> {
     }
 }
 
+/// Longest run of characters without a space that is printed whole.
+pub const LONGEST_WORD: usize = 200;
+
+/// `text` made safe to print on a terminal as one line, whatever a file put in it: control
+/// characters (line breaks too: a name cannot start a line that looks like timbre's own) and
+/// invisible or reordering marks are escaped
+/// ([`escape`]), so a name or token cannot drive the terminal; a run of more than
+/// [`LONGEST_WORD`] characters without a space (a 10 MB key, a 309-digit number) is cut in the
+/// middle, saying how much was left out.
+pub fn printable(text: &str) -> String {
+    let mut out = String::with_capacity(text.len().min(1 << 16));
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        let n = word.chars().count();
+        if n > LONGEST_WORD {
+            let head: String = word.chars().take(LONGEST_WORD - 40).collect();
+            let tail: String = word.chars().skip(n - 20).collect();
+            let left_out = n - LONGEST_WORD + 20;
+            out.push_str(&format!("{head}…[{left_out} characters left out]…{tail}"));
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for c in text.chars() {
+        match c {
+            ' ' => {
+                flush(&mut word, &mut out);
+                out.push(c);
+            }
+            c => match escape(c) {
+                Some(e) => word.push_str(&e),
+                None => word.push(c),
+            },
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

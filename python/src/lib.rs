@@ -14,6 +14,7 @@ use std::time::Duration;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::IntoPyObjectExt;
+use pyo3::PyTypeInfo;
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileNotFoundError, PyKeyError, PyMemoryError, PyOSError, PyRuntimeError, PyValueError,
@@ -86,6 +87,12 @@ struct NativeScene {
     state: Mutex<State>,
 }
 
+/// An exception of type `E` whose message is made safe to print as the CLI's messages are
+/// (`timbre::text::printable`): an uncaught traceback cannot drive the terminal.
+fn error<E: PyTypeInfo>(message: impl std::fmt::Display) -> PyErr {
+    PyErr::new::<E, _>(timbre::text::printable(&message.to_string()))
+}
+
 /// `SceneError` with its message and place.
 fn located(
     py: Python<'_>,
@@ -94,7 +101,7 @@ fn located(
     line: Option<usize>,
     column: Option<usize>,
 ) -> PyErr {
-    let err = SceneError::new_err(message);
+    let err = error::<SceneError>(message);
     let value = err.value(py);
     let set = || -> PyResult<()> {
         value.setattr("path", path)?;
@@ -113,9 +120,9 @@ fn scene_error(py: Python<'_>, e: SceneFileError) -> PyErr {
     let message = e.to_string();
     match e {
         SceneFileError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-            PyFileNotFoundError::new_err(message)
+            error::<PyFileNotFoundError>(message)
         }
-        SceneFileError::Io { .. } => PyOSError::new_err(message),
+        SceneFileError::Io { .. } => error::<PyOSError>(message),
         SceneFileError::Invalid {
             path, line, column, ..
         } => located(py, message, path, Some(line), Some(column)),
@@ -132,7 +139,7 @@ fn about_scene(py: Python<'_>, source: &Source, message: impl std::fmt::Display)
 /// A trajectory error: Embree's own is timbre's failure, too many points the scene's.
 fn trajectory_error(py: Python<'_>, source: &Source, e: TrajectoryError) -> PyErr {
     match e {
-        TrajectoryError::Embree(e) => PyRuntimeError::new_err(e.to_string()),
+        TrajectoryError::Embree(e) => error::<PyRuntimeError>(e.to_string()),
         e => about_scene(py, source, e),
     }
 }
@@ -142,12 +149,12 @@ fn trajectory_error(py: Python<'_>, source: &Source, e: TrajectoryError) -> PyEr
 /// file is about the scene, Embree's failures are a RuntimeError.
 fn unprepared(py: Python<'_>, source: &Source, e: PrepareError) -> PyErr {
     match e {
-        PrepareError::Settings(m) => PyValueError::new_err(m),
+        PrepareError::Settings(m) => error::<PyValueError>(m),
         PrepareError::Stereo(m) => about_scene(py, source, m),
-        e @ PrepareError::Memory { .. } => PyMemoryError::new_err(e.to_string()),
+        e @ PrepareError::Memory { .. } => error::<PyMemoryError>(e.to_string()),
         PrepareError::Trajectories(e) => trajectory_error(py, source, e),
         e @ (PrepareError::Embree(_) | PrepareError::Build(_)) => {
-            PyRuntimeError::new_err(e.to_string())
+            error::<PyRuntimeError>(e.to_string())
         }
     }
 }
@@ -166,7 +173,7 @@ fn detached<T: Send + 'static>(
             // Nobody may be waiting any more.
             let _ = send.send(work());
         })
-        .map_err(|e| PyRuntimeError::new_err(format!("could not start a thread: {e}")))?;
+        .map_err(|e| error::<PyRuntimeError>(format!("could not start a thread: {e}")))?;
     let mut receive = Some(receive);
     loop {
         // The receiver goes with the GIL-free closure and comes back (it is not `Sync`).
@@ -179,7 +186,7 @@ fn detached<T: Send + 'static>(
             Ok(done) => return Ok(done),
             Err(RecvTimeoutError::Timeout) => py.check_signals()?,
             Err(RecvTimeoutError::Disconnected) => {
-                return Err(PyRuntimeError::new_err("timbre's worker thread panicked"));
+                return Err(error::<PyRuntimeError>("timbre's worker thread panicked"));
             }
         }
     }
@@ -189,7 +196,7 @@ fn detached<T: Send + 'static>(
 fn buffer<T>(n: usize) -> PyResult<Vec<T>> {
     let mut v = Vec::new();
     v.try_reserve_exact(n).map_err(|_| {
-        PyMemoryError::new_err(format!(
+        error::<PyMemoryError>(format!(
             "not enough memory for {} MiB of results",
             (n * size_of::<T>()) >> 20
         ))
@@ -216,14 +223,14 @@ fn setting_values(given: &[(String, Bound<'_, PyAny>)]) -> PyResult<SettingValue
     let mut values = SettingValues::default();
     for (key, value) in given {
         let setting = Setting::named(key)
-            .ok_or_else(|| PyValueError::new_err(format!("no render setting is called '{key}'")))?;
+            .ok_or_else(|| error::<PyValueError>(format!("no render setting is called '{key}'")))?;
         let value = match setting.kind {
             Kind::Whole { .. } => Value::Whole(value.extract()?),
             Kind::Switch => Value::Switch(value.extract()?),
         };
         values
             .push(setting, value)
-            .map_err(|e| PyValueError::new_err(format!("{key}: {e}")))?;
+            .map_err(|e| error::<PyValueError>(format!("{key}: {e}")))?;
     }
     Ok(values)
 }
@@ -249,8 +256,8 @@ fn parse_overrides(set: Vec<String>) -> PyResult<Vec<Override>> {
 
 fn render_error(e: RenderError) -> PyErr {
     match e {
-        RenderError::Memory { .. } => PyMemoryError::new_err(e.to_string()),
-        e => PyRuntimeError::new_err(e.to_string()),
+        RenderError::Memory { .. } => error::<PyMemoryError>(e.to_string()),
+        e => error::<PyRuntimeError>(e.to_string()),
     }
 }
 
@@ -345,7 +352,7 @@ fn interruptible<T: Send>(
                 result
             })
             .map_err(|e| {
-                PyRuntimeError::new_err(format!("could not start a render thread: {e}"))
+                error::<PyRuntimeError>(format!("could not start a render thread: {e}"))
             })?;
         let mut reported = 0;
         let mut failure = None;
@@ -371,7 +378,7 @@ fn interruptible<T: Send>(
         }
         let result = worker
             .join()
-            .map_err(|_| PyRuntimeError::new_err("the render thread panicked"))?;
+            .map_err(|_| error::<PyRuntimeError>("the render thread panicked"))?;
         match failure {
             Some(e) => Err(e),
             None => Ok(result),
@@ -446,7 +453,7 @@ impl NativeScene {
     fn from_file(py: Python<'_>, path: PathBuf, set: Vec<String>) -> PyResult<NativeScene> {
         // Absolute, so that the paths in it stay found after the working directory changes.
         let path = std::path::absolute(&path)
-            .map_err(|e| PyOSError::new_err(format!("{}: {e}", path.display())))?;
+            .map_err(|e| error::<PyOSError>(format!("{}: {e}", path.display())))?;
         let name = path.display().to_string();
         NativeScene::open(py, Some(path), String::new(), name, set)
     }
@@ -484,7 +491,7 @@ impl NativeScene {
                 .iter()
                 .find(|k| !old.overrides.iter().any(|o| o.key == **k))
             {
-                return Err(PyKeyError::new_err(k.join(".")));
+                return Err(error::<PyKeyError>(k.join(".")));
             }
             let mut overrides: Vec<Override> = old
                 .overrides
@@ -545,7 +552,7 @@ impl NativeScene {
         let table: toml::Table = self
             .text()?
             .parse()
-            .map_err(|e: toml::de::Error| PyValueError::new_err(e.to_string()))?;
+            .map_err(|e: toml::de::Error| error::<PyValueError>(e.to_string()))?;
         let mut value = toml::Value::Table(table);
         for part in key.split('.').map(str::trim) {
             let inner = match value {
@@ -556,7 +563,7 @@ impl NativeScene {
                 },
                 _ => None,
             };
-            value = inner.ok_or_else(|| PyKeyError::new_err(key.to_string()))?;
+            value = inner.ok_or_else(|| error::<PyKeyError>(key.to_string()))?;
         }
         to_python(py, value)
     }
@@ -621,7 +628,7 @@ impl NativeScene {
         let mut channels = 0;
         for name in &aovs {
             let Some((_, n)) = AOVS.iter().find(|(a, _)| a == name) else {
-                return Err(PyValueError::new_err(format!(
+                return Err(error::<PyValueError>(format!(
                     "unknown AOV '{name}': the AOVs are depth, normal and object"
                 )));
             };
@@ -630,7 +637,7 @@ impl NativeScene {
         settings.aovs = !aovs.is_empty();
         if let Some(t) = threads {
             if !(1..=MAX_THREADS).contains(&t) {
-                return Err(PyValueError::new_err(format!(
+                return Err(error::<PyValueError>(format!(
                     "threads must be from 1 to {MAX_THREADS}, got {t}"
                 )));
             }
@@ -644,7 +651,7 @@ impl NativeScene {
             Some((x0, x1, y0, y1)) => {
                 let b = PixelBounds { x0, x1, y0, y1 };
                 if b.is_empty() || !full.contains(&b) {
-                    return Err(PyValueError::new_err(format!(
+                    return Err(error::<PyValueError>(format!(
                         "pixel_bounds ({x0}, {x1}, {y0}, {y1}) are not pixels of the {}x{} image: x0 < x1 <= width and y0 < y1 <= height are needed",
                         settings.width, settings.height
                     )));
@@ -653,7 +660,7 @@ impl NativeScene {
             }
         };
         if *stereo != Stereo::Mono && (settings.aovs || bounds != full) {
-            return Err(PyValueError::new_err(
+            return Err(error::<PyValueError>(
                 "aovs and pixel_bounds work with single views only (camera.stereo = \"none\")",
             ));
         }
@@ -691,7 +698,7 @@ impl NativeScene {
         // Stopped only by an exception, which `interruptible` raises.
         let image = rendered
             .map_err(render_error)?
-            .ok_or_else(|| PyRuntimeError::new_err("the render stopped"))?;
+            .ok_or_else(|| error::<PyRuntimeError>("the render stopped"))?;
         let out = PyDict::new(py);
         out.set_item("rgb", rgb(py, &image)?)?;
         for name in &aovs {
@@ -718,7 +725,7 @@ impl NativeScene {
         })?
         .map_err(|e| unprepared(py, &state.source, e))?;
         let rays = trajectories::traced_rays(&state.description, &traced);
-        serde_json::to_string(&rays).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        serde_json::to_string(&rays).map_err(|e| error::<PyRuntimeError>(e.to_string()))
     }
 }
 
@@ -728,7 +735,7 @@ fn rgb8_image(rgb: &PyReadonlyArray3<'_, f32>) -> PyResult<image::RgbImage> {
     let shape = rgb.shape();
     let (height, width) = (shape[0], shape[1]);
     if shape[2] != 3 || u32::try_from(width).is_err() || u32::try_from(height).is_err() {
-        return Err(PyValueError::new_err(format!(
+        return Err(error::<PyValueError>(format!(
             "an array of shape {shape:?} is not an image's colours: (height, width, 3) is needed"
         )));
     }
@@ -772,14 +779,14 @@ fn png_bytes<'py>(
     encoder
         .write_header()
         .and_then(|mut w| w.write_image_data(&image))
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        .map_err(|e| error::<PyRuntimeError>(e.to_string()))?;
     Ok(PyBytes::new(py, &bytes))
 }
 
 /// The version of the Embree library timbre runs on.
 #[pyfunction]
 fn embree_version() -> PyResult<String> {
-    let device = Device::new("").map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let device = Device::new("").map_err(|e| error::<PyRuntimeError>(e.to_string()))?;
     Ok(device.version())
 }
 

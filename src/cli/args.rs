@@ -8,7 +8,7 @@ use timbre::display::Server;
 use timbre::render::PixelBounds;
 use timbre::scene::RenderSettings;
 use timbre::scene::file::Override;
-use timbre::scene::settings::{Kind, SETTINGS, SettingValues, Value};
+use timbre::scene::settings::{SETTINGS, SettingValues, Value, whole_number};
 
 #[derive(Parser)]
 #[command(
@@ -52,10 +52,10 @@ pub enum Command {
         output: PathBuf,
         /// Least number of triangles (the mesh has the smallest grid with at least this many),
         /// at most 200 million.
-        #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..=200_000_000))]
+        #[arg(long, default_value_t = 10_000, value_parser = whole::<u64>(1, 200_000_000))]
         triangles: u64,
         /// Height of the bumps relative to the radius (0: a plain faceted sphere).
-        #[arg(long, default_value_t = 0.1)]
+        #[arg(long, default_value_t = 0.1, value_parser = number)]
         displacement: f64,
         /// PLY encoding.
         #[arg(long, value_enum, default_value_t = Encoding::BinaryLittleEndian)]
@@ -93,12 +93,8 @@ impl clap::Args for SettingArgs {
                 .long(setting.key.replace('_', "-"))
                 .value_name(setting.key.to_uppercase())
                 .help(format!("{} (overrides the scene file)", setting.help));
-            command.arg(match setting.kind {
-                Kind::Whole { least, most } => {
-                    arg.value_parser(clap::value_parser!(u64).range(least..=most))
-                }
-                Kind::Switch => arg.value_parser(clap::value_parser!(bool)),
-            })
+            let kind = setting.kind;
+            command.arg(arg.value_parser(move |text: &str| kind.parse(text)))
         })
     }
 
@@ -116,15 +112,7 @@ impl clap::FromArgMatches for SettingArgs {
 
     fn update_from_arg_matches(&mut self, matches: &clap::ArgMatches) -> Result<(), clap::Error> {
         for setting in &SETTINGS {
-            let value = match setting.kind {
-                Kind::Whole { .. } => matches
-                    .get_one::<u64>(setting.key)
-                    .map(|n| Value::Whole(*n)),
-                Kind::Switch => matches
-                    .get_one::<bool>(setting.key)
-                    .map(|b| Value::Switch(*b)),
-            };
-            if let Some(value) = value {
+            if let Some(&value) = matches.get_one::<Value>(setting.key) {
                 // Parsed in range, so the setting takes it.
                 self.0
                     .push(setting, value)
@@ -151,7 +139,7 @@ pub struct ServeArgs {
     #[command(flatten)]
     pub settings: SettingArgs,
     /// Worker threads (default: all cores), at most 1024.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = whole::<u32>(1, 1024))]
     pub threads: Option<u32>,
     /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -168,7 +156,7 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub settings: SettingArgs,
     /// Worker threads (default: all cores), at most 1024.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = whole::<u32>(1, 1024))]
     pub threads: Option<u32>,
     /// Extra EXR channels: depth (depth.Z), normal (normal.X/Y/Z), object (object.id).
     #[arg(long, value_delimiter = ',')]
@@ -195,7 +183,7 @@ pub struct RenderArgs {
     pub samples: Option<SamplesArg>,
     /// Save a checkpoint (OUTPUT.checkpoint/) every SECONDS, and on SIGINT, SIGTERM (then stop)
     /// and SIGUSR1 (then go on).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", value_parser = number)]
     pub checkpoint_interval: Option<f64>,
     /// Continue from the checkpoint of the same output, if there is one (checkpoints are saved
     /// as with --checkpoint-interval).
@@ -206,6 +194,23 @@ pub struct RenderArgs {
     /// if tev restarts; a tev that cannot be reached is a warning.
     #[arg(long, value_name = "HOST:PORT")]
     pub display_server: Option<Server>,
+}
+
+/// A parser of whole numbers from `least` to `most` (within `T`), in the render settings'
+/// words.
+fn whole<T: TryFrom<u64>>(least: u64, most: u64) -> impl Fn(&str) -> Result<T, String> + Clone {
+    move |text| {
+        let n = whole_number(text, least, most)?;
+        T::try_from(n).map_err(|_| format!("{n} is too large here"))
+    }
+}
+
+/// A finite number.
+fn number(text: &str) -> Result<f64, String> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| format!("expected a number, got '{text}'"))
 }
 
 /// `--tile K/N`.

@@ -7,7 +7,7 @@ use serde::Deserialize;
 
 use super::Part;
 use crate::geometry::Arrow;
-use crate::keys::{Direction, Positive, Vector};
+use crate::keys::{Array, Direction, Positive, Vector};
 use crate::math::Colour;
 use crate::surfaces::{Coloured, Surface};
 
@@ -65,7 +65,7 @@ impl CoordinateSystem {
 #[serde(deny_unknown_fields)]
 pub struct CoordinateSystemKeys {
     origin: Option<Vector>,
-    axes: Option<[Direction; 3]>,
+    axes: Option<Array<Direction, 3>>,
     length: Option<Positive>,
     shaft_radius: Option<Positive>,
 }
@@ -77,7 +77,7 @@ impl CoordinateSystemKeys {
             origin: self.origin.map_or(DVec3::ZERO, |o| o.0),
             axes: self
                 .axes
-                .map_or([DVec3::X, DVec3::Y, DVec3::Z], |a| a.map(|d| d.0)),
+                .map_or([DVec3::X, DVec3::Y, DVec3::Z], |a| a.0.map(|d| d.0)),
             names: ["x axis", "y axis", "z axis"],
             length,
             shaft_radius: self.shaft_radius.map_or(0.025 * length, |r| r.0),

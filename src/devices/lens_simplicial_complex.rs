@@ -26,7 +26,7 @@ use serde::Deserialize;
 
 use super::{Edges, LensDevice, Part};
 use crate::geometry::{Shape, TriangleMesh};
-use crate::keys::{Coefficient, Vector};
+use crate::keys::{Array, Coefficient, Vector};
 use crate::surfaces::{Surface, ThinLens};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -392,7 +392,7 @@ fn inside(p: &[DVec3], cell: [usize; 4], x: DVec3) -> bool {
 pub struct LensSimplicialComplexKeys {
     vertices: Vec<Vector>,
     vertices_v: Vec<Vector>,
-    edges: Vec<[usize; 2]>,
+    edges: Vec<Array<usize, 2>>,
     lens_transmission_coefficient: Option<Coefficient>,
 }
 
@@ -402,7 +402,7 @@ impl LensSimplicialComplexKeys {
         Ok(Box::new(LensSimplicialComplex {
             vertices: points(self.vertices),
             vertices_v: points(self.vertices_v),
-            edges: self.edges,
+            edges: self.edges.into_iter().map(|e| e.0).collect(),
             lens_transmission_coefficient: crate::keys::coefficient(
                 self.lens_transmission_coefficient,
             ),

@@ -15,7 +15,7 @@ use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::{AnalyticShape, GeometryError, Shape};
-use crate::keys::Vector;
+use crate::keys::{Array, Vector};
 use crate::math::{Frame, nearest_in};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -178,13 +178,13 @@ impl AnalyticShape for BilinearSurface {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BilinearSurfaceKeys {
-    corners: [Vector; 4],
+    corners: Array<Vector, 4>,
 }
 
 impl BilinearSurfaceKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::BilinearSurface(BilinearSurface::new(
-            self.corners.map(|c| c.0),
+            self.corners.0.map(|c| c.0),
         )?))
     }
 }

@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 use super::polyhedron::{Polyhedral, Polyhedron};
 use super::{GeometryError, Shape, parallelepiped};
-use crate::keys::{Positive, Vector};
+use crate::keys::{Array, Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cuboid {
@@ -49,12 +49,12 @@ impl Polyhedral for Cuboid {
 #[serde(deny_unknown_fields)]
 pub struct CuboidKeys {
     centre: Vector,
-    size: [Positive; 3],
+    size: Array<Positive, 3>,
 }
 
 impl CuboidKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let [x, y, z] = self.size.map(|s| s.0);
+        let [x, y, z] = self.size.0.map(|s| s.0);
         Ok(Shape::Cuboid(Cuboid::new(
             self.centre.0,
             DVec3::new(x, y, z),

@@ -6,7 +6,7 @@ use serde::Deserialize;
 
 use super::polyhedron::{Face, Polyhedral, Polyhedron, spans_no_volume};
 use super::{GeometryError, Shape};
-use crate::keys::Vector;
+use crate::keys::{Array, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parallelepiped {
@@ -73,14 +73,14 @@ pub(super) fn polyhedron(centre: DVec3, edges: [DVec3; 3]) -> Polyhedron {
 #[serde(deny_unknown_fields)]
 pub struct ParallelepipedKeys {
     centre: Vector,
-    edges: [Vector; 3],
+    edges: Array<Vector, 3>,
 }
 
 impl ParallelepipedKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::Parallelepiped(Parallelepiped::new(
             self.centre.0,
-            self.edges.map(|e| e.0),
+            self.edges.0.map(|e| e.0),
         )?))
     }
 }

@@ -48,9 +48,15 @@ impl Transform {
                 value: angle,
             });
         }
-        if scale.x * scale.y * scale.z == 0.0 {
+        if scale.abs().min_element() == 0.0 {
             return Err(GeometryError::Degenerate(format!(
                 "singular transform: scale {scale} has a zero factor"
+            )));
+        }
+        if scale.x * scale.y * scale.z == 0.0 {
+            return Err(GeometryError::Degenerate(format!(
+                "singular transform: the scale factors {scale} multiply to a number too \
+                 small to hold (below 1e-308)"
             )));
         }
         let axis = if angle == 0.0 {
@@ -85,6 +91,36 @@ impl Transform {
     pub fn then(&self, outer: &Transform) -> Transform {
         Transform {
             affine: outer.affine * self.affine,
+        }
+    }
+
+    /// Checks a map made of several (an object's transform and its groups'), each within
+    /// range, for what their product may break: matrix entries and translation of magnitude at
+    /// most [`MAX_MAGNITUDE`], and an inverse.
+    pub fn check_product(&self) -> Result<(), GeometryError> {
+        let m = self.affine.matrix3;
+        let largest = m.abs().to_cols_array().into_iter().fold(0.0, f64::max);
+        let moved = self.affine.translation.abs().max_element();
+        let refuse = |what: String| {
+            Err(GeometryError::Degenerate(format!(
+                "with the transforms of the groups around it, {what}"
+            )))
+        };
+        if !(largest <= MAX_MAGNITUDE) {
+            refuse(format!(
+                "the map scales by up to {largest:e}, more than {MAX_MAGNITUDE:e}"
+            ))
+        } else if !(moved <= MAX_MAGNITUDE) {
+            refuse(format!(
+                "the map moves points by up to {moved:e}, more than {MAX_MAGNITUDE:e}"
+            ))
+        } else if super::check_invertible(m).is_err() {
+            refuse(format!(
+                "the map is singular (its determinant is {:e})",
+                m.determinant()
+            ))
+        } else {
+            Ok(())
         }
     }
 

@@ -12,7 +12,7 @@ use serde::Deserialize;
 
 use super::plane::plane_distance;
 use super::{GeometryError, Shape, Transform};
-use crate::keys::Vector;
+use crate::keys::{Array, Vector};
 use crate::math::Frame;
 use crate::mesh;
 
@@ -259,7 +259,7 @@ impl TriangleMesh {
 #[serde(deny_unknown_fields)]
 pub struct TriangleMeshKeys {
     vertices: Vec<Vector>,
-    triangles: Vec<[u32; 3]>,
+    triangles: Vec<Array<u32, 3>>,
 }
 
 impl TriangleMeshKeys {
@@ -267,7 +267,7 @@ impl TriangleMeshKeys {
         let vertices = self.vertices.into_iter().map(|v| v.0).collect();
         Ok(Shape::TriangleMesh(TriangleMesh::new(
             vertices,
-            self.triangles,
+            self.triangles.into_iter().map(|t| t.0).collect(),
         )?))
     }
 }

@@ -7,7 +7,7 @@ use serde::Deserialize;
 
 use super::polyhedron::{Face, Polyhedral, Polyhedron, spans_no_volume};
 use super::{GeometryError, Shape};
-use crate::keys::Vector;
+use crate::keys::{Array, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct TriangularPrism {
@@ -70,14 +70,14 @@ impl Polyhedral for TriangularPrism {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TriangularPrismKeys {
-    vertices: [Vector; 3],
+    vertices: Array<Vector, 3>,
     extrusion: Vector,
 }
 
 impl TriangularPrismKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::TriangularPrism(TriangularPrism::new(
-            self.vertices.map(|v| v.0),
+            self.vertices.0.map(|v| v.0),
             self.extrusion.0,
         )?))
     }

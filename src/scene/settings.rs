@@ -202,6 +202,31 @@ impl Kind {
             Kind::Switch => "true or false".into(),
         }
     }
+
+    /// A value written as on the command line (`640`, `true`), or what the kind takes instead.
+    pub fn parse(self, text: &str) -> Result<Value, String> {
+        match self {
+            Kind::Whole { least, most } => whole_number(text, least, most).map(Value::Whole),
+            Kind::Switch => text
+                .parse::<bool>()
+                .map(Value::Switch)
+                .map_err(|_| format!("expected {}, got '{text}'", self.expected())),
+        }
+    }
+}
+
+/// A whole number from `least` to `most` written as on the command line, or the message that
+/// says so.
+pub fn whole_number(text: &str, least: u64, most: u64) -> Result<u64, String> {
+    text.parse::<u64>()
+        .ok()
+        .filter(|n| (least..=most).contains(n))
+        .ok_or_else(|| {
+            format!(
+                "expected {}, got '{text}'",
+                Kind::Whole { least, most }.expected()
+            )
+        })
 }
 
 impl std::fmt::Display for Value {

@@ -148,7 +148,8 @@ fn plain(message: &str) -> String {
         ("wanted string or table", "expected a name in quotes"),
     ];
     // Only outside `quoted` words: those are the file's own.
-    text.split('`')
+    let text = text
+        .split('`')
         .enumerate()
         .map(|(k, part)| match k % 2 {
             0 => words
@@ -157,7 +158,66 @@ fn plain(message: &str) -> String {
             _ => part.to_string(),
         })
         .collect::<Vec<_>>()
-        .join("`")
+        .join("`");
+    expected_first(&text)
+}
+
+/// serde's "invalid type: string "a", expected a number" as the project says it: "expected a
+/// number, got the text "a"" (also for "invalid value" and "invalid length"), with what was
+/// given in the file's words (an array, a table, 1.5) and control characters in the text
+/// escaped as everywhere else (`\x1b`, not Rust's `\u{1b}`).
+fn expected_first(text: &str) -> String {
+    let serde_phrase = ["invalid type: ", "invalid value: ", "invalid length "]
+        .iter()
+        .find_map(|p| text.find(p).map(|at| (at, p.len())));
+    let Some((at, len)) = serde_phrase else {
+        return text.to_string();
+    };
+    let rest = &text[at + len..];
+    let Some(split) = rest.rfind(", expected ") else {
+        return text.to_string();
+    };
+    let given = &rest[..split];
+    let expected = &rest[split + ", expected ".len()..];
+    let unquote = |s: &str| s.trim_matches('`').to_string();
+    let given = match given.split_once(' ') {
+        _ if given == "sequence" => "an array".to_string(),
+        _ if given == "map" => "a table".to_string(),
+        _ if given == "unit value" => "nothing".to_string(),
+        Some(("string", quoted)) => format!("the text {}", control_escapes(quoted)),
+        Some(("integer" | "number" | "boolean" | "character", value)) => unquote(value),
+        _ if given.bytes().all(|b| b.is_ascii_digit()) => {
+            format!("{given} value{}", if given == "1" { "" } else { "s" })
+        }
+        _ => given.to_string(),
+    };
+    format!("{}expected {expected}, got {given}", &text[..at])
+}
+
+/// Rust's `\u{1b}` escapes of control characters as `\x1b` ([`crate::text::escape`]).
+fn control_escapes(debug: &str) -> String {
+    let mut out = String::new();
+    let mut rest = debug;
+    while let Some(at) = rest.find("\\u{") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 3..];
+        let code = after
+            .split_once('}')
+            .and_then(|(hex, tail)| Some((u32::from_str_radix(hex, 16).ok()?, tail)))
+            .and_then(|(n, tail)| Some((char::from_u32(n)?, tail)));
+        match code.and_then(|(c, tail)| Some((crate::text::escape(c)?, tail))) {
+            Some((escaped, tail)) => {
+                out.push_str(&escaped);
+                rest = tail;
+            }
+            None => {
+                out.push_str(&rest[at..at + 3]);
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The TOML parser's `message` at `span` of `text` in the scene file's words, where the parser's

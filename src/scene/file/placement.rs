@@ -18,7 +18,7 @@ use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::devices::{AidKeys, CoordinateSystem, Edges, LensesKeys, Part};
 use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
-use crate::keys::{Finite, Positive, Vector};
+use crate::keys::{Array, Finite, Positive, Vector};
 use crate::math::Colour;
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
@@ -67,7 +67,7 @@ pub(super) struct ObjectSection {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SurfaceAxesSection {
-    coordinates: [Finite; 2],
+    coordinates: Array<Finite, 2>,
     length: Option<Positive>,
     shaft_radius: Option<Positive>,
 }
@@ -75,7 +75,7 @@ struct SurfaceAxesSection {
 impl SurfaceAxesSection {
     /// The arrows at the point of `shape` (in world coordinates) with these coordinates.
     fn parts(&self, shape: &Shape) -> Result<Vec<Part>, String> {
-        let [u, v] = self.coordinates.map(|c| c.0);
+        let [u, v] = self.coordinates.0.map(|c| c.0);
         let p = shape.point_at(DVec2::new(u, v)).ok_or_else(|| {
             format!(
                 "surface_axes: the {} has no point with surface coordinates ({u}, {v}) \
@@ -660,10 +660,9 @@ impl Placer {
         let own = match transform {
             Some(t) => {
                 let span = t.span();
-                t.into_inner()
-                    .build()
+                let own = t.into_inner().build().map(|t| t.then(parent));
+                own.and_then(|own| own.check_product().map(|()| own))
                     .map_err(|e| source.error(Some(span), format!("'{name}': {e}")))?
-                    .then(parent)
             }
             None => *parent,
         };
