@@ -224,7 +224,12 @@ fn absurd_thread_counts_are_refused_by_the_command_line() {
         &["render", "--threads", "100000", "-o", "x.png"],
     );
     assert_eq!(run.code, Some(2), "{}", run.stderr);
-    assert!(run.stderr.contains("1..=1024"), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("expected a whole number from 1 to 1024, got '100000'"),
+        "{}",
+        run.stderr
+    );
     assert!(!dir.path().join("x.png").exists());
 }
 
@@ -323,9 +328,122 @@ fn every_file_of_the_malformed_corpus_gets_its_one_line_message() {
         }
         // No Rust type names or `Debug` output.
         for rust in [
-            "Section", "u32", "i128", "f64", "struct", "enum", "Some(", "{ ",
+            "Section",
+            "u32",
+            "i64",
+            "i128",
+            "f64",
+            "struct",
+            "enum",
+            "Some(",
+            "{ ",
+            "invalid type",
+            "invalid length",
+            "sequence",
+            "\\u{1b}",
         ] {
             assert!(!run.stderr.contains(rust), "{rust}: {what}");
         }
     }
+}
+
+/// Issue 36: a vector, matrix or array value has exactly the length it means, on the command
+/// line (`--set`) as in files; what was given is said in the file's words, its control
+/// characters escaped as everywhere else.
+#[test]
+fn set_values_have_exactly_their_length_and_are_described_in_the_files_words() {
+    let dir = TempDir::new().unwrap();
+    write(
+        dir.path(),
+        "s.toml",
+        format!("studio = \"empty\"\n{SPHERE}"),
+    );
+    let render = |set: &str| {
+        bounded(
+            dir.path(),
+            &["render", "s.toml", "-o", "x.png", "--set", set],
+        )
+    };
+    for (set, message) in [
+        (
+            "camera.position=[0, 0, -5, 9]",
+            "expected an array of 3 values, got 4 values",
+        ),
+        (
+            "object.0.transform.translate=[1, 2, 3, 4]",
+            "expected an array of 3 values, got 4 values",
+        ),
+        (
+            "object.0.transform.matrix=[[1, 0, 0, 5], [0, 1, 0, 0], [0, 0, 1, 0]]",
+            "expected an array of 3 values, got 4 values",
+        ),
+        (
+            "camera.view_direction=[0, 1]",
+            "expected an array of 3 values, got 2 values",
+        ),
+        (
+            r#"camera.position="\u001b[2J""#,
+            r#"expected an array of 3 values, got the text "\x1b[2J""#,
+        ),
+        ("render.shadows=[1]", "expected true or false, got an array"),
+    ] {
+        let run = render(set);
+        run.assert_bad_input(&["s.toml (with --set", message]);
+        assert!(!run.stderr.contains('\x1b') && !run.stderr.contains("\\u{1b}"));
+    }
+    assert!(!dir.path().join("x.png").exists());
+}
+
+/// Issue 36: the command line's numbers are refused in the words of the scene file's keys,
+/// not Rust's ("invalid digit found in string").
+#[test]
+fn option_values_are_refused_in_the_words_of_the_scene_file() {
+    let dir = TempDir::new().unwrap();
+    for (option, value, message) in [
+        (
+            "--width",
+            "1.5",
+            "expected a whole number from 1 to 4294967295, got '1.5'",
+        ),
+        (
+            "--seed",
+            "-1",
+            "expected a whole number from 0 to 18446744073709551615, got '-1'",
+        ),
+        (
+            "--spp",
+            "0",
+            "expected a whole number from 1 to 4294967295, got '0'",
+        ),
+        ("--shadows", "maybe", "expected true or false, got 'maybe'"),
+        (
+            "--threads",
+            "x",
+            "expected a whole number from 1 to 1024, got 'x'",
+        ),
+        (
+            "--checkpoint-interval",
+            "soon",
+            "expected a number, got 'soon'",
+        ),
+    ] {
+        let run = bounded(
+            dir.path(),
+            &["render", "-o", "x.png", &format!("{option}={value}")],
+        );
+        assert_eq!(run.code, Some(2), "{option}: {}", run.stderr);
+        assert!(run.stderr.contains(message), "{option}: {}", run.stderr);
+        assert!(!run.stderr.contains("invalid digit"), "{}", run.stderr);
+    }
+    let run = bounded(
+        dir.path(),
+        &["generate-mesh", "-o", "m.ply", "--triangles", "2e8"],
+    );
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+    assert!(
+        run.stderr
+            .contains("expected a whole number from 1 to 200000000, got '2e8'"),
+        "{}",
+        run.stderr
+    );
 }

@@ -210,6 +210,36 @@ def test_a_scene_error_carries_its_file_line_and_column_as_the_cli_says(timbre_c
     assert (caught.value.path, caught.value.line, caught.value.column) == ("<text>", 3, 29)
 
 
+def test_vectors_have_exactly_three_components_and_errors_are_escaped_as_the_cli_does(
+    timbre_cli, tmp_path
+):
+    """Issue 36: set() takes a vector of exactly its length, and no error text carries raw
+    control characters (an uncaught traceback could otherwise drive the terminal): the message
+    is the CLI's, escaped the same way."""
+    scene = timbre.studio()
+    for key, value in [("camera.position", [0, 0, -5, 9]), ("camera.view_direction", (0, 1)),
+                       ("camera.position", np.zeros(4))]:
+        with pytest.raises(timbre.SceneError, match="expected an array of 3 values, got"):
+            scene.set(key, value)
+    assert scene.overrides == {}
+    with pytest.raises(timbre.SceneError) as caught:
+        scene.set("cam\x1bera.position", [0, 0, 1])
+    assert "\x1b" not in str(caught.value) and "cam\\x1bera" in str(caught.value)
+    evil = tmp_path / "evil.toml"
+    evil.write_text(
+        'studio = "empty"\n[[object]]\nname = "evil\\u001b]0;pwned\\u0007"\n'
+        'shape = { type = "parallelogram", corner = [0, 0, 0], span_u = [0, 0, 0], '
+        'span_v = [0, 0, 0] }\nsurface = { type = "matt", colour = [1, 1, 1] }\n'
+    )
+    with pytest.raises(timbre.SceneError) as caught:
+        timbre.load(evil)
+    message = str(caught.value)
+    assert "\x1b" not in message and "\x07" not in message
+    assert "evil\\x1b]0;pwned\\x07" in message
+    done = subprocess.run([str(timbre_cli), "check", str(evil)], capture_output=True, text=True)
+    assert done.stderr.strip() == f"timbre: error: {message}"
+
+
 def test_other_errors_are_python_exceptions():
     with pytest.raises(FileNotFoundError):
         timbre.load(ROOT / "no-such-scene.toml")

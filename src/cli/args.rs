@@ -205,12 +205,10 @@ fn whole<T: TryFrom<u64>>(least: u64, most: u64) -> impl Fn(&str) -> Result<T, S
     }
 }
 
-/// A finite number.
+/// A number (its range is the option's to check).
 fn number(text: &str) -> Result<f64, String> {
     text.parse::<f64>()
-        .ok()
-        .filter(|x| x.is_finite())
-        .ok_or_else(|| format!("expected a number, got '{text}'"))
+        .map_err(|_| format!("expected a number, got '{text}'"))
 }
 
 /// `--tile K/N`.
