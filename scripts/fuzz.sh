@@ -46,7 +46,10 @@ seed() {
         set)
             printf 'render.width=8\ncamera.beta=[0,0,0.9]\n' > "$dir/two"
             printf 'object.1.surface.index_ratio=-1\n' > "$dir/index"
-            printf 'group.0.object.0.shape.radius=2\nstudio=empty\n' > "$dir/group" ;;
+            printf 'group.0.object.0.shape.radius=2\nstudio=empty\n' > "$dir/group"
+            printf 'object.3.transform.matrix=[[1,0,0],[0,2,0],[0,0,1]]\ncamera.position=[0,0,-5]\n' > "$dir/matrix"
+            printf 'device.0.lenses.number_of_lenses=7\ndevice.1.aid.axes=[[0,1,0],[1,0,0],[0,0,1]]\n' > "$dir/devices"
+            printf 'object.4.shape.edges=[[1,0,0],[0,1,0],[0,0,1]]\nobject.5.shape.corners=[[0,0,11],[1,0,11],[1,1,11],[0,1,11]]\n' > "$dir/fixed-lengths" ;;
     esac
 }
 
