@@ -9,73 +9,56 @@
 //! unless a reflection coefficient is given, as in Dr TIM's `PhaseHologram`). The same kick
 //! applied to −d′ gives −d, so the law is reciprocal.
 //!
-//! Phases, in Cartesian coordinates (u, v) of a flat surface measured from its reference point
-//! (a plane's point, a disc's centre, a parallelogram's corner):
-//! - linear (a prism): φ = g·(u, v), a constant kick g;
-//! - quadratic (a thin lens of focal length f about a centre c): φ = −|r − c|²/(2f), kick
-//!   −(r − c)/f, which focuses a parallel bundle at distance f (paraxially; exactly in the
-//!   limit of small apertures), Dr TIM's `PhaseHologramOfLens`;
-//! - lens (the exact lens phase): φ = −sign(f)(√(|r − c|² + f²) − |f|), the phase difference
-//!   between a plane wave along the normal and a spherical wave about the focal point at
-//!   distance f from c. Its kick −sign(f)(r − c)/√(|r − c|² + f²) is the tangential part of
-//!   the unit vector from r towards the focal point (away from it for f < 0), so a bundle along
-//!   the normal meets the focus exactly, and rays from a focal point leave exactly parallel,
-//!   at any aperture;
-//! - cylindrical (a cylindrical lens with its axis at an angle ψ from u): φ = −(m·(r − c))²/(2f)
-//!   with m the in-plane unit vector perpendicular to the axis.
+//! Each phase φ(u, v) is a kind in its own file (`phase = { type = "..." }`), in Cartesian
+//! coordinates (u, v) of a flat surface measured from its reference point (a plane's point, a
+//! disc's centre, a parallelogram's corner). Adding one: its struct with `gradient` and its
+//! keys in a new file, a line in [`PhaseKeys`] and a variant of [`Phase`].
+
+mod cylindrical;
+mod lens;
+mod linear;
+mod quadratic;
+
+pub use cylindrical::{CylindricalPhase, CylindricalPhaseKeys};
+pub use lens::{LensPhase, LensPhaseKeys};
+pub use linear::{LinearPhase, LinearPhaseKeys};
+pub use quadratic::{QuadraticPhase, QuadraticPhaseKeys};
 
 use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::{Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Finite, NonZero, Vector2, coefficient};
+use crate::keys::{Coefficient, coefficient, kinds};
 use crate::surfaces::{Redirection, Surface};
+
+kinds! {
+    /// A `phase` table: its `type` names the phase, its other keys are the phase's own.
+    pub enum PhaseKeys -> Phase {
+        Linear(LinearPhaseKeys),
+        Quadratic(QuadraticPhaseKeys),
+        Lens(LensPhaseKeys),
+        Cylindrical(CylindricalPhaseKeys),
+    }
+}
 
 /// The hologram's phase φ(u, v), as an optical path length.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Phase {
-    /// φ = gradient · (u, v).
-    Linear { gradient: DVec2 },
-    /// φ = −|r − centre|²/(2 focal_length).
-    Quadratic { focal_length: f64, centre: DVec2 },
-    /// φ = −sign(focal_length)(√(|r − centre|² + focal_length²) − |focal_length|).
-    Lens { focal_length: f64, centre: DVec2 },
-    /// φ = −(m·(r − centre))²/(2 focal_length), m ⊥ the cylinder axis, which is at
-    /// `axis_angle` (radians) from u towards v.
-    Cylindrical {
-        focal_length: f64,
-        centre: DVec2,
-        axis_angle: f64,
-    },
+    Linear(LinearPhase),
+    Quadratic(QuadraticPhase),
+    Lens(LensPhase),
+    Cylindrical(CylindricalPhase),
 }
 
 impl Phase {
     /// ∇φ at surface position `r`.
     pub fn gradient(&self, r: DVec2) -> DVec2 {
-        match *self {
-            Phase::Linear { gradient } => gradient,
-            Phase::Quadratic {
-                focal_length,
-                centre,
-            } => -(r - centre) / focal_length,
-            Phase::Lens {
-                focal_length,
-                centre,
-            } => {
-                let r = r - centre;
-                -r / (focal_length
-                    * (1.0 + r.length_squared() / (focal_length * focal_length)).sqrt())
-            }
-            Phase::Cylindrical {
-                focal_length,
-                centre,
-                axis_angle,
-            } => {
-                let (s, c) = axis_angle.sin_cos();
-                let m = DVec2::new(-s, c);
-                -m.dot(r - centre) * m / focal_length
-            }
+        match self {
+            Phase::Linear(p) => p.gradient(r),
+            Phase::Quadratic(p) => p.gradient(r),
+            Phase::Lens(p) => p.gradient(r),
+            Phase::Cylindrical(p) => p.gradient(r),
         }
     }
 }
@@ -134,63 +117,6 @@ impl PhaseHologramKeys {
     }
 }
 
-/// A [`Phase`] in the scene file: centres (0, 0) and the cylinder axis angle (degrees) 0 when
-/// not given.
-#[derive(Debug, Deserialize)]
-#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
-enum PhaseKeys {
-    Linear {
-        gradient: Vector2,
-    },
-    Quadratic {
-        focal_length: NonZero,
-        centre: Option<Vector2>,
-    },
-    Lens {
-        focal_length: NonZero,
-        centre: Option<Vector2>,
-    },
-    Cylindrical {
-        focal_length: NonZero,
-        centre: Option<Vector2>,
-        axis_angle_deg: Option<Finite>,
-    },
-}
-
-impl PhaseKeys {
-    fn build(self) -> Phase {
-        let centre = |c: Option<Vector2>| c.map_or(DVec2::ZERO, |c| c.0);
-        match self {
-            PhaseKeys::Linear { gradient } => Phase::Linear {
-                gradient: gradient.0,
-            },
-            PhaseKeys::Quadratic {
-                focal_length,
-                centre: c,
-            } => Phase::Quadratic {
-                focal_length: focal_length.0,
-                centre: centre(c),
-            },
-            PhaseKeys::Lens {
-                focal_length,
-                centre: c,
-            } => Phase::Lens {
-                focal_length: focal_length.0,
-                centre: centre(c),
-            },
-            PhaseKeys::Cylindrical {
-                focal_length,
-                centre: c,
-                axis_angle_deg,
-            } => Phase::Cylindrical {
-                focal_length: focal_length.0,
-                centre: centre(c),
-                axis_angle: axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
-            },
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -199,11 +125,11 @@ mod tests {
 
     #[test]
     fn the_cylindrical_kick_is_across_the_axis_only() {
-        let phase = Phase::Cylindrical {
+        let phase = Phase::Cylindrical(CylindricalPhase {
             focal_length: 2.0,
             centre: DVec2::ZERO,
             axis_angle: 0.0,
-        };
+        });
         // Axis along u: only the v offset matters.
         assert_eq!(phase.gradient(DVec2::new(5.0, 1.0)), DVec2::new(0.0, -0.5));
     }
@@ -213,14 +139,14 @@ mod tests {
     #[test]
     fn the_exact_lens_phase_makes_rays_from_the_focal_point_parallel() {
         let (f, centre) = (2.0, DVec2::new(0.3, -0.4));
-        let exact = Phase::Lens {
+        let exact = Phase::Lens(LensPhase {
             focal_length: f,
             centre,
-        };
-        let paraxial = Phase::Quadratic {
+        });
+        let paraxial = Phase::Quadratic(QuadraticPhase {
             focal_length: f,
             centre,
-        };
+        });
         for k in 1..=30 {
             let rho = 0.2 * k as f64;
             let azimuth = 0.7 * k as f64;
@@ -235,10 +161,10 @@ mod tests {
             }
         }
         // A diverging lens: a ray along the normal leaves as if from the focal point in front.
-        let diverging = Phase::Lens {
+        let diverging = Phase::Lens(LensPhase {
             focal_length: -f,
             centre,
-        };
+        });
         let r = centre + DVec2::new(3.0, 0.0);
         let out = hologram_direction(DVec3::Z, diverging.gradient(r)).unwrap();
         assert!(
@@ -266,9 +192,9 @@ mod tests {
     fn a_linear_phase_diffracts_by_the_grating_equation() {
         let (lambda, period_u, period_v) = (0.5e-6, 2e-6, 5e-6);
         let hologram = PhaseHologram {
-            phase: Phase::Linear {
+            phase: Phase::Linear(LinearPhase {
                 gradient: DVec2::new(lambda / period_u, lambda / period_v),
-            },
+            }),
             transmission_coefficient: 0.9,
             reflection_coefficient: 0.4,
         };
