@@ -114,19 +114,6 @@ fn plain(message: &str) -> String {
         words.push(format!("{replacement}{}", punctuation(last)));
     }
     let text = words.join(" ");
-    // An array given where a table belongs is not a question of its length.
-    let text = match text.find("invalid length ") {
-        Some(at) if text.contains("expected a table") => {
-            let rest = &text[at..];
-            let end = rest.find(", ").map_or(rest.len(), |i| i + 2);
-            format!("{}{}", &text[..at], &rest[end..]).replacen(
-                "expected a table",
-                "expected a table, not an array",
-                1,
-            )
-        }
-        _ => text,
-    };
     let words = [
         ("a nonzero u32", "a whole number from 1 to 4294967295"),
         (
@@ -136,6 +123,7 @@ fn plain(message: &str) -> String {
         ("u32", "a whole number from 0 to 4294967295"),
         ("u64", "a whole number from 0 to 18446744073709551615"),
         ("usize", "a whole number"),
+        ("i64", "a whole number"),
         ("f64", "a number"),
         ("floating point", "number"),
         (
@@ -167,9 +155,11 @@ fn plain(message: &str) -> String {
 /// given in the file's words (an array, a table, 1.5) and control characters in the text
 /// escaped as everywhere else (`\x1b`, not Rust's `\u{1b}`).
 fn expected_first(text: &str) -> String {
+    // The earliest: the phrase begins serde's message, and text the file gave may follow.
     let serde_phrase = ["invalid type: ", "invalid value: ", "invalid length "]
         .iter()
-        .find_map(|p| text.find(p).map(|at| (at, p.len())));
+        .filter_map(|p| text.find(p).map(|at| (at, p.len())))
+        .min();
     let Some((at, len)) = serde_phrase else {
         return text.to_string();
     };
@@ -179,6 +169,10 @@ fn expected_first(text: &str) -> String {
     };
     let given = &rest[..split];
     let expected = &rest[split + ", expected ".len()..];
+    // An array given where a table belongs is not a question of its length.
+    if len == "invalid length ".len() && expected.starts_with("a table") {
+        return format!("{}expected a table, not an array", &text[..at]);
+    }
     let unquote = |s: &str| s.trim_matches('`').to_string();
     let given = match given.split_once(' ') {
         _ if given == "sequence" => "an array".to_string(),
