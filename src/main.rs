@@ -18,19 +18,26 @@ use timbre::scene::studio::Studio;
 use timbre::scene::{RenderSettings, SceneDescription};
 use timbre::trajectories::{self, TracedRay};
 
-/// `println!` of [`printable`](timbre::text::printable) text that ignores a closed standard output
-/// (`timbre check s.toml | head -1`) instead of panicking.
+/// `println!` of [`printable`](timbre::text::printable) text. A closed standard output
+/// (`timbre check s.toml | head -1`) is ignored, not a panic; any other failure to write it (a
+/// full disk, the file-size limit) ends the command with an error ([`stdout_failed`]), not a
+/// silent loss.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), "{}", timbre::text::printable(&format!($($arg)*)));
+        let line = timbre::text::printable(&format!($($arg)*));
+        if let Err(e) = writeln!(std::io::stdout(), "{line}") {
+            $crate::stdout_failed(e);
+        }
     }};
 }
 
-/// `eprintln!` of [`printable`](timbre::text::printable) text.
+/// `eprintln!` of [`printable`](timbre::text::printable) text; a standard error that cannot be
+/// written is no panic.
 macro_rules! err {
     ($($arg:tt)*) => {{
-        eprintln!("{}", timbre::text::printable(&format!($($arg)*)));
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), "{}", timbre::text::printable(&format!($($arg)*)));
     }};
 }
 
@@ -40,6 +47,19 @@ mod cli;
 use cli::args::{Cli, Command, Encoding, ServeArgs};
 use cli::progress::spinner;
 use cli::render::run_render;
+
+/// A failure to write standard output: a closed pipe is ignored (the reader has all it wanted;
+/// the command goes on and writes its files), anything else (a full disk, the file-size limit)
+/// ends the command with one line and exit code 2. Nothing is printed to standard output while
+/// a file is being written, so no temporary file is left by the exit.
+fn stdout_failed(e: std::io::Error) {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        return;
+    }
+    let e = timbre::files::explained(e);
+    err!("timbre: error: cannot write to standard output: {e}");
+    std::process::exit(2);
+}
 
 /// A failure, with the exit code it maps to: 2 for bad input, 1 for everything else.
 struct Failure {
@@ -191,7 +211,9 @@ fn run_trace(scene: &Path, json: bool, set: &[Override]) -> Result<(), Failure> 
             })
             .collect();
         use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), "{text}");
+        if let Err(e) = writeln!(std::io::stdout(), "{text}") {
+            stdout_failed(e);
+        }
         return Ok(());
     }
     for r in &rays {
@@ -289,6 +311,14 @@ fn simd_features() -> Vec<&'static str> {
 }
 
 fn main() -> ExitCode {
+    // A file-size limit (`ulimit -f`) then fails a write with EFBIG, which is reported like
+    // every write error, instead of killing the process with SIGXFSZ without a word. A
+    // handler rather than SIG_IGN: nothing unsafe, and not passed on to programs run from here.
+    let size_limit = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    if let Err(e) = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, size_limit) {
+        err!("timbre: error: cannot handle SIGXFSZ: {e}");
+        return ExitCode::from(1);
+    }
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         // A usage error quotes the argument: printed like every message, escaped and cut.

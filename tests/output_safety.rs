@@ -217,7 +217,7 @@ fn a_process_killed_while_writing_leaves_the_old_picture() {
     while start.elapsed() < HANG {
         let temporary = files_in(dir.path())
             .iter()
-            .any(|n| n.starts_with(".timbre-") && n.ends_with(".tmp"));
+            .any(|n| n.starts_with(".big.exr.timbre-") && n.ends_with(".tmp"));
         if temporary {
             writing = true;
             child.kill().unwrap();

@@ -47,9 +47,11 @@ pub struct Kept {
 }
 
 /// The groups of a checkpoint that a render with `expected` provenance can continue, by first
-/// row. Files of another scene, size, seed, version or sampling are refused, naming the
+/// row; the checkpoint's stale temporary files are removed first ([`crate::files`]). Files of another scene, size, seed, version or sampling are refused, naming the
 /// difference.
 pub fn load(dir: &Path, expected: &Provenance) -> Result<BTreeMap<u32, Kept>, JobError> {
+    // Temporary files of a run killed while it saved a group.
+    crate::files::remove_all_stale(dir);
     let mut kept = BTreeMap::new();
     let unreadable = |e: std::io::Error| JobError::Checkpoint {
         path: dir.display().to_string(),
