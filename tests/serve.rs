@@ -605,6 +605,15 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
             Message::Text(r#"{"type":"inspect","x":1}"#.into()),
             Some(CloseCode::Policy),
         ),
+        // Unknown fields, also of the messages that have none.
+        (
+            Message::Text(r#"{"type":"write_scene","evil":1}"#.into()),
+            Some(CloseCode::Policy),
+        ),
+        (
+            Message::Text(r#"{"type":"cancel_save","evil":1}"#.into()),
+            Some(CloseCode::Policy),
+        ),
         (
             Message::Binary(vec![1, 2, 3].into()),
             Some(CloseCode::Unsupported),
@@ -626,6 +635,11 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
     page.send(serde_json::json!({"type": "set", "set": ["no equals sign"]}))
         .await;
     page.notice(true, "key=value").await;
+    // Numbers are echoed in short.
+    page.send(serde_json::json!({"type": "exposure", "stops": 1e308}))
+        .await;
+    let notice = page.notice(true, "exposure").await;
+    assert_eq!(notice["message"], "exposure 1e308: from -30 to 30 stops");
     // The server and its other pages go on.
     watcher
         .send(serde_json::json!({"type": "set", "set": ["render.seed=7"]}))
