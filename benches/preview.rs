@@ -25,19 +25,19 @@ fn camera_change(c: &mut Criterion) {
         let set: Override = format!("camera.position=[{x}, 0, 0]").parse().unwrap();
         vec![set]
     };
-    preview.load(STUDIO, &moved()).expect("the studio");
+    preview.load(STUDIO, &moved(), None).expect("the studio");
     let never = AtomicBool::new(false);
     let mut group = c.benchmark_group("preview_studio_640x480");
     group.sample_size(20);
     group.bench_function("camera_change_to_coarse_frame", |b| {
         b.iter(|| {
-            preview.load(STUDIO, &moved()).unwrap();
+            preview.load(STUDIO, &moved(), None).unwrap();
             preview.coarse().unwrap().expect("a coarse frame")
         })
     });
     group.bench_function("camera_change_to_full_1spp_frame", |b| {
         b.iter(|| {
-            preview.load(STUDIO, &moved()).unwrap();
+            preview.load(STUDIO, &moved(), None).unwrap();
             preview.coarse().unwrap();
             let mut frames = 0;
             assert!(preview.pass(&never, &mut |_, _| frames += 1).unwrap());

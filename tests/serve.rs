@@ -8,7 +8,7 @@ mod common;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
 use common::cli::{HANG, TIMBRE, decode_png, timbre, write};
@@ -40,7 +40,10 @@ struct Server {
     port: u16,
     /// The address line printed at start.
     line: String,
-    dir: TempDir,
+    /// The directory the server's files are in (removed when the server is dropped).
+    _dir: TempDir,
+    /// The scene file's directory, in it.
+    home: PathBuf,
 }
 
 impl Drop for Server {
@@ -57,13 +60,18 @@ impl Server {
 
     /// A server of `scene` (written to scene.toml in a directory of its own).
     fn start_with(scene: &str, args: &[&str]) -> Server {
-        let dir = TempDir::new().unwrap();
-        write(dir.path(), "scene.toml", scene);
+        Server::start_in(TempDir::new().unwrap(), ".", scene, args)
+    }
+
+    /// A server of `scene`, written to `dir/folder/scene.toml`, in that folder.
+    fn start_in(dir: TempDir, folder: &str, scene: &str, args: &[&str]) -> Server {
+        let home = dir.path().join(folder);
+        write(&home, "scene.toml", scene);
         let mut child = Command::new(TIMBRE)
             .args(["serve", "scene.toml", "--port", "0", "--threads", "2"])
             .args(["--spp", &SPP.to_string()])
             .args(args)
-            .current_dir(dir.path())
+            .current_dir(&home)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -89,12 +97,14 @@ impl Server {
             child,
             port,
             line,
-            dir,
+            _dir: dir,
+            home,
         }
     }
 
+    /// The scene file's directory.
     fn path(&self) -> &Path {
-        self.dir.path()
+        &self.home
     }
 
     /// The scene file's text on disk.
@@ -605,6 +615,15 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
             Message::Text(r#"{"type":"inspect","x":1}"#.into()),
             Some(CloseCode::Policy),
         ),
+        // Unknown fields, also of the messages that have none.
+        (
+            Message::Text(r#"{"type":"write_scene","evil":1}"#.into()),
+            Some(CloseCode::Policy),
+        ),
+        (
+            Message::Text(r#"{"type":"cancel_save","evil":1}"#.into()),
+            Some(CloseCode::Policy),
+        ),
         (
             Message::Binary(vec![1, 2, 3].into()),
             Some(CloseCode::Unsupported),
@@ -626,6 +645,11 @@ async fn malformed_and_oversized_messages_close_their_own_connection_only() {
     page.send(serde_json::json!({"type": "set", "set": ["no equals sign"]}))
         .await;
     page.notice(true, "key=value").await;
+    // Numbers are echoed in short.
+    page.send(serde_json::json!({"type": "exposure", "stops": 1e308}))
+        .await;
+    let notice = page.notice(true, "exposure").await;
+    assert_eq!(notice["message"], "exposure 1e308: from -30 to 30 stops");
     // The server and its other pages go on.
     watcher
         .send(serde_json::json!({"type": "set", "set": ["render.seed=7"]}))
@@ -790,4 +814,118 @@ async fn requests_answer_for_the_scene_as_changed_before_them_and_no_ops_keep_th
         .await;
     page.notice(true, "does not load").await;
     assert!(!server.path().join("broken.png").exists());
+}
+
+/// A first key that only a file outside the scene's folder has: no message may show it.
+const SECRET: &str = "secret_key_xyz";
+
+/// A sphere, as the text of an included file.
+const PART: &str = "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 8], radius = 0.3 }\nsurface = { type = \"coloured\", diffuse = [1, 0, 0] }\n";
+
+/// A server of [`SCENE`] in a folder of a directory that holds outside.toml (its first key
+/// [`SECRET`]) and outside.obj; the folder has part.toml and, in sub/, files whose includes
+/// reach out: chain.toml (`../../outside.toml`), linked.toml (`up/outside.toml`, sub/up being
+/// a link to the directory) and mesh.toml (an object of the mesh `../../outside.obj`), and
+/// inside.toml, whose include (`../part.toml`) stays in the folder.
+fn server_beside_outside_files() -> Server {
+    let dir = TempDir::new().unwrap();
+    write(dir.path(), "outside.toml", format!("{SECRET} = 1\n"));
+    write(dir.path(), "outside.obj", format!("{SECRET}\nv 0 0 0\n"));
+    let sub = dir.path().join("folder/sub");
+    write(dir.path(), "folder/part.toml", PART);
+    let include = |file: &str| format!("[[include]]\nfile = \"{file}\"\n");
+    write(&sub, "chain.toml", include("../../outside.toml"));
+    write(&sub, "linked.toml", include("up/outside.toml"));
+    std::os::unix::fs::symlink(dir.path(), sub.join("up")).unwrap();
+    write(
+        &sub,
+        "mesh.toml",
+        "[[object]]\nshape = { type = \"mesh\", file = \"../../outside.obj\" }\nsurface = { type = \"coloured\", diffuse = [1, 0, 0] }\n",
+    );
+    write(&sub, "inside.toml", include("../part.toml"));
+    Server::start_in(dir, "folder", SCENE, &[])
+}
+
+impl Page {
+    /// Every JSON message up to the next error or scene, which is returned; none of them may
+    /// show [`SECRET`].
+    async fn outcome(&mut self) -> Value {
+        loop {
+            if let Received::Json(v) = self.next().await.expect("the connection stays open") {
+                assert!(!v.to_string().contains(SECRET), "{v}");
+                if v["type"] == "error" || v["type"] == "scene" {
+                    return v;
+                }
+            }
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn files_that_page_text_reaches_through_includes_must_be_in_the_folder() {
+    let server = server_beside_outside_files();
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    // An include of an include inside the folder (through `..`) is fine.
+    let with = |file: &str| format!("{SCENE}\n[[include]]\nfile = \"{file}\"\n");
+    page.send(serde_json::json!({"type": "text", "text": with("sub/inside.toml")}))
+        .await;
+    assert_eq!(page.outcome().await["type"], "scene");
+    for (file, refused) in [
+        ("sub/chain.toml", "../../outside.toml"),
+        ("sub/linked.toml", "up/outside.toml"),
+        ("sub/mesh.toml", "../../outside.obj"),
+    ] {
+        page.send(serde_json::json!({"type": "text", "text": with(file)}))
+            .await;
+        let error = page.outcome().await;
+        let message = error["message"].as_str().unwrap_or_default();
+        assert!(
+            message.contains(&format!("'{refused}'"))
+                && message.contains("only files in the scene file's directory"),
+            "{file}: {error}"
+        );
+        // Its line is in the included file, not in the page's text.
+        assert!(error["line"].is_null(), "{error}");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn page_text_whose_includes_reach_out_of_the_folder_is_not_written() {
+    let server = server_beside_outside_files();
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    let text = format!("{SCENE}\n[[include]]\nfile = \"sub/chain.toml\"\n");
+    page.send(serde_json::json!({"type": "text", "text": text}))
+        .await;
+    assert_eq!(page.outcome().await["type"], "error");
+    page.send(serde_json::json!({"type": "write_scene"})).await;
+    let notice = page.notice(true, "'../../outside.toml'").await;
+    assert!(!notice.to_string().contains(SECRET), "{notice}");
+    assert_eq!(server.scene_file(), SCENE);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn what_the_users_own_include_reaches_stays_usable_when_the_page_edits_the_text() {
+    // The scene file includes a file elsewhere, which includes another beside it.
+    let shared = TempDir::new().unwrap();
+    write(shared.path(), "inner.toml", PART);
+    let part = write(
+        shared.path(),
+        "part.toml",
+        "[[include]]\nfile = \"inner.toml\"\n",
+    );
+    let scene = format!(
+        "{SCENE}\n[[include]]\nfile = {:?}\n",
+        part.to_str().unwrap()
+    );
+    let server = Server::start_with(&scene, &[]);
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    let edited = scene.replace("radius = 0.6", "radius = 0.5");
+    page.send(serde_json::json!({"type": "text", "text": edited}))
+        .await;
+    let state = page.outcome().await;
+    assert_eq!(state["type"], "scene", "{state}");
+    assert_eq!(state["text"], edited.as_str());
 }

@@ -4,11 +4,12 @@
 //! connecting happens on a thread of its own; each packet has 3 s in all to be taken, or tev is
 //! taken to have stopped reading and the connection is dropped; a lost or dropped connection is
 //! made again after a wait (1 s, doubling with each failure up to 30 s), and then everything
-//! shown so far is sent again. Each kind of failure is one warning.
+//! shown so far is sent again. At the end the connection is closed without waiting for tev:
+//! the system delivers what is still on its way. Each kind of failure is one warning.
 
 pub mod tev;
 
-use std::io::{self, Read, Write};
+use std::io::{self, Write};
 use std::net::{Shutdown, TcpStream, ToSocketAddrs};
 use std::str::FromStr;
 use std::sync::mpsc::{self, Receiver, TryRecvError};
@@ -28,8 +29,7 @@ const RETRY: Duration = Duration::from_secs(1);
 /// The longest wait between attempts; also how long a connection takes bands before the wait
 /// goes back to [`RETRY`].
 const RETRY_MAX: Duration = Duration::from_secs(30);
-/// Longest wait at the end of a render: for a connection under way, and for tev to confirm it
-/// has read everything.
+/// Longest wait at the end of a render for a connection under way.
 const FINISH_WAIT: Duration = Duration::from_secs(3);
 /// Tiles are at most this many pixels on a side (as pbrt-v4 sends them).
 const TILE: u32 = 128;
@@ -223,8 +223,7 @@ impl Viewer {
 
     /// Shows a finished image `name` of `width` × `height` pixels, `colours` (row by row), in
     /// tev at `server`, as [`Viewer::finish`] ends a render: waits (a little) for the
-    /// connection, sends the image, and waits for tev to read it; `warn` is told what goes
-    /// wrong.
+    /// connection, sends the image and closes the connection; `warn` is told what goes wrong.
     pub fn show_image(
         server: Server,
         name: &str,
@@ -302,7 +301,7 @@ impl Viewer {
     }
 
     /// Ends the showing once the render is done: waits (a little) for a connection under
-    /// way and for tev to read everything; if the connection was down or turns out lost, tries
+    /// way, and closes it ([`close`]); if the connection was down or turns out lost, tries
     /// once more to connect and send the whole image (unless the wait after the last failure
     /// is not over, or no copy was kept).
     pub fn finish(mut self) {
@@ -462,35 +461,21 @@ fn send(stream: &mut TcpStream, packet: &[u8]) -> io::Result<()> {
     Ok(())
 }
 
-/// Closes the connection once tev has read everything: tev closes its end when it reads the
-/// end of the stream, which is all that tells a sender that the data arrived (unless tev had
-/// quit already, which [`check_open`] finds first). An error means the connection was lost (a
-/// reset: tev did not read it all); one of kind `TimedOut` or `WouldBlock` that tev did not
-/// read it all within [`FINISH_WAIT`].
+/// Closes the connection once [`check_open`] finds it there (tev may have quit since the last
+/// packet: then the connection was lost), without waiting for tev: the system delivers the
+/// data still on its way and then the end of the stream, and a tev that reads everything but
+/// never closes its end costs no wait. tev sends nothing, so nothing unread makes the close a
+/// reset.
 fn close(stream: &TcpStream) -> io::Result<()> {
     check_open(stream)?;
-    stream.shutdown(Shutdown::Write)?;
-    let deadline = Instant::now() + FINISH_WAIT;
-    let mut buffer = [0; 256];
-    let mut reader = stream;
-    loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return Err(io::ErrorKind::TimedOut.into());
-        }
-        stream.set_read_timeout(Some(left))?;
-        match reader.read(&mut buffer) {
-            Ok(0) => return Ok(()),
-            Err(e) if e.kind() != io::ErrorKind::Interrupted => return Err(e),
-            _ => {}
-        }
-    }
+    stream.shutdown(Shutdown::Write)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::cell::RefCell;
+    use std::io::Read;
     use std::net::TcpListener;
     use std::rc::Rc;
 
@@ -539,6 +524,46 @@ mod tests {
         }
         let e = close(&ours).unwrap_err();
         assert!(matches!(Failure::of(&e), Failure::Lost), "{e}");
+    }
+
+    #[test]
+    fn a_tev_that_reads_everything_but_never_closes_is_sent_the_image_without_a_warning() {
+        let (ours, mut theirs) = pair();
+        // tev reads to the end of the stream, then holds its end open until the test is done.
+        let (done, held) = mpsc::channel::<()>();
+        let reader = std::thread::spawn(move || {
+            theirs
+                .set_read_timeout(Some(Duration::from_secs(300)))
+                .unwrap();
+            let mut bytes = Vec::new();
+            theirs.read_to_end(&mut bytes).unwrap();
+            let _ = held.recv();
+            bytes
+        });
+        let warnings = Rc::new(RefCell::new(Vec::new()));
+        let told = warnings.clone();
+        let colours = [Colour::new(0.25, 0.5, 1.0), Colour::new(3.0, 0.0, -1.0)];
+        let viewer = Viewer {
+            server: "127.0.0.1:1".parse().unwrap(),
+            image: Image {
+                name: "a".into(),
+                create: tev::create_image("a", 2, 1).unwrap(),
+                bounds: PixelBounds::full(2, 1),
+            },
+            kept: None,
+            link: Link::Up(ours, None),
+            wait: Duration::ZERO,
+            warned: Vec::new(),
+            warn: Box::new(move |m| told.borrow_mut().push(m.to_string())),
+        };
+        viewer.end(Some(&colours[..]));
+        done.send(()).unwrap();
+        let bytes = reader.join().unwrap();
+        assert!(warnings.borrow().is_empty(), "{:?}", warnings.borrow());
+        let rgb = [0.25, 0.5, 1.0, 3.0, 0.0, -1.0];
+        let mut sent = tev::create_image("a", 2, 1).unwrap();
+        sent.extend(tev::update_image("a", 0, 0, 2, 1, &rgb).unwrap());
+        assert_eq!(bytes, sent);
     }
 
     #[test]

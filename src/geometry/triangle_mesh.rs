@@ -296,6 +296,11 @@ impl MeshKeys {
         )))
     }
 
+    /// The mesh file's name, as given (relative to the scene file).
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
     /// The parts of the mesh file, relative to `dir`, as triangle meshes, each with its name
     /// ("" for a file of one part).
     pub fn load(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {

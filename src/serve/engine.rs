@@ -19,7 +19,7 @@ use crate::cameras::Projection;
 use crate::io::{Provenance, to_rgb8, write_image};
 use crate::production::{self, Job, Signals};
 use crate::render::{Image, PixelBounds};
-use crate::scene::file::{self, MAX_FILE_BYTES, Override};
+use crate::scene::file::{self, Confinement, MAX_FILE_BYTES, Override};
 use crate::scene::settings::{SETTINGS, Value};
 use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::render_stereo;
@@ -125,7 +125,7 @@ struct Shared {
     saving: Arc<AtomicBool>,
     cancel_save: Arc<AtomicBool>,
     /// The file names the user gave, on the command line and in the scene file as the watcher
-    /// last read it: the page may keep them ([`own_files`]).
+    /// last read it: the page may keep them ([`confinement`]).
     given: Vec<String>,
     on_disk: Mutex<Vec<String>>,
     /// The text the page last wrote into the scene file (the watcher need not reload it).
@@ -177,7 +177,7 @@ impl Engine {
             saving: Arc::new(AtomicBool::new(false)),
             cancel_save: Arc::new(AtomicBool::new(false)),
             given: override_names(&options.overrides),
-            on_disk: Mutex::new(text_names(&text)),
+            on_disk: Mutex::new(text_names(&text).unwrap_or_default()),
             written: Mutex::new(None),
         });
         let engine = shared.clone();
@@ -306,14 +306,14 @@ fn send(shared: &Shared, message: ToPage) {
     let _ = shared.out.send(message.text().into());
 }
 
-/// Which files of a scene to check before it is loaded ([`own_files`]).
+/// Which files of a scene are confined when it is loaded ([`confinement`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Check {
     /// The scene file and the command line: none.
     Nothing,
-    /// The scene file, with `--set`s from the page: the files they name.
+    /// The scene file, with `--set`s from the page: the files they name, and all those reach.
     Overrides,
-    /// Text from the page: every file it names.
+    /// Text from the page: every file it names, and all those reach.
     All,
 }
 
@@ -393,9 +393,11 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 generation,
                 check,
                 base,
-            } => match own_files(shared, &text, &overrides, check, base)
-                .and_then(|()| preview.load(&text, &overrides))
-            {
+            } => match preview.load(
+                &text,
+                &overrides,
+                confinement(shared, check, &overrides[base.min(overrides.len())..]).as_ref(),
+            ) {
                 Ok(()) => {
                     let state = state(shared, &preview, &text, &overrides, generation);
                     let state: Arc<str> = ToPage::Scene(state).text().into();
@@ -436,89 +438,49 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     }
 }
 
-/// Checks that the files the page names (`check`: in its own text, or in its `--set`s, those
-/// of `overrides` after the command line's first `base`) are inside the scene file's
-/// directory (`file` keys: includes and meshes): relative paths without `..` that stay there
-/// also after symbolic links are followed. The names the user gave (the scene file's, the
-/// command line's) stay usable.
-fn own_files(
-    shared: &Shared,
-    text: &str,
-    overrides: &[Override],
-    check: Check,
-    base: usize,
-) -> Result<(), LoadError> {
-    let refuse = |message: String| LoadError {
-        message: format!("{}: {message}", shared.scene.display()),
-        line: None,
-        column: None,
+/// The confinement of a scene's files (`check`: what the page wrote of it; `page`: the page's
+/// `--set`s): every file that the page names reaches must be in the scene file's directory.
+/// The names the user gave in the text itself (on the command line, or in the scene file as
+/// the watcher last read it) are read with all they include; so, for the scene file with
+/// `--set`s from the page, is every name but those the `--set`s give.
+fn confinement<'a>(shared: &'a Shared, check: Check, page: &[Override]) -> Option<Confinement<'a>> {
+    let page = match check {
+        Check::Nothing => return None,
+        Check::Overrides => Some(override_names(page)),
+        Check::All => None,
     };
-    let mut names = override_names(&overrides[base.min(overrides.len())..]);
-    match check {
-        Check::Nothing => return Ok(()),
-        Check::Overrides => {}
-        // Text from a page (at most a message long) is read whole: what cannot be read as one
-        // TOML document cannot be checked, and is refused (at its place).
-        Check::All => {
-            let table = text.parse::<toml::Table>().map_err(|e| {
-                let message = e.message().to_string();
-                match e.span() {
-                    Some(span) => {
-                        let (line, column) = file::line_column(text, span.start);
-                        LoadError {
-                            message: format!(
-                                "{}:{line}:{column}: {message}",
-                                shared.scene.display()
-                            ),
-                            line: Some(line),
-                            column: Some(column),
-                        }
-                    }
-                    None => refuse(format!("not one TOML document: {message}")),
-                }
-            })?;
-            file_names(&toml::Value::Table(table), &mut names);
-        }
-    }
-    names.retain(|n| !shared.given.contains(n) && !lock(&shared.on_disk).contains(n));
-    if names.is_empty() {
-        return Ok(());
-    }
-    let dir = scene_dir(&shared.scene);
-    let home = dir
-        .canonicalize()
-        .map_err(|e| refuse(format!("its directory cannot be resolved: {e}")))?;
-    for name in names {
-        let path = Path::new(&name);
-        let plain = path.components().all(|c| {
-            matches!(
-                c,
-                std::path::Component::Normal(_) | std::path::Component::CurDir
-            )
-        });
-        let inside = plain
-            && dir
-                .join(path)
-                .canonicalize()
-                .map_or(true, |p| p.starts_with(&home));
-        if !inside {
-            return Err(refuse(format!(
-                "'{name}': a scene edited in the page may name only files in the scene file's directory"
-            )));
-        }
-    }
-    Ok(())
+    let own = lock(&shared.on_disk).clone();
+    Some(Confinement {
+        trusted: Box::new(move |name: &str| {
+            let among = |names: &[String]| names.iter().any(|n| n == name);
+            among(&shared.given) || among(&own) || page.as_ref().is_some_and(|p| !among(p))
+        }),
+    })
 }
 
-/// The file names in scene text (none if it is too large to read whole here, or not TOML).
-fn text_names(text: &str) -> Vec<String> {
-    let mut names = Vec::new();
-    if text.len() <= MAX_PARAMETER_TEXT
-        && let Ok(table) = text.parse::<toml::Table>()
-    {
-        file_names(&toml::Value::Table(table), &mut names);
+/// Whether text from the page may be written into the scene file (which is read unchecked
+/// when it changes): when it names no files but the user's own, or loads with its files
+/// confined.
+fn writable(shared: &Shared, text: &str, confinement: &Confinement) -> Result<(), String> {
+    if text_names(text).is_some_and(|names| names.iter().all(|n| (confinement.trusted)(n))) {
+        return Ok(());
     }
-    names
+    let path = shared.scene.display().to_string();
+    file::parse_confined(text, &path, &[], confinement)
+        .map(drop)
+        .map_err(|e| {
+            format!("not written (text that names files is written only if it loads): {e}")
+        })
+}
+
+/// The file names in scene text; `None` if it is too large to read whole here, or not TOML.
+fn text_names(text: &str) -> Option<Vec<String>> {
+    let table = (text.len() <= MAX_PARAMETER_TEXT)
+        .then(|| text.parse::<toml::Table>().ok())
+        .flatten()?;
+    let mut names = Vec::new();
+    file_names(&toml::Value::Table(table), &mut names);
+    Some(names)
 }
 
 /// The file names `--set`s give: a value set for a `file` key, and any `file` key inside a
@@ -657,8 +619,10 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
             } else {
                 Check::Nothing
             };
-            if let Err(e) = own_files(shared, &text, &[], check, 0) {
-                return notice(shared, Err(e.message));
+            if let Some(confinement) = confinement(shared, check, &[])
+                && let Err(e) = writable(shared, &text, &confinement)
+            {
+                return notice(shared, Err(e));
             }
             *lock(&shared.written) = Some(text.clone());
             let written =
@@ -851,7 +815,7 @@ fn watch(shared: &Shared, mut known: String) {
             continue;
         }
         known = text.clone();
-        *lock(&shared.on_disk) = text_names(&text);
+        *lock(&shared.on_disk) = text_names(&text).unwrap_or_default();
         // What the page wrote is what it has (or had, if it has gone on since).
         if lock(&shared.written).take_if(|w| *w == text).is_some() {
             continue;

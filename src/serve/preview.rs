@@ -19,7 +19,7 @@ use crate::math::{Colour, Ray, ReferenceFrame};
 use crate::memory;
 use crate::prepare::{self, Needs, PrepareError};
 use crate::render::{self, Image, PixelBounds, Rows, Samples, Sum, Tracer};
-use crate::scene::file::{self, Override, SceneFileError};
+use crate::scene::file::{self, Confinement, Override, SceneFileError};
 use crate::scene::settings::SettingValues;
 use crate::scene::{Packing, RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::{self, anaglyph, pack, render_stereo};
@@ -50,12 +50,17 @@ impl LoadError {
             column: None,
         }
     }
-}
 
-impl From<SceneFileError> for LoadError {
-    fn from(e: SceneFileError) -> LoadError {
+    /// `e`, located in the text when it is an error of the scene file `path` itself (not of a
+    /// file it includes).
+    fn of(e: SceneFileError, path: &str) -> LoadError {
         match e {
-            SceneFileError::Invalid { line, column, .. } => LoadError {
+            SceneFileError::Invalid {
+                line,
+                column,
+                path: ref at,
+                ..
+            } if at == path => LoadError {
                 message: e.to_string(),
                 line: Some(line),
                 column: Some(column),
@@ -138,14 +143,20 @@ impl Preview {
     }
 
     /// The scene as `timbre render` would read `text` (the scene file's contents) with
-    /// `overrides`, and the settings the preview renders it with. A failure leaves the
-    /// loaded scene as it was.
+    /// `overrides` (reading only the files `confinement` allows, if given), and the settings
+    /// the preview renders it with. A failure leaves the loaded scene as it was.
     pub fn describe(
         &self,
         text: &str,
         overrides: &[Override],
+        confinement: Option<&Confinement>,
     ) -> Result<(SceneDescription, RenderSettings), LoadError> {
-        let description = file::parse_with(text, &self.path.display().to_string(), overrides)?;
+        let path = self.path.display().to_string();
+        let description = match confinement {
+            Some(c) => file::parse_confined(text, &path, overrides, c),
+            None => file::parse_with(text, &path, overrides),
+        }
+        .map_err(|e| LoadError::of(e, &path))?;
         let mut s = description.render.clone();
         let o = &self.options;
         if !o.settings.gives("spp") {
@@ -164,11 +175,17 @@ impl Preview {
         Ok((description, s))
     }
 
-    /// Loads the scene `text` with `overrides` and starts accumulating afresh. The BVH is
-    /// kept when only the camera, the output or the render settings changed. A preview that
-    /// would need more memory than can be had is refused before anything is built.
-    pub fn load(&mut self, text: &str, overrides: &[Override]) -> Result<(), LoadError> {
-        let (parsed, settings) = self.describe(text, overrides)?;
+    /// Loads the scene `text` with `overrides` (its files confined by `confinement`, if given)
+    /// and starts accumulating afresh. The BVH is kept when only the camera, the output or the
+    /// render settings changed. A preview that would need more memory than can be had is
+    /// refused before anything is built.
+    pub fn load(
+        &mut self,
+        text: &str,
+        overrides: &[Override],
+        confinement: Option<&Confinement>,
+    ) -> Result<(), LoadError> {
+        let (parsed, settings) = self.describe(text, overrides, confinement)?;
         let n = settings.width as usize * settings.height as usize;
         let keep = matches!(&self.loaded, Some(old) if old.parsed.same_objects(&parsed));
         // Each view's sums, and the picture made of them.

@@ -46,7 +46,9 @@ impl AppState {
     }
 }
 
-/// What a page may send (JSON text messages). Unknown types and fields are malformed.
+/// What a page may send (JSON text messages). Unknown types and fields are malformed (serde
+/// refuses unknown fields of struct variants only: the messages without fields are empty
+/// structs).
 #[derive(Debug, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ClientMessage {
@@ -63,7 +65,7 @@ pub enum ClientMessage {
         text: String,
     },
     /// Writes the scene text to the scene file.
-    WriteScene,
+    WriteScene {},
     /// Display exposure in stops (does not restart the accumulation).
     Exposure {
         stops: f64,
@@ -82,7 +84,7 @@ pub enum ClientMessage {
         file: String,
     },
     /// Stops the render being saved.
-    CancelSave,
+    CancelSave {},
 }
 
 pub fn router(state: Arc<AppState>) -> Router {
@@ -333,23 +335,29 @@ fn handle(engine: &Engine, message: ClientMessage) -> Option<String> {
             engine.text(text);
             Ok(())
         }
-        ClientMessage::WriteScene => engine.request(EngineRequest::WriteScene),
-        ClientMessage::Exposure { stops } if stops.is_finite() && stops.abs() <= 30.0 => {
-            engine.exposure(stops);
-            Ok(())
-        }
-        ClientMessage::Exposure { stops } => Err(format!("exposure {stops}: from -30 to 30 stops")),
+        ClientMessage::WriteScene {} => engine.request(EngineRequest::WriteScene),
+        ClientMessage::Exposure { stops } => exposure(stops).map(|stops| engine.exposure(stops)),
         ClientMessage::Inspect { x, y } => engine.request(EngineRequest::Inspect { x, y }),
         ClientMessage::Trajectory { x, y } => engine.request(EngineRequest::Trajectory { x, y }),
         ClientMessage::Save { file } => {
             saveable(&file).and_then(|()| engine.request(EngineRequest::Save { file }))
         }
-        ClientMessage::CancelSave => {
+        ClientMessage::CancelSave {} => {
             engine.cancel_save();
             Ok(())
         }
     };
     result.err().map(|e| ToPage::notice(Err(e)).text())
+}
+
+/// An exposure the page may set: from -30 to 30 stops (a number out of range is echoed in
+/// short: `1e308`, not 309 digits).
+fn exposure(stops: f64) -> Result<f64, String> {
+    if stops.is_finite() && stops.abs() <= 30.0 {
+        Ok(stops)
+    } else {
+        Err(format!("exposure {stops:?}: from -30 to 30 stops"))
+    }
 }
 
 #[cfg(test)]
@@ -385,6 +393,37 @@ mod tests {
         assert!(!same(b"abc", b"abd"));
         assert!(!same(b"abc", b"ab"));
         assert!(!same(b"", b"a"));
+    }
+
+    #[test]
+    fn an_exposure_out_of_range_is_echoed_in_short() {
+        assert_eq!(exposure(-30.0), Ok(-30.0));
+        assert_eq!(
+            exposure(1e308),
+            Err("exposure 1e308: from -30 to 30 stops".into())
+        );
+        assert_eq!(
+            exposure(-30.5),
+            Err("exposure -30.5: from -30 to 30 stops".into())
+        );
+    }
+
+    #[test]
+    fn messages_without_fields_take_no_fields() {
+        for (text, message) in [
+            (r#"{"type":"write_scene"}"#, ClientMessage::WriteScene {}),
+            (r#"{"type":"cancel_save"}"#, ClientMessage::CancelSave {}),
+        ] {
+            assert_eq!(
+                serde_json::from_str::<ClientMessage>(text).unwrap(),
+                message
+            );
+            let extra = text.replace('}', r#","evil":1}"#);
+            assert!(
+                serde_json::from_str::<ClientMessage>(&extra).is_err(),
+                "{extra}"
+            );
+        }
     }
 
     #[test]

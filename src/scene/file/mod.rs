@@ -6,6 +6,7 @@
 //! (`placement.rs`); `--set key=value` overrides any value (`overrides.rs`).
 
 mod camera;
+mod confine;
 mod overrides;
 mod parts;
 mod placement;
@@ -28,6 +29,8 @@ use crate::surfaces::Surface;
 use crate::surfaces::SurfaceKeys;
 use camera::CameraSection;
 
+pub use confine::Confinement;
+use confine::Within;
 pub use overrides::Override;
 use parts::Spanned;
 pub use placement::MAX_ARRAY_ELEMENTS;
@@ -512,7 +515,7 @@ pub fn load(path: &Path) -> Result<SceneDescription, SceneFileError> {
 /// Reads a scene file with `--set` overrides applied.
 pub fn load_with(path: &Path, overrides: &[Override]) -> Result<SceneDescription, SceneFileError> {
     let (source, file) = read(path, overrides)?;
-    describe(&source, file, path)
+    describe(&source, file, path, None)
 }
 
 /// Parses scene-file text; `path` names it in error messages and locates relative paths.
@@ -534,11 +537,31 @@ pub fn parse_with(
     overrides: &[Override],
 ) -> Result<SceneDescription, SceneFileError> {
     let (source, file) = read_text(text.to_string(), path, overrides)?;
-    describe(&source, file, Path::new(path))
+    describe(&source, file, Path::new(path), None)
 }
 
-/// The scene a checked file describes.
-fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription, SceneFileError> {
+/// Parses scene-file text as [`parse_with`] does, reading only files in the scene file's
+/// directory (`path`'s, symbolic links followed), however deep the includes that name them,
+/// except the files named in `text` itself that `confinement` trusts. Each file is checked
+/// before it is touched, so nothing of a refused one is read or shown.
+pub fn parse_confined(
+    text: &str,
+    path: &str,
+    overrides: &[Override],
+    confinement: &Confinement,
+) -> Result<SceneDescription, SceneFileError> {
+    let (source, file) = read_text(text.to_string(), path, overrides)?;
+    let path = Path::new(path);
+    describe(&source, file, path, Some(&Within::new(path, confinement)))
+}
+
+/// The scene a checked file describes; `within`: the confinement of the files it reaches.
+fn describe(
+    source: &Source,
+    file: File,
+    path: &Path,
+    within: Option<&Within>,
+) -> Result<SceneDescription, SceneFileError> {
     let invalid = |span: Option<Range<usize>>, message: String| source.error(span, message);
     let studio = match file.studio.unwrap_or(StudioName::Empty) {
         StudioName::Empty => Some(Studio::Empty),
@@ -600,7 +623,7 @@ fn describe(source: &Source, file: File, path: &Path) -> Result<SceneDescription
         group: file.group,
         include: file.include,
     };
-    let mut placer = Placer::new(path, source.text.len());
+    let mut placer = Placer::new(path, source.text.len(), within);
     let placed = placer.items(
         source,
         items,

@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Deserializer, de};
 
+use super::confine::Within;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::devices::{AidKeys, CoordinateSystem, Edges, LensesKeys, Part};
@@ -349,9 +350,11 @@ impl Placed {
 type Copies = (Range<usize>, Vec<DVec3>);
 
 /// Places the items of scene files, following includes.
-pub(super) struct Placer {
+pub(super) struct Placer<'a> {
     /// The files being included, outermost first (to detect cycles).
     stack: Vec<PathBuf>,
+    /// Where the files named by the file being read must be, if they are confined.
+    within: Option<&'a Within<'a>>,
     /// Objects placed so far (numbers unnamed objects).
     count: usize,
     /// Files included so far (each time they are included).
@@ -371,11 +374,13 @@ pub(super) struct Link {
     pub at: SceneFileError,
 }
 
-impl Placer {
-    /// A placer for the scene file at `top`, of `bytes` bytes.
-    pub(super) fn new(top: &Path, bytes: usize) -> Placer {
+impl<'a> Placer<'a> {
+    /// A placer for the scene file at `top`, of `bytes` bytes, whose files are confined
+    /// `within` that, if given.
+    pub(super) fn new(top: &Path, bytes: usize, within: Option<&'a Within<'a>>) -> Placer<'a> {
         Placer {
             stack: vec![top.canonicalize().unwrap_or_else(|_| top.to_path_buf())],
+            within,
             count: 0,
             includes: 0,
             bytes,
@@ -393,14 +398,21 @@ impl Placer {
         frame: ReferenceFrame,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
-        // The included files are counted from their sizes before any is read, so that a scene
-        // of too many bytes is refused at once; a file that grows before it is read adds the
-        // difference. A file that cannot be read counts 0 here; reading it reports why.
-        let sizes: Vec<usize> = items
+        // The included files are admitted first, then counted from their sizes before any is
+        // read, so that a scene of too many bytes is refused at once; a file that grows before
+        // it is read adds the difference. A file that cannot be read counts 0 here; reading it
+        // reports why.
+        let admitted = items
             .include
             .iter()
             .map(|i| {
-                let path = source.dir().join(i.file.get_ref());
+                self.admit(source, i.file.get_ref())
+                    .map_err(|e| source.error(Some(i.file.span()), format!("include: {e}")))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let sizes: Vec<usize> = admitted
+            .iter()
+            .map(|(path, _)| {
                 std::fs::metadata(path).map_or(0, |m| m.len().try_into().unwrap_or(usize::MAX))
             })
             .collect();
@@ -436,11 +448,10 @@ impl Placer {
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
         }
-        for (i, size) in items.include.into_iter().zip(sizes) {
+        for ((i, size), (path, within)) in items.include.into_iter().zip(sizes).zip(admitted) {
             let name = join(prefix, i.name.as_deref());
             let (own, offsets) = self.placement(source, i.transform, i.array, parent, &name)?;
             let span = i.file.span();
-            let path = source.dir().join(i.file.into_inner());
             let key = path.canonicalize().unwrap_or_else(|_| path.clone());
             if self.stack.contains(&key) {
                 let chain: Vec<String> = self
@@ -477,8 +488,10 @@ impl Placer {
                 included.text.len().saturating_sub(size),
             )?;
             self.stack.push(key);
+            let outer = std::mem::replace(&mut self.within, within);
             let frame = FrameName::or(i.frame, frame);
             let inner = self.items(&included, file.items(), &own, frame, &name)?;
+            self.within = outer;
             self.stack.pop();
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed
@@ -486,6 +499,24 @@ impl Placer {
                 .map_err(|e| source.error(Some(span.clone()), e))?;
         }
         Ok(placed)
+    }
+
+    /// The path of the file `name` given in `source`, refused before it is touched where the
+    /// files are confined and it is outside; with the confinement of the files it names in
+    /// turn (none for a file the user named in the scene text itself).
+    fn admit(
+        &self,
+        source: &Source,
+        name: &str,
+    ) -> Result<(PathBuf, Option<&'a Within<'a>>), String> {
+        let path = source.dir().join(name);
+        match self.within {
+            Some(within) if !(self.stack.len() == 1 && within.trusts(name)) => {
+                within.check(name, &path)?;
+                Ok((path, Some(within)))
+            }
+            _ => Ok((path, None)),
+        }
     }
 
     /// Adds `bytes` of scene-file text, included at `span` of `source`, to the scene's total.
@@ -523,6 +554,12 @@ impl Placer {
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
+        if let ShapeKeys::Mesh(mesh) = o.shape.get_ref() {
+            self.admit(source, mesh.file()).map_err(|e| {
+                let label = super::object_label(&name);
+                source.error(Some(shape_span.clone()), format!("{label}: {e}"))
+            })?;
+        }
         let parts = o.shape.into_inner().parts(source.dir()).map_err(|e| {
             source.error(
                 Some(shape_span.clone()),
