@@ -245,6 +245,15 @@ fn run_generate_mesh(
             "--displacement must be between -1 and 1, got {displacement}"
         )));
     }
+    // Refused before anything is allocated if the mesh could not be held (as a render is).
+    let (made, _) = generate::displaced_sphere_size(triangles as usize);
+    let needs = Needs {
+        what: format!("a mesh of {made} triangles"),
+        image: generate::displaced_sphere_memory(triangles as usize),
+        reserve: timbre::memory::PLAIN_RESERVE,
+    };
+    prepare::check_work_memory(&needs, "ask for fewer triangles")
+        .map_err(|e| unprepared(None, e))?;
     let mesh = generate::displaced_sphere(triangles as usize, displacement);
     let encoding = match encoding {
         Encoding::Ascii => PlyEncoding::Ascii,

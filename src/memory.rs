@@ -9,6 +9,10 @@ pub fn reserve(threads: u64) -> u64 {
     256 * MIB + threads * 80 * MIB
 }
 
+/// Bytes of address space a command that starts neither Embree nor threads maps besides its
+/// buffers (`timbre generate-mesh`: its output's buffer, formatting), generously.
+pub const PLAIN_RESERVE: u64 = 64 * MIB;
+
 /// Bytes a render's buffers can still have (Linux), whichever is less: the address-space limit
 /// less what is mapped now and `reserve` (what the render will map besides its buffers and has
 /// not mapped yet, e.g. [`reserve`]'s), and the memory the system has available (MemAvailable

@@ -20,16 +20,18 @@ pub enum PrepareError {
     /// The stereo output does not fit the image size (the user's to fix, in the scene file).
     #[error("{0}")]
     Stereo(String),
-    /// More memory than can be had (the user's to fix: a smaller image or scene).
+    /// More memory than can be had (the user's to fix: a smaller image or scene, or fewer
+    /// triangles asked of `timbre generate-mesh`; `advice` says which).
     #[error(
-        "{what} needs about {:.2} GiB of memory ({:.2} GiB for the scene's BVH), but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {}",
-        gib(*image + *scene), gib(*scene), gib(*available), memory_advice(*image, *scene)
+        "{what} needs about {:.2} GiB of memory{}, but only {:.2} GiB can be had here (free memory, or the process's address-space limit); {advice}",
+        gib(image.saturating_add(*scene)), bvh_share(*scene), gib(*available)
     )]
     Memory {
         what: String,
         image: u64,
         scene: u64,
         available: u64,
+        advice: &'static str,
     },
     /// The ray trajectories could not be traced (too many points: the user's; Embree's).
     #[error(transparent)]
@@ -56,6 +58,14 @@ impl PrepareError {
 
 fn gib(bytes: u64) -> f64 {
     bytes as f64 / f64::from(1 << 30)
+}
+
+/// The scene's BVH's share of the memory error, where the work has a scene to build.
+fn bvh_share(scene: u64) -> String {
+    match scene {
+        0 => String::new(),
+        _ => format!(" ({:.2} GiB for the scene's BVH)", gib(scene)),
+    }
 }
 
 /// What to make smaller when `image` and `scene` bytes do not fit.
@@ -115,13 +125,28 @@ pub fn check_settings(settings: &RenderSettings, stereo: &Stereo) -> Result<(), 
 /// Refuses a render whose image buffers and `scene` bytes (the BVH's, 0 when it is built
 /// already) would need more memory than can be had here.
 pub fn check_memory(needs: &Needs, scene: u64) -> Result<(), PrepareError> {
+    refuse_beyond(needs, scene, memory_advice(needs.image, scene))
+}
+
+/// Refuses work that builds no scene (`timbre generate-mesh`'s mesh) whose buffers,
+/// `needs.image` bytes, would need more memory than can be had here, in [`check_memory`]'s
+/// words; `advice` says what to ask less of.
+pub fn check_work_memory(needs: &Needs, advice: &'static str) -> Result<(), PrepareError> {
+    refuse_beyond(needs, 0, advice)
+}
+
+/// The memory check of [`check_memory`] and [`check_work_memory`].
+fn refuse_beyond(needs: &Needs, scene: u64, advice: &'static str) -> Result<(), PrepareError> {
     match memory::available(needs.reserve) {
-        Some(available) if needs.image + scene > available => Err(PrepareError::Memory {
-            what: needs.what.clone(),
-            image: needs.image,
-            scene,
-            available,
-        }),
+        Some(available) if needs.image.saturating_add(scene) > available => {
+            Err(PrepareError::Memory {
+                what: needs.what.clone(),
+                image: needs.image,
+                scene,
+                available,
+                advice,
+            })
+        }
         _ => Ok(()),
     }
 }
@@ -151,4 +176,51 @@ pub fn prepare(
     let device = device(settings.threads)?;
     let scene = build(&device, description)?;
     Ok(Ready { scene, device })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Needs of `bytes` of buffers: far more than any machine has (Linux always says what it
+    /// has available).
+    fn huge(bytes: u64) -> Needs {
+        Needs {
+            what: "the work".into(),
+            image: bytes,
+            reserve: 0,
+        }
+    }
+
+    #[test]
+    fn work_without_a_scene_is_refused_in_the_same_words_with_its_own_advice() {
+        let e = check_work_memory(&huge(1 << 60), "ask for less").unwrap_err();
+        assert!(e.is_bad_input());
+        let message = e.to_string();
+        assert!(
+            message.starts_with("the work needs about 1073741824.00 GiB of memory, but only ")
+                && message.ends_with("can be had here (free memory, or the process's address-space limit); ask for less"),
+            "{message}"
+        );
+        let e = check_memory(&huge(1 << 40), 1 << 60)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("GiB of memory (1073741824.00 GiB for the scene's BVH), but only")
+                && e.ends_with("give the scene fewer array copies, triangles or objects"),
+            "{e}"
+        );
+        let e = check_memory(&huge(1 << 60), 0).unwrap_err().to_string();
+        assert!(
+            !e.contains("BVH") && e.ends_with("render a smaller image"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn sums_beyond_u64_are_refused_not_wrapped() {
+        let e = check_memory(&huge(u64::MAX), u64::MAX).unwrap_err();
+        assert!(e.to_string().contains("needs about"), "{e}");
+        assert!(check_work_memory(&huge(0), "ask for less").is_ok());
+    }
 }

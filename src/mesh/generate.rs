@@ -12,11 +12,7 @@ use super::Mesh;
 /// centre along its unit direction (x, y, z). Vertex normals are the area-weighted face
 /// normals. `displacement` 0 gives a faceted sphere inscribed in the unit sphere.
 pub fn displaced_sphere(triangles: usize, displacement: f64) -> Mesh {
-    // Start just below the solution of 4r(r − 1) = triangles (4r² underestimates it).
-    let mut rings = ((triangles as f64 / 4.0).sqrt() as usize).max(2);
-    while 4 * rings * (rings - 1) < triangles {
-        rings += 1;
-    }
+    let rings = rings(triangles);
     let segments = 2 * rings;
     let radius =
         |d: DVec3| 1.0 + displacement * (7.0 * d.x).sin() * (7.0 * d.y).sin() * (7.0 * d.z).sin();
@@ -24,7 +20,8 @@ pub fn displaced_sphere(triangles: usize, displacement: f64) -> Mesh {
 
     // Vertex 0 is the north pole (+y), then rings 1..rings-1 of `segments` vertices each, then
     // the south pole.
-    let mut vertices = vec![point(DVec3::Y)];
+    let mut vertices = Vec::with_capacity(2 + (rings - 1) * segments);
+    vertices.push(point(DVec3::Y));
     for ring in 1..rings {
         let theta = PI * ring as f64 / rings as f64;
         for s in 0..segments {
@@ -67,6 +64,31 @@ pub fn displaced_sphere(triangles: usize, displacement: f64) -> Mesh {
     mesh
 }
 
+/// The rings r of [`displaced_sphere`]'s grid for at least `triangles` triangles: the smallest
+/// r ≥ 2 with 4r(r − 1) ≥ `triangles`.
+fn rings(triangles: usize) -> usize {
+    // Start just below the solution of 4r(r − 1) = triangles (4r² underestimates it).
+    let mut rings = ((triangles as f64 / 4.0).sqrt() as usize).max(2);
+    while 4 * rings * (rings - 1) < triangles {
+        rings += 1;
+    }
+    rings
+}
+
+/// The triangles and vertices of [`displaced_sphere`]`(triangles, _)`, without making it.
+pub fn displaced_sphere_size(triangles: usize) -> (u64, u64) {
+    let r = rings(triangles) as u64;
+    (4 * r * (r - 1), 2 + (r - 1) * 2 * r)
+}
+
+/// Bytes [`displaced_sphere`]`(triangles, _)` holds at its peak, generously: its vertices and
+/// their normals, 24 bytes each, with a second copy of the normals while they are summed, and
+/// its triangles, 12 bytes each (writing it adds only a small buffer).
+pub fn displaced_sphere_memory(triangles: usize) -> u64 {
+    let (triangles, vertices) = displaced_sphere_size(triangles);
+    3 * 24 * vertices + 12 * triangles
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,6 +105,25 @@ mod tests {
                 4 * (r - 1) * (r - 2) < n.max(8),
                 "{n} -> {t}: not the smallest"
             );
+        }
+    }
+
+    #[test]
+    fn the_memory_estimate_covers_what_the_mesh_holds() {
+        for n in [1, 100, 12345, 1_000_000] {
+            let m = displaced_sphere(n, 0.1);
+            let (triangles, vertices) = displaced_sphere_size(n);
+            assert_eq!(
+                (m.triangles.len() as u64, m.vertices.len() as u64),
+                (triangles, vertices)
+            );
+            let normals = m.normals.as_ref().unwrap();
+            let held =
+                24 * (m.vertices.capacity() + normals.capacity()) + 12 * m.triangles.capacity();
+            let estimate = displaced_sphere_memory(n);
+            // Generous by the normals' second copy, and by no more.
+            assert!(held as u64 <= estimate, "{n}: {held} > {estimate}");
+            assert!(estimate <= held as u64 + 24 * vertices, "{n}: {estimate}");
         }
     }
 
