@@ -440,10 +440,12 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
     assert!(e.contains("repeated in an array"), "{e}");
 
     let e = error(
-        "studio = \"lattice\"\n[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\nsurface = { type = \"phase-hologram\", phase = { type = \"linear\", gradient = [0.1, 0] } }\n",
+        "studio = \"lattice\"\n[[object]]\nshape = { type = \"cylinder\", start = [0, 0, 5], end = [0, 0, 6], radius = 1 }\nsurface = { type = \"phase-hologram\", phase = { type = \"linear\", gradient = [0.1, 0] } }\n",
     );
     assert!(
-        e.starts_with("s.toml:4:") && e.contains("needs a flat shape"),
+        e.starts_with("s.toml:4:")
+            && e.contains("needs surface coordinates on every part")
+            && e.contains("open = true"),
         "{e}"
     );
     let e = error("studio = \"lattice\"\n[window]\nsurface = { type = \"mirror\" }\n");

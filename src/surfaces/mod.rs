@@ -109,7 +109,8 @@ pub enum Redirection<'a> {
     Emits(Colour),
     /// No light comes back along the ray: a ray trapped in a lens, teleported beyond the
     /// destination's edge, or meeting a law on a shape it does not work on (a lens that is not
-    /// a sphere, a hologram that is not flat; `timbre check` warns of these).
+    /// a sphere, a hologram on a part without surface coordinates; `timbre check` warns of
+    /// these).
     Lost,
     /// The ray leaves the hit point in unit `direction`, carrying `factor` of the light.
     Leaves { direction: DVec3, factor: f64 },
@@ -137,7 +138,7 @@ pub enum Surface {
     ConfocalLensletArrays(ConfocalLensletArrays),
     RayRotating(RayRotating),
     RayFlipping(RayFlipping),
-    /// Flat surfaces only.
+    /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
@@ -267,17 +268,19 @@ impl Surface {
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms need a flat shape's coordinates. The other
-    /// laws work on any shape.
+    /// sphere's centre and radius; phase holograms need surface coordinates on every part
+    /// (plane coordinates or coordinate axes). The other laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match self {
             Surface::Lens(l) if !matches!(shape, Shape::Sphere(_)) => Err(format!(
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
-            Surface::PhaseHologram(_) if !shape.is_flat() => Err(
-                "a phase-hologram surface needs a flat shape (plane, disc, parallelogram, \
-                 convex polygon, or one of them transformed)"
+            Surface::PhaseHologram(_) if !shape.is_charted() => Err(
+                "a phase-hologram surface needs surface coordinates on every part of its shape \
+                 (a flat shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, \
+                 bilinear surface, cylinder or cone with open = true, or one of them \
+                 transformed); a closed cylinder's or cone's caps and meshes have none"
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
