@@ -639,7 +639,11 @@ mod tests {
                 for j in 0..=6 {
                     let c = lo + (hi - lo) * DVec2::new(i as f64, j as f64) / 6.0;
                     let p = shape.point_at(c).unwrap();
-                    assert!(shape.coordinates(p, 0).distance(c) < 1e-9, "{}", shape.kind());
+                    assert!(
+                        shape.coordinates(p, 0).distance(c) < 1e-9,
+                        "{}",
+                        shape.kind()
+                    );
                     let axes = shape.coordinate_axes(p, 0).unwrap();
                     let n = shape.normal(p, 0);
                     for (k, e) in [DVec2::X, DVec2::Y].into_iter().enumerate() {

@@ -29,15 +29,23 @@
 //! `getSurfaceCoordinateAxes`); a sphere's axes (sin θ φ̂, θ̂), a cone's, a paraboloid's or a
 //! stretched shape's are not.
 
+mod azimuthal_pixelated_fresnel_wedge;
 mod cylindrical;
 mod lens;
 mod linear;
+mod polynomial;
 mod quadratic;
+mod rotationally_symmetric;
 
+pub use azimuthal_pixelated_fresnel_wedge::{
+    AzimuthalPixelatedFresnelWedgePhase, AzimuthalPixelatedFresnelWedgePhaseKeys,
+};
 pub use cylindrical::{CylindricalPhase, CylindricalPhaseKeys};
 pub use lens::{LensPhase, LensPhaseKeys};
 pub use linear::{LinearPhase, LinearPhaseKeys};
+pub use polynomial::{PolynomialPhase, PolynomialPhaseKeys};
 pub use quadratic::{QuadraticPhase, QuadraticPhaseKeys};
+pub use rotationally_symmetric::{RotationallySymmetricPhase, RotationallySymmetricPhaseKeys};
 
 use glam::{DMat2, DVec2, DVec3};
 use serde::Deserialize;
@@ -55,16 +63,22 @@ kinds! {
         Quadratic(QuadraticPhaseKeys),
         Lens(LensPhaseKeys),
         Cylindrical(CylindricalPhaseKeys),
+        Polynomial(PolynomialPhaseKeys),
+        RotationallySymmetric(RotationallySymmetricPhaseKeys),
+        AzimuthalPixelatedFresnelWedge(AzimuthalPixelatedFresnelWedgePhaseKeys),
     }
 }
 
 /// The hologram's phase φ(u, v), as an optical path length.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Phase {
     Linear(LinearPhase),
     Quadratic(QuadraticPhase),
     Lens(LensPhase),
     Cylindrical(CylindricalPhase),
+    Polynomial(PolynomialPhase),
+    RotationallySymmetric(RotationallySymmetricPhase),
+    AzimuthalPixelatedFresnelWedge(AzimuthalPixelatedFresnelWedgePhase),
 }
 
 impl Phase {
@@ -75,6 +89,9 @@ impl Phase {
             Phase::Quadratic(p) => p.gradient(r),
             Phase::Lens(p) => p.gradient(r),
             Phase::Cylindrical(p) => p.gradient(r),
+            Phase::Polynomial(p) => p.gradient(r),
+            Phase::RotationallySymmetric(p) => p.gradient(r),
+            Phase::AzimuthalPixelatedFresnelWedge(p) => p.gradient(r),
         }
     }
 }
@@ -116,11 +133,12 @@ impl PhaseHologram {
         // axes (shapes with parts that have neither are refused when scenes are read).
         let kick = match at.plane_coordinates() {
             Some(r) => Some(self.phase.gradient(r)),
-            None => at.coordinate_axes().and_then(|axes| {
-                surface_kick(axes, &frame, self.phase.gradient(at.coordinates()))
-            }),
+            None => at
+                .coordinate_axes()
+                .and_then(|axes| surface_kick(axes, &frame, self.phase.gradient(at.coordinates()))),
         };
-        let Some(kick) = kick else {
+        // A kick that is no number (a phase's exponent overflowing) passes no light.
+        let Some(kick) = kick.filter(|k| k.is_finite()) else {
             return Redirection::Lost;
         };
         let out = hologram_direction(lambda.transpose() * d, kick).map(|e| lambda * e);
@@ -217,7 +235,11 @@ mod tests {
                 let (p, out) = leaving(&h, shape, c, d);
                 let momentum = |d: DVec3| (p - origin).cross(d).dot(pole);
                 let added = momentum(out) - momentum(d);
-                assert!((added - ell).abs() < 1e-12, "{}: {added} against {ell}", shape.kind());
+                assert!(
+                    (added - ell).abs() < 1e-12,
+                    "{}: {added} against {ell}",
+                    shape.kind()
+                );
             }
         }
     }
