@@ -13,7 +13,7 @@ use timbre::geometry::{AnalyticShape, Shape};
 use timbre::render::Image;
 use timbre::scene::{SceneDescription, file};
 use timbre::surfaces::metatoys::{
-    Basis, Conjugation, Phase, Refraction, RotationAxis, Teleportation,
+    Basis, Conjugation, CylindricalPhase, LensPhase, Phase, Refraction, RotationAxis, Teleportation,
 };
 use timbre::surfaces::{PhaseConjugating, Surface};
 
@@ -223,11 +223,11 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     ) else {
         panic!()
     };
-    let Phase::Cylindrical {
+    let Phase::Cylindrical(CylindricalPhase {
         focal_length,
         centre,
         axis_angle,
-    } = h.phase
+    }) = h.phase
     else {
         panic!("{:?}", h.phase)
     };
@@ -240,10 +240,10 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     };
     assert_eq!(
         h.phase,
-        Phase::Lens {
+        Phase::Lens(LensPhase {
             focal_length: 3.0,
             centre: DVec2::X
-        }
+        })
     );
 
     for (surface, conjugation, coefficient) in [

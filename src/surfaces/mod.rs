@@ -26,10 +26,11 @@ pub use lenses::{
     MaxwellFisheyeLensKeys,
 };
 pub use metatoys::{
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, LorentzWindow, LorentzWindowKeys,
-    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
-    PhaseHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys, Teleporting,
-    TeleportingKeys,
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
+    LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
+    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, PointToPointImagingHologram,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys,
+    Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use refractive::{Refractive, RefractiveKeys, refract};
@@ -74,6 +75,8 @@ kinds! {
         RayFlipping(RayFlippingKeys),
         #[serde(alias = "phase_hologram")]
         PhaseHologram(PhaseHologramKeys),
+        PointToPointImagingHologram(PointToPointImagingHologramKeys),
+        LensHologram(LensHologramKeys),
         #[serde(alias = "phase_conjugating")]
         PhaseConjugating(PhaseConjugatingKeys),
         #[serde(alias = "lorentz_window")]
@@ -140,6 +143,8 @@ pub enum Surface {
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
+    /// Any shape: the law needs positions, not surface coordinates.
+    PointToPointImagingHologram(PointToPointImagingHologram),
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
     Teleporting(Teleporting),
@@ -166,6 +171,7 @@ impl Surface {
             Surface::RayRotating(_) => "ray-rotating",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
+            Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
             Surface::PhaseConjugating(_) => "phase-conjugating",
             Surface::LorentzWindow(_) => "lorentz-window",
             Surface::Teleporting(_) => "teleporting",
@@ -209,6 +215,7 @@ impl Surface {
             Surface::RayRotating(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
+            Surface::PointToPointImagingHologram(s) => s.redirect(at),
             Surface::PhaseConjugating(s) => s.redirect(at),
             Surface::LorentzWindow(s) => s.redirect(at),
             Surface::Teleporting(s) => s.redirect(at),
@@ -233,8 +240,9 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the ideal
     /// lenses' laws move with the shape, and their focal lengths scale with it (which needs a
-    /// similarity map). The other laws have no positions; the vectors and tensors of a law in
-    /// the global basis are read in x, y and z, wherever the object is.
+    /// similarity map); a point-to-point imaging hologram's two points move with it. The other
+    /// laws have no positions; the vectors and tensors of a law in the global basis are read
+    /// in x, y and z, wherever the object is.
     pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
         if t.is_identity() {
             return Ok(self.clone());
@@ -246,6 +254,9 @@ impl Surface {
             }),
             Surface::IdealThinLensletArray(a) => Surface::IdealThinLensletArray(a.transformed(t)?),
             Surface::Glens(g) => Surface::Glens(g.transformed(t)?),
+            Surface::PointToPointImagingHologram(h) => {
+                Surface::PointToPointImagingHologram(h.transformed(t))
+            }
             Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
@@ -295,6 +306,7 @@ impl Surface {
             | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
             | Surface::RayFlipping(_)
+            | Surface::PointToPointImagingHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
             | Surface::Teleporting(_)
