@@ -3981,7 +3981,13 @@ fn the_three_skew_lens_holograms_image_the_eye_as_ideal_lenses() {
         (-0.95, 0.0),
     ];
     let targets: Vec<DVec3> = (0..48)
-        .map(|k| DVec3::new(-1.75 + 0.1 * (k % 8) as f64, -1.25 + 0.5 * (k / 8) as f64, 0.0))
+        .map(|k| {
+            DVec3::new(
+                -1.75 + 0.1 * (k % 8) as f64,
+                -1.25 + 0.5 * (k / 8) as f64,
+                0.0,
+            )
+        })
         .chain(band.map(|(x, y)| DVec3::new(x, y, 0.0)))
         .collect();
     let rays = trace_towards(name, eye, &targets);
@@ -3998,9 +4004,17 @@ fn the_three_skew_lens_holograms_image_the_eye_as_ideal_lenses() {
             let e = (next.position - hit.position).normalize();
             let along = (images[k] - hit.position).dot(e);
             let miss = (images[k] - hit.position - along * e).length();
-            assert!(miss < 1e-9, "lens {}: misses E{} by {miss}: {ray:?}", k + 1, k + 1);
+            assert!(
+                miss < 1e-9,
+                "lens {}: misses E{} by {miss}: {ray:?}",
+                k + 1,
+                k + 1
+            );
             assert_eq!(along > 0.0, k == 0, "lens {}: {along}", k + 1);
         }
     }
-    assert!(met[0] >= 40 && met[1] >= 40 && met[2] >= 8, "lines of sight in order: {met:?}");
+    assert!(
+        met[0] >= 40 && met[1] >= 40 && met[2] >= 8,
+        "lines of sight in order: {met:?}"
+    );
 }

@@ -39,9 +39,9 @@ pub use phase_conjugating::{
     Conjugation, PhaseConjugating, PhaseConjugatingKeys, phase_conjugated,
 };
 pub use phase_hologram::{
-    AzimuthalPixelatedFresnelWedgePhase, CylindricalPhase, LensPhase, LinearPhase, Phase,
-    PhaseHologram, PhaseHologramKeys, PhaseKeys, PolynomialPhase, QuadraticPhase,
-    RotationallySymmetricPhase, hologram_direction,
+    AzimuthalPixelatedFresnelWedgePhase, AzimuthalRadial, CylindricalPhase, LensPhase, LinearPhase,
+    Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, PolynomialPhase, QuadraticPhase,
+    RotationallySymmetricPhase, Sectors, hologram_direction,
 };
 pub use point_to_point_imaging_hologram::{
     LensHologramKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys,

@@ -45,7 +45,9 @@ pub use lens::{LensPhase, LensPhaseKeys};
 pub use linear::{LinearPhase, LinearPhaseKeys};
 pub use polynomial::{PolynomialPhase, PolynomialPhaseKeys};
 pub use quadratic::{QuadraticPhase, QuadraticPhaseKeys};
-pub use rotationally_symmetric::{RotationallySymmetricPhase, RotationallySymmetricPhaseKeys};
+pub use rotationally_symmetric::{
+    AzimuthalRadial, RotationallySymmetricPhase, RotationallySymmetricPhaseKeys, Sectors,
+};
 
 use glam::{DMat2, DVec2, DVec3};
 use serde::Deserialize;
