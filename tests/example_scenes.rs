@@ -3927,3 +3927,94 @@ fn visual_aids_stand_where_the_file_puts_them() {
         "{rays:?}"
     );
 }
+
+/// scenes/research/ThreeSkewLenses.toml (Dr TIM's ThreeSkewLenses with lens holograms that
+/// image the eye): lens k images the eye's image by lens k − 1 into its image by an ideal thin
+/// lens of focal length f_k, worked out here by Gauss's lens equation: for an object at axial
+/// distance a from the principal point P along the normal n̂ (negative in front), the image is
+/// at a′ with 1/a′ = 1/a + 1/f, magnified a′/a about P. A line of sight from the eye
+/// (0, 0, −10) that meets lens 1 first (the left of the view, where lens 1 lies nearest the
+/// eye) leaves it along the line through E1, towards it (real); if it meets lens 2 next, it
+/// leaves that along the line through E2, and if then lens 3, along the line through E3, away
+/// from both (virtual).
+#[test]
+fn the_three_skew_lens_holograms_image_the_eye_as_ideal_lenses() {
+    let name = "research/ThreeSkewLenses";
+    let eye = DVec3::new(0.0, 0.0, -10.0);
+    let deg = |a: f64| a.to_radians();
+    let lenses = [
+        (
+            DVec3::new(-0.5, -0.5, 0.0),
+            DVec3::new(deg(-40.0).sin(), 0.0, deg(-40.0).cos()),
+            1.0,
+        ),
+        (
+            DVec3::new(0.0, -0.5, 0.0),
+            DVec3::new(deg(-20.0).sin(), 0.0, deg(-20.0).cos()),
+            -0.3,
+        ),
+        (
+            DVec3::new(0.5, -0.5, 0.0),
+            DVec3::new(0.0, deg(30.0).sin(), deg(30.0).cos()),
+            1.0,
+        ),
+    ];
+    let mut images = Vec::new();
+    let mut object = eye;
+    for &(p, n, f) in &lenses {
+        let a = (object - p).dot(n);
+        let a_image = 1.0 / (1.0 / a + 1.0 / f);
+        object = p + (a_image / a) * (object - p);
+        images.push(object);
+    }
+    // A grid over the left of the view, and the narrow band from (−1.4, 0.4) to (−0.95, −0.1)
+    // (at z = 0) whose lines of sight go on through lens 3.
+    let band = [
+        (-1.4, 0.4),
+        (-1.31, 0.3),
+        (-1.22, 0.2),
+        (-1.13, 0.1),
+        (-1.13, 0.2),
+        (-1.04, 0.0),
+        (-1.04, 0.1),
+        (-0.95, -0.1),
+        (-0.95, 0.0),
+    ];
+    let targets: Vec<DVec3> = (0..48)
+        .map(|k| {
+            DVec3::new(
+                -1.75 + 0.1 * (k % 8) as f64,
+                -1.25 + 0.5 * (k / 8) as f64,
+                0.0,
+            )
+        })
+        .chain(band.map(|(x, y)| DVec3::new(x, y, 0.0)))
+        .collect();
+    let rays = trace_towards(name, eye, &targets);
+    let mut met = [0; 3];
+    for ray in &rays {
+        for k in 0..3 {
+            let (Some(hit), Some(next)) = (ray.points.get(k + 1), ray.points.get(k + 2)) else {
+                break;
+            };
+            if hit.object.as_deref() != Some(&format!("lens {}", k + 1)) {
+                break;
+            }
+            met[k] += 1;
+            let e = (next.position - hit.position).normalize();
+            let along = (images[k] - hit.position).dot(e);
+            let miss = (images[k] - hit.position - along * e).length();
+            assert!(
+                miss < 1e-9,
+                "lens {}: misses E{} by {miss}: {ray:?}",
+                k + 1,
+                k + 1
+            );
+            assert_eq!(along > 0.0, k == 0, "lens {}: {along}", k + 1);
+        }
+    }
+    assert!(
+        met[0] >= 40 && met[1] >= 40 && met[2] >= 8,
+        "lines of sight in order: {met:?}"
+    );
+}

@@ -168,6 +168,19 @@ impl AnalyticShape for BilinearSurface {
         (unit.contains(&ab.x) && unit.contains(&ab.y)).then(|| self.point(ab.x, ab.y))
     }
 
+    /// (∂p/∂(α |e|), ∂p/∂(β |f|)) = ((e + β g)/|e|, (f + α g)/|f|).
+    fn coordinate_axes(&self, p: DVec3, _part: u32) -> Option<[DVec3; 2]> {
+        let ab = self.parameters(p);
+        Some([
+            (self.e + ab.y * self.g) / self.e.length(),
+            (self.f + ab.x * self.g) / self.f.length(),
+        ])
+    }
+
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     /// The box around the corners (the patch is inside their convex hull).
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some(super::point_bounds(&self.corners))

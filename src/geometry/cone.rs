@@ -189,6 +189,28 @@ impl AnalyticShape for Cone {
         Some(self.axis.world(DVec3::new(r * co, r * s, c.y)))
     }
 
+    /// On the mantle, where p = (z tan α cos φ, z tan α sin φ, z): (∂p/∂(R φ), ∂p/∂z) =
+    /// ((z/H)(−sin φ, cos φ, 0), (tan α cos φ, tan α sin φ, 1)); `None` at the apex and on the
+    /// base, where z is constant.
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        if part != 0 {
+            return None;
+        }
+        let c = self.axis.local(p);
+        let r = c.truncate().try_normalize()?;
+        Some([
+            self.axis
+                .world_vector(DVec3::new(-r.y, r.x, 0.0) * (c.z / self.height)),
+            self.axis
+                .world_vector(DVec3::new(self.tan * r.x, self.tan * r.y, 1.0)),
+        ])
+    }
+
+    /// The mantle alone has coordinate axes: charted if open.
+    fn is_charted(&self) -> bool {
+        self.open
+    }
+
     /// The box around the apex and the base disc (the solid is their convex hull).
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let r = self.base_radius();

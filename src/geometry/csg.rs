@@ -427,6 +427,17 @@ impl AnalyticShape for Csg {
         self.leaves[leaf].plane_coordinates(p, own)
     }
 
+    /// The axes of the leaf the point is on (complementing a leaf turns its frame over, not
+    /// its coordinates).
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        let (leaf, own) = Csg::leaf_and_part(part);
+        self.leaves[leaf].coordinate_axes(p, own)
+    }
+
+    fn is_charted(&self) -> bool {
+        self.leaves.iter().all(Shape::is_charted)
+    }
+
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         self.bounds
     }

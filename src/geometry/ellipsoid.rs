@@ -93,6 +93,17 @@ impl AnalyticShape for Ellipsoid {
         Some(self.centre + self.semi_axes * e)
     }
 
+    /// The unit sphere's (∂/∂φ, ∂/∂θ) at the scaled point, stretched by the semi-axes and
+    /// divided by ρ; `None` at the poles.
+    fn coordinate_axes(&self, p: DVec3, _part: u32) -> Option<[DVec3; 2]> {
+        let axes = super::sphere::unit_sphere_axes(self.unit(p).normalize())?;
+        Some(axes.map(|a| self.semi_axes * a / self.mean_radius))
+    }
+
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some((self.centre - self.semi_axes, self.centre + self.semi_axes))
     }

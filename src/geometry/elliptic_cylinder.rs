@@ -182,6 +182,24 @@ impl AnalyticShape for EllipticCylinder {
         Some(self.axis.world(DVec3::new(a * co, b * s, c.y)))
     }
 
+    /// On the mantle (∂p/∂(ρ φ), ∂p/∂z) = ((−a sin φ, b cos φ, 0)/ρ, axis); `None` on the caps,
+    /// where z is constant.
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        if part != 0 {
+            return None;
+        }
+        let (a, b) = (self.semi_axes.x, self.semi_axes.y);
+        let c = self.axis.local(p);
+        let q = DVec2::new(c.x / a, c.y / b).try_normalize()?;
+        let around = DVec3::new(-a * q.y, b * q.x, 0.0) / (a * b).sqrt();
+        Some([self.axis.world_vector(around), self.axis.frame.w])
+    }
+
+    /// The mantle alone has coordinate axes: charted if open.
+    fn is_charted(&self) -> bool {
+        self.open
+    }
+
     /// The box around the two end ellipses.
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let (a, b) = (self.semi_axes.x, self.semi_axes.y);

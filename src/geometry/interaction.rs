@@ -102,6 +102,13 @@ impl<'a> Interaction<'a> {
             .plane_coordinates(self.local_point(), self.hit.prim)
     }
 
+    /// The surface-coordinate axes ∂p/∂c₁, ∂p/∂c₂ at the hit (see
+    /// [`Shape::coordinate_axes`]).
+    pub fn coordinate_axes(&self) -> Option<[DVec3; 2]> {
+        self.shape
+            .coordinate_axes(self.local_point(), self.hit.prim)
+    }
+
     /// Smallest distance a ray leaving this point must travel before it may hit anything, so
     /// it does not re-hit its own surface through rounding. Analytic shapes are intersected
     /// exactly in f64; Embree tests triangles in f32, hence the larger margin.

@@ -95,6 +95,14 @@ impl AnalyticShape for Masked {
         self.surface.is_flat()
     }
 
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        self.surface.coordinate_axes(p, part)
+    }
+
+    fn is_charted(&self) -> bool {
+        self.surface.is_charted()
+    }
+
     /// The surface's bounds, cut to the mask's where it has them.
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         match (self.surface.bounds(), self.mask.bounds()) {

@@ -257,6 +257,22 @@ pub trait AnalyticShape {
         false
     }
 
+    /// The surface-coordinate axes at surface point `p` of part `part`: ∂p/∂c₁ and ∂p/∂c₂,
+    /// the tangent vectors along which the [`Self::coordinates`] (c₁, c₂) grow (Dr TIM's
+    /// `ParametrisedObject.getSurfaceCoordinateAxes`), in general neither unit vectors nor
+    /// orthogonal. `None` where the coordinates are no chart (at a pole; on a cap where one of
+    /// them is constant), and for shapes that do not give them.
+    fn coordinate_axes(&self, _p: DVec3, _part: u32) -> Option<[DVec3; 2]> {
+        None
+    }
+
+    /// Whether every part has [`Self::plane_coordinates`] or [`Self::coordinate_axes`]
+    /// (except at isolated points, such as a sphere's poles): the coordinates a phase
+    /// hologram's phase is given in.
+    fn is_charted(&self) -> bool {
+        self.is_flat()
+    }
+
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     fn bounds(&self) -> Option<(DVec3, DVec3)>;
 
@@ -453,6 +469,18 @@ impl Shape {
         dispatch!(self, s => s.plane_coordinates(p, prim), _m => None)
     }
 
+    /// The surface-coordinate axes ∂p/∂c₁, ∂p/∂c₂ at surface point `p` of primitive `prim`
+    /// (see [`AnalyticShape::coordinate_axes`]); `None` for meshes.
+    pub fn coordinate_axes(&self, p: DVec3, prim: u32) -> Option<[DVec3; 2]> {
+        dispatch!(self, s => s.coordinate_axes(p, prim), _m => None)
+    }
+
+    /// Whether every part has plane coordinates or coordinate axes (see
+    /// [`AnalyticShape::is_charted`]); meshes have neither.
+    pub fn is_charted(&self) -> bool {
+        dispatch!(self, s => s.is_charted(), _m => false)
+    }
+
     /// Axis-aligned bounds, or `None` for unbounded shapes.
     pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
         dispatch!(self, s => s.bounds(), m => Some(m.bounds()))
@@ -509,5 +537,144 @@ impl Shape {
             Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DAffine3, DMat3, DVec2, DVec3};
+
+    use super::*;
+
+    /// The curved shapes with coordinate axes, each with a box of surface coordinates inside
+    /// its chart (away from poles, seams and rims).
+    fn charted_shapes() -> Vec<(Shape, DVec2, DVec2)> {
+        let turn = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, -0.5).normalize(), 0.7);
+        let sphere = Sphere::new(DVec3::new(0.3, -0.2, 1.0), 1.5).unwrap();
+        let shear = DAffine3::from_mat3_translation(
+            DMat3::from_cols(
+                DVec3::new(1.0, 0.2, 0.0),
+                DVec3::new(0.5, 1.5, -0.3),
+                DVec3::new(0.0, 0.4, 0.8),
+            ),
+            DVec3::new(1.0, 2.0, 3.0),
+        );
+        let r = 1.5;
+        vec![
+            (
+                Shape::Sphere(sphere.clone().rotated(turn)),
+                DVec2::new(-2.5 * r, 0.3 * r),
+                DVec2::new(2.5 * r, 2.8 * r),
+            ),
+            (
+                Shape::Ellipsoid(Ellipsoid::new(DVec3::ONE, DVec3::new(1.0, 2.0, 0.5)).unwrap()),
+                DVec2::new(-2.5, 0.3),
+                DVec2::new(2.5, 2.8),
+            ),
+            (
+                Shape::Paraboloid(
+                    Paraboloid::new(DVec3::ZERO, DVec3::new(0.2, 1.0, 0.1), 0.7, 2.0, false)
+                        .unwrap(),
+                ),
+                DVec2::splat(-1.5),
+                DVec2::splat(1.5),
+            ),
+            (
+                Shape::SphericalCap(
+                    SphericalCap::new(DVec3::ZERO, DVec3::new(0.0, 0.6, 0.8), 80.0).unwrap(),
+                ),
+                DVec2::new(-3.0, 0.1),
+                DVec2::new(3.0, 1.3),
+            ),
+            (
+                Shape::EllipticCylinder(
+                    EllipticCylinder::new(
+                        DVec3::ZERO,
+                        DVec3::new(0.0, 0.0, 3.0),
+                        DVec2::new(1.0, 0.5),
+                        Some(DVec3::new(1.0, 1.0, 0.0)),
+                        true,
+                    )
+                    .unwrap(),
+                ),
+                DVec2::new(-2.0, 0.1),
+                DVec2::new(2.0, 2.9),
+            ),
+            (
+                Shape::Cone(
+                    Cone::new(DVec3::ONE, DVec3::new(0.0, -1.0, 1.0), 30.0, 2.0, true).unwrap(),
+                ),
+                DVec2::new(-3.0, 0.2),
+                DVec2::new(3.0, 1.9),
+            ),
+            (
+                Shape::BilinearSurface(
+                    BilinearSurface::new([
+                        DVec3::ZERO,
+                        DVec3::new(2.0, 0.0, 0.3),
+                        DVec3::new(2.5, 1.5, -0.4),
+                        DVec3::new(0.0, 1.0, 0.5),
+                    ])
+                    .unwrap(),
+                ),
+                DVec2::splat(0.05),
+                DVec2::new(1.9, 1.0),
+            ),
+            (
+                Shape::Transformed(Transformed::new(Shape::Sphere(sphere), shear).unwrap()),
+                DVec2::new(-2.5 * r, 0.3 * r),
+                DVec2::new(2.5 * r, 2.8 * r),
+            ),
+        ]
+    }
+
+    /// The coordinate axes are the derivatives of `point_at`, the inverse of `coordinates`
+    /// (central differences, a construction of the same vectors another way), and tangent.
+    #[test]
+    fn coordinate_axes_are_the_derivatives_of_the_surface_point() {
+        let h = 1e-5;
+        for (shape, lo, hi) in charted_shapes() {
+            assert!(shape.is_charted(), "{}", shape.kind());
+            for i in 0..=6 {
+                for j in 0..=6 {
+                    let c = lo + (hi - lo) * DVec2::new(i as f64, j as f64) / 6.0;
+                    let p = shape.point_at(c).unwrap();
+                    assert!(
+                        shape.coordinates(p, 0).distance(c) < 1e-9,
+                        "{}",
+                        shape.kind()
+                    );
+                    let axes = shape.coordinate_axes(p, 0).unwrap();
+                    let n = shape.normal(p, 0);
+                    for (k, e) in [DVec2::X, DVec2::Y].into_iter().enumerate() {
+                        let at = |s: f64| shape.point_at(c + s * h * e).unwrap();
+                        let derivative = (at(1.0) - at(-1.0)) / (2.0 * h);
+                        assert!(
+                            axes[k].distance(derivative) < 1e-7 * (1.0 + derivative.length()),
+                            "{} at {c}: axis {k} {} against {derivative}",
+                            shape.kind(),
+                            axes[k]
+                        );
+                        assert!(axes[k].dot(n).abs() < 1e-12 * (1.0 + axes[k].length()));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Shapes with a part without a chart (a closed cylinder's or cone's caps, on which one
+    /// coordinate is constant) and meshes are not charted; flat shapes and polyhedra are, by
+    /// their plane coordinates.
+    #[test]
+    fn shapes_with_caps_of_constant_coordinates_are_not_charted() {
+        let cylinder = Cylinder::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap();
+        assert!(!Shape::Cylinder(cylinder).is_charted());
+        let cone = |open| Cone::new(DVec3::ZERO, DVec3::Z, 30.0, 1.0, open).unwrap();
+        assert!(!Shape::Cone(cone(false)).is_charted());
+        assert!(Shape::Cone(cone(true)).is_charted());
+        let cuboid = Cuboid::new(DVec3::ZERO, DVec3::ONE).unwrap();
+        assert!(Shape::Cuboid(cuboid).is_charted());
+        let disc = Disc::new(DVec3::ZERO, DVec3::Z, 1.0).unwrap();
+        assert!(Shape::Disc(disc).is_charted());
     }
 }

@@ -158,6 +158,24 @@ impl AnalyticShape for Paraboloid {
         (z <= self.height).then(|| self.axis.world(c.extend(z)))
     }
 
+    /// (∂p/∂x, ∂p/∂y): (û + x/(2f) axis, v̂ + y/(2f) axis) on the curved surface
+    /// (z = (x² + y²)/(4f)), û and v̂ on the cap.
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        let slope = if part == 1 {
+            DVec2::ZERO
+        } else {
+            self.axis.local(p).truncate() / (2.0 * self.focal_length)
+        };
+        Some([
+            self.axis.world_vector(DVec3::new(1.0, 0.0, slope.x)),
+            self.axis.world_vector(DVec3::new(0.0, 1.0, slope.y)),
+        ])
+    }
+
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     /// Exact: along each world axis e, the farthest point is on the rim, or where the surface
     /// faces e: with a = e·axis and s = |e across the axis|, e·(p − vertex) = a z + 2 (f z)^½ s
     /// is largest at z = H unless a < 0 and z = f s² / a² < H, where it is f s² / |a|.

@@ -99,6 +99,11 @@ impl AnalyticShape for Polyhedron {
         Some(self.coordinates(p, part))
     }
 
+    /// Every face has plane coordinates.
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some(self.bounds)
     }
@@ -166,6 +171,10 @@ impl<T: Polyhedral> AnalyticShape for T {
 
     fn plane_coordinates(&self, p: DVec3, part: u32) -> Option<DVec2> {
         self.polyhedron().plane_coordinates(p, part)
+    }
+
+    fn is_charted(&self) -> bool {
+        self.polyhedron().is_charted()
     }
 
     fn bounds(&self) -> Option<(DVec3, DVec3)> {

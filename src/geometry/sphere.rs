@@ -100,6 +100,19 @@ impl AnalyticShape for Sphere {
         Some(self.centre + self.radius * self.axes.map_or(d, |a| a * d))
     }
 
+    /// (∂p/∂(r φ), ∂p/∂(r θ)) = (sin θ φ̂, θ̂): along the parallel (growing longitude) and the
+    /// meridian (away from the pole), in the sphere's axes; `None` at the poles.
+    fn coordinate_axes(&self, p: DVec3, _part: u32) -> Option<[DVec3; 2]> {
+        let axes = self.axes.unwrap_or(DMat3::IDENTITY);
+        let [along_phi, along_theta] =
+            unit_sphere_axes(axes.transpose() * (p - self.centre) / self.radius)?;
+        Some([axes * along_phi, axes * along_theta])
+    }
+
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         Some((
             self.centre - DVec3::splat(self.radius),
@@ -110,6 +123,20 @@ impl AnalyticShape for Sphere {
     fn solid(&self) -> Option<&dyn ConvexSolid> {
         Some(self)
     }
+}
+
+/// On the unit sphere with the pole along y and longitude φ = atan2(x, z), the point
+/// d = (sin θ sin φ, cos θ, sin θ cos φ): its derivatives (∂d/∂φ, ∂d/∂θ) =
+/// ((sin θ cos φ, 0, −sin θ sin φ), (cos θ sin φ, −sin θ, cos θ cos φ)), from d itself
+/// (sin θ = |(d_x, d_z)|); `None` at the poles, where φ is no coordinate.
+pub(super) fn unit_sphere_axes(d: DVec3) -> Option<[DVec3; 2]> {
+    let s = DVec2::new(d.x, d.z).length();
+    (s > 0.0).then(|| {
+        [
+            DVec3::new(d.z, 0.0, -d.x),
+            DVec3::new(d.y * d.x / s, -s, d.y * d.z / s),
+        ]
+    })
 }
 
 impl ConvexSolid for Sphere {

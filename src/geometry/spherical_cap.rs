@@ -152,6 +152,19 @@ impl AnalyticShape for SphericalCap {
         Some(self.axis.world(self.radius * e))
     }
 
+    /// (∂p/∂(R φ), ∂p/∂(R θ)): a sphere's, about the cap's axis; `None` at the pole.
+    fn coordinate_axes(&self, p: DVec3, _part: u32) -> Option<[DVec3; 2]> {
+        // The sphere's (x, pole, z) with longitude atan2(x, z) are the cap's (v̂, axis, û),
+        // whose longitude is atan2(v̂, û).
+        let e = self.axis.local(p) / self.radius;
+        let axes = super::sphere::unit_sphere_axes(DVec3::new(e.y, e.z, e.x))?;
+        Some(axes.map(|a| self.axis.world_vector(DVec3::new(a.z, a.x, a.y))))
+    }
+
+    fn is_charted(&self) -> bool {
+        true
+    }
+
     /// Exact: along each world axis e, the farthest point is the sphere's (centre + R e) if it
     /// is on the cap, and otherwise on the rim.
     fn bounds(&self) -> Option<(DVec3, DVec3)> {

@@ -111,6 +111,17 @@ impl AnalyticShape for Transformed {
         self.inner.is_flat()
     }
 
+    /// The shape's own axes mapped by the linear part A (the coordinates are the shape's own:
+    /// ∂(A p′ + b)/∂c = A ∂p′/∂c).
+    fn coordinate_axes(&self, p: DVec3, part: u32) -> Option<[DVec3; 2]> {
+        let axes = self.inner.coordinate_axes(self.local(p), part)?;
+        Some(axes.map(|a| self.to_world.transform_vector3(a)))
+    }
+
+    fn is_charted(&self) -> bool {
+        self.inner.is_charted()
+    }
+
     /// The box around the images of the corners of the shape's own box.
     fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let (lo, hi) = self.inner.bounds()?;

@@ -26,10 +26,11 @@ pub use lenses::{
     MaxwellFisheyeLensKeys,
 };
 pub use metatoys::{
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, LorentzWindow, LorentzWindowKeys,
-    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
-    PhaseHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys, Teleporting,
-    TeleportingKeys,
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
+    LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
+    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, PointToPointImagingHologram,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys,
+    Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use refractive::{Refractive, RefractiveKeys, refract};
@@ -74,6 +75,8 @@ kinds! {
         RayFlipping(RayFlippingKeys),
         #[serde(alias = "phase_hologram")]
         PhaseHologram(PhaseHologramKeys),
+        PointToPointImagingHologram(PointToPointImagingHologramKeys),
+        LensHologram(LensHologramKeys),
         #[serde(alias = "phase_conjugating")]
         PhaseConjugating(PhaseConjugatingKeys),
         #[serde(alias = "lorentz_window")]
@@ -109,7 +112,8 @@ pub enum Redirection<'a> {
     Emits(Colour),
     /// No light comes back along the ray: a ray trapped in a lens, teleported beyond the
     /// destination's edge, or meeting a law on a shape it does not work on (a lens that is not
-    /// a sphere, a hologram that is not flat; `timbre check` warns of these).
+    /// a sphere, a hologram on a part without surface coordinates; `timbre check` warns of
+    /// these).
     Lost,
     /// The ray leaves the hit point in unit `direction`, carrying `factor` of the light.
     Leaves { direction: DVec3, factor: f64 },
@@ -137,8 +141,10 @@ pub enum Surface {
     ConfocalLensletArrays(ConfocalLensletArrays),
     RayRotating(RayRotating),
     RayFlipping(RayFlipping),
-    /// Flat surfaces only.
+    /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
+    /// Any shape: the law needs positions, not surface coordinates.
+    PointToPointImagingHologram(PointToPointImagingHologram),
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
     Teleporting(Teleporting),
@@ -165,6 +171,7 @@ impl Surface {
             Surface::RayRotating(_) => "ray-rotating",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
+            Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
             Surface::PhaseConjugating(_) => "phase-conjugating",
             Surface::LorentzWindow(_) => "lorentz-window",
             Surface::Teleporting(_) => "teleporting",
@@ -208,6 +215,7 @@ impl Surface {
             Surface::RayRotating(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
+            Surface::PointToPointImagingHologram(s) => s.redirect(at),
             Surface::PhaseConjugating(s) => s.redirect(at),
             Surface::LorentzWindow(s) => s.redirect(at),
             Surface::Teleporting(s) => s.redirect(at),
@@ -232,8 +240,9 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the ideal
     /// lenses' laws move with the shape, and their focal lengths scale with it (which needs a
-    /// similarity map). The other laws have no positions; the vectors and tensors of a law in
-    /// the global basis are read in x, y and z, wherever the object is.
+    /// similarity map); a point-to-point imaging hologram's two points move with it. The other
+    /// laws have no positions; the vectors and tensors of a law in the global basis are read
+    /// in x, y and z, wherever the object is.
     pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
         if t.is_identity() {
             return Ok(self.clone());
@@ -245,6 +254,9 @@ impl Surface {
             }),
             Surface::IdealThinLensletArray(a) => Surface::IdealThinLensletArray(a.transformed(t)?),
             Surface::Glens(g) => Surface::Glens(g.transformed(t)?),
+            Surface::PointToPointImagingHologram(h) => {
+                Surface::PointToPointImagingHologram(h.transformed(t))
+            }
             Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
@@ -267,17 +279,19 @@ impl Surface {
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms need a flat shape's coordinates. The other
-    /// laws work on any shape.
+    /// sphere's centre and radius; phase holograms need surface coordinates on every part
+    /// (plane coordinates or coordinate axes). The other laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match self {
             Surface::Lens(l) if !matches!(shape, Shape::Sphere(_)) => Err(format!(
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
-            Surface::PhaseHologram(_) if !shape.is_flat() => Err(
-                "a phase-hologram surface needs a flat shape (plane, disc, parallelogram, \
-                 convex polygon, or one of them transformed)"
+            Surface::PhaseHologram(_) if !shape.is_charted() => Err(
+                "a phase-hologram surface needs surface coordinates on every part of its shape \
+                 (a flat shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, \
+                 bilinear surface, cylinder or cone with open = true, or one of them \
+                 transformed); a closed cylinder's or cone's caps and meshes have none"
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
@@ -292,6 +306,7 @@ impl Surface {
             | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
             | Surface::RayFlipping(_)
+            | Surface::PointToPointImagingHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
             | Surface::Teleporting(_)

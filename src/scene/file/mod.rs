@@ -128,6 +128,7 @@ fn plain(message: &str) -> String {
         ("usize", "a whole number"),
         ("i64", "a whole number"),
         ("f64", "a number"),
+        ("a sequence", "an array"),
         ("floating point", "number"),
         (
             "cannot recurse further; max recursion depth met",

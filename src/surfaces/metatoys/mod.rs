@@ -22,6 +22,7 @@ mod lorentz_window;
 mod metric_interface;
 mod phase_conjugating;
 mod phase_hologram;
+mod point_to_point_imaging_hologram;
 mod ray_flipping;
 mod ray_rotating;
 mod teleporting;
@@ -37,7 +38,14 @@ pub use metric_interface::{
 pub use phase_conjugating::{
     Conjugation, PhaseConjugating, PhaseConjugatingKeys, phase_conjugated,
 };
-pub use phase_hologram::{Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, hologram_direction};
+pub use phase_hologram::{
+    AzimuthalPixelatedFresnelWedgePhase, AzimuthalRadial, CylindricalPhase, LensPhase, LinearPhase,
+    Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, PolynomialPhase, QuadraticPhase,
+    RotationallySymmetricPhase, Sectors, hologram_direction,
+};
+pub use point_to_point_imaging_hologram::{
+    LensHologramKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys,
+};
 pub use ray_flipping::{RayFlipping, RayFlippingKeys, flipped};
 pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
 pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
