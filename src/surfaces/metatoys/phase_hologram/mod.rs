@@ -12,17 +12,52 @@
 //! Each phase φ(u, v) is a kind in its own file (`phase = { type = "..." }`), in Cartesian
 //! coordinates (u, v) of a flat surface measured from its reference point (a plane's point, a
 //! disc's centre, a parallelogram's corner). Adding one: its struct with `gradient` and its
-//! keys in a new file, a line in [`PhaseKeys`] and a variant of [`Phase`].
+//! keys in a new file (their `build` returns the phase, or the message naming the key for
+//! values that cannot go together), a line in [`PhaseKeys`] and a variant of [`Phase`].
 
+mod crossed_linear_power_lenticular_arrays;
 mod cylindrical;
+mod cylindrical_lens_spiral;
 mod lens;
 mod linear;
+mod linear_power_lenticular_array;
+mod logarithmic_cylindrical_lens_spiral;
+mod lohmann_cylindrical_lens_part;
+mod lohmann_lens_part;
 mod quadratic;
+mod radial_lenticular_array;
+mod rectangular_alvarez_lens_part_array;
+mod rectangular_lenslet_array;
+mod sparse_rectangular_lenslet_array;
 
+pub use crossed_linear_power_lenticular_arrays::{
+    CrossedLinearPowerLenticularArraysPhase, CrossedLinearPowerLenticularArraysPhaseKeys,
+};
 pub use cylindrical::{CylindricalPhase, CylindricalPhaseKeys};
+pub use cylindrical_lens_spiral::{
+    CylindricalLensSpiralPhase, CylindricalLensSpiralPhaseKeys, SpiralType,
+};
 pub use lens::{LensPhase, LensPhaseKeys};
 pub use linear::{LinearPhase, LinearPhaseKeys};
+pub use linear_power_lenticular_array::{
+    LinearPowerLenticularArrayPhase, LinearPowerLenticularArrayPhaseKeys,
+};
+pub use logarithmic_cylindrical_lens_spiral::LogarithmicCylindricalLensSpiralPhaseKeys;
+pub use lohmann_cylindrical_lens_part::{
+    LohmannCylindricalLensPartPhase, LohmannCylindricalLensPartPhaseKeys,
+};
+pub use lohmann_lens_part::{LohmannLensPartPhase, LohmannLensPartPhaseKeys};
 pub use quadratic::{QuadraticPhase, QuadraticPhaseKeys};
+pub use radial_lenticular_array::{RadialLenticularArrayPhase, RadialLenticularArrayPhaseKeys};
+pub use rectangular_alvarez_lens_part_array::{
+    RectangularAlvarezLensPartArrayPhase, RectangularAlvarezLensPartArrayPhaseKeys,
+};
+pub use rectangular_lenslet_array::{
+    RectangularLensletArrayPhase, RectangularLensletArrayPhaseKeys,
+};
+pub use sparse_rectangular_lenslet_array::{
+    SparseRectangularLensletArrayPhase, SparseRectangularLensletArrayPhaseKeys,
+};
 
 use glam::{DVec2, DVec3};
 use serde::Deserialize;
@@ -34,11 +69,21 @@ use crate::surfaces::{Redirection, Surface};
 
 kinds! {
     /// A `phase` table: its `type` names the phase, its other keys are the phase's own.
-    pub enum PhaseKeys -> Phase {
+    pub enum PhaseKeys -> Result<Phase, String> {
         Linear(LinearPhaseKeys),
         Quadratic(QuadraticPhaseKeys),
         Lens(LensPhaseKeys),
         Cylindrical(CylindricalPhaseKeys),
+        RectangularLensletArray(RectangularLensletArrayPhaseKeys),
+        SparseRectangularLensletArray(SparseRectangularLensletArrayPhaseKeys),
+        RadialLenticularArray(RadialLenticularArrayPhaseKeys),
+        LinearPowerLenticularArray(LinearPowerLenticularArrayPhaseKeys),
+        CrossedLinearPowerLenticularArrays(CrossedLinearPowerLenticularArraysPhaseKeys),
+        LohmannLensPart(LohmannLensPartPhaseKeys),
+        LohmannCylindricalLensPart(LohmannCylindricalLensPartPhaseKeys),
+        RectangularAlvarezLensPartArray(RectangularAlvarezLensPartArrayPhaseKeys),
+        CylindricalLensSpiral(CylindricalLensSpiralPhaseKeys),
+        LogarithmicCylindricalLensSpiral(LogarithmicCylindricalLensSpiralPhaseKeys),
     }
 }
 
@@ -49,6 +94,15 @@ pub enum Phase {
     Quadratic(QuadraticPhase),
     Lens(LensPhase),
     Cylindrical(CylindricalPhase),
+    RectangularLensletArray(RectangularLensletArrayPhase),
+    SparseRectangularLensletArray(SparseRectangularLensletArrayPhase),
+    RadialLenticularArray(RadialLenticularArrayPhase),
+    LinearPowerLenticularArray(LinearPowerLenticularArrayPhase),
+    CrossedLinearPowerLenticularArrays(CrossedLinearPowerLenticularArraysPhase),
+    LohmannLensPart(LohmannLensPartPhase),
+    LohmannCylindricalLensPart(LohmannCylindricalLensPartPhase),
+    RectangularAlvarezLensPartArray(RectangularAlvarezLensPartArrayPhase),
+    CylindricalLensSpiral(CylindricalLensSpiralPhase),
 }
 
 impl Phase {
@@ -59,6 +113,15 @@ impl Phase {
             Phase::Quadratic(p) => p.gradient(r),
             Phase::Lens(p) => p.gradient(r),
             Phase::Cylindrical(p) => p.gradient(r),
+            Phase::RectangularLensletArray(p) => p.gradient(r),
+            Phase::SparseRectangularLensletArray(p) => p.gradient(r),
+            Phase::RadialLenticularArray(p) => p.gradient(r),
+            Phase::LinearPowerLenticularArray(p) => p.gradient(r),
+            Phase::CrossedLinearPowerLenticularArrays(p) => p.gradient(r),
+            Phase::LohmannLensPart(p) => p.gradient(r),
+            Phase::LohmannCylindricalLensPart(p) => p.gradient(r),
+            Phase::RectangularAlvarezLensPartArray(p) => p.gradient(r),
+            Phase::CylindricalLensSpiral(p) => p.gradient(r),
         }
     }
 }
@@ -110,7 +173,7 @@ pub struct PhaseHologramKeys {
 impl PhaseHologramKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::PhaseHologram(PhaseHologram {
-            phase: self.phase.build(),
+            phase: self.phase.build()?,
             transmission_coefficient: coefficient(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
