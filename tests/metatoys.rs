@@ -25,8 +25,9 @@ use glam::{DMat3, DQuat, DVec2, DVec3};
 use timbre::geometry::{Parallelogram, Shape};
 use timbre::math::Frame;
 use timbre::surfaces::metatoys::{
-    Basis, MetricInterface, Phase, Refraction, Teleportation, Teleporting, Telescopelets, flipped,
-    hologram_direction, metric_reflected_direction, metric_refracted_direction, rotated,
+    Basis, MetricInterface, Phase, PhaseKeys, Refraction, Teleportation, Teleporting,
+    Telescopelets, flipped, hologram_direction, metric_reflected_direction,
+    metric_refracted_direction, rotated,
 };
 
 /// Rays per test (per case, where a test has several).
@@ -835,6 +836,12 @@ fn ray_rotation_is_undone_by_the_opposite_angle_and_turns_about_the_normal() {
     }
 }
 
+/// A phase as a scene file's `phase` table gives it (Rust's shortest round-trip decimals, so
+/// the numbers are exactly those written).
+fn phase(table: &str) -> Phase {
+    toml::from_str::<PhaseKeys>(table).unwrap().build().unwrap()
+}
+
 #[test]
 fn linear_phase_hologram_gives_a_constant_tangential_kick() {
     // φ = g·(u, v): every ray, anywhere on the hologram, gains exactly g in its tangential
@@ -842,7 +849,10 @@ fn linear_phase_hologram_gives_a_constant_tangential_kick() {
     // length; −d′ comes back as −d.
     let mut rng = Rng(12);
     let gradient = DVec2::new(0.21, -0.13);
-    let phase = Phase::Linear { gradient };
+    let phase = phase(&format!(
+        "type = \"linear\"\ngradient = [{}, {}]",
+        gradient.x, gradient.y
+    ));
     let mut passed = 0;
     for _ in 0..RAYS {
         let r = DVec2::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
@@ -878,10 +888,10 @@ fn quadratic_phase_hologram_focuses_a_parallel_bundle() {
     let mut rng = Rng(13);
     for f in [0.5, 2.0, 10.0] {
         let centre = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let phase = Phase::Quadratic {
-            focal_length: f,
-            centre,
-        };
+        let phase = phase(&format!(
+            "type = \"quadratic\"\nfocal_length = {f}\ncentre = [{}, {}]",
+            centre.x, centre.y
+        ));
         let rho = 0.02 * f;
         let spread = |z: f64| {
             let focus = DVec3::new(centre.x, centre.y, z);
