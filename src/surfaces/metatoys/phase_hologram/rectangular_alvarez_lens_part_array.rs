@@ -107,4 +107,40 @@ mod tests {
             }
         }
     }
+
+    /// One array's phase written out: a (u³/6 + u v²/2) about its cell's centre (indices by
+    /// rounding) plus the offset; central differences away from the cell edges.
+    #[test]
+    fn the_kick_is_the_gradient_of_each_cells_cubic_phase() {
+        let (a, period, centre, offset) = (
+            -7.0,
+            DVec2::new(0.2, 0.1),
+            DVec2::new(0.03, -0.04),
+            DVec2::new(0.02, -0.01),
+        );
+        let array = RectangularAlvarezLensPartArrayPhase {
+            power_per_offset: a,
+            period,
+            centre,
+            offset,
+        };
+        let phase = |r: DVec2| {
+            let cell = centre + ((r - centre) / period).round() * period;
+            let s = r - cell - offset;
+            a * (s.x.powi(3) / 6.0 + s.x * s.y * s.y / 2.0)
+        };
+        let h = 1e-6;
+        for k in 0..300 {
+            let r = DVec2::new(-0.9 + 0.0061 * k as f64, 0.8 - 0.0053 * k as f64);
+            let t = (r - centre) / period;
+            if (t - t.round()).abs().max_element() > 0.499 {
+                continue;
+            }
+            let fd = DVec2::new(
+                phase(r + DVec2::X * h) - phase(r - DVec2::X * h),
+                phase(r + DVec2::Y * h) - phase(r - DVec2::Y * h),
+            ) / (2.0 * h);
+            assert!((array.gradient(r) - fd).length() < 1e-8, "{r}");
+        }
+    }
 }

@@ -121,4 +121,48 @@ mod tests {
         }
         assert_eq!(present, 5 * 5 * 3);
     }
+
+    /// The phase written out: −|r − c|²/(2f) within a present lenslet's aperture (lattice
+    /// indices by rounding; `lenslet` gives the centre and the larger of |Δu|/p_u and
+    /// |Δv|/p_v, at most 1/2 inside), 0 elsewhere; central differences away from the aperture
+    /// edges.
+    #[test]
+    fn the_kick_is_the_gradient_of_the_sparse_phase() {
+        let sparse = SparseRectangularLensletArrayPhase {
+            focal_length: -0.6,
+            period: DVec2::new(0.1, 0.15),
+            centre: DVec2::new(0.01, 0.02),
+            every: DVec2::new(2.0, 3.0),
+        };
+        let spacing = DVec2::new(0.2, 0.45);
+        let lenslet = |r: DVec2| {
+            let c =
+                DVec2::new(0.01, 0.02) + ((r - DVec2::new(0.01, 0.02)) / spacing).round() * spacing;
+            let s = (r - c) / DVec2::new(0.1, 0.15);
+            (c, s.x.abs().max(s.y.abs()))
+        };
+        let phase = |r: DVec2| {
+            let (c, half) = lenslet(r);
+            if half > 0.5 {
+                0.0
+            } else {
+                -(r - c).length_squared() / (2.0 * -0.6)
+            }
+        };
+        let h = 1e-6;
+        let mut inside = 0;
+        for k in 0..500 {
+            let r = DVec2::new(-1.0 + 0.00411 * k as f64, 0.7 - 0.00297 * k as f64);
+            if (lenslet(r).1 - 0.5).abs() < 1e-3 {
+                continue;
+            }
+            let fd = DVec2::new(
+                phase(r + DVec2::X * h) - phase(r - DVec2::X * h),
+                phase(r + DVec2::Y * h) - phase(r - DVec2::Y * h),
+            ) / (2.0 * h);
+            assert!((sparse.gradient(r) - fd).length() < 1e-8, "{r}");
+            inside += usize::from(lenslet(r).1 < 0.5);
+        }
+        assert!(inside > 50 && inside < 300, "{inside}");
+    }
 }
