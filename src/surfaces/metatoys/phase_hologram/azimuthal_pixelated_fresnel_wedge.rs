@@ -50,18 +50,20 @@ pub struct AzimuthalPixelatedFresnelWedgePhaseKeys {
 }
 
 impl AzimuthalPixelatedFresnelWedgePhaseKeys {
-    pub fn build(self) -> Phase {
+    pub fn build(self) -> Result<Phase, String> {
         let [wu, wv] = self.pixel_size.0.map(|w| w.0);
-        Phase::AzimuthalPixelatedFresnelWedge(AzimuthalPixelatedFresnelWedgePhase {
-            centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
-            gradients: AzimuthalRadial::from_keys(
-                self.azimuthal_coefficient,
-                self.azimuthal_exponent,
-                self.radial_coefficient,
-                self.radial_exponent,
-            ),
-            pixel_size: DVec2::new(wu, wv),
-        })
+        Ok(Phase::AzimuthalPixelatedFresnelWedge(
+            AzimuthalPixelatedFresnelWedgePhase {
+                centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
+                gradients: AzimuthalRadial::from_keys(
+                    self.azimuthal_coefficient,
+                    self.azimuthal_exponent,
+                    self.radial_coefficient,
+                    self.radial_exponent,
+                ),
+                pixel_size: DVec2::new(wu, wv),
+            },
+        ))
     }
 }
 

@@ -36,11 +36,11 @@ pub struct CylindricalPhaseKeys {
 }
 
 impl CylindricalPhaseKeys {
-    pub fn build(self) -> Phase {
-        Phase::Cylindrical(CylindricalPhase {
+    pub fn build(self) -> Result<Phase, String> {
+        Ok(Phase::Cylindrical(CylindricalPhase {
             focal_length: self.focal_length.0,
             centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
             axis_angle: self.axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
-        })
+        }))
     }
 }

@@ -35,10 +35,10 @@ pub struct LensPhaseKeys {
 }
 
 impl LensPhaseKeys {
-    pub fn build(self) -> Phase {
-        Phase::Lens(LensPhase {
+    pub fn build(self) -> Result<Phase, String> {
+        Ok(Phase::Lens(LensPhase {
             focal_length: self.focal_length.0,
             centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
-        })
+        }))
     }
 }

@@ -26,9 +26,9 @@ pub struct LinearPhaseKeys {
 }
 
 impl LinearPhaseKeys {
-    pub fn build(self) -> Phase {
-        Phase::Linear(LinearPhase {
+    pub fn build(self) -> Result<Phase, String> {
+        Ok(Phase::Linear(LinearPhase {
             gradient: self.gradient.0,
-        })
+        }))
     }
 }

@@ -14,8 +14,9 @@
 //! plane coordinates measured from its reference point (a plane's point, a disc's centre, a
 //! parallelogram's corner), along the frame's u and v; on a curved one the shape's surface
 //! coordinates (c₁, c₂) (a sphere's (r φ, r θ), a cylinder's (r φ, z), ...). Adding one: its
-//! struct with `gradient` and its keys in a new file, a line in [`PhaseKeys`] and a variant of
-//! [`Phase`].
+//! struct with `gradient` and its keys in a new file (their `build` returns the phase, or the
+//! message naming the key for values that cannot go together), a line in [`PhaseKeys`] and a
+//! variant of [`Phase`].
 //!
 //! On a curved surface the kick is the surface gradient of φ. Moving along the surface by
 //! dp = e₁ dc₁ + e₂ dc₂, with the coordinate axes eᵢ = ∂p/∂cᵢ, changes the phase by
@@ -30,23 +31,57 @@
 //! stretched shape's are not.
 
 mod azimuthal_pixelated_fresnel_wedge;
+mod crossed_linear_power_lenticular_arrays;
 mod cylindrical;
+mod cylindrical_lens_spiral;
 mod lens;
 mod linear;
+mod linear_power_lenticular_array;
+mod logarithmic_cylindrical_lens_spiral;
+mod lohmann_cylindrical_lens_part;
+mod lohmann_lens_part;
 mod polynomial;
 mod quadratic;
+mod radial_lenticular_array;
+mod rectangular_alvarez_lens_part_array;
+mod rectangular_lenslet_array;
 mod rotationally_symmetric;
+mod sparse_rectangular_lenslet_array;
 
 pub use azimuthal_pixelated_fresnel_wedge::{
     AzimuthalPixelatedFresnelWedgePhase, AzimuthalPixelatedFresnelWedgePhaseKeys,
 };
+pub use crossed_linear_power_lenticular_arrays::{
+    CrossedLinearPowerLenticularArraysPhase, CrossedLinearPowerLenticularArraysPhaseKeys,
+};
 pub use cylindrical::{CylindricalPhase, CylindricalPhaseKeys};
+pub use cylindrical_lens_spiral::{
+    CylindricalLensSpiralPhase, CylindricalLensSpiralPhaseKeys, SpiralType,
+};
 pub use lens::{LensPhase, LensPhaseKeys};
 pub use linear::{LinearPhase, LinearPhaseKeys};
+pub use linear_power_lenticular_array::{
+    LinearPowerLenticularArrayPhase, LinearPowerLenticularArrayPhaseKeys,
+};
+pub use logarithmic_cylindrical_lens_spiral::LogarithmicCylindricalLensSpiralPhaseKeys;
+pub use lohmann_cylindrical_lens_part::{
+    LohmannCylindricalLensPartPhase, LohmannCylindricalLensPartPhaseKeys,
+};
+pub use lohmann_lens_part::{LohmannLensPartPhase, LohmannLensPartPhaseKeys};
 pub use polynomial::{PolynomialPhase, PolynomialPhaseKeys};
 pub use quadratic::{QuadraticPhase, QuadraticPhaseKeys};
+pub use radial_lenticular_array::{RadialLenticularArrayPhase, RadialLenticularArrayPhaseKeys};
+pub use rectangular_alvarez_lens_part_array::{
+    RectangularAlvarezLensPartArrayPhase, RectangularAlvarezLensPartArrayPhaseKeys,
+};
+pub use rectangular_lenslet_array::{
+    RectangularLensletArrayPhase, RectangularLensletArrayPhaseKeys,
+};
 pub use rotationally_symmetric::{
     AzimuthalRadial, RotationallySymmetricPhase, RotationallySymmetricPhaseKeys, Sectors,
+};
+pub use sparse_rectangular_lenslet_array::{
+    SparseRectangularLensletArrayPhase, SparseRectangularLensletArrayPhaseKeys,
 };
 
 use glam::{DMat2, DVec2, DVec3};
@@ -60,7 +95,7 @@ use crate::surfaces::{Redirection, Surface};
 
 kinds! {
     /// A `phase` table: its `type` names the phase, its other keys are the phase's own.
-    pub enum PhaseKeys -> Phase {
+    pub enum PhaseKeys -> Result<Phase, String> {
         Linear(LinearPhaseKeys),
         Quadratic(QuadraticPhaseKeys),
         Lens(LensPhaseKeys),
@@ -68,6 +103,16 @@ kinds! {
         Polynomial(PolynomialPhaseKeys),
         RotationallySymmetric(RotationallySymmetricPhaseKeys),
         AzimuthalPixelatedFresnelWedge(AzimuthalPixelatedFresnelWedgePhaseKeys),
+        RectangularLensletArray(RectangularLensletArrayPhaseKeys),
+        SparseRectangularLensletArray(SparseRectangularLensletArrayPhaseKeys),
+        RadialLenticularArray(RadialLenticularArrayPhaseKeys),
+        LinearPowerLenticularArray(LinearPowerLenticularArrayPhaseKeys),
+        CrossedLinearPowerLenticularArrays(CrossedLinearPowerLenticularArraysPhaseKeys),
+        LohmannLensPart(LohmannLensPartPhaseKeys),
+        LohmannCylindricalLensPart(LohmannCylindricalLensPartPhaseKeys),
+        RectangularAlvarezLensPartArray(RectangularAlvarezLensPartArrayPhaseKeys),
+        CylindricalLensSpiral(CylindricalLensSpiralPhaseKeys),
+        LogarithmicCylindricalLensSpiral(LogarithmicCylindricalLensSpiralPhaseKeys),
     }
 }
 
@@ -81,6 +126,15 @@ pub enum Phase {
     Polynomial(PolynomialPhase),
     RotationallySymmetric(RotationallySymmetricPhase),
     AzimuthalPixelatedFresnelWedge(AzimuthalPixelatedFresnelWedgePhase),
+    RectangularLensletArray(RectangularLensletArrayPhase),
+    SparseRectangularLensletArray(SparseRectangularLensletArrayPhase),
+    RadialLenticularArray(RadialLenticularArrayPhase),
+    LinearPowerLenticularArray(LinearPowerLenticularArrayPhase),
+    CrossedLinearPowerLenticularArrays(CrossedLinearPowerLenticularArraysPhase),
+    LohmannLensPart(LohmannLensPartPhase),
+    LohmannCylindricalLensPart(LohmannCylindricalLensPartPhase),
+    RectangularAlvarezLensPartArray(RectangularAlvarezLensPartArrayPhase),
+    CylindricalLensSpiral(CylindricalLensSpiralPhase),
 }
 
 impl Phase {
@@ -94,6 +148,15 @@ impl Phase {
             Phase::Polynomial(p) => p.gradient(r),
             Phase::RotationallySymmetric(p) => p.gradient(r),
             Phase::AzimuthalPixelatedFresnelWedge(p) => p.gradient(r),
+            Phase::RectangularLensletArray(p) => p.gradient(r),
+            Phase::SparseRectangularLensletArray(p) => p.gradient(r),
+            Phase::RadialLenticularArray(p) => p.gradient(r),
+            Phase::LinearPowerLenticularArray(p) => p.gradient(r),
+            Phase::CrossedLinearPowerLenticularArrays(p) => p.gradient(r),
+            Phase::LohmannLensPart(p) => p.gradient(r),
+            Phase::LohmannCylindricalLensPart(p) => p.gradient(r),
+            Phase::RectangularAlvarezLensPartArray(p) => p.gradient(r),
+            Phase::CylindricalLensSpiral(p) => p.gradient(r),
         }
     }
 }
@@ -163,7 +226,7 @@ pub struct PhaseHologramKeys {
 impl PhaseHologramKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::PhaseHologram(PhaseHologram {
-            phase: self.phase.build(),
+            phase: self.phase.build()?,
             transmission_coefficient: coefficient(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))

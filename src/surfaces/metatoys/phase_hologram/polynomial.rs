@@ -50,15 +50,15 @@ pub struct PolynomialPhaseKeys {
 }
 
 impl PolynomialPhaseKeys {
-    pub fn build(self) -> Phase {
-        Phase::Polynomial(PolynomialPhase {
+    pub fn build(self) -> Result<Phase, String> {
+        Ok(Phase::Polynomial(PolynomialPhase {
             coefficients: self
                 .coefficients
                 .into_iter()
                 .map(|row| row.into_iter().map(|a| a.0).collect())
                 .collect(),
             centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
-        })
+        }))
     }
 }
 

@@ -31,10 +31,10 @@ pub struct QuadraticPhaseKeys {
 }
 
 impl QuadraticPhaseKeys {
-    pub fn build(self) -> Phase {
-        Phase::Quadratic(QuadraticPhase {
+    pub fn build(self) -> Result<Phase, String> {
+        Ok(Phase::Quadratic(QuadraticPhase {
             focal_length: self.focal_length.0,
             centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
-        })
+        }))
     }
 }

@@ -123,12 +123,12 @@ pub struct RotationallySymmetricPhaseKeys {
 }
 
 impl RotationallySymmetricPhaseKeys {
-    pub fn build(self) -> Phase {
+    pub fn build(self) -> Result<Phase, String> {
         let sectors = Sectors {
             count: self.segments.map_or(8, NonZeroU32::get),
             direction: self.segment_direction_deg.map_or(0.0, |a| a.0).to_radians(),
         };
-        Phase::RotationallySymmetric(RotationallySymmetricPhase {
+        Ok(Phase::RotationallySymmetric(RotationallySymmetricPhase {
             centre: self.centre.map_or(DVec2::ZERO, |c| c.0),
             gradients: AzimuthalRadial::from_keys(
                 self.azimuthal_coefficient,
@@ -137,7 +137,7 @@ impl RotationallySymmetricPhaseKeys {
                 self.radial_exponent,
             ),
             sectors: self.simulate_honestly.unwrap_or(true).then_some(sectors),
-        })
+        }))
     }
 }
 
