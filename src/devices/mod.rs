@@ -4,6 +4,8 @@
 
 mod coordinate_system;
 mod four_pi_lens;
+mod fresnel_lens;
+mod fresnel_lens_surface;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
@@ -13,6 +15,8 @@ mod tim_head;
 
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
+pub use fresnel_lens::{FresnelLens, FresnelLensKeys};
+pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Sections};
 pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
@@ -40,6 +44,8 @@ kinds! {
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
         PlatonicLens(PlatonicLensKeys),
         FourPiLens(FourPiLensKeys),
+        FresnelLens(FresnelLensKeys),
+        FresnelLensSurface(FresnelLensSurfaceKeys),
     }
 }
 
