@@ -162,8 +162,16 @@ impl FresnelLensKeys {
             )
         };
         let sections = [
-            side(self.focal_length_min_front, self.focal_length_max_front, "front")?,
-            side(self.focal_length_min_back, self.focal_length_max_back, "back")?,
+            side(
+                self.focal_length_min_front,
+                self.focal_length_max_front,
+                "front",
+            )?,
+            side(
+                self.focal_length_min_back,
+                self.focal_length_max_back,
+                "back",
+            )?,
         ];
         let v = |v: Option<Vector>, d: DVec3| v.map_or(d, |v| v.0);
         Ok(Box::new(FresnelLens {
@@ -230,9 +238,15 @@ mod tests {
         // Forwards is −z (along the normal (0, 0, −1)): the front surface's plane is at
         // z = −0.005, its outward normal −z, towards the front point (0, 0, −1).
         let [front, back] = dr_tims_default().surfaces().unwrap();
-        assert_eq!(front.point_in_principalish_plane, DVec3::new(0.0, 0.0, -0.005));
+        assert_eq!(
+            front.point_in_principalish_plane,
+            DVec3::new(0.0, 0.0, -0.005)
+        );
         assert_eq!(front.outwards_principalish_plane_normal, DVec3::NEG_Z);
-        assert_eq!(back.point_in_principalish_plane, DVec3::new(0.0, 0.0, 0.005));
+        assert_eq!(
+            back.point_in_principalish_plane,
+            DVec3::new(0.0, 0.0, 0.005)
+        );
         assert_eq!(back.focal_point, DVec3::Z);
         assert!((front.approximate_thickness - 0.045).abs() < 1e-15);
     }

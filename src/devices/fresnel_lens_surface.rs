@@ -113,9 +113,13 @@ fn located(what: &str, err: GeometryError) -> String {
 /// alone if `open`.
 fn belin_cone(apex: DVec3, ellipse: &Ellipse, open: bool) -> Result<Shape, GeometryError> {
     let [e1, e2] = ellipse.semi_axes;
-    let map = DAffine3::from_mat3_translation(DMat3::from_cols(e1, e2, ellipse.centre - apex), apex);
+    let map =
+        DAffine3::from_mat3_translation(DMat3::from_cols(e1, e2, ellipse.centre - apex), apex);
     let cone = Cone::new(DVec3::ZERO, DVec3::Z, 45.0, 1.0, open)?;
-    Ok(Shape::Transformed(Transformed::new(Shape::Cone(cone), map)?))
+    Ok(Shape::Transformed(Transformed::new(
+        Shape::Cone(cone),
+        map,
+    )?))
 }
 
 impl FresnelLensSurface {
