@@ -10,6 +10,9 @@
 //!   a lens section on each side exactly through its back conjugate point, ring by ring;
 //! * the research scene `scenes/research/collimating-fresnel-lens-surface-test.toml`, traced
 //!   by `timbre trace --json`: rays from the focal point leave each ring along the axis;
+//! * Dr TIM's spherical thick lenses of the same family, `RefractiveLensSurfaces` and
+//!   `TriangularThickLens`: their paraxial focal lengths, traced, against the thick-lens
+//!   lensmaker's equation;
 //! * impossible parameters refused by `timbre check` with the line and column of the table.
 
 mod common;
@@ -363,6 +366,94 @@ fn a_skew_fresnel_lens_images_its_conjugate_points_ring_by_ring() {
 }
 
 // ------------------------------------------------------------------------------------------
+// Spherical thick lenses
+// ------------------------------------------------------------------------------------------
+
+/// The effective focal length of the lens device `lenses` with optical axis `axis` through
+/// `point`: a ray parallel to the axis, 10⁻⁴ from it, traced through (Snell here), leaves at
+/// slope s towards the axis: f = 10⁻⁴/s (paraxially, to about 10⁻⁸ relatively).
+fn traced_focal_length(lenses: &str, point: DVec3, axis: DVec3) -> f64 {
+    let text = format!("studio = \"none\"\n[[device]]\nname = \"lens\"\nlenses = {lenses}\n");
+    let description = file::parse(&text, "thick.toml").unwrap();
+    let (u, _) = across(axis);
+    let h = 1e-4;
+    let (met, _, e) = follow(&description, point + h * u - 10.0 * axis, axis).unwrap();
+    assert_eq!(met.len(), 2, "{lenses}: {met:?}");
+    -h * e.dot(axis) / e.dot(u)
+}
+
+/// The distance the lens device `lenses` spans along `axis` through `point`.
+fn traced_thickness(lenses: &str, point: DVec3, axis: DVec3) -> f64 {
+    let text = format!("studio = \"none\"\n[[device]]\nname = \"lens\"\nlenses = {lenses}\n");
+    let description = file::parse(&text, "thick.toml").unwrap();
+    let shape = &description.objects[0].shape;
+    let o = point - 10.0 * axis;
+    let (t0, _) = shape.intersect(o, axis, 0.0, 100.0).unwrap();
+    let (t1, _) = shape.intersect(o, axis, t0 + 1e-9, 100.0).unwrap();
+    t1 - t0
+}
+
+#[test]
+fn refractive_lens_surfaces_have_the_focal_length_they_are_given() {
+    // Dr TIM solves the thick-lens lensmaker's equation for the radius: the traced lens must
+    // focus at f, thick as it is.
+    let axis = DVec3::new(0.2, -0.1, 1.0).normalize();
+    let centre = DVec3::new(0.5, 0.2, 6.0);
+    for (f, n, d) in [
+        (2.0, 1.5, 0.3),
+        (0.8, 1.7, 0.2),
+        (-1.5, 1.5, 0.1),
+        (-0.6, 2.0, 0.05),
+    ] {
+        let lenses = format!(
+            "{{ type = \"refractive-lens-surfaces\", centre = [{}, {}, {}], \
+             normalised_optical_axis_direction = [{}, {}, {}], focal_length = {f}, \
+             refractive_index = {n}, centre_thickness = {d} }}",
+            centre.x, centre.y, centre.z, axis.x, axis.y, axis.z
+        );
+        let traced = traced_focal_length(&lenses, centre, axis);
+        assert!(
+            (traced - f).abs() < 1e-6 * f.abs(),
+            "f {f}: traced {traced}"
+        );
+        let thickness = traced_thickness(&lenses, centre, axis);
+        assert!((thickness - d).abs() < 1e-9, "f {f}: {thickness}");
+    }
+}
+
+#[test]
+fn triangular_thick_lenses_focus_as_thick_lenses_of_radius_2_f_n_minus_1() {
+    // Dr TIM's radius R = 2 f (n − 1) is the thin lens's; the lens, of centre thickness d_c
+    // (traced), focuses at the thick lens's 1/f' = (n − 1)(2/R − (n − 1) d_c/(n R²)).
+    let corners = "corner1 = [1, 0, 4], corner2 = [-0.5, 0.8, 4], corner3 = [-0.5, -0.9, 4]";
+    let p = DVec3::new(0.1, 0.05, 4.0);
+    for (f, n) in [(2.0, 1.5), (3.0, 1.49), (-2.0, 1.5)] {
+        let lenses = format!(
+            "{{ type = \"triangular-thick-lens\", focal_length = {f}, \
+             principal_point = [0.1, 0.05, 4], {corners}, refractive_index = {n}, \
+             thickness_at_thinnest_point = 0.02 }}"
+        );
+        let d_c = traced_thickness(&lenses, p, DVec3::Z);
+        let r = 2.0 * f * (n - 1.0);
+        let expected = 1.0 / ((n - 1.0) * (2.0 / r - (n - 1.0) * d_c / (n * r * r)));
+        let traced = traced_focal_length(&lenses, p, DVec3::Z);
+        assert!(
+            (traced - expected).abs() < 1e-6 * f.abs(),
+            "f {f}: {traced} vs {expected}"
+        );
+        if f < 0.0 {
+            assert!((d_c - 0.02).abs() < 1e-12, "thinnest on the axis: {d_c}");
+        } else {
+            // Thinnest at the corner farthest from the principal point, (−0.5, −0.9).
+            let corner = DVec3::new(-0.5, -0.9, 4.0);
+            let inside = corner + 1e-9 * (p - corner).normalize();
+            let d = traced_thickness(&lenses, inside, DVec3::Z);
+            assert!((d - 0.02).abs() < 1e-6, "at the corner: {d}");
+        }
+    }
+}
+
+// ------------------------------------------------------------------------------------------
 // The research scene
 // ------------------------------------------------------------------------------------------
 
@@ -533,6 +624,30 @@ fn impossible_lenses_are_refused_where_they_are_written() {
                 fresnel_surface("focal_point = [0, 0, 0], number_of_lens_sections = 3")
             ),
             vec![":3:10:", "no edges"],
+        ),
+        (
+            device(
+                "type = \"triangular-thick-lens\", focal_length = 0.9, principal_point = [0, 0, 4], \
+                 corner1 = [1, 0, 4], corner2 = [-0.5, 0.8, 4], corner3 = [-0.5, -0.8, 4], \
+                 refractive_index = 1.5, thickness_at_thinnest_point = 0.01",
+            ),
+            vec![":3:10:", "less than the aperture radius 1"],
+        ),
+        (
+            device(
+                "type = \"triangular-thick-lens\", focal_length = 2, principal_point = [0, 0, 4], \
+                 corner1 = [1, 0, 4], corner2 = [2, 0, 4], corner3 = [3, 0, 4], \
+                 refractive_index = 1.5, thickness_at_thinnest_point = 0.01",
+            ),
+            vec![":3:10:", "collinear"],
+        ),
+        (
+            device(
+                "type = \"refractive-lens-surfaces\", centre = [0, 0, 5], \
+                 normalised_optical_axis_direction = [0, 0, 1], focal_length = 0.1, \
+                 refractive_index = 1.5, centre_thickness = 0.2",
+            ),
+            vec![":3:10:", "no symmetric lens"],
         ),
     ];
     let dir = TempDir::new().unwrap();

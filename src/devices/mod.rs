@@ -11,7 +11,9 @@ mod lens_simplicial_complex;
 mod lens_star;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
+mod refractive_lens_surfaces;
 mod tim_head;
+mod triangular_thick_lens;
 
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
@@ -22,7 +24,9 @@ pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKe
 pub use lens_star::{LensStar, LensStarKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
+pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
+pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
 use crate::geometry::{Cylinder, Shape};
 use crate::keys::kinds;
@@ -46,6 +50,8 @@ kinds! {
         FourPiLens(FourPiLensKeys),
         FresnelLens(FresnelLensKeys),
         FresnelLensSurface(FresnelLensSurfaceKeys),
+        RefractiveLensSurfaces(RefractiveLensSurfacesKeys),
+        TriangularThickLens(TriangularThickLensKeys),
     }
 }
 
