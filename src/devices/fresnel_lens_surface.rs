@@ -103,7 +103,7 @@ pub struct FresnelLensSurface {
     pub transmission_coefficient: f64,
 }
 
-/// `err` in the scene file's words.
+/// `err`, prefixed with what it concerns.
 fn located(what: &str, err: GeometryError) -> String {
     format!("{what}: {err}")
 }
