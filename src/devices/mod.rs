@@ -4,21 +4,29 @@
 
 mod coordinate_system;
 mod four_pi_lens;
+mod fresnel_lens;
+mod fresnel_lens_surface;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
+mod refractive_lens_surfaces;
 mod tim_head;
+mod triangular_thick_lens;
 
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
+pub use fresnel_lens::{FresnelLens, FresnelLensKeys};
+pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Sections};
 pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
+pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
+pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
 use crate::geometry::{Cylinder, Shape};
 use crate::keys::kinds;
@@ -40,6 +48,10 @@ kinds! {
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
         PlatonicLens(PlatonicLensKeys),
         FourPiLens(FourPiLensKeys),
+        FresnelLens(FresnelLensKeys),
+        FresnelLensSurface(FresnelLensSurfaceKeys),
+        RefractiveLensSurfaces(RefractiveLensSurfacesKeys),
+        TriangularThickLens(TriangularThickLensKeys),
     }
 }
 

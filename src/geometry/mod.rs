@@ -16,6 +16,7 @@ mod disc;
 mod ellipsoid;
 mod elliptic_cylinder;
 mod interaction;
+mod lens_surface;
 mod lenses;
 mod masked;
 mod paraboloid;
@@ -48,6 +49,9 @@ pub use disc::{Disc, DiscKeys};
 pub use ellipsoid::{Ellipsoid, EllipsoidKeys};
 pub use elliptic_cylinder::{EllipticCylinder, EllipticCylinderKeys};
 pub use interaction::{Exit, Interaction};
+pub use lens_surface::{
+    Ellipse, LensSurface, LensSurfaceKeys, PlaneSection, RefractiveIndex, lens_surface,
+};
 pub use lenses::{FresnelLens, FresnelLensKeys, SphericalLens, SphericalLensKeys};
 pub use masked::{Masked, MaskedKeys};
 pub use paraboloid::{Paraboloid, ParaboloidKeys};
@@ -100,6 +104,7 @@ kinds! {
         TriangleMesh(TriangleMeshKeys),
         SphericalLens(SphericalLensKeys),
         FresnelLens(FresnelLensKeys),
+        LensSurface(LensSurfaceKeys),
         Union(UnionKeys),
         Intersection(IntersectionKeys),
         Difference(DifferenceKeys),
@@ -337,6 +342,7 @@ macro_rules! dispatch {
             Shape::Paraboloid($s) => $analytic,
             Shape::SphericalCap($s) => $analytic,
             Shape::EllipticCylinder($s) => $analytic,
+            Shape::LensSurface($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::Masked($s) => $analytic,
@@ -366,6 +372,8 @@ pub enum Shape {
     SphericalCap(SphericalCap),
     /// An elliptic cylinder, or a circular one without its end caps.
     EllipticCylinder(EllipticCylinder),
+    /// Dr TIM's lens surface (the convex solid of one of positive focal length).
+    LensSurface(LensSurface),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -533,6 +541,7 @@ impl Shape {
             Shape::Paraboloid(p) => p.kind(),
             Shape::SphericalCap(_) => "spherical-cap",
             Shape::EllipticCylinder(e) => e.kind(),
+            Shape::LensSurface(_) => "lens-surface",
             Shape::Transformed(t) => t.inner().kind(),
             Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",
