@@ -37,7 +37,9 @@ pub use metric_interface::{
 pub use phase_conjugating::{
     Conjugation, PhaseConjugating, PhaseConjugatingKeys, phase_conjugated,
 };
-pub use phase_hologram::{Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, hologram_direction};
+pub use phase_hologram::{
+    Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, QuadraticPhase, hologram_direction,
+};
 pub use ray_flipping::{RayFlipping, RayFlippingKeys, flipped};
 pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
 pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
