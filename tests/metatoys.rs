@@ -25,7 +25,8 @@ use glam::{DMat3, DQuat, DVec2, DVec3};
 use timbre::geometry::{Parallelogram, Shape};
 use timbre::math::Frame;
 use timbre::surfaces::metatoys::{
-    Basis, MetricInterface, Phase, Refraction, Teleportation, Teleporting, Telescopelets, flipped,
+    Basis, LinearPhase, MetricInterface, Phase, QuadraticPhase, Refraction, Teleportation,
+    Teleporting, Telescopelets, flipped,
     hologram_direction, metric_reflected_direction, metric_refracted_direction, rotated,
 };
 
@@ -842,7 +843,7 @@ fn linear_phase_hologram_gives_a_constant_tangential_kick() {
     // length; −d′ comes back as −d.
     let mut rng = Rng(12);
     let gradient = DVec2::new(0.21, -0.13);
-    let phase = Phase::Linear { gradient };
+    let phase = Phase::Linear(LinearPhase { gradient });
     let mut passed = 0;
     for _ in 0..RAYS {
         let r = DVec2::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
@@ -878,10 +879,10 @@ fn quadratic_phase_hologram_focuses_a_parallel_bundle() {
     let mut rng = Rng(13);
     for f in [0.5, 2.0, 10.0] {
         let centre = DVec2::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0));
-        let phase = Phase::Quadratic {
+        let phase = Phase::Quadratic(QuadraticPhase {
             focal_length: f,
             centre,
-        };
+        });
         let rho = 0.02 * f;
         let spread = |z: f64| {
             let focus = DVec3::new(centre.x, centre.y, z);

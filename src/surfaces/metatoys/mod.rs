@@ -38,7 +38,8 @@ pub use phase_conjugating::{
     Conjugation, PhaseConjugating, PhaseConjugatingKeys, phase_conjugated,
 };
 pub use phase_hologram::{
-    Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, QuadraticPhase, hologram_direction,
+    CylindricalPhase, LensPhase, LinearPhase, Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys,
+    QuadraticPhase, hologram_direction,
 };
 pub use ray_flipping::{RayFlipping, RayFlippingKeys, flipped};
 pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
