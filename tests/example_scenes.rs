@@ -3948,3 +3948,48 @@ fn visual_aids_stand_where_the_file_puts_them() {
         "{rays:?}"
     );
 }
+
+/// scenes/research/HolographicLensStarConicSectionTrajectoryPlotter.toml, Dr TIM's research
+/// program of that name with its lens-hologram option: 32 lenses round the y axis through the
+/// origin, each of focal length f = 0.5/sin(π/32), made as Dr TIM's `PhaseHologramOfLens`. At
+/// each lens a trajectory's unit direction d keeps its side of the lens and has its tangential
+/// part changed by −(S − P)ₜ/f, S where it meets the lens and P = 0 the principal point (the
+/// lens plane contains the y axis, so (S − P)ₜ = S); where that makes the tangential part
+/// longer than 1 the wave is evanescent and the ray is reflected in the lens instead (Dr TIM's
+/// `PhaseHologram`). Both of the program's trajectories, from (0, 0, 1) and (0, 0, 1.5) along
+/// θ = 225.1° in the (z, x) plane, do so at every lens they meet, in the plane y = 0, until
+/// the 128 interactions the program allows are spent; some of them are reflected (which
+/// ideal lenses never do).
+#[test]
+fn research_holographic_lens_star_bends_rays_as_lens_holograms() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/research/HolographicLensStarConicSectionTrajectoryPlotter.toml");
+    let f = 0.5 / (PI / 32.0).sin();
+    let rays = trace_file_with(&path, &[]);
+    assert_eq!(rays.len(), 2);
+    let mut reflected = 0;
+    for (ray, z0) in rays.iter().zip([1.0, 1.5]) {
+        assert_near("start", ray.points[0].position, DVec3::new(0.0, 0.0, z0), 1e-12);
+        assert_eq!(ray.end, "max-interactions");
+        assert_eq!(ray.points.len(), 129);
+        for k in 1..ray.points.len() - 1 {
+            let s = ray.points[k].position;
+            assert!(s.y.abs() < 1e-9, "left the plane y = 0 at {s}");
+            let lens = ray.points[k].object.as_deref().unwrap();
+            assert!(lens.starts_with("lens star/lens "), "{lens}");
+            // The lens's normal: horizontal, perpendicular to S.
+            let n = DVec3::new(-s.z, 0.0, s.x).normalize();
+            let d = leaving(ray, k - 1);
+            let tangential = d - d.dot(n) * n - s / f;
+            let normal2 = 1.0 - tangential.length_squared();
+            let expected = if normal2 > 0.0 {
+                tangential + d.dot(n).signum() * normal2.sqrt() * n
+            } else {
+                reflected += 1;
+                d - 2.0 * d.dot(n) * n
+            };
+            assert_near("the direction after a lens", leaving(ray, k), expected, 1e-9);
+        }
+    }
+    assert!(reflected > 0);
+}
