@@ -645,7 +645,10 @@ fn a_lens_star_named_by_its_type_alone_is_dr_tims_default_lens_star() {
         let phi = 2.0 * PI * i as f64 / 5.0;
         let radial = phi.cos() * u + phi.sin() * w.cross(u);
         let lens = ideal_lens(o);
-        assert_eq!((lens.focal_length, lens.transmission_coefficient), (1.0, 0.96));
+        assert_eq!(
+            (lens.focal_length, lens.transmission_coefficient),
+            (1.0, 0.96)
+        );
         close(lens.principal_point, centre, &o.name);
         assert!(lens.optical_axis.dot(radial).abs() < 1e-12 && lens.optical_axis.dot(w) == 0.0);
         // The rectangle from the axis (length 1, centred on the centre) out to radius 2.
@@ -676,9 +679,17 @@ fn cloaks_named_by_their_type_alone_are_dr_tims_default_cloaks() {
             assert_eq!(ideal_lens(o).transmission_coefficient, 0.96, "{}", o.name);
         }
         let base = parts.iter().find(|o| o.name == base).unwrap();
-        let f00 = (2.0 / 3.0) * -1.0 / (-1.0 - 2.0 / 3.0);
-        assert!((ideal_lens(base).focal_length.abs() - f00).abs() < 1e-12, "{kind}");
-        close(ideal_lens(base).principal_point, DVec3::new(0.0, -1.0, 10.0), kind);
+        let (h1, h1e) = (2.0 / 3.0, -1.0);
+        let f00 = h1 * h1e / (h1e - h1);
+        assert!(
+            (ideal_lens(base).focal_length.abs() - f00).abs() < 1e-12,
+            "{kind}"
+        );
+        close(
+            ideal_lens(base).principal_point,
+            DVec3::new(0.0, -1.0, 10.0),
+            kind,
+        );
         // The tetrahedron: base on y = −1, tip 2 above; the back vertex 4/3 behind the centre.
         let (lo, hi) = parts
             .iter()
@@ -704,8 +715,15 @@ fn a_four_pi_lens_named_by_its_type_alone_is_dr_tims_default_four_pi_lens() {
     assert_eq!(parts.len(), 15);
     assert!(parts.iter().all(|o| o.name != "d/base outer lens"));
     // The tip lenses' principal point is the tip, 1 from the principal point along the axis.
-    let tip = parts.iter().find(|o| o.name == "d/front outer lens").unwrap();
-    close(ideal_lens(tip).principal_point, DVec3::new(0.0, 0.0, 6.0), "tip");
+    let tip = parts
+        .iter()
+        .find(|o| o.name == "d/front outer lens")
+        .unwrap();
+    close(
+        ideal_lens(tip).principal_point,
+        DVec3::new(0.0, 0.0, 6.0),
+        "tip",
+    );
     for o in &parts {
         assert_eq!(ideal_lens(o).transmission_coefficient, 0.96);
         let (lo, hi) = o.shape.bounds().unwrap();
@@ -714,9 +732,16 @@ fn a_four_pi_lens_named_by_its_type_alone_is_dr_tims_default_four_pi_lens() {
     // With L1 shown, the base lens images the closer inner vertex (1/3 above it) with focal
     // length −focalLengthOutwards = −1.
     let with_l1 = default_parts("lenses = { type = \"four-pi-lens\", show_l1 = true }");
-    let l1 = with_l1.iter().find(|o| o.name == "d/base outer lens").unwrap();
+    let l1 = with_l1
+        .iter()
+        .find(|o| o.name == "d/base outer lens")
+        .unwrap();
     assert!((ideal_lens(l1).focal_length.abs() - 1.0).abs() < 1e-12);
-    close(ideal_lens(l1).principal_point, DVec3::new(0.0, 0.0, 5.0), "L1");
+    close(
+        ideal_lens(l1).principal_point,
+        DVec3::new(0.0, 0.0, 5.0),
+        "L1",
+    );
 }
 
 /// `EditablePlatonicLens(parent, studio)` with `EditablePlatonicSolid(parent, studio)`: a
@@ -736,7 +761,12 @@ fn a_platonic_lens_named_by_its_type_alone_is_dr_tims_default_platonic_lens() {
             .count()
     };
     assert_eq!(
-        [count("lens "), count("inner edge "), count("edge "), count("vertex ")],
+        [
+            count("lens "),
+            count("inner edge "),
+            count("edge "),
+            count("vertex ")
+        ],
         [6, 4, 6, 4]
     );
     for o in &parts {
@@ -826,25 +856,29 @@ fn a_tim_head_named_by_its_type_alone_is_dr_tims_default_head() {
     let Shape::Sphere(head) = &parts.iter().find(|o| o.name == "d/head").unwrap().shape else {
         panic!()
     };
-    assert_eq!((head.centre(), head.radius()), (DVec3::new(0.0, 0.0, 10.0), 1.0));
+    assert_eq!(
+        (head.centre(), head.radius()),
+        (DVec3::new(0.0, 0.0, 10.0), 1.0)
+    );
 }
 
 /// Edges as given override the device's defaults: a cloak's frames (Dr TIM's are hidden, of
 /// radius 0.02, red) shown with radius 0.05, and a 4π lens's (Dr TIM's grey, 0.01) shown.
 #[test]
 fn edges_take_the_devices_defaults_where_not_given() {
-    let cloak = default_parts("show_edges = true\nedge_radius = 0.05\nlenses = { type = \"ideal-lens-cloak\" }");
+    let cloak = default_parts(
+        "show_edges = true\nedge_radius = 0.05\nlenses = { type = \"ideal-lens-cloak\" }",
+    );
     let four_pi = default_parts("show_edges = true\nlenses = { type = \"four-pi-lens\" }");
-    for (parts, radius, colour) in [
-        (cloak, 0.05, DVec3::X),
-        (four_pi, 0.01, DVec3::splat(0.5)),
-    ] {
+    for (parts, radius, colour) in [(cloak, 0.05, DVec3::X), (four_pi, 0.01, DVec3::splat(0.5))] {
         let frames: Vec<_> = parts.iter().filter(|o| !o.name.contains("lens")).collect();
         // 14 edges and 6 vertices.
         assert_eq!(frames.len(), 20);
         for o in frames {
             let Shape::Cylinder(c) = &o.shape else {
-                let Shape::Sphere(s) = &o.shape else { panic!("{}", o.name) };
+                let Shape::Sphere(s) = &o.shape else {
+                    panic!("{}", o.name)
+                };
                 assert_eq!(s.radius(), radius);
                 continue;
             };
@@ -902,7 +936,10 @@ fn a_lens_hologram_focuses_a_bundle_where_the_ideal_lens_does_but_for_its_aberra
         rhos.iter().zip(ideal).zip(hologram)
     {
         assert!(miss_ideal < 1e-9 && miss_hologram < 1e-9, "ρ = {rho}");
-        assert!((z_ideal - f).abs() < 1e-9, "ρ = {rho}: ideal focus at {z_ideal}");
+        assert!(
+            (z_ideal - f).abs() < 1e-9,
+            "ρ = {rho}: ideal focus at {z_ideal}"
+        );
         let expected = (f * f - rho * rho).sqrt();
         assert!(
             (z_hologram - expected).abs() < 1e-9,
@@ -939,8 +976,12 @@ fn the_lens_types_of_a_cloak_are_made_from_its_ideal_lenses() {
             assert_eq!((&i.surface, &i.surface), (&h.surface, &p.surface));
             continue;
         };
-        let Surface::PhaseHologram(hologram) = &h.surface else { panic!("{}", h.name) };
-        let Phase::Quadratic(phase) = hologram.phase else { panic!() };
+        let Surface::PhaseHologram(hologram) = &h.surface else {
+            panic!("{}", h.name)
+        };
+        let Phase::Quadratic(phase) = hologram.phase else {
+            panic!()
+        };
         assert_eq!(phase.focal_length, lens.focal_length);
         assert_eq!(hologram.transmission_coefficient, 0.96);
         let centre = h.shape.plane_coordinates(lens.principal_point, 0).unwrap();

@@ -113,7 +113,10 @@ fn shapes_named_by_their_type_alone_are_dr_tims_new_ones() {
     );
     // ARROW: from (0, 0, 10) to (1, 0, 10).
     let (lo, hi) = shape("{ type = \"arrow\" }").bounds().unwrap();
-    assert!((lo.x, hi.x) == (0.0, 1.0) && lo.z < 10.0 && hi.z > 10.0, "{lo} {hi}");
+    assert!(
+        (lo.x, hi.x) == (0.0, 1.0) && lo.z < 10.0 && hi.z > 10.0,
+        "{lo} {hi}"
+    );
 }
 
 #[test]
@@ -158,7 +161,11 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             panic!()
         };
         assert_eq!(
-            (l.transmission_coefficient, l.index_ratio, l.invisible_radius),
+            (
+                l.transmission_coefficient,
+                l.index_ratio,
+                l.invisible_radius
+            ),
             (t, 1.0, 0.0),
             "{kind}"
         );
@@ -172,17 +179,27 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
     let Surface::MetricInterface(mi) = surface("{ type = \"metric-interface\" }") else {
         panic!()
     };
-    assert_eq!((mi.transmission_coefficient, mi.reflection_coefficient), (t, 1.0));
-    let Surface::ConfocalLensletArrays(g) = surface("{ type = \"gcla\", a = [0, 0, 1], u = [1, 0, 0] }")
+    assert_eq!(
+        (mi.transmission_coefficient, mi.reflection_coefficient),
+        (t, 1.0)
+    );
+    let Surface::ConfocalLensletArrays(g) =
+        surface("{ type = \"gcla\", a = [0, 0, 1], u = [1, 0, 0] }")
     else {
         panic!()
     };
     assert_eq!(g.eta, DVec2::ONE);
-    assert_eq!((g.transmission_coefficient, g.reflection_coefficient), (t, 1.0));
+    assert_eq!(
+        (g.transmission_coefficient, g.reflection_coefficient),
+        (t, 1.0)
+    );
     let Surface::RayRotating(rr) = surface("{ type = \"ray-rotating\" }") else {
         panic!()
     };
-    assert_eq!((rr.transmission_coefficient, rr.reflection_coefficient), (t, 1.0));
+    assert_eq!(
+        (rr.transmission_coefficient, rr.reflection_coefficient),
+        (t, 1.0)
+    );
     let Surface::RayFlipping(rf) = surface("{ type = \"ray-flipping\" }") else {
         panic!()
     };
@@ -201,7 +218,12 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         panic!()
     };
     assert_eq!(
-        (l.principal_point, l.optical_axis, l.focal_length, l.transmission_coefficient),
+        (
+            l.principal_point,
+            l.optical_axis,
+            l.focal_length,
+            l.transmission_coefficient
+        ),
         (DVec3::new(0.0, 0.0, 10.0), DVec3::NEG_Z, 1.0, t)
     );
     // GLENS: EditableGlens, centre (0, 0, 5), optical axis (0, 0, 1), focal lengths −2.5 and
@@ -226,7 +248,14 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         panic!()
     };
     assert_eq!(
-        (a.centre, a.u, a.v, a.period, a.focal_length, a.transmission_coefficient),
+        (
+            a.centre,
+            a.u,
+            a.v,
+            a.period,
+            a.focal_length,
+            a.transmission_coefficient
+        ),
         (
             DVec3::new(0.0, 0.0, 10.0),
             DVec3::X,

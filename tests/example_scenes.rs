@@ -3969,7 +3969,12 @@ fn research_holographic_lens_star_bends_rays_as_lens_holograms() {
     assert_eq!(rays.len(), 2);
     let mut reflected = 0;
     for (ray, z0) in rays.iter().zip([1.0, 1.5]) {
-        assert_near("start", ray.points[0].position, DVec3::new(0.0, 0.0, z0), 1e-12);
+        assert_near(
+            "start",
+            ray.points[0].position,
+            DVec3::new(0.0, 0.0, z0),
+            1e-12,
+        );
         assert_eq!(ray.end, "max-interactions");
         assert_eq!(ray.points.len(), 129);
         for k in 1..ray.points.len() - 1 {
@@ -3988,7 +3993,12 @@ fn research_holographic_lens_star_bends_rays_as_lens_holograms() {
                 reflected += 1;
                 d - 2.0 * d.dot(n) * n
             };
-            assert_near("the direction after a lens", leaving(ray, k), expected, 1e-9);
+            assert_near(
+                "the direction after a lens",
+                leaving(ray, k),
+                expected,
+                1e-9,
+            );
         }
     }
     assert!(reflected > 0);

@@ -683,7 +683,11 @@ fn a_phase_conjugating_pane_returns_rays_through_the_camera() {
     };
     let magenta = DVec3::new(1.0, 0.0, 1.0);
     for (surface, right, left) in [
-        (r#"{ type = "phase-conjugating", reflection = 1 }"#, magenta, DVec3::Y),
+        (
+            r#"{ type = "phase-conjugating", reflection = 1 }"#,
+            magenta,
+            DVec3::Y,
+        ),
         (r#"{ type = "mirror", reflection = 1 }"#, DVec3::Y, magenta),
     ] {
         let image = view(surface);

@@ -26,8 +26,8 @@ use timbre::geometry::{Parallelogram, Shape};
 use timbre::math::Frame;
 use timbre::surfaces::metatoys::{
     Basis, LinearPhase, MetricInterface, Phase, QuadraticPhase, Refraction, Teleportation,
-    Teleporting, Telescopelets, flipped,
-    hologram_direction, metric_reflected_direction, metric_refracted_direction, rotated,
+    Teleporting, Telescopelets, flipped, hologram_direction, metric_reflected_direction,
+    metric_refracted_direction, rotated,
 };
 
 /// Rays per test (per case, where a test has several).

@@ -242,10 +242,9 @@ fn every_kind_has_an_example() {
         format!("[[object]]\n{sphere}\nsurface = {{ type = \"zzz\" }}\n"),
         "[[device]]\nlenses = { type = \"zzz\" }\n".to_string(),
         "[[device]]\naid = { type = \"zzz\" }\n".to_string(),
-        format!(
-            "[[object]]\nshape = {{ type = \"disc\", centre = [0, 0, 5], normal = [0, 0, 1], \
-             radius = 1 }}\nsurface = {{ type = \"phase-hologram\", phase = {{ type = \"zzz\" }} }}\n"
-        ),
+        "[[object]]\nshape = { type = \"disc\", centre = [0, 0, 5], normal = [0, 0, 1], \
+         radius = 1 }\nsurface = { type = \"phase-hologram\", phase = { type = \"zzz\" } }\n"
+            .to_string(),
     ] {
         let e = file::parse(&table, "kinds.toml").unwrap_err().to_string();
         let listed = e.split("expected ").nth(1).expect("the kinds listed");

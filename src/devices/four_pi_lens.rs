@@ -119,14 +119,18 @@ impl FourPiLensKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
         let length = |x: Option<Positive>| x.map_or(1.0, |x| x.0);
         Ok(Box::new(FourPiLens {
-            principal_point: self.principal_point.map_or(DVec3::new(0.0, 0.0, 5.0), |p| p.0),
+            principal_point: self
+                .principal_point
+                .map_or(DVec3::new(0.0, 0.0, 5.0), |p| p.0),
             optical_axis_direction: self.optical_axis_direction.map_or(DVec3::Z, |d| d.0),
             focal_length_outwards: self.focal_length_outwards.map_or(1.0, |f| f.0),
             transverse_direction1: self.transverse_direction1.map_or(DVec3::X, |d| d.0),
             transverse_direction2: self.transverse_direction2.map_or(DVec3::Y, |d| d.0),
             radius: length(self.radius),
             length: length(self.length),
-            closer_inner_vertex_distance: self.closer_inner_vertex_distance.map_or(1.0 / 3.0, |d| d.0),
+            closer_inner_vertex_distance: self
+                .closer_inner_vertex_distance
+                .map_or(1.0 / 3.0, |d| d.0),
             farther_inner_vertex_distance: self
                 .farther_inner_vertex_distance
                 .map_or(2.0 / 3.0, |d| d.0),

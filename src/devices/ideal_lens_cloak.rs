@@ -238,7 +238,9 @@ impl CloakKeys {
         let length = |x: Option<Positive>, default: f64| x.map_or(default, |x| x.0);
         let height = |x: Option<Finite>, default: f64| x.map_or(default, |x| x.0);
         IdealLensCloak {
-            base_centre: self.base_centre.map_or(DVec3::new(0.0, -1.0, 10.0), |c| c.0),
+            base_centre: self
+                .base_centre
+                .map_or(DVec3::new(0.0, -1.0, 10.0), |c| c.0),
             front_direction: self.front_direction.map_or(DVec3::NEG_Z, |d| d.0),
             right_direction: self.right_direction.map_or(DVec3::X, |d| d.0),
             top_direction: self.top_direction.map_or(DVec3::Y, |d| d.0),

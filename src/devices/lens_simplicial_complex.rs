@@ -473,9 +473,9 @@ impl LensSimplicialComplexKeys {
         Ok(Box::new(LensSimplicialComplex {
             vertices: points(self.vertices, DEFAULT_VERTICES),
             vertices_v: points(self.vertices_v, DEFAULT_VERTICES_V),
-            edges: self
-                .edges
-                .map_or(DEFAULT_EDGES.to_vec(), |e| e.into_iter().map(|e| e.0).collect()),
+            edges: self.edges.map_or(DEFAULT_EDGES.to_vec(), |e| {
+                e.into_iter().map(|e| e.0).collect()
+            }),
             // Dr TIM's is always `DEFAULT_TRANSMISSION_COEFFICIENT`.
             lens_transmission_coefficient: crate::keys::throughput(
                 self.lens_transmission_coefficient,

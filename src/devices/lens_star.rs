@@ -139,7 +139,9 @@ impl LensStarKeys {
             principal_point_distance: self.principal_point_distance.map_or(0.0, |d| d.0),
             centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
             intersection_direction: self.intersection_direction.map_or(DVec3::Y, |d| d.0),
-            point_on_lens1: self.point_on_lens1.map_or(DVec3::new(1.0, 0.0, 10.0), |p| p.0),
+            point_on_lens1: self
+                .point_on_lens1
+                .map_or(DVec3::new(1.0, 0.0, 10.0), |p| p.0),
             star_radius: self.star_radius.map_or(2.0, |r| r.0),
             star_length: self.star_length.map_or(1.0, |l| l.0),
             lens_transmission_coefficient: crate::keys::throughput(

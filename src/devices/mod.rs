@@ -158,9 +158,7 @@ impl Edges {
     fn vertex(&self, name: String, at: glam::DVec3) -> Result<Part, String> {
         Ok(Part {
             name: name.clone(),
-            shape: Shape::Sphere(
-                Sphere::new(at, self.radius).map_err(|e| format!("{name}: {e}"))?,
-            ),
+            shape: Shape::Sphere(Sphere::new(at, self.radius).map_err(|e| format!("{name}: {e}"))?),
             surface: self.surface.clone(),
             edge: true,
         })

@@ -188,7 +188,9 @@ pub struct SphericalCapKeys {
 
 impl SphericalCapKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let centre = self.sphere_centre.map_or(DVec3::new(0.0, 0.0, 15.0), |c| c.0);
+        let centre = self
+            .sphere_centre
+            .map_or(DVec3::new(0.0, 0.0, 15.0), |c| c.0);
         let cap = self.cap_centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0);
         Ok(Shape::SphericalCap(
             match (self.aperture_radius, self.half_angle_deg) {

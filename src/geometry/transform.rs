@@ -106,11 +106,11 @@ impl Transform {
                 "with the transforms of the groups around it, {what}"
             )))
         };
-        if !(largest <= MAX_MAGNITUDE) {
+        if largest.is_nan() || largest > MAX_MAGNITUDE {
             refuse(format!(
                 "the map scales by up to {largest:e}, more than {MAX_MAGNITUDE:e}"
             ))
-        } else if !(moved <= MAX_MAGNITUDE) {
+        } else if moved.is_nan() || moved > MAX_MAGNITUDE {
             refuse(format!(
                 "the map moves points by up to {moved:e}, more than {MAX_MAGNITUDE:e}"
             ))

@@ -635,7 +635,11 @@ impl Placer {
         // A phase hologram's phase is in lengths of the scene, not of its shape: a device's lens
         // holograms would keep their focal lengths and centres while the device is scaled.
         let scaled = own.uniform_scale().is_none_or(|k| (k - 1.0).abs() > 1e-12);
-        if scaled && parts.iter().any(|p| matches!(p.surface, Surface::PhaseHologram(_))) {
+        if scaled
+            && parts
+                .iter()
+                .any(|p| matches!(p.surface, Surface::PhaseHologram(_)))
+        {
             return Err(source.error(
                 transform_span.or(Some(span)),
                 format!(
