@@ -79,9 +79,21 @@ number!(
     "a coefficient between 0 and 1"
 );
 
-/// A coefficient as a law's or device's keys give it: 1 (all the light) when not given.
+/// A coefficient as a law's keys give it: 1 (all the light) when not given. The reflection of
+/// the METATOYs' total internal reflection is lossless unless told otherwise, as in Dr TIM.
 pub fn coefficient(c: Option<Coefficient>) -> f64 {
     c.map_or(1.0, |c| c.0)
+}
+
+/// Dr TIM's `SurfacePropertyPrimitive.DEFAULT_TRANSMISSION_COEFFICIENT`: the fraction of the
+/// light that its surfaces and devices pass on (transmit, or for mirrors reflect) unless told
+/// otherwise.
+pub const DEFAULT_TRANSMISSION_COEFFICIENT: f64 = 0.96;
+
+/// The fraction of the light a surface or a device's lens passes on, as its keys give it:
+/// [`DEFAULT_TRANSMISSION_COEFFICIENT`] when not given.
+pub fn throughput(c: Option<Coefficient>) -> f64 {
+    c.map_or(DEFAULT_TRANSMISSION_COEFFICIENT, |c| c.0)
 }
 
 /// A finite, non-zero number of magnitude at least [`MIN_MAGNITUDE`] (a focal length, a

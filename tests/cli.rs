@@ -789,11 +789,16 @@ fn exr_has_colour_and_aov_channels_and_provenance() {
     }
 }
 
+/// The example scenes: scenes/*.toml and the research programs' figures, scenes/research/*.toml.
 fn scene_files() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| entry.unwrap().path())
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut files: Vec<PathBuf> = [scenes.clone(), scenes.join("research")]
+        .iter()
+        .flat_map(|dir| {
+            std::fs::read_dir(dir)
+                .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+                .map(|entry| entry.unwrap().path())
+        })
         .filter(|path| path.extension().is_some_and(|e| e == "toml"))
         .collect();
     files.sort();
@@ -839,6 +844,7 @@ fn every_example_scene_checks_and_renders() {
         "trajectories-glass-ball.toml",
         "trajectories-metatoy-window.toml",
         "trajectories-luneburg-focus.toml",
+        "research/HolographicLensStarConicSectionTrajectoryPlotter.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

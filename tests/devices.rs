@@ -18,6 +18,9 @@ mod common;
 use std::f64::consts::PI;
 
 use glam::DVec3;
+use timbre::geometry::Shape;
+use timbre::surfaces::Surface;
+use timbre::surfaces::metatoys::Phase;
 use timbre::trajectories::{self, Trajectory};
 
 use common::cli::{location, path_str, timbre, write};
@@ -207,7 +210,7 @@ fn list(points: &[[f64; 3]]) -> String {
 /// `rays` (start, direction, in the complex's coordinates) as ray trajectories.
 fn complex_scene(vertices_v: &[[f64; 3]], rays: &[(DVec3, DVec3)]) -> String {
     let mut text = format!(
-        "studio = \"none\"\n[[device]]\nname = \"lsc\"\n{TRANSFORM}\nlenses = {{ type = \"lens-simplicial-complex\", vertices = {}, vertices_v = {}, edges = {EDGES} }}\n",
+        "studio = \"none\"\n[[device]]\nname = \"lsc\"\nshow_edges = false\n{TRANSFORM}\nlenses = {{ type = \"lens-simplicial-complex\", vertices = {}, vertices_v = {}, edges = {EDGES}, show_structure_v = false }}\n",
         list(&VERTICES),
         list(vertices_v)
     );
@@ -340,7 +343,7 @@ fn virtual_positions_no_ideal_lenses_can_realise_are_refused() {
     let mut sideways = VERTICES_V;
     sideways[3][0] = 0.1;
     let e = parse(&sideways);
-    assert!(e.starts_with("lsc.toml:5:"), "{e}");
+    assert!(e.starts_with("lsc.toml:6:"), "{e}");
     assert!(
         e.contains("face 0-1-4") && e.contains("cannot realise"),
         "{e}"
@@ -366,7 +369,7 @@ fn virtual_positions_no_ideal_lenses_can_realise_are_refused() {
 /// `h1e`, placed by `transform`.
 fn cloak(h1e: f64, transform: &str) -> String {
     format!(
-        "[[device]]\nname = \"cloak\"\n{transform}\nlenses = {{ type = \"ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.3333333333333333, height = 2, height_lower_inner_vertex_p = 0.6666666666666666, height_upper_inner_vertex_p = 1.3333333333333333, height_lower_inner_vertex_e = {h1e:?} }}\n"
+        "[[device]]\nname = \"cloak\"\n{transform}\nlenses = {{ type = \"ideal-lens-cloak\", base_centre = [0, -0.98, 7.5], front_direction = [0, 0, -1], right_direction = [1, 0, 0], top_direction = [0, 1, 0], base_radius = 1.3333333333333333, height = 2, height_lower_inner_vertex_p = 0.6666666666666666, height_upper_inner_vertex_p = 1.3333333333333333, height_lower_inner_vertex_e = {h1e:?}, interface_transmission_coefficient = 1 }}\n"
     )
 }
 
@@ -433,7 +436,7 @@ fn a_four_pi_lens_images_inside_space_as_its_principal_plane_lens_does_in_every_
     .map(|d| (x, d))
     .to_vec();
     let mut text = format!(
-        "studio = \"none\"\n[[device]]\nname = \"4pi\"\n{TRANSFORM}\nlenses = {{ type = \"four-pi-lens\", principal_point = [0, 0, 0], optical_axis_direction = [0, 0, 1], focal_length_outwards = {f_out:?}, transverse_direction1 = [1, 0, 0], transverse_direction2 = [0, 1, 0], radius = 1.5, length = 2, closer_inner_vertex_distance = 0.6, farther_inner_vertex_distance = 1.2 }}\n"
+        "studio = \"none\"\n[[device]]\nname = \"4pi\"\n{TRANSFORM}\nlenses = {{ type = \"four-pi-lens\", principal_point = [0, 0, 0], optical_axis_direction = [0, 0, 1], focal_length_outwards = {f_out:?}, transverse_direction1 = [1, 0, 0], transverse_direction2 = [0, 1, 0], radius = 1.5, length = 2, closer_inner_vertex_distance = 0.6, farther_inner_vertex_distance = 1.2, show_l1 = true }}\n"
     );
     for (start, direction) in &rays {
         text += &format!(
@@ -479,8 +482,8 @@ fn the_lattice_seen_through_the_ideal_lens_cloak_looks_as_without_it() {
     );
     // The cloak is in view: dimmed lenses change the picture.
     let dimmed = lattice(&cloak(0.0666, "").replace(
-        "height_lower_inner_vertex_e",
-        "interface_transmission_coefficient = 0.5, height_lower_inner_vertex_e",
+        "interface_transmission_coefficient = 1",
+        "interface_transmission_coefficient = 0.5",
     ));
     let dim = common::images::render_text(&dimmed);
     assert!(common::images::differing_by_more_than(&dim, &without, 2) > 1000);
@@ -594,4 +597,417 @@ max_interactions = 4
             t.direction
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dr TIM's defaults. A device named by its type alone is Dr TIM's default object: the numbers
+// below are those of each editable class's constructor `(SceneObject parent, Studio studio)`,
+// copied from it, not from timbre.
+// ---------------------------------------------------------------------------------------------
+
+/// The parts of a device with only the entry `device` (its `lenses` or `aid` table and any
+/// other keys), by name.
+fn default_parts(device: &str) -> Vec<timbre::scene::SceneObject> {
+    let d = common::images::parse(&format!(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\n{device}\n"
+    ));
+    d.objects
+}
+
+/// The ideal thin lens of `o`; panics if it is none.
+#[track_caller]
+fn ideal_lens(o: &timbre::scene::SceneObject) -> &timbre::surfaces::ThinLens {
+    match &o.surface {
+        Surface::IdealThinLens(l) => l,
+        s => panic!("{}: {s:?} is no ideal thin lens", o.name),
+    }
+}
+
+#[track_caller]
+fn close(a: DVec3, b: DVec3, what: &str) {
+    assert!((a - b).length() < 1e-12, "{what}: {a}, Dr TIM's {b}");
+}
+
+/// `EditableLensStar(parent, studio)`: 5 lenses of focal length 1 and transmission coefficient
+/// 0.96, principal points on the axis (principalPointDistance 0) through centre (0, 0, 10)
+/// along intersectionDirection (0, 1, 0), lens 1 towards pointOnLens1 (1, 0, 10), starRadius 2,
+/// starLength 1, ideal thin lenses, lenses throwing no shadows, edges hidden.
+#[test]
+fn a_lens_star_named_by_its_type_alone_is_dr_tims_default_lens_star() {
+    let parts = default_parts("lenses = { type = \"lens-star\" }");
+    let names: Vec<&str> = parts.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["d/lens 1", "d/lens 2", "d/lens 3", "d/lens 4", "d/lens 5"]
+    );
+    let (centre, w, u) = (DVec3::new(0.0, 0.0, 10.0), DVec3::Y, DVec3::X);
+    for (i, o) in parts.iter().enumerate() {
+        let phi = 2.0 * PI * i as f64 / 5.0;
+        let radial = phi.cos() * u + phi.sin() * w.cross(u);
+        let lens = ideal_lens(o);
+        assert_eq!(
+            (lens.focal_length, lens.transmission_coefficient),
+            (1.0, 0.96)
+        );
+        close(lens.principal_point, centre, &o.name);
+        assert!(lens.optical_axis.dot(radial).abs() < 1e-12 && lens.optical_axis.dot(w) == 0.0);
+        // The rectangle from the axis (length 1, centred on the centre) out to radius 2.
+        let (lo, hi) = o.shape.bounds().unwrap();
+        let corners = [centre - 0.5 * w, centre + 0.5 * w + 2.0 * radial];
+        close(lo, corners[0].min(corners[1]), &o.name);
+        close(hi, corners[0].max(corners[1]), &o.name);
+        assert!(!o.shadow_throwing);
+    }
+}
+
+/// `EditableIdealLensCloak(parent, studio)` and `EditablePolygonalIdealLensCloak(parent,
+/// studio)` (the latter with noOfBaseVertices 3): base centre (0, −1, 10), front (0, 0, −1),
+/// right (1, 0, 0), top (0, 1, 0), base radius 2·2/3, height 2, heightLowerInnerVertexP 2/3,
+/// heightUpperInnerVertexP 4/3, heightLowerInnerVertexE −1, interface transmission coefficient
+/// 0.96, frames hidden. The base lens images the lower inner vertex from h₁ = 2/3 to h₁′ = −1
+/// through the base centre, so its focal length is f₀₀ = h₁ h₁′/(h₁′ − h₁) = 0.4 in magnitude
+/// (the lens equation with both distances measured from the lens).
+#[test]
+fn cloaks_named_by_their_type_alone_are_dr_tims_default_cloaks() {
+    for (kind, lenses, base) in [
+        ("ideal-lens-cloak", 16, "d/base outer lens"),
+        ("polygonal-ideal-lens-cloak", 18, "d/base outer lens #0"),
+    ] {
+        let parts = default_parts(&format!("lenses = {{ type = \"{kind}\" }}"));
+        assert_eq!(parts.len(), lenses, "{kind}");
+        for o in &parts {
+            assert_eq!(ideal_lens(o).transmission_coefficient, 0.96, "{}", o.name);
+        }
+        let base = parts.iter().find(|o| o.name == base).unwrap();
+        let (h1, h1e) = (2.0 / 3.0, -1.0);
+        let f00 = h1 * h1e / (h1e - h1);
+        assert!(
+            (ideal_lens(base).focal_length.abs() - f00).abs() < 1e-12,
+            "{kind}"
+        );
+        close(
+            ideal_lens(base).principal_point,
+            DVec3::new(0.0, -1.0, 10.0),
+            kind,
+        );
+        // The tetrahedron: base on y = −1, tip 2 above; the back vertex 4/3 behind the centre.
+        let (lo, hi) = parts
+            .iter()
+            .map(|o| o.shape.bounds().unwrap())
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(a, b), (l, h)| {
+                (a.min(l), b.max(h))
+            });
+        let r = 4.0 / 3.0;
+        let s = r * (PI / 3.0).sin();
+        close(lo, DVec3::new(-s, -1.0, 10.0 - 0.5 * r), kind);
+        close(hi, DVec3::new(s, 1.0, 10.0 + r), kind);
+    }
+}
+
+/// `Editable4PiLens(parent, studio)`: principal point (0, 0, 5), optical axis (0, 0, 1),
+/// focalLengthOutwards 1, transverse directions (1, 0, 0) and (0, 1, 0), radius 1, length 1,
+/// showL1 false, showR1 true, inner vertices 1/3 and 2/3 from the principal point, ideal thin
+/// lenses with transmission coefficient DEFAULT_TRANSMISSION_COEFFICIENT (0.96), frames hidden.
+#[test]
+fn a_four_pi_lens_named_by_its_type_alone_is_dr_tims_default_four_pi_lens() {
+    let parts = default_parts("lenses = { type = \"four-pi-lens\" }");
+    // The 15 lenses R1, without L1.
+    assert_eq!(parts.len(), 15);
+    assert!(parts.iter().all(|o| o.name != "d/base outer lens"));
+    // The tip lenses' principal point is the tip, 1 from the principal point along the axis.
+    let tip = parts
+        .iter()
+        .find(|o| o.name == "d/front outer lens")
+        .unwrap();
+    close(
+        ideal_lens(tip).principal_point,
+        DVec3::new(0.0, 0.0, 6.0),
+        "tip",
+    );
+    for o in &parts {
+        assert_eq!(ideal_lens(o).transmission_coefficient, 0.96);
+        let (lo, hi) = o.shape.bounds().unwrap();
+        assert!(lo.z >= 5.0 - 1e-12 && hi.z <= 6.0 + 1e-12, "{}", o.name);
+    }
+    // With L1 shown, the base lens images the closer inner vertex (1/3 above it) with focal
+    // length −focalLengthOutwards = −1.
+    let with_l1 = default_parts("lenses = { type = \"four-pi-lens\", show_l1 = true }");
+    let l1 = with_l1
+        .iter()
+        .find(|o| o.name == "d/base outer lens")
+        .unwrap();
+    assert!((ideal_lens(l1).focal_length.abs() - 1.0).abs() < 1e-12);
+    close(
+        ideal_lens(l1).principal_point,
+        DVec3::new(0.0, 0.0, 5.0),
+        "L1",
+    );
+}
+
+/// `EditablePlatonicLens(parent, studio)` with `EditablePlatonicSolid(parent, studio)`: a
+/// tetrahedron of radius 1 about (0, 0, 10), lenses of focal length 1 and transmission
+/// coefficient 0.96 throwing no shadows; the solid shown (vertices and edges of radius 0.01,
+/// SurfaceColour.RED_SHINY, faces Transparent(0.75, true)), and the lens edges (from the centre
+/// to the vertices) shown.
+#[test]
+fn a_platonic_lens_named_by_its_type_alone_is_dr_tims_default_platonic_lens() {
+    let parts = default_parts("lenses = { type = \"platonic-lens\" }");
+    let centre = DVec3::new(0.0, 0.0, 10.0);
+    let red_shiny = Surface::Coloured(timbre::surfaces::Coloured::shiny(DVec3::X));
+    let count = |prefix: &str| {
+        parts
+            .iter()
+            .filter(|o| o.name.starts_with(&format!("d/{prefix}")))
+            .count()
+    };
+    assert_eq!(
+        [
+            count("lens "),
+            count("inner edge "),
+            count("edge "),
+            count("vertex ")
+        ],
+        [6, 4, 6, 4]
+    );
+    for o in &parts {
+        match o.name.strip_prefix("d/").unwrap() {
+            name if name.starts_with("lens ") => {
+                let l = ideal_lens(o);
+                assert_eq!((l.focal_length, l.transmission_coefficient), (1.0, 0.96));
+                close(l.principal_point, centre, name);
+                assert!(!o.shadow_throwing);
+            }
+            "faces" => {
+                assert_eq!(
+                    o.surface,
+                    Surface::Transparent(timbre::surfaces::Transparent {
+                        transmission_coefficient: 0.75
+                    })
+                );
+                assert!(o.shadow_throwing);
+                let (lo, hi) = o.shape.bounds().unwrap();
+                assert!((hi.z - 11.0).abs() < 1e-9 && lo.z > 9.0, "{lo} {hi}");
+            }
+            name => {
+                assert_eq!(o.surface, red_shiny, "{name}");
+                match &o.shape {
+                    Shape::Sphere(s) => {
+                        assert_eq!(s.radius(), 0.01);
+                        assert!((s.centre().distance(centre) - 1.0).abs() < 1e-12);
+                    }
+                    Shape::Cylinder(c) => assert_eq!(c.radius(), 0.01),
+                    s => panic!("{name}: {s:?}"),
+                }
+            }
+        }
+    }
+}
+
+/// `EditableLensSimplicialComplex(description, parent, studio)`: its
+/// `initialiseToOmnidirectionalLens()` ([`VERTICES`], [`VERTICES_V`], the 14 edges), lenses of
+/// transmission coefficient DEFAULT_TRANSMISSION_COEFFICIENT (0.96), the physical-space
+/// structure shown in SurfaceColour.BLUE_SHINY with radius 0.021 and the virtual-space one in
+/// SurfaceColour.RED_SHINY with radius 0.02.
+#[test]
+fn a_lens_simplicial_complex_named_by_its_type_alone_is_dr_tims_omnidirectional_lens() {
+    let parts = default_parts("lenses = { type = \"lens-simplicial-complex\" }");
+    let given = default_parts(&format!(
+        "show_edges = false\nlenses = {{ type = \"lens-simplicial-complex\", vertices = {}, vertices_v = {}, edges = {EDGES}, show_structure_v = false }}",
+        list(&VERTICES),
+        list(&VERTICES_V)
+    ));
+    let lenses: Vec<_> = parts
+        .iter()
+        .filter(|o| o.name.starts_with("d/face"))
+        .collect();
+    assert_eq!(lenses.len(), given.len());
+    for (a, b) in lenses.iter().zip(&given) {
+        assert_eq!((&a.name, &a.shape), (&b.name, &b.shape));
+        assert_eq!(ideal_lens(a).transmission_coefficient, 0.96);
+        let (la, lb) = (ideal_lens(a), ideal_lens(b));
+        assert_eq!(la.focal_length, lb.focal_length);
+    }
+    for (space, positions, colour, radius) in [
+        ("", VERTICES, DVec3::Z, 0.021),
+        ("virtual ", VERTICES_V, DVec3::X, 0.02),
+    ] {
+        let surface = Surface::Coloured(timbre::surfaces::Coloured::shiny(colour));
+        for (i, p) in positions.iter().enumerate() {
+            let o = parts
+                .iter()
+                .find(|o| o.name == format!("d/{space}vertex {i}"))
+                .unwrap();
+            let Shape::Sphere(s) = &o.shape else { panic!() };
+            assert_eq!((s.centre(), s.radius()), (DVec3::from(*p), radius));
+            assert_eq!(o.surface, surface);
+        }
+        let edges = parts
+            .iter()
+            .filter(|o| o.name.starts_with(&format!("d/{space}edge ")))
+            .count();
+        assert_eq!(edges, 14, "{space}");
+    }
+}
+
+/// `EditableTimHead(parent, studio)`: centre (0, 0, 10), radius 1.
+#[test]
+fn a_tim_head_named_by_its_type_alone_is_dr_tims_default_head() {
+    let parts = default_parts("aid = { type = \"tim-head\" }");
+    let Shape::Sphere(head) = &parts.iter().find(|o| o.name == "d/head").unwrap().shape else {
+        panic!()
+    };
+    assert_eq!(
+        (head.centre(), head.radius()),
+        (DVec3::new(0.0, 0.0, 10.0), 1.0)
+    );
+}
+
+/// Edges as given override the device's defaults: a cloak's frames (Dr TIM's are hidden, of
+/// radius 0.02, red) shown with radius 0.05, and a 4π lens's (Dr TIM's grey, 0.01) shown.
+#[test]
+fn edges_take_the_devices_defaults_where_not_given() {
+    let cloak = default_parts(
+        "show_edges = true\nedge_radius = 0.05\nlenses = { type = \"ideal-lens-cloak\" }",
+    );
+    let four_pi = default_parts("show_edges = true\nlenses = { type = \"four-pi-lens\" }");
+    for (parts, radius, colour) in [(cloak, 0.05, DVec3::X), (four_pi, 0.01, DVec3::splat(0.5))] {
+        let frames: Vec<_> = parts.iter().filter(|o| !o.name.contains("lens")).collect();
+        // 14 edges and 6 vertices.
+        assert_eq!(frames.len(), 20);
+        for o in frames {
+            let Shape::Cylinder(c) = &o.shape else {
+                let Shape::Sphere(s) = &o.shape else {
+                    panic!("{}", o.name)
+                };
+                assert_eq!(s.radius(), radius);
+                continue;
+            };
+            assert_eq!(c.radius(), radius, "{}", o.name);
+            assert_eq!(
+                o.surface,
+                Surface::Coloured(timbre::surfaces::Coloured::shiny(colour))
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lens types. A lens hologram (Dr TIM's `PhaseHologramOfLens`) changes the tangential part of
+// the unit direction by −(S − P)/f where the ideal lens changes that of d/|d·â| by the same: a
+// ray parallel to the optical axis at distance ρ from the principal point P leaves the ideal
+// lens towards the focal point P + f â, and the hologram with tangential part −ρ/f, i.e. at
+// sin θ = ρ/f to the axis, so that it crosses the axis f cos θ = √(f² − ρ²) from the lens: the
+// hologram's spherical aberration, f − √(f² − ρ²) ≈ ρ²/(2f).
+// ---------------------------------------------------------------------------------------------
+
+/// Rays parallel to the optical axis of a one-lens star (lens in the plane z = 0, principal
+/// point at the origin, focal length `f`), placed by [`TRANSFORM`], at distances `rhos` from
+/// the principal point: where each crosses the axis after the lens, as the distance along the
+/// axis and the distance by which it misses it.
+fn axis_crossings(lens_type: &str, f: f64, rhos: &[f64]) -> Vec<(f64, f64)> {
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"star\"\n{TRANSFORM}\nlenses = {{ type = \"lens-star\", number_of_lenses = 1, focal_length = {f:?}, centre = [0, 0, 0], intersection_direction = [0, 1, 0], point_on_lens1 = [1, 0, 0], star_radius = 3, star_length = 2, thin_lens_type = \"{lens_type}\" }}\n"
+    );
+    for rho in rhos {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 1\n",
+            v(place(DVec3::new(*rho, 0.0, -2.0))),
+            v(place(DVec3::Z) - place(DVec3::ZERO))
+        );
+    }
+    exits(&text)
+        .into_iter()
+        .map(|(at, d, crossed)| {
+            assert_eq!(crossed, 1);
+            // Where the leaving line meets the plane x = 0 of the axis (the z axis).
+            let p = at - (at.x / d.x) * d;
+            (p.z, (p - DVec3::new(0.0, 0.0, p.z)).length())
+        })
+        .collect()
+}
+
+#[test]
+fn a_lens_hologram_focuses_a_bundle_where_the_ideal_lens_does_but_for_its_aberration() {
+    let f = 2.0;
+    let rhos = [0.05, 0.3, 0.8, 1.5];
+    let ideal = axis_crossings("ideal-thin-lens", f, &rhos);
+    let hologram = axis_crossings("lens-hologram", f, &rhos);
+    for ((rho, (z_ideal, miss_ideal)), (z_hologram, miss_hologram)) in
+        rhos.iter().zip(ideal).zip(hologram)
+    {
+        assert!(miss_ideal < 1e-9 && miss_hologram < 1e-9, "ρ = {rho}");
+        assert!(
+            (z_ideal - f).abs() < 1e-9,
+            "ρ = {rho}: ideal focus at {z_ideal}"
+        );
+        let expected = (f * f - rho * rho).sqrt();
+        assert!(
+            (z_hologram - expected).abs() < 1e-9,
+            "ρ = {rho}: hologram's focus at {z_hologram}, expected {expected}"
+        );
+        // Paraxially the same focus: the aberration is ρ²/(2f) to within ρ⁴/f³.
+        assert!((z_ideal - z_hologram - rho * rho / (2.0 * f)).abs() < rho.powi(4) / f.powi(3));
+    }
+}
+
+/// Every lens of a cloak made of lens holograms (Dr TIM's `PHASE_HOLOGRAM_OF_LENS`, by its Dr
+/// TIM name) is the phase hologram of its ideal lens: same face, focal length and transmission
+/// coefficient, the phase centred on the principal point; glass panes pass the light on
+/// undeviated; `none` leaves only the edges.
+#[test]
+fn the_lens_types_of_a_cloak_are_made_from_its_ideal_lenses() {
+    let cloak = |lens_type: &str| {
+        default_parts(&format!(
+            "show_edges = true\nlenses = {{ type = \"ideal-lens-cloak\", lens_element_type = \"{lens_type}\" }}"
+        ))
+    };
+    let ideal = cloak("ideal-thin-lens");
+    let holograms = cloak("phase-hologram-of-lens");
+    let panes = cloak("glass-pane");
+    let none = cloak("none");
+    // 16 lenses, 14 edges and 6 vertices.
+    assert_eq!(
+        [ideal.len(), holograms.len(), panes.len(), none.len()],
+        [36, 36, 36, 20]
+    );
+    for ((i, h), p) in ideal.iter().zip(&holograms).zip(&panes) {
+        assert_eq!((&i.name, &i.name), (&h.name, &p.name));
+        let Surface::IdealThinLens(lens) = &i.surface else {
+            assert_eq!((&i.surface, &i.surface), (&h.surface, &p.surface));
+            continue;
+        };
+        let Surface::PhaseHologram(hologram) = &h.surface else {
+            panic!("{}", h.name)
+        };
+        let Phase::Quadratic(phase) = hologram.phase else {
+            panic!()
+        };
+        assert_eq!(phase.focal_length, lens.focal_length);
+        assert_eq!(hologram.transmission_coefficient, 0.96);
+        let centre = h.shape.plane_coordinates(lens.principal_point, 0).unwrap();
+        assert!((phase.centre - centre).length() < 1e-12);
+        // The same triangle.
+        let (hb, ib) = (h.shape.bounds().unwrap(), i.shape.bounds().unwrap());
+        assert!((hb.0 - ib.0).length() < 1e-12 && (hb.1 - ib.1).length() < 1e-12);
+        assert_eq!(
+            p.surface,
+            Surface::Transparent(timbre::surfaces::Transparent {
+                transmission_coefficient: 0.96
+            })
+        );
+    }
+}
+
+#[test]
+fn a_device_of_lens_holograms_cannot_be_scaled() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "studio = \"none\"\n\n[[device]]\nname = \"s\"\ntransform = { scale = 2 }\nlenses = { type = \"lens-star\", thin_lens_type = \"lens-hologram\" }\n";
+    let path = write(dir.path(), "bad.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["'s'", "lens holograms cannot be scaled"]);
+    assert_eq!(location(&run.stderr, &path).0, 5);
+    // Turned and moved they are fine (the focusing test above places them so).
+    let fine = text.replace("scale = 2", "translate = [1, 0, 0]");
+    let path = write(dir.path(), "fine.toml", &fine);
+    timbre(dir.path(), &["check", path_str(&path)]).assert_success();
 }

@@ -299,7 +299,8 @@ fn bad_ideal_lens_tables_are_rejected_with_the_line() {
             "magnitude at least 1e-15",
         ),
         (
-            "{ type = \"ideal-thin-lens\", focal_length = 1, optical_axis = [0, 0, 1] }",
+            // Dr TIM has no ideal thin mirror with defaults (its lens has them).
+            "{ type = \"ideal-thin-mirror\", focal_length = 1, optical_axis = [0, 0, 1] }",
             "principal_point",
         ),
         (

@@ -48,6 +48,16 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
         ),
         (surface(""), "phase-conjugating", snake("phase-conjugating")),
         (surface(", beta = [0, 0, 0.5]"), "lorentz-window", snake("lorentz-window")),
+        // A device's lens type, by Dr TIM's names of it in its several enums.
+        (
+            "[[device]]\nlenses = { type = \"ideal-lens-cloak\", lens_element_type = \"@\" }\n"
+                .to_string(),
+            "lens-hologram",
+            vec![
+                "phase-hologram-of-lens".into(),
+                "quadratic-lens-phase-hologram".into(),
+            ],
+        ),
     ];
     for shutter in ["detector-plane", "entrance-pupil", "focus-surface"] {
         let text = "[camera]\nbeta = [0, 0, 0.5]\nshutter = \"@\"\n".to_string();

@@ -152,9 +152,9 @@ fn a_bad_block_fails_the_check() {
     // A fragment is completed, and a bad fragment still fails.
     let fragment = &toml_blocks("```toml\n[object.surface]\ntype = \"mirror\"\n```\n").unwrap()[0];
     check(&device, "test.md", fragment).unwrap();
-    let fragment = "```toml\n[object.shape]\ntype = \"sphere\"\ncentre = [0, 0, 5]\n```\n";
+    let fragment = "```toml\n[object.shape]\ntype = \"ellipsoid\"\ncentre = [0, 0, 5]\n```\n";
     let e = check(&device, "test.md", &toml_blocks(fragment).unwrap()[0]).unwrap_err();
-    assert!(e.contains("radius"), "{e}");
+    assert!(e.contains("semi_axes"), "{e}");
     assert!(toml_blocks("```toml\nstudio = \"none\"\n").is_err());
     // Mesh files are found in scenes/.
     let mesh = "```toml\n[object.shape]\ntype = \"mesh\"\nfile = \"meshes/prism.obj\"\n```\n";

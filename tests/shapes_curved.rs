@@ -1932,11 +1932,7 @@ fn bad_parameters_are_errors_naming_the_key() {
     assert_shape_error(&cap("half_angle_deg = 181"), &["half_angle_deg", "got 181"]);
     assert_shape_error(
         &cap("half_angle_deg = 30, aperture_radius = 0.5"),
-        &["exactly one of aperture_radius and half_angle_deg"],
-    );
-    assert_shape_error(
-        &cap(""),
-        &["exactly one of aperture_radius and half_angle_deg"],
+        &["one of aperture_radius and half_angle_deg, not both"],
     );
     assert_shape_error(
         "{ type = \"spherical-cap\", sphere_centre = [0, 0, 5], cap_centre = [0, 0, 5], half_angle_deg = 30 }",

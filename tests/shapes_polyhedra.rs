@@ -1235,7 +1235,7 @@ fn bad_parameters_are_clear_errors() {
         ),
         (
             r#"{ type = "cuboid", centre = [0, 0, 5], size = [1, 1] }"#,
-            "length 3",
+            "an array of 3 values",
         ),
         (
             r#"{ type = "parallelepiped", centre = [0, 0, 5], edges = [[1, 0, 0], [0, 1, 0], [1, 1, 0]] }"#,

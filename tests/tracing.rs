@@ -119,7 +119,7 @@ horizontal_view_angle_deg = 0.01
 [[object]]
 name = "glass top"
 shape = {{ type = "plane", point = [0, 1, 0], normal = [0, 1, 0] }}
-surface = {{ type = "refractive", index_ratio = 1.5 }}
+surface = {{ type = "refractive", index_ratio = 1.5, transmission = 1 }}
 [[object]]
 name = "red above"
 shape = {{ type = "plane", point = [0, 5, 0], normal = [0, -1, 0] }}

@@ -1,6 +1,7 @@
 //! Three arrows along the axes of a coordinate system, red, green and blue (Dr TIM's object
-//! coordinate system; also the surface-coordinate axes of a surface point: û, v̂ and the
-//! outward normal, the paper's §4.4 footnote).
+//! coordinate system, `EditableObjectCoordinateSystem`, whose arrows have shafts of radius
+//! 0.025 and tips 0.1 long with a half angle of 30°; also the surface-coordinate axes of a
+//! surface point: û, v̂ and the outward normal, the paper's §4.4 footnote).
 
 use glam::DVec3;
 use serde::Deserialize;
@@ -19,11 +20,11 @@ pub struct CoordinateSystem {
     pub names: [&'static str; 3],
     pub length: f64,
     pub shaft_radius: f64,
+    pub tip_length: f64,
 }
 
-/// The tips: a fifth of the arrow's length, with the 30° half angle of Dr TIM's
-/// surface-coordinate axes (so a tip is always wider than a shaft of up to 10 % of the length).
-const TIP_FRACTION: f64 = 0.2;
+/// The tips' half angle, Dr TIM's: a tip is tan 30° ≈ 0.58 times its length in radius at its
+/// base, wider than the shafts of the defaults.
 const TIP_ANGLE_DEG: f64 = 30.0;
 
 impl CoordinateSystem {
@@ -33,7 +34,6 @@ impl CoordinateSystem {
             Colour::new(0.0, 1.0, 0.0),
             Colour::new(0.0, 0.0, 1.0),
         ];
-        let tip_length = TIP_FRACTION * self.length;
         (0..3)
             .map(|i| {
                 let direction = self.axes[i].try_normalize().ok_or_else(|| {
@@ -43,7 +43,7 @@ impl CoordinateSystem {
                     start: self.origin,
                     end: self.origin + self.length * direction,
                     shaft_radius: self.shaft_radius,
-                    tip_length,
+                    tip_length: self.tip_length,
                     tip_angle_deg: TIP_ANGLE_DEG,
                 }
                 .shape()
@@ -59,8 +59,8 @@ impl CoordinateSystem {
     }
 }
 
-/// `aid = { type = "coordinate-system" }`: x, y and z at the origin, of length 1 and shafts
-/// 1/40 of it, where not given.
+/// `aid = { type = "coordinate-system" }`: x, y and z at the origin, of length 1, with shafts
+/// 1/40 of it and tips 1/10 of it (Dr TIM's 0.025 and 0.1 at length 1), where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CoordinateSystemKeys {
@@ -81,6 +81,7 @@ impl CoordinateSystemKeys {
             names: ["x axis", "y axis", "z axis"],
             length,
             shaft_radius: self.shaft_radius.map_or(0.025 * length, |r| r.0),
+            tip_length: 0.1 * length,
         }
         .parts()
         .map_err(|e| format!("coordinate-system: {e}"))

@@ -15,8 +15,9 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::{Edges, IdealLensCloak, LensDevice, Part};
+use super::{EdgeDefaults, Edges, IdealLensCloak, LensDevice, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct FourPiLens {
@@ -33,6 +34,8 @@ pub struct FourPiLens {
     pub closer_inner_vertex_distance: f64,
     pub farther_inner_vertex_distance: f64,
     pub individual_lens_transmission_coefficient: f64,
+    /// What each lens is (Dr TIM's `lensType`).
+    pub lens_type: LensType,
     /// Dr TIM's `showL1` and `showR1`: which lenses are made.
     pub show_l1: bool,
     pub show_r1: bool,
@@ -69,6 +72,7 @@ impl LensDevice for FourPiLens {
             height_upper_inner_vertex_p: self.farther_inner_vertex_distance,
             height_lower_inner_vertex_e: f00 * h1 / (f00 - h1),
             interface_transmission_coefficient: self.individual_lens_transmission_coefficient,
+            lens_element_type: self.lens_type,
         };
         let mut parts = cloak.parts(edges)?;
         parts.retain(|p| {
@@ -81,42 +85,60 @@ impl LensDevice for FourPiLens {
         });
         Ok(parts)
     }
+
+    /// Dr TIM's frames of the 4π lens: hidden, radius 0.01, `SurfaceColour.GREY50_SHINY`.
+    fn edge_defaults(&self) -> EdgeDefaults {
+        EdgeDefaults {
+            colour: Colour::splat(0.5),
+            ..EdgeDefaults::HIDDEN_RED
+        }
+    }
 }
 
-/// `lenses = { type = "four-pi-lens" }`: Dr TIM's `Editable4PiLens`.
+/// `lenses = { type = "four-pi-lens" }`: Dr TIM's `Editable4PiLens`, with the defaults of its
+/// constructor `Editable4PiLens(parent, studio)` for every key not given (L1 hidden).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FourPiLensKeys {
-    principal_point: Vector,
-    optical_axis_direction: Direction,
-    focal_length_outwards: NonZero,
-    transverse_direction1: Direction,
-    transverse_direction2: Direction,
-    radius: Positive,
-    length: Positive,
-    closer_inner_vertex_distance: Finite,
-    farther_inner_vertex_distance: Finite,
+    principal_point: Option<Vector>,
+    optical_axis_direction: Option<Direction>,
+    focal_length_outwards: Option<NonZero>,
+    transverse_direction1: Option<Direction>,
+    transverse_direction2: Option<Direction>,
+    radius: Option<Positive>,
+    length: Option<Positive>,
+    closer_inner_vertex_distance: Option<Finite>,
+    farther_inner_vertex_distance: Option<Finite>,
     individual_lens_transmission_coefficient: Option<Coefficient>,
+    lens_type: Option<LensType>,
     show_l1: Option<bool>,
     show_r1: Option<bool>,
 }
 
 impl FourPiLensKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        let length = |x: Option<Positive>| x.map_or(1.0, |x| x.0);
         Ok(Box::new(FourPiLens {
-            principal_point: self.principal_point.0,
-            optical_axis_direction: self.optical_axis_direction.0,
-            focal_length_outwards: self.focal_length_outwards.0,
-            transverse_direction1: self.transverse_direction1.0,
-            transverse_direction2: self.transverse_direction2.0,
-            radius: self.radius.0,
-            length: self.length.0,
-            closer_inner_vertex_distance: self.closer_inner_vertex_distance.0,
-            farther_inner_vertex_distance: self.farther_inner_vertex_distance.0,
-            individual_lens_transmission_coefficient: crate::keys::coefficient(
+            principal_point: self
+                .principal_point
+                .map_or(DVec3::new(0.0, 0.0, 5.0), |p| p.0),
+            optical_axis_direction: self.optical_axis_direction.map_or(DVec3::Z, |d| d.0),
+            focal_length_outwards: self.focal_length_outwards.map_or(1.0, |f| f.0),
+            transverse_direction1: self.transverse_direction1.map_or(DVec3::X, |d| d.0),
+            transverse_direction2: self.transverse_direction2.map_or(DVec3::Y, |d| d.0),
+            radius: length(self.radius),
+            length: length(self.length),
+            closer_inner_vertex_distance: self
+                .closer_inner_vertex_distance
+                .map_or(1.0 / 3.0, |d| d.0),
+            farther_inner_vertex_distance: self
+                .farther_inner_vertex_distance
+                .map_or(2.0 / 3.0, |d| d.0),
+            individual_lens_transmission_coefficient: crate::keys::throughput(
                 self.individual_lens_transmission_coefficient,
             ),
-            show_l1: self.show_l1.unwrap_or(true),
+            lens_type: self.lens_type.unwrap_or_default(),
+            show_l1: self.show_l1.unwrap_or(false),
             show_r1: self.show_r1.unwrap_or(true),
         }))
     }

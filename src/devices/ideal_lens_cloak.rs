@@ -20,7 +20,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use super::lens_simplicial_complex::face_name;
-use super::{Edges, LensDevice, LensSimplicialComplex, Part};
+use super::{EdgeDefaults, Edges, LensDevice, LensSimplicialComplex, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -40,7 +40,15 @@ pub struct IdealLensCloak {
     /// h₁′: the lower inner vertex's height in EM space.
     pub height_lower_inner_vertex_e: f64,
     pub interface_transmission_coefficient: f64,
+    /// What each lens is (Dr TIM's `lensElementType`).
+    pub lens_element_type: LensType,
 }
+
+/// Dr TIM's frames of the ideal-lens cloaks: hidden, radius 0.02, `SurfaceColour.RED_SHINY`.
+pub(super) const CLOAK_FRAMES: EdgeDefaults = EdgeDefaults {
+    radius: 0.02,
+    ..EdgeDefaults::HIDDEN_RED
+};
 
 /// Dr TIM's names of the faces, by their vertices.
 const FACES: [([usize; 3], &str); 16] = [
@@ -146,6 +154,8 @@ impl LensDevice for IdealLensCloak {
             vertices_v,
             edges: EDGES.to_vec(),
             lens_transmission_coefficient: self.interface_transmission_coefficient,
+            lens_type: self.lens_element_type,
+            structure_v: None,
         };
         let mut parts = complex.parts(edges)?;
         rename(
@@ -153,6 +163,10 @@ impl LensDevice for IdealLensCloak {
             FACES.iter().map(|(f, name)| (*f, name.to_string())),
         );
         Ok(parts)
+    }
+
+    fn edge_defaults(&self) -> EdgeDefaults {
+        CLOAK_FRAMES
     }
 }
 
@@ -198,37 +212,47 @@ pub(super) fn rename(parts: &mut [Part], names: impl Iterator<Item = ([usize; 3]
     }
 }
 
-/// The keys of the tetrahedral and the polygonal ideal-lens cloak.
+/// The keys of the tetrahedral and the polygonal ideal-lens cloak, with the defaults of Dr
+/// TIM's constructors `EditableIdealLensCloak(parent, studio)` and
+/// `EditablePolygonalIdealLensCloak(parent, studio)` (the same for these keys): a regular
+/// tetrahedron of height 2 standing on y = −1 at z = 10, its lower inner vertex seen 1 below the
+/// base.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CloakKeys {
-    base_centre: Vector,
-    front_direction: Direction,
-    right_direction: Direction,
-    top_direction: Direction,
-    base_radius: Positive,
-    height: Positive,
-    height_lower_inner_vertex_p: Finite,
-    height_upper_inner_vertex_p: Finite,
-    height_lower_inner_vertex_e: Finite,
+    base_centre: Option<Vector>,
+    front_direction: Option<Direction>,
+    right_direction: Option<Direction>,
+    top_direction: Option<Direction>,
+    base_radius: Option<Positive>,
+    height: Option<Positive>,
+    height_lower_inner_vertex_p: Option<Finite>,
+    height_upper_inner_vertex_p: Option<Finite>,
+    height_lower_inner_vertex_e: Option<Finite>,
     interface_transmission_coefficient: Option<Coefficient>,
+    lens_element_type: Option<LensType>,
 }
 
 impl CloakKeys {
     pub(super) fn cloak(self) -> IdealLensCloak {
+        let length = |x: Option<Positive>, default: f64| x.map_or(default, |x| x.0);
+        let height = |x: Option<Finite>, default: f64| x.map_or(default, |x| x.0);
         IdealLensCloak {
-            base_centre: self.base_centre.0,
-            front_direction: self.front_direction.0,
-            right_direction: self.right_direction.0,
-            top_direction: self.top_direction.0,
-            base_radius: self.base_radius.0,
-            height: self.height.0,
-            height_lower_inner_vertex_p: self.height_lower_inner_vertex_p.0,
-            height_upper_inner_vertex_p: self.height_upper_inner_vertex_p.0,
-            height_lower_inner_vertex_e: self.height_lower_inner_vertex_e.0,
-            interface_transmission_coefficient: crate::keys::coefficient(
+            base_centre: self
+                .base_centre
+                .map_or(DVec3::new(0.0, -1.0, 10.0), |c| c.0),
+            front_direction: self.front_direction.map_or(DVec3::NEG_Z, |d| d.0),
+            right_direction: self.right_direction.map_or(DVec3::X, |d| d.0),
+            top_direction: self.top_direction.map_or(DVec3::Y, |d| d.0),
+            base_radius: length(self.base_radius, 2.0 * 2.0 / 3.0),
+            height: length(self.height, 2.0),
+            height_lower_inner_vertex_p: height(self.height_lower_inner_vertex_p, 2.0 / 3.0),
+            height_upper_inner_vertex_p: height(self.height_upper_inner_vertex_p, 2.0 * 2.0 / 3.0),
+            height_lower_inner_vertex_e: height(self.height_lower_inner_vertex_e, -1.0),
+            interface_transmission_coefficient: crate::keys::throughput(
                 self.interface_transmission_coefficient,
             ),
+            lens_element_type: self.lens_element_type.unwrap_or_default(),
         }
     }
 }
@@ -261,6 +285,7 @@ mod tests {
             height_upper_inner_vertex_p: 4.0 / 3.0,
             height_lower_inner_vertex_e: h1e,
             interface_transmission_coefficient: 0.96,
+            lens_element_type: LensType::IdealThinLens,
         }
     }
 

@@ -24,10 +24,10 @@ use std::collections::{BTreeSet, HashMap, VecDeque};
 use glam::{DMat4, DVec3, DVec4};
 use serde::Deserialize;
 
-use super::{Edges, LensDevice, Part};
-use crate::geometry::{Shape, TriangleMesh};
-use crate::keys::{Array, Coefficient, Vector};
-use crate::surfaces::{Surface, ThinLens};
+use super::{EdgeDefaults, Edges, Face, LensDevice, LensType, Part};
+use crate::keys::{Array, Coefficient, Positive, Vector};
+use crate::math::Colour;
+use crate::surfaces::ThinLens;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LensSimplicialComplex {
@@ -38,7 +38,51 @@ pub struct LensSimplicialComplex {
     /// Pairs of vertex indices.
     pub edges: Vec<[usize; 2]>,
     pub lens_transmission_coefficient: f64,
+    /// What each face is (Dr TIM's `lensTypeRepresentingFace`).
+    pub lens_type: LensType,
+    /// The radius of the edges and vertices of the virtual-space structure (Dr TIM's
+    /// `vertexRadiusV`), shown in shiny red where given (Dr TIM's `showStructureV`).
+    pub structure_v: Option<f64>,
 }
+
+/// Dr TIM's `EditableLensSimplicialComplex(description, parent, studio)`, an omnidirectional
+/// lens (its `initialiseToOmnidirectionalLens()`): the physical-space vertices, ...
+const DEFAULT_VERTICES: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.6],
+    [0.0, 0.0, 11.2],
+    [0.0, 0.0, 12.0],
+];
+
+/// ... the virtual-space ones (the inner vertices raised by 0.2) ...
+const DEFAULT_VERTICES_V: [[f64; 3]; 6] = [
+    [-1.5, 1.1, 10.0],
+    [1.0, 1.0, 10.0],
+    [0.0, -0.5, 10.0],
+    [0.0, 0.0, 10.8],
+    [0.0, 0.0, 11.4],
+    [0.0, 0.0, 12.0],
+];
+
+/// ... and the edges.
+const DEFAULT_EDGES: [[usize; 2]; 14] = [
+    [0, 1],
+    [1, 2],
+    [2, 0],
+    [3, 0],
+    [3, 1],
+    [3, 2],
+    [4, 0],
+    [4, 1],
+    [4, 2],
+    [5, 0],
+    [5, 1],
+    [5, 2],
+    [3, 4],
+    [4, 5],
+];
 
 /// Most vertices and edges a complex may have (Dr TIM's have tens): finding its faces and
 /// cells takes time that grows faster than their numbers.
@@ -52,8 +96,10 @@ const TOLERANCE: f64 = 1e-9;
 type FaceLens = Option<ThinLens>;
 
 impl LensDevice for LensSimplicialComplex {
-    /// The faces `face I-J-K` (vertex indices, from 0) that need a lens and, with `edges`, the
-    /// edges `edge I-J`.
+    /// The faces `face I-J-K` (vertex indices, from 0) that need a lens; with `edges`, the
+    /// edges `edge I-J` and the vertices `vertex I` (Dr TIM's physical-space structure); with
+    /// `structure_v`, the same at the virtual positions, `virtual edge I-J` and `virtual vertex
+    /// I`.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let complex = Complex::new(self)?;
         let mut parts = Vec::new();
@@ -65,26 +111,42 @@ impl LensDevice for LensSimplicialComplex {
             let Some(lens) = complex.lens(f)? else {
                 continue;
             };
-            let corners = face.map(|i| self.vertices[i]);
-            parts.push(Part {
-                name: face_name(*face),
-                shape: Shape::TriangleMesh(
-                    TriangleMesh::new(corners.to_vec(), vec![[0, 1, 2]])
-                        .map_err(|e| format!("{}: {e}", face_name(*face)))?,
-                ),
-                surface: Surface::IdealThinLens(ThinLens {
-                    transmission_coefficient: self.lens_transmission_coefficient,
-                    ..lens
-                }),
-                edge: false,
-            });
+            let lens = ThinLens {
+                transmission_coefficient: self.lens_transmission_coefficient,
+                ..lens
+            };
+            let corners = Face::Triangle(face.map(|i| self.vertices[i]));
+            parts.extend(self.lens_type.part(face_name(*face), corners, lens)?);
         }
-        if let Some(e) = edges {
+        // Dr TIM's `SurfaceColour.RED_SHINY`.
+        let structure_v = self.structure_v.map(|radius| Edges {
+            radius,
+            surface: EdgeDefaults::HIDDEN_RED.surface(),
+        });
+        let structures = [
+            (edges, &self.vertices, ""),
+            (structure_v.as_ref(), &self.vertices_v, "virtual "),
+        ];
+        for (shown, positions, space) in structures {
+            let Some(e) = shown else { continue };
             for &[i, j] in &complex.edges {
-                parts.push(e.part(format!("edge {i}-{j}"), self.vertices[i], self.vertices[j])?);
+                let name = format!("{space}edge {i}-{j}");
+                parts.push(e.part(name, positions[i], positions[j])?);
+            }
+            for (i, &at) in positions.iter().enumerate() {
+                parts.push(e.vertex(format!("{space}vertex {i}"), at)?);
             }
         }
         Ok(parts)
+    }
+
+    /// Dr TIM's physical-space structure: shown, radius 0.021, `SurfaceColour.BLUE_SHINY`.
+    fn edge_defaults(&self) -> EdgeDefaults {
+        EdgeDefaults {
+            shown: true,
+            radius: 0.021,
+            colour: Colour::new(0.0, 0.0, 1.0),
+        }
     }
 }
 
@@ -386,26 +448,40 @@ fn inside(p: &[DVec3], cell: [usize; 4], x: DVec3) -> bool {
 }
 
 /// `lenses = { type = "lens-simplicial-complex" }`: Dr TIM's
-/// `EditableLensSimplicialComplex`, its vertices in physical and virtual space and its edges.
+/// `EditableLensSimplicialComplex`, its vertices in physical and virtual space and its edges,
+/// Dr TIM's omnidirectional lens where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LensSimplicialComplexKeys {
-    vertices: Vec<Vector>,
-    vertices_v: Vec<Vector>,
-    edges: Vec<Array<usize, 2>>,
+    vertices: Option<Vec<Vector>>,
+    vertices_v: Option<Vec<Vector>>,
+    edges: Option<Vec<Array<usize, 2>>>,
     lens_transmission_coefficient: Option<Coefficient>,
+    lens_type_representing_face: Option<LensType>,
+    show_structure_v: Option<bool>,
+    vertex_radius_v: Option<Positive>,
 }
 
 impl LensSimplicialComplexKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
-        let points = |v: Vec<Vector>| v.into_iter().map(|p| p.0).collect();
+        let points = |v: Option<Vec<Vector>>, default: [[f64; 3]; 6]| match v {
+            Some(v) => v.into_iter().map(|p| p.0).collect(),
+            None => default.map(DVec3::from).to_vec(),
+        };
+        // Dr TIM's `vertexRadiusV`.
+        let radius_v = self.vertex_radius_v.map_or(0.02, |r| r.0);
         Ok(Box::new(LensSimplicialComplex {
-            vertices: points(self.vertices),
-            vertices_v: points(self.vertices_v),
-            edges: self.edges.into_iter().map(|e| e.0).collect(),
-            lens_transmission_coefficient: crate::keys::coefficient(
+            vertices: points(self.vertices, DEFAULT_VERTICES),
+            vertices_v: points(self.vertices_v, DEFAULT_VERTICES_V),
+            edges: self.edges.map_or(DEFAULT_EDGES.to_vec(), |e| {
+                e.into_iter().map(|e| e.0).collect()
+            }),
+            // Dr TIM's is always `DEFAULT_TRANSMISSION_COEFFICIENT`.
+            lens_transmission_coefficient: crate::keys::throughput(
                 self.lens_transmission_coefficient,
             ),
+            lens_type: self.lens_type_representing_face.unwrap_or_default(),
+            structure_v: self.show_structure_v.unwrap_or(true).then_some(radius_v),
         }))
     }
 }

@@ -14,10 +14,9 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::{Edges, LensDevice, Part};
-use crate::geometry::{Parallelogram, Shape};
+use super::{Edges, Face, LensDevice, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
-use crate::surfaces::{Surface, ThinLens};
+use crate::surfaces::ThinLens;
 
 /// Most lenses a star may have (checked before any is made). The lenses all meet on the axis,
 /// so their bounding boxes overlap there and every ray that meets the star is tested against a
@@ -42,6 +41,8 @@ pub struct LensStar {
     pub star_radius: f64,
     pub star_length: f64,
     pub lens_transmission_coefficient: f64,
+    /// What each lens is (Dr TIM's `thinLensType`).
+    pub thin_lens_type: LensType,
     /// `None` shows every lens; `Some((start, n))` shows n lenses from index `start`
     /// (modulo N; Dr TIM's `shownLensesStartIndex` and `numberOfShownLenses`).
     pub shown_lenses: Option<(i64, u32)>,
@@ -83,21 +84,19 @@ impl LensDevice for LensStar {
             let radial = cos * u + sin * v;
             let outer = radial * self.star_radius;
             let name = |what: &str| format!("{what} {}", i + 1);
-            parts.push(Part {
-                name: name("lens"),
-                shape: Shape::Parallelogram(
-                    Parallelogram::new(top, axial, outer)
-                        .map_err(|e| format!("{}: {e}", name("lens")))?,
-                ),
-                surface: Surface::IdealThinLens(ThinLens {
-                    principal_point: self.centre + self.principal_point_distance * radial,
-                    optical_axis: -sin * u + cos * v,
-                    focal_length: self.focal_length,
-                    gradient: None,
-                    transmission_coefficient: self.lens_transmission_coefficient,
-                }),
-                edge: false,
-            });
+            let face = Face::Parallelogram {
+                corner: top,
+                span_u: axial,
+                span_v: outer,
+            };
+            let lens = ThinLens {
+                principal_point: self.centre + self.principal_point_distance * radial,
+                optical_axis: -sin * u + cos * v,
+                focal_length: self.focal_length,
+                gradient: None,
+                transmission_coefficient: self.lens_transmission_coefficient,
+            };
+            parts.extend(self.thin_lens_type.part(name("lens"), face, lens)?);
             if let Some(e) = edges {
                 parts.push(e.part(name("top edge"), top, top + outer)?);
                 parts.push(e.part(name("outer edge"), top + outer, top + outer + axial)?);
@@ -111,41 +110,47 @@ impl LensDevice for LensStar {
     }
 }
 
-/// `lenses = { type = "lens-star" }`: Dr TIM's `EditableLensStar`.
+/// `lenses = { type = "lens-star" }`: Dr TIM's `EditableLensStar`, with the defaults of its
+/// constructor `EditableLensStar(parent, studio)` for every key not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LensStarKeys {
-    number_of_lenses: u32,
-    focal_length: NonZero,
+    number_of_lenses: Option<u32>,
+    focal_length: Option<NonZero>,
     principal_point_distance: Option<Finite>,
-    centre: Vector,
-    intersection_direction: Direction,
-    point_on_lens1: Vector,
-    star_radius: Positive,
-    star_length: Positive,
+    centre: Option<Vector>,
+    intersection_direction: Option<Direction>,
+    point_on_lens1: Option<Vector>,
+    star_radius: Option<Positive>,
+    star_length: Option<Positive>,
     lens_transmission_coefficient: Option<Coefficient>,
+    thin_lens_type: Option<LensType>,
     shown_lenses_start_index: Option<i64>,
     number_of_shown_lenses: Option<u32>,
 }
 
 impl LensStarKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        let number_of_lenses = self.number_of_lenses.unwrap_or(5);
         let shown_lenses = match (self.shown_lenses_start_index, self.number_of_shown_lenses) {
             (None, None) => None,
-            (start, n) => Some((start.unwrap_or(0), n.unwrap_or(self.number_of_lenses))),
+            (start, n) => Some((start.unwrap_or(0), n.unwrap_or(number_of_lenses))),
         };
         Ok(Box::new(LensStar {
-            number_of_lenses: self.number_of_lenses,
-            focal_length: self.focal_length.0,
+            number_of_lenses,
+            focal_length: self.focal_length.map_or(1.0, |f| f.0),
             principal_point_distance: self.principal_point_distance.map_or(0.0, |d| d.0),
-            centre: self.centre.0,
-            intersection_direction: self.intersection_direction.0,
-            point_on_lens1: self.point_on_lens1.0,
-            star_radius: self.star_radius.0,
-            star_length: self.star_length.0,
-            lens_transmission_coefficient: crate::keys::coefficient(
+            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            intersection_direction: self.intersection_direction.map_or(DVec3::Y, |d| d.0),
+            point_on_lens1: self
+                .point_on_lens1
+                .map_or(DVec3::new(1.0, 0.0, 10.0), |p| p.0),
+            star_radius: self.star_radius.map_or(2.0, |r| r.0),
+            star_length: self.star_length.map_or(1.0, |l| l.0),
+            lens_transmission_coefficient: crate::keys::throughput(
                 self.lens_transmission_coefficient,
             ),
+            thin_lens_type: self.thin_lens_type.unwrap_or_default(),
             shown_lenses,
         }))
     }
@@ -166,6 +171,7 @@ mod tests {
             star_radius: 2.0,
             star_length: 1.0,
             lens_transmission_coefficient: 0.96,
+            thin_lens_type: LensType::IdealThinLens,
             shown_lenses: None,
         }
     }

@@ -1,6 +1,10 @@
 //! Devices made of ideal thin lenses (issue 20, Part 2): each a pure function from the
-//! parameters of Dr TIM's editable object to its parts, every face an ideal thin lens with its
-//! positions in the device's own coordinates, and the edges (Dr TIM's frames) cylinders.
+//! parameters of Dr TIM's editable object to its parts, every face a lens (an ideal thin lens,
+//! or what the device's lens type makes of it, [`LensType`]) with its positions in the device's
+//! own coordinates, and the edges (Dr TIM's frames) cylinders. Every parameter Dr TIM's
+//! editable object has a default for (its constructor `(SceneObject parent, Studio studio)`)
+//! has the same default here, so that a device named by its type alone is Dr TIM's default
+//! object.
 
 mod coordinate_system;
 mod four_pi_lens;
@@ -9,6 +13,7 @@ mod fresnel_lens_surface;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
+mod lens_type;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod refractive_lens_surfaces;
@@ -22,20 +27,52 @@ pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Secti
 pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
+pub use lens_type::{Face, LensType};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
-use crate::geometry::{Cylinder, Shape};
+use crate::geometry::{Cylinder, Shape, Sphere};
 use crate::keys::kinds;
-use crate::surfaces::Surface;
+use crate::math::Colour;
+use crate::surfaces::{Coloured, Surface};
 
 /// A device of ideal thin lenses, as its keys make it.
 pub trait LensDevice: std::fmt::Debug {
     /// The device's parts, with its edges (Dr TIM's frames) where `edges` are shown.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String>;
+
+    /// Dr TIM's defaults for the device's edges: by default those of `EditableLensStar`.
+    fn edge_defaults(&self) -> EdgeDefaults {
+        EdgeDefaults::HIDDEN_RED
+    }
+}
+
+/// Whether a device's edges are shown, and their radius and (shiny) colour, where the
+/// `[[device]]` entry does not say: Dr TIM's defaults for the device's frames.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeDefaults {
+    pub shown: bool,
+    pub radius: f64,
+    /// The diffuse colour of the shiny surface (Dr TIM's `SurfaceColour` with a white specular
+    /// colour: `RED_SHINY`, `GREY50_SHINY`, `BLUE_SHINY`).
+    pub colour: Colour,
+}
+
+impl EdgeDefaults {
+    /// Hidden, radius 0.01, `SurfaceColour.RED_SHINY` (Dr TIM's `EditableLensStar`).
+    pub const HIDDEN_RED: EdgeDefaults = EdgeDefaults {
+        shown: false,
+        radius: 0.01,
+        colour: Colour::new(1.0, 0.0, 0.0),
+    };
+
+    /// The shiny surface of the edges.
+    pub fn surface(&self) -> Surface {
+        Surface::Coloured(Coloured::shiny(self.colour))
+    }
 }
 
 kinds! {
@@ -103,7 +140,8 @@ pub struct Part {
     pub name: String,
     pub shape: Shape,
     pub surface: Surface,
-    /// An edge (a frame cylinder) rather than a lens: opaque, so it throws shadows.
+    /// Not a lens but part of the device's frame (an edge, a vertex; the faces of the Platonic
+    /// lens's solid): it throws shadows whatever the device's `shadow_throwing` says.
     pub edge: bool,
 }
 
@@ -122,6 +160,17 @@ impl Edges {
             shape: Shape::Cylinder(
                 Cylinder::new(start, end, self.radius).map_err(|e| format!("{name}: {e}"))?,
             ),
+            surface: self.surface.clone(),
+            edge: true,
+        })
+    }
+
+    /// A sphere of the edges' radius at the vertex `at`, named `name` (Dr TIM's frames round
+    /// off their corners with these).
+    fn vertex(&self, name: String, at: glam::DVec3) -> Result<Part, String> {
+        Ok(Part {
+            name: name.clone(),
+            shape: Shape::Sphere(Sphere::new(at, self.radius).map_err(|e| format!("{name}: {e}"))?),
             surface: self.surface.clone(),
             edge: true,
         })

@@ -10,15 +10,21 @@
 //!
 //! The solid is Dr TIM's (`PlatonicSolidType`, [`PlatonicKind`]): circumradius `radius` about
 //! `centre`, in the orientation of its vertex tables, read along the orthonormal basis made
-//! from `basis_vector_1` and `basis_vector_2` (the third their cross product).
+//! from `basis_vector_1` and `basis_vector_2` (the third their cross product). As in Dr TIM,
+//! the solid itself is shown too (`show_platonic_solid`, Dr TIM's `EditablePlatonicSolid` with
+//! its defaults): its vertices and edges as the device's edges, and its faces transparent,
+//! passing on 75 % of the light and throwing shadows (Dr TIM's `Transparent(0.75, true)`).
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use serde::Deserialize;
 
-use super::{Edges, LensDevice, Part};
-use crate::geometry::{PlatonicKind, Shape, TriangleMesh};
+use super::{EdgeDefaults, Edges, LensDevice, Part};
+use crate::geometry::{PlatonicKind, PlatonicSolid, Shape, Transform, TriangleMesh};
 use crate::keys::{Coefficient, Direction, NonZero, Positive, Vector};
-use crate::surfaces::{Surface, ThinLens};
+use crate::surfaces::{Surface, ThinLens, Transparent};
+
+/// The transmission coefficient of the faces of Dr TIM's default `EditablePlatonicSolid`.
+const FACE_TRANSMISSION_COEFFICIENT: f64 = 0.75;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlatonicLens {
@@ -33,11 +39,17 @@ pub struct PlatonicLens {
     /// f of every lens; non-zero.
     pub focal_length: f64,
     pub lens_transmission_coefficient: f64,
+    /// Dr TIM's `showPlatonicSolid`: the solid's vertices and edges (with the device's edges)
+    /// and its transparent faces.
+    pub show_platonic_solid: bool,
+    /// Dr TIM's `showLensEdges`: the edges inside the solid, from its centre to its vertices
+    /// (with the device's edges).
+    pub show_lens_edges: bool,
 }
 
 impl PlatonicLens {
-    /// The solid's vertices, placed.
-    pub fn vertices(&self) -> Result<Vec<DVec3>, String> {
+    /// The orthonormal basis the vertex tables are read along.
+    fn basis(&self) -> Result<DMat3, String> {
         let x = self.basis_vector_1.normalize();
         let y = self.basis_vector_2.reject_from_normalized(x);
         if y.length() <= 1e-9 * self.basis_vector_2.length() {
@@ -47,20 +59,36 @@ impl PlatonicLens {
             ));
         }
         let y = y.normalize();
-        let z = x.cross(y);
+        Ok(DMat3::from_cols(x, y, x.cross(y)))
+    }
+
+    /// The solid's vertices, placed.
+    pub fn vertices(&self) -> Result<Vec<DVec3>, String> {
+        let basis = self.basis()?;
         Ok(self
             .platonic_solid
             .vertices()
             .into_iter()
-            .map(|v| self.centre + self.radius * (v.x * x + v.y * y + v.z * z))
+            .map(|v| self.centre + self.radius * (basis * v))
             .collect())
+    }
+
+    /// The solid's faces, placed.
+    fn faces(&self) -> Result<Shape, String> {
+        let solid = PlatonicSolid::new(self.platonic_solid, DVec3::ZERO, self.radius)
+            .map_err(|e| e.to_string())?;
+        Transform::from_matrix(self.basis()?)
+            .map(|turn| turn.then(&Transform::translation(self.centre)))
+            .and_then(|place| place.shape(&Shape::PlatonicSolid(solid)))
+            .map_err(|e| format!("the Platonic solid: {e}"))
     }
 }
 
 impl LensDevice for PlatonicLens {
     /// `lens i-j` for every edge i-j of the solid (vertex indices as in
-    /// [`PlatonicKind::vertices`]) and, with `edges`, Dr TIM's inner edges (`inner edge i`,
-    /// from the centre to vertex i) and outer edges (`edge i-j`).
+    /// [`PlatonicKind::vertices`]); with `show_platonic_solid` its `faces` and, with `edges`,
+    /// its `vertex i` and `edge i-j`; with `show_lens_edges` and `edges`, Dr TIM's inner edges
+    /// (`inner edge i`, from the centre to vertex i).
     fn parts(&self, edges_shown: Option<&Edges>) -> Result<Vec<Part>, String> {
         let v = self.vertices()?;
         let c = self.centre;
@@ -84,44 +112,72 @@ impl LensDevice for PlatonicLens {
                 name,
             });
         }
-        if let Some(e) = edges_shown {
+        if let Some(e) = edges_shown.filter(|_| self.show_lens_edges) {
             for (i, &vertex) in v.iter().enumerate() {
                 parts.push(e.part(format!("inner edge {i}"), c, vertex)?);
             }
-            for &[i, j] in &joined {
-                parts.push(e.part(format!("edge {i}-{j}"), v[i], v[j])?);
+        }
+        if self.show_platonic_solid {
+            if let Some(e) = edges_shown {
+                for &[i, j] in &joined {
+                    parts.push(e.part(format!("edge {i}-{j}"), v[i], v[j])?);
+                }
+                for (i, &vertex) in v.iter().enumerate() {
+                    parts.push(e.vertex(format!("vertex {i}"), vertex)?);
+                }
             }
+            parts.push(Part {
+                name: "faces".into(),
+                shape: self.faces()?,
+                surface: Surface::Transparent(Transparent {
+                    transmission_coefficient: FACE_TRANSMISSION_COEFFICIENT,
+                }),
+                edge: true,
+            });
         }
         Ok(parts)
     }
+
+    /// Dr TIM's Platonic solid: its edges shown, radius 0.01, `SurfaceColour.RED_SHINY`.
+    fn edge_defaults(&self) -> EdgeDefaults {
+        EdgeDefaults {
+            shown: true,
+            ..EdgeDefaults::HIDDEN_RED
+        }
+    }
 }
 
-/// `lenses = { type = "platonic-lens" }`: Dr TIM's `EditablePlatonicLens`; the vertex tables'
-/// x and y along x and y when not given.
+/// `lenses = { type = "platonic-lens" }`: Dr TIM's `EditablePlatonicLens`, with the defaults
+/// of its constructor `EditablePlatonicLens(parent, studio)` (and of the solid's,
+/// `EditablePlatonicSolid(parent, studio)`) for every key not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlatonicLensKeys {
-    platonic_solid: PlatonicKind,
-    centre: Vector,
-    radius: Positive,
+    platonic_solid: Option<PlatonicKind>,
+    centre: Option<Vector>,
+    radius: Option<Positive>,
     basis_vector_1: Option<Direction>,
     basis_vector_2: Option<Direction>,
-    focal_length: NonZero,
+    focal_length: Option<NonZero>,
     lens_transmission_coefficient: Option<Coefficient>,
+    show_platonic_solid: Option<bool>,
+    show_lens_edges: Option<bool>,
 }
 
 impl PlatonicLensKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
         Ok(Box::new(PlatonicLens {
-            platonic_solid: self.platonic_solid,
-            centre: self.centre.0,
-            radius: self.radius.0,
+            platonic_solid: self.platonic_solid.unwrap_or(PlatonicKind::Tetrahedron),
+            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            radius: self.radius.map_or(1.0, |r| r.0),
             basis_vector_1: self.basis_vector_1.map_or(DVec3::X, |b| b.0),
             basis_vector_2: self.basis_vector_2.map_or(DVec3::Y, |b| b.0),
-            focal_length: self.focal_length.0,
-            lens_transmission_coefficient: crate::keys::coefficient(
+            focal_length: self.focal_length.map_or(1.0, |f| f.0),
+            lens_transmission_coefficient: crate::keys::throughput(
                 self.lens_transmission_coefficient,
             ),
+            show_platonic_solid: self.show_platonic_solid.unwrap_or(true),
+            show_lens_edges: self.show_lens_edges.unwrap_or(true),
         }))
     }
 }

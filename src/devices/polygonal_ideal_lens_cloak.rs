@@ -12,8 +12,8 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::ideal_lens_cloak::{CloakKeys, Layout, rename};
-use super::{Edges, IdealLensCloak, LensDevice, LensSimplicialComplex, Part};
+use super::ideal_lens_cloak::{CLOAK_FRAMES, CloakKeys, Layout, rename};
+use super::{EdgeDefaults, Edges, IdealLensCloak, LensDevice, LensSimplicialComplex, Part};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PolygonalIdealLensCloak {
@@ -75,8 +75,16 @@ impl LensDevice for PolygonalIdealLensCloak {
             vertices_v,
             edges: joined,
             lens_transmission_coefficient: cloak.interface_transmission_coefficient,
+            lens_type: cloak.lens_element_type,
+            structure_v: None,
         };
         let mut parts = complex.parts(edges)?;
+        // The base centre only cuts the complex into cells: Dr TIM's frames have no vertex there
+        // and no edges to it.
+        let cuts = [format!("vertex {centre}"), format!("edge {centre}-{lower}")];
+        parts.retain(|p| {
+            !cuts.contains(&p.name) && !(0..n).any(|i| p.name == format!("edge {i}-{centre}"))
+        });
         let names = (0..n).flat_map(|i| {
             let next = (i + 1) % n;
             [
@@ -91,23 +99,28 @@ impl LensDevice for PolygonalIdealLensCloak {
         rename(&mut parts, names);
         Ok(parts)
     }
+
+    fn edge_defaults(&self) -> EdgeDefaults {
+        CLOAK_FRAMES
+    }
 }
 
 /// `lenses = { type = "polygonal-ideal-lens-cloak" }`: Dr TIM's
-/// `EditablePolygonalIdealLensCloak`, the tetrahedral cloak's keys and `no_of_base_vertices`.
+/// `EditablePolygonalIdealLensCloak`, the tetrahedral cloak's keys and `no_of_base_vertices`
+/// (3, a tetrahedron, where not given).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PolygonalIdealLensCloakKeys {
     #[serde(flatten)]
     cloak: CloakKeys,
-    no_of_base_vertices: usize,
+    no_of_base_vertices: Option<usize>,
 }
 
 impl PolygonalIdealLensCloakKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
         Ok(Box::new(PolygonalIdealLensCloak {
             cloak: self.cloak.cloak(),
-            no_of_base_vertices: self.no_of_base_vertices,
+            no_of_base_vertices: self.no_of_base_vertices.unwrap_or(3),
         }))
     }
 }
@@ -134,6 +147,7 @@ mod tests {
                     height_upper_inner_vertex_p: h2,
                     height_lower_inner_vertex_e: h1e,
                     interface_transmission_coefficient: 1.0,
+                    lens_element_type: super::super::LensType::IdealThinLens,
                 },
                 no_of_base_vertices: n,
             };

@@ -141,12 +141,12 @@ impl TimHead {
     }
 }
 
-/// `aid = { type = "tim-head" }`: radius 1, looking along −z with its top along y, where not
-/// given.
+/// `aid = { type = "tim-head" }`: Dr TIM's `EditableTimHead(parent, studio)` where not given,
+/// centred on (0, 0, 10), radius 1, looking along −z with its top along y.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimHeadKeys {
-    centre: Vector,
+    centre: Option<Vector>,
     radius: Option<Positive>,
     front_direction: Option<Direction>,
     top_direction: Option<Direction>,
@@ -155,7 +155,7 @@ pub struct TimHeadKeys {
 impl TimHeadKeys {
     pub fn build(self) -> Result<Vec<Part>, String> {
         TimHead {
-            centre: self.centre.0,
+            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
             radius: self.radius.map_or(1.0, |r| r.0),
             front_direction: self.front_direction.map_or(DVec3::NEG_Z, |d| d.0),
             top_direction: self.top_direction.map_or(DVec3::Y, |d| d.0),

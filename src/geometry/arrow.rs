@@ -66,12 +66,13 @@ impl Arrow {
     }
 }
 
-/// `type = "arrow"`: Dr TIM's arrow, a shaft and a conical tip at `end`, of Dr TIM's proportions where not given.
+/// `type = "arrow"`: Dr TIM's arrow, a shaft and a conical tip at `end`, of Dr TIM's proportions where not given,
+/// from (0, 0, 10) to (1, 0, 10) (Dr TIM's GUI's new arrow) where these are not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ArrowKeys {
-    start: Vector,
-    end: Vector,
+    start: Option<Vector>,
+    end: Option<Vector>,
     shaft_radius: Option<Positive>,
     tip_length: Option<Positive>,
     tip_angle_deg: Option<Finite>,
@@ -79,7 +80,10 @@ pub struct ArrowKeys {
 
 impl ArrowKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let default = Arrow::with_default_proportions(self.start.0, self.end.0);
+        let default = Arrow::with_default_proportions(
+            self.start.map_or(DVec3::new(0.0, 0.0, 10.0), |s| s.0),
+            self.end.map_or(DVec3::new(1.0, 0.0, 10.0), |e| e.0),
+        );
         Arrow {
             shaft_radius: self.shaft_radius.map_or(default.shaft_radius, |r| r.0),
             tip_length: self.tip_length.map_or(default.tip_length, |l| l.0),

@@ -237,14 +237,16 @@ impl ConvexSolid for Cone {
     }
 }
 
-/// `type = "cone"`: `open`, the mantle alone without the base.
+/// `type = "cone"`: `open`, the mantle alone without the base; Dr TIM's GUI's new cone
+/// (`EditableParametrisedCone`), apex (0, 0, 10), axis (0, 0, 1), half angle 45°, height 1,
+/// closed, where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConeKeys {
-    apex: Vector,
-    axis: Vector,
-    half_angle_deg: Finite,
-    height: Finite,
+    apex: Option<Vector>,
+    axis: Option<Vector>,
+    half_angle_deg: Option<Finite>,
+    height: Option<Finite>,
     #[serde(default)]
     open: bool,
 }
@@ -252,10 +254,10 @@ pub struct ConeKeys {
 impl ConeKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::Cone(Cone::new(
-            self.apex.0,
-            self.axis.0,
-            self.half_angle_deg.0,
-            self.height.0,
+            self.apex.map_or(DVec3::new(0.0, 0.0, 10.0), |a| a.0),
+            self.axis.map_or(DVec3::Z, |a| a.0),
+            self.half_angle_deg.map_or(45.0, |a| a.0),
+            self.height.map_or(1.0, |h| h.0),
             self.open,
         )?))
     }

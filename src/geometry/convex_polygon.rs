@@ -140,16 +140,23 @@ impl AnalyticShape for ConvexPolygon {
     }
 }
 
-/// `type = "convex-polygon"`.
+/// `type = "convex-polygon"`: Dr TIM's `EditableParametrisedConvexPolygon(parent, studio)`,
+/// the square with corners (±1, ±1, 10) and normal (0, 0, 1), where not given (its corners in
+/// the order that gives that normal).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConvexPolygonKeys {
-    vertices: Vec<Vector>,
+    vertices: Option<Vec<Vector>>,
 }
 
 impl ConvexPolygonKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let vertices = self.vertices.into_iter().map(|v| v.0).collect();
+        let vertices = match self.vertices {
+            Some(v) => v.into_iter().map(|v| v.0).collect(),
+            None => [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .map(|(x, y)| DVec3::new(x, y, 10.0))
+                .to_vec(),
+        };
         Ok(Shape::ConvexPolygon(ConvexPolygon::new(vertices)?))
     }
 }

@@ -44,20 +44,23 @@ impl Polyhedral for Cuboid {
     }
 }
 
-/// `type = "cuboid"`: `size` along x, y and z.
+/// `type = "cuboid"`: `size` along x, y and z; Dr TIM's `Cuboid(parent, studio)`, centre
+/// (0, 0, 10) and faces 1 from it (size 2 × 2 × 2), where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CuboidKeys {
-    centre: Vector,
-    size: Array<Positive, 3>,
+    centre: Option<Vector>,
+    size: Option<Array<Positive, 3>>,
 }
 
 impl CuboidKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let [x, y, z] = self.size.0.map(|s| s.0);
+        let size = self
+            .size
+            .map_or(DVec3::splat(2.0), |s| DVec3::from(s.0.map(|s| s.0)));
         Ok(Shape::Cuboid(Cuboid::new(
-            self.centre.0,
-            DVec3::new(x, y, z),
+            self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            size,
         )?))
     }
 }

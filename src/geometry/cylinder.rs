@@ -213,20 +213,26 @@ impl ConvexSolid for Cylinder {
     }
 }
 
-/// `type = "cylinder"`: `open`, the mantle alone without the end caps (an [`EllipticCylinder`](super::EllipticCylinder) with equal semi-axes).
+/// `type = "cylinder"`: `open`, the mantle alone without the end caps (an [`EllipticCylinder`](super::EllipticCylinder) with equal semi-axes);
+/// Dr TIM's GUI's new cylinder (`EditableParametrisedCylinder`, with its end caps), from
+/// (−1, 0, 10) to (1, 0, 10) with radius 1, where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CylinderKeys {
-    start: Vector,
-    end: Vector,
-    radius: Positive,
+    start: Option<Vector>,
+    end: Option<Vector>,
+    radius: Option<Positive>,
     #[serde(default)]
     open: bool,
 }
 
 impl CylinderKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let closed = Cylinder::new(self.start.0, self.end.0, self.radius.0)?;
+        let closed = Cylinder::new(
+            self.start.map_or(DVec3::new(-1.0, 0.0, 10.0), |p| p.0),
+            self.end.map_or(DVec3::new(1.0, 0.0, 10.0), |p| p.0),
+            self.radius.map_or(1.0, |r| r.0),
+        )?;
         if !self.open {
             return Ok(Shape::Cylinder(closed));
         }

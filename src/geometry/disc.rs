@@ -106,21 +106,22 @@ impl AnalyticShape for Disc {
     }
 }
 
-/// `type = "disc"`.
+/// `type = "disc"`: Dr TIM's GUI's new disc (`EditableScaledParametrisedDisc`), centre
+/// (0, 0, 10), normal (0, 0, 1), radius 1, where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiscKeys {
-    centre: Vector,
-    normal: Vector,
-    radius: Positive,
+    centre: Option<Vector>,
+    normal: Option<Vector>,
+    radius: Option<Positive>,
 }
 
 impl DiscKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::Disc(Disc::new(
-            self.centre.0,
-            self.normal.0,
-            self.radius.0,
+            self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            self.normal.map_or(DVec3::Z, |n| n.0),
+            self.radius.map_or(1.0, |r| r.0),
         )?))
     }
 }

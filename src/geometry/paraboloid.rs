@@ -216,26 +216,28 @@ impl ConvexSolid for Paraboloid {
     }
 }
 
-/// `type = "paraboloid"`: `open`, the curved surface alone without the cap.
+/// `type = "paraboloid"`: `open`, the curved surface alone without the cap; Dr TIM's GUI's
+/// new paraboloid (`EditableParametrisedParaboloid`: vertex (0, 0, 10), w along (0, 1, 0),
+/// w = a u² + b v² with a = b = 1, so f = 1/(4a) = 0.25, height 1, and no cap) where not
+/// given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParaboloidKeys {
-    vertex: Vector,
-    axis: Vector,
-    focal_length: Finite,
-    height: Finite,
-    #[serde(default)]
-    open: bool,
+    vertex: Option<Vector>,
+    axis: Option<Vector>,
+    focal_length: Option<Finite>,
+    height: Option<Finite>,
+    open: Option<bool>,
 }
 
 impl ParaboloidKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::Paraboloid(Paraboloid::new(
-            self.vertex.0,
-            self.axis.0,
-            self.focal_length.0,
-            self.height.0,
-            self.open,
+            self.vertex.map_or(DVec3::new(0.0, 0.0, 10.0), |v| v.0),
+            self.axis.map_or(DVec3::Y, |a| a.0),
+            self.focal_length.map_or(0.25, |f| f.0),
+            self.height.map_or(1.0, |h| h.0),
+            self.open.unwrap_or(true),
         )?))
     }
 }

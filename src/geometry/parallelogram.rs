@@ -122,21 +122,23 @@ impl AnalyticShape for Parallelogram {
     }
 }
 
-/// `type = "parallelogram"`.
+/// `type = "parallelogram"`: Dr TIM's GUI's new rectangle
+/// (`EditableScaledParametrisedCentredParallelogram`: centre (0, 0, 10), width (3, 0, 0),
+/// height (0, 2, 0)) where not given: corner (−1.5, −1, 10), spans (3, 0, 0) and (0, 2, 0).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParallelogramKeys {
-    corner: Vector,
-    span_u: Vector,
-    span_v: Vector,
+    corner: Option<Vector>,
+    span_u: Option<Vector>,
+    span_v: Option<Vector>,
 }
 
 impl ParallelogramKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::Parallelogram(Parallelogram::new(
-            self.corner.0,
-            self.span_u.0,
-            self.span_v.0,
+            self.corner.map_or(DVec3::new(-1.5, -1.0, 10.0), |c| c.0),
+            self.span_u.map_or(DVec3::new(3.0, 0.0, 0.0), |s| s.0),
+            self.span_v.map_or(DVec3::new(0.0, 2.0, 0.0), |s| s.0),
         )?))
     }
 }

@@ -117,21 +117,24 @@ pub fn plane_distance(point: DVec3, n: DVec3, origin: DVec3, direction: DVec3) -
     t.is_finite().then_some(t)
 }
 
-/// `type = "plane"`: `u_direction` (any tangent when not given) sets the surface coordinates.
+/// `type = "plane"`: `u_direction` (any tangent when not given) sets the surface coordinates;
+/// Dr TIM's GUI's new plane (`EditableParametrisedPlane`), through (0, 0, 10) with normal
+/// (0, 0, 1), where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlaneKeys {
-    point: Vector,
-    normal: Vector,
+    point: Option<Vector>,
+    normal: Option<Vector>,
     u_direction: Option<Vector>,
 }
 
 impl PlaneKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let normal = self.normal.0;
+        let point = self.point.map_or(DVec3::new(0.0, 0.0, 10.0), |p| p.0);
+        let normal = self.normal.map_or(DVec3::Z, |n| n.0);
         let u = self
             .u_direction
             .map_or_else(|| normal.any_orthogonal_vector(), |u| u.0);
-        Ok(Shape::Plane(Plane::new(self.point.0, normal, u)?))
+        Ok(Shape::Plane(Plane::new(point, normal, u)?))
     }
 }

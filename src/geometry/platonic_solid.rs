@@ -187,21 +187,23 @@ impl Polyhedral for PlatonicSolid {
     }
 }
 
-/// `type = "platonic-solid"`: `solid` names it, `radius` is its circumradius.
+/// `type = "platonic-solid"`: `solid` names it, `radius` is its circumradius; Dr TIM's
+/// `EditablePlatonicSolid(parent, studio)`, a tetrahedron of radius 1 about (0, 0, 10), where
+/// not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlatonicSolidKeys {
-    solid: PlatonicKind,
-    centre: Vector,
-    radius: Positive,
+    solid: Option<PlatonicKind>,
+    centre: Option<Vector>,
+    radius: Option<Positive>,
 }
 
 impl PlatonicSolidKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
         Ok(Shape::PlatonicSolid(PlatonicSolid::new(
-            self.solid,
-            self.centre.0,
-            self.radius.0,
+            self.solid.unwrap_or(PlatonicKind::Tetrahedron),
+            self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            self.radius.map_or(1.0, |r| r.0),
         )?))
     }
 }

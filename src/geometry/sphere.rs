@@ -153,16 +153,20 @@ impl ConvexSolid for Sphere {
     }
 }
 
-/// `type = "sphere"`.
+/// `type = "sphere"`: Dr TIM's GUI's new sphere (`EditableScaledParametrisedSphere`), centre
+/// (0, 0, 10) and radius 1, where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SphereKeys {
-    centre: Vector,
-    radius: Positive,
+    centre: Option<Vector>,
+    radius: Option<Positive>,
 }
 
 impl SphereKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        Ok(Shape::Sphere(Sphere::new(self.centre.0, self.radius.0)?))
+        Ok(Shape::Sphere(Sphere::new(
+            self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            self.radius.map_or(1.0, |r| r.0),
+        )?))
     }
 }

@@ -187,26 +187,33 @@ impl AnalyticShape for SphericalCap {
     }
 }
 
-/// `type = "spherical-cap"`: its size by exactly one of `aperture_radius` and `half_angle_deg`.
+/// `type = "spherical-cap"`: its size by at most one of `aperture_radius` and
+/// `half_angle_deg`; Dr TIM's GUI's new spherical cap (`EditableSphericalCap`), sphere centre
+/// (0, 0, 15), cap centre (0, 0, 10), aperture radius 1, where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SphericalCapKeys {
-    sphere_centre: Vector,
-    cap_centre: Vector,
+    sphere_centre: Option<Vector>,
+    cap_centre: Option<Vector>,
     aperture_radius: Option<Finite>,
     half_angle_deg: Option<Finite>,
 }
 
 impl SphericalCapKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
-        let (centre, cap) = (self.sphere_centre.0, self.cap_centre.0);
+        let centre = self
+            .sphere_centre
+            .map_or(DVec3::new(0.0, 0.0, 15.0), |c| c.0);
+        let cap = self.cap_centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0);
         Ok(Shape::SphericalCap(
             match (self.aperture_radius, self.half_angle_deg) {
-                (Some(r), None) => SphericalCap::with_aperture_radius(centre, cap, r.0)?,
+                (r, None) => {
+                    SphericalCap::with_aperture_radius(centre, cap, r.map_or(1.0, |r| r.0))?
+                }
                 (None, Some(angle)) => SphericalCap::new(centre, cap, angle.0)?,
-                _ => {
+                (Some(_), Some(_)) => {
                     return Err(GeometryError::Degenerate(
-                        "a spherical-cap needs exactly one of aperture_radius and half_angle_deg"
+                        "a spherical-cap takes one of aperture_radius and half_angle_deg, not both"
                             .into(),
                     ));
                 }

@@ -66,19 +66,24 @@ impl Polyhedral for TriangularPrism {
     }
 }
 
-/// `type = "triangular-prism"`.
+/// `type = "triangular-prism"`: Dr TIM's `EditableTriangularPrism(parent, studio)`, base
+/// (0, 0, 10), (0, 0, 11), (−1, 0, 11) extruded along (0, 1, 0), where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TriangularPrismKeys {
-    vertices: Array<Vector, 3>,
-    extrusion: Vector,
+    vertices: Option<Array<Vector, 3>>,
+    extrusion: Option<Vector>,
 }
 
 impl TriangularPrismKeys {
     pub fn build(self) -> Result<Shape, GeometryError> {
+        let vertices = self.vertices.map_or(
+            [(0.0, 10.0), (0.0, 11.0), (-1.0, 11.0)].map(|(x, z)| DVec3::new(x, 0.0, z)),
+            |v| v.0.map(|v| v.0),
+        );
         Ok(Shape::TriangularPrism(TriangularPrism::new(
-            self.vertices.0.map(|v| v.0),
-            self.extrusion.0,
+            vertices,
+            self.extrusion.map_or(DVec3::Y, |e| e.0),
         )?))
     }
 }

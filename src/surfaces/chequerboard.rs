@@ -2,9 +2,10 @@
 
 use serde::Deserialize;
 
-use super::{Surface, SurfaceKeys};
+use super::{Coloured, Surface, SurfaceKeys};
 use crate::geometry::Interaction;
 use crate::keys::Positive;
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Chequerboard {
@@ -31,23 +32,31 @@ impl Chequerboard {
     }
 }
 
-/// `type = "chequerboard"`: tiles of `tile_width` (1 when not given) with the two `surfaces`.
+/// `type = "chequerboard"`: tiles of `tile_width` with the two `surfaces`, where not given
+/// those of Dr TIM's GUI's tiled surface: width 1, `SurfaceColour.GREY50_SHINY` and
+/// `SurfaceColour.WHITE_SHINY`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChequerboardKeys {
     tile_width: Option<Positive>,
-    surfaces: Box<[SurfaceKeys; 2]>,
+    surfaces: Option<Box<[SurfaceKeys; 2]>>,
 }
 
 impl ChequerboardKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let [a, b] = *self.surfaces;
-        if a.destination().is_some() || b.destination().is_some() {
-            return Err("a teleporting surface cannot be a chequerboard tile".into());
-        }
+        let surfaces = match self.surfaces {
+            None => [0.5, 1.0].map(|grey| Surface::Coloured(Coloured::shiny(Colour::splat(grey)))),
+            Some(keys) => {
+                let [a, b] = *keys;
+                if a.destination().is_some() || b.destination().is_some() {
+                    return Err("a teleporting surface cannot be a chequerboard tile".into());
+                }
+                [a.build()?, b.build()?]
+            }
+        };
         Ok(Surface::Chequerboard(Chequerboard {
             tile_width: self.tile_width.map_or(1.0, |w| w.0),
-            surfaces: Box::new([a.build()?, b.build()?]),
+            surfaces: Box::new(surfaces),
         }))
     }
 }

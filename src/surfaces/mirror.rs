@@ -5,7 +5,7 @@ use serde::Deserialize;
 
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, coefficient};
+use crate::keys::{Coefficient, throughput};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {
@@ -27,7 +27,8 @@ impl Mirror {
     }
 }
 
-/// `type = "mirror"`.
+/// `type = "mirror"`: Dr TIM's `Reflective`, reflecting `DEFAULT_TRANSMISSION_COEFFICIENT`
+/// (0.96) of the light where not given, as its GUI makes it.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MirrorKeys {
@@ -38,7 +39,7 @@ pub struct MirrorKeys {
 impl MirrorKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::Mirror(Mirror {
-            reflection_coefficient: coefficient(self.reflection_coefficient),
+            reflection_coefficient: throughput(self.reflection_coefficient),
         }))
     }
 }

@@ -10,7 +10,7 @@ use serde::Deserialize;
 use super::mirror::reflect;
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Positive, coefficient};
+use crate::keys::{Coefficient, Positive, throughput};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {
@@ -52,11 +52,12 @@ impl Refractive {
     }
 }
 
-/// `type = "refractive"`.
+/// `type = "refractive"`: Dr TIM's `Refractive` with its GUI's defaults, index ratio 1 and
+/// transmission coefficient 0.96.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RefractiveKeys {
-    index_ratio: Positive,
+    index_ratio: Option<Positive>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
 }
@@ -64,8 +65,8 @@ pub struct RefractiveKeys {
 impl RefractiveKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::Refractive(Refractive {
-            index_ratio: self.index_ratio.0,
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            index_ratio: self.index_ratio.map_or(1.0, |n| n.0),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

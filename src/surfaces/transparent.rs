@@ -4,7 +4,7 @@ use serde::Deserialize;
 
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, coefficient};
+use crate::keys::{Coefficient, throughput};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {
@@ -21,7 +21,8 @@ impl Transparent {
     }
 }
 
-/// `type = "transparent"`.
+/// `type = "transparent"`: Dr TIM's `Transparent`, with its GUI's transmission coefficient
+/// 0.96 where not given.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TransparentKeys {
@@ -32,7 +33,7 @@ pub struct TransparentKeys {
 impl TransparentKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::Transparent(Transparent {
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

@@ -17,13 +17,12 @@ use serde::{Deserialize, Deserializer, de};
 use super::confine::Within;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
-use crate::devices::{AidKeys, CoordinateSystem, Edges, LensesKeys, Part};
+use crate::devices::{AidKeys, CoordinateSystem, Edges, LensDevice, LensesKeys, Part};
 use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
 use crate::keys::{Array, Finite, Positive, Vector};
-use crate::math::Colour;
 use crate::math::ReferenceFrame;
 use crate::scene::SceneObject;
-use crate::surfaces::{Coloured, Surface, SurfaceKeys};
+use crate::surfaces::{Surface, SurfaceKeys};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
@@ -92,6 +91,7 @@ impl SurfaceAxesSection {
             names: ["u axis", "v axis", "normal"],
             length,
             shaft_radius: self.shaft_radius.map_or(0.05 * length, |r| r.0),
+            tip_length: 0.2 * length,
         }
         .parts()
         .map_err(|e| format!("surface_axes: {e}"))
@@ -112,14 +112,11 @@ pub(super) struct DeviceSection {
     array: Option<Spanned<ArraySection>>,
     lenses: Option<Spanned<LensesKeys>>,
     aid: Option<Spanned<AidKeys>>,
-    #[serde(default)]
-    show_edges: bool,
+    /// Where not given, the device's own defaults (Dr TIM's), [`LensDevice::edge_defaults`].
+    show_edges: Option<bool>,
     edge_radius: Option<Positive>,
     edge_surface: Option<Spanned<SurfaceKeys>>,
 }
-
-/// Dr TIM's defaults for edges: radius 0.01, shiny red.
-const EDGE_RADIUS: f64 = 0.01;
 
 impl DeviceSection {
     /// Where the device's `lenses` or `aid` table is, for errors about the whole device.
@@ -134,7 +131,10 @@ impl DeviceSection {
         let lenses = match (self.lenses.take(), self.aid.take()) {
             (Some(lenses), None) => lenses,
             (None, Some(aid)) => {
-                if self.show_edges || self.edge_radius.is_some() || self.edge_surface.is_some() {
+                if self.show_edges == Some(true)
+                    || self.edge_radius.is_some()
+                    || self.edge_surface.is_some()
+                {
                     return Err((
                         aid.span(),
                         "edges (show_edges, edge_radius, edge_surface) belong to lens devices, \
@@ -154,31 +154,38 @@ impl DeviceSection {
                 ));
             }
         };
-        let edges = if self.show_edges {
-            let surface = match self.edge_surface.take() {
-                Some(s) => {
-                    let span = s.span();
-                    if s.get_ref().destination().is_some() {
-                        return Err((span, "edge_surface cannot be a teleporting surface".into()));
-                    }
-                    s.into_inner().build().map_err(|e| (span, e))?
-                }
-                None => Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
-            };
-            Some(Edges {
-                radius: self.edge_radius.as_ref().map_or(EDGE_RADIUS, |r| r.0),
-                surface,
-            })
-        } else {
-            None
-        };
         let span = lenses.span();
         let lenses = lenses.into_inner();
         let kind = lenses.kind();
-        lenses
+        let device = lenses
             .build()
-            .and_then(|device| device.parts(edges.as_ref()))
+            .map_err(|e| (span.clone(), format!("{kind}: {e}")))?;
+        let edges = self.edges(device.as_ref())?;
+        device
+            .parts(edges.as_ref())
             .map_err(|e| (span, format!("{kind}: {e}")))
+    }
+
+    /// The device's edges, if they are shown: as the entry says, or the device's defaults.
+    fn edges(&mut self, device: &dyn LensDevice) -> Result<Option<Edges>, (Range<usize>, String)> {
+        let defaults = device.edge_defaults();
+        if !self.show_edges.unwrap_or(defaults.shown) {
+            return Ok(None);
+        }
+        let surface = match self.edge_surface.take() {
+            Some(s) => {
+                let span = s.span();
+                if s.get_ref().destination().is_some() {
+                    return Err((span, "edge_surface cannot be a teleporting surface".into()));
+                }
+                s.into_inner().build().map_err(|e| (span, e))?
+            }
+            None => defaults.surface(),
+        };
+        Ok(Some(Edges {
+            radius: self.edge_radius.as_ref().map_or(defaults.radius, |r| r.0),
+            surface,
+        }))
     }
 }
 
@@ -662,6 +669,22 @@ impl<'a> Placer<'a> {
             .map_err(|(at, e)| source.error(Some(at), format!("device '{name}': {e}")))?;
         let (own, offsets) =
             self.placement(source, d.transform.take(), d.array.take(), parent, &name)?;
+        // A phase hologram's phase is in lengths of the scene, not of its shape: a device's lens
+        // holograms would keep their focal lengths and centres while the device is scaled.
+        let scaled = own.uniform_scale().is_none_or(|k| (k - 1.0).abs() > 1e-12);
+        if scaled
+            && parts
+                .iter()
+                .any(|p| matches!(p.surface, Surface::PhaseHologram(_)))
+        {
+            return Err(source.error(
+                transform_span.or(Some(span)),
+                format!(
+                    "device '{name}': its lens holograms cannot be scaled (a phase hologram's \
+                     phase is given in lengths of the scene); give the device's lengths instead"
+                ),
+            ));
+        }
         let mut placed = Placed::default();
         for p in parts {
             placed.objects.push(place(

@@ -24,7 +24,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::{Interaction, Transform};
-use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 /// A glens's focal lengths and nodal point, finite or at infinity.
@@ -132,11 +132,13 @@ impl Glens {
 }
 
 /// `type = "glens"`: finite focal lengths with a principal point, or (homogeneous) a nodal
-/// direction and the ratio f₋/f₊; one set of keys, whole, and not the other.
+/// direction and the ratio f₋/f₊, both of which must then be given, and none of the other
+/// set. The finite set and the axis take the defaults of Dr TIM's `EditableGlens(parent,
+/// studio)` where not given: principal point (0, 0, 5), f₋ = −2.5, f₊ = 2.5, axis along z.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GlensKeys {
-    optical_axis: Direction,
+    optical_axis: Option<Direction>,
     principal_point: Option<Vector>,
     focal_length_negative: Option<NonZero>,
     focal_length_positive: Option<NonZero>,
@@ -148,17 +150,17 @@ pub struct GlensKeys {
 
 impl GlensKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let axis = self.optical_axis.0;
+        let axis = self.optical_axis.map_or(DVec3::Z, |a| a.0);
         let finite = (
             self.principal_point,
             self.focal_length_negative,
             self.focal_length_positive,
         );
         let focus = match (finite, (self.nodal_direction, self.focal_length_ratio)) {
-            ((Some(p), Some(f_neg), Some(f_pos)), (None, None)) => Focus::Finite {
-                principal_point: p.0,
-                focal_length_negative: f_neg.0,
-                focal_length_positive: f_pos.0,
+            ((p, f_neg, f_pos), (None, None)) => Focus::Finite {
+                principal_point: p.map_or(DVec3::new(0.0, 0.0, 5.0), |p| p.0),
+                focal_length_negative: f_neg.map_or(-2.5, |f| f.0),
+                focal_length_positive: f_pos.map_or(2.5, |f| f.0),
             },
             ((None, None, None), (Some(n), Some(ratio))) => {
                 // Directions are unit vectors: a cosine below 1e-9 is perpendicular.
@@ -173,12 +175,12 @@ impl GlensKeys {
                     ratio: ratio.0,
                 }
             }
-            _ => return Err("glens: give principal_point, focal_length_negative and focal_length_positive (a glens with finite focal lengths), or nodal_direction and focal_length_ratio (a homogeneous glens), not a mixture".into()),
+            _ => return Err("glens: give principal_point, focal_length_negative and focal_length_positive (a glens with finite focal lengths, Dr TIM's where not given), or nodal_direction and focal_length_ratio (a homogeneous glens, both), not a mixture".into()),
         };
         Ok(Surface::Glens(Glens {
             optical_axis: axis,
             focus,
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

@@ -15,7 +15,7 @@ use serde::Deserialize;
 
 use super::ThinLens;
 use crate::geometry::{Interaction, Transform};
-use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -84,19 +84,22 @@ impl LensletArray {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IdealThinLensletArrayKeys {
-    focal_length: NonZero,
-    centre: Vector,
-    u_direction: Direction,
-    v_direction: Direction,
-    period: [NonZero; 2],
+    focal_length: Option<NonZero>,
+    centre: Option<Vector>,
+    u_direction: Option<Direction>,
+    v_direction: Option<Direction>,
+    period: Option<[NonZero; 2]>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
 }
 
 impl IdealThinLensletArrayKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let (u, v) = (self.u_direction.0, self.v_direction.0);
-        let [pu, pv] = self.period.map(|p| p.0);
+        // Dr TIM's `EditableRectangularLensletArray(parent, studio)`: centred on (0, 0, 10),
+        // spanned by x and y, lenslets of focal length 1 and period 0.1 × 0.1.
+        let u = self.u_direction.map_or(DVec3::X, |d| d.0);
+        let v = self.v_direction.map_or(DVec3::Y, |d| d.0);
+        let [pu, pv] = self.period.map_or([0.1, 0.1], |p| p.map(|p| p.0));
         if pu <= 0.0 || pv <= 0.0 {
             return Err(format!(
                 "ideal-thin-lenslet-array: period = [{pu}, {pv}] must be positive"
@@ -108,12 +111,12 @@ impl IdealThinLensletArrayKeys {
             ));
         }
         Ok(Surface::IdealThinLensletArray(LensletArray {
-            centre: self.centre.0,
+            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
             u,
             v,
             period: DVec2::new(pu, pv),
-            focal_length: self.focal_length.0,
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            focal_length: self.focal_length.map_or(1.0, |f| f.0),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

@@ -16,7 +16,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::{Interaction, Transform};
-use crate::keys::{Coefficient, Direction, NonZero, Vector, coefficient};
+use crate::keys::{Coefficient, Direction, NonZero, Vector, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -71,7 +71,8 @@ impl ThinLens {
     }
 }
 
-/// The keys of every ideal thin lens and mirror.
+/// The keys of the ideal thin cylindrical lens and of the ideal thin mirrors (Dr TIM's GUI
+/// has none of them, so they have no defaults), and what the spherical lens's make.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThinLensKeys {
@@ -110,21 +111,34 @@ impl ThinLensKeys {
     }
 }
 
-/// `type = "ideal-thin-lens"`.
+/// `type = "ideal-thin-lens"`: the lens of Dr TIM's `EditableThinLens` as its GUI makes it,
+/// where not given: focal length 1, principal point (0, 0, 10), optical axis along −z,
+/// transmission coefficient 0.96.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IdealThinLensKeys {
-    #[serde(flatten)]
-    lens: ThinLensKeys,
+    focal_length: Option<NonZero>,
+    principal_point: Option<Vector>,
+    optical_axis: Option<Direction>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
 }
 
 impl IdealThinLensKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let coefficient = coefficient(self.transmission_coefficient);
-        let lens = self.lens.lens("ideal-thin-lens", None, coefficient)?;
-        Ok(Surface::IdealThinLens(lens))
+        let lens = ThinLensKeys {
+            focal_length: self.focal_length.unwrap_or(NonZero(1.0)),
+            principal_point: self
+                .principal_point
+                .unwrap_or(Vector(DVec3::new(0.0, 0.0, 10.0))),
+            optical_axis: self.optical_axis.unwrap_or(Direction(DVec3::NEG_Z)),
+        };
+        let coefficient = throughput(self.transmission_coefficient);
+        Ok(Surface::IdealThinLens(lens.lens(
+            "ideal-thin-lens",
+            None,
+            coefficient,
+        )?))
     }
 }
 
@@ -141,7 +155,7 @@ pub struct IdealThinCylindricalLensKeys {
 
 impl IdealThinCylindricalLensKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let coefficient = coefficient(self.transmission_coefficient);
+        let coefficient = throughput(self.transmission_coefficient);
         let gradient = Some(self.gradient_direction);
         let lens = self
             .lens

@@ -10,7 +10,7 @@ use serde::Deserialize;
 use super::ThinLens;
 use super::thin_lens::ThinLensKeys;
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, coefficient};
+use crate::keys::{Coefficient, Direction, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +50,7 @@ pub struct IdealThinMirrorKeys {
 
 impl IdealThinMirrorKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let coefficient = coefficient(self.reflection_coefficient);
+        let coefficient = throughput(self.reflection_coefficient);
         let lens = self.lens.lens("ideal-thin-mirror", None, coefficient)?;
         Ok(Surface::IdealThinMirror(ThinMirror { lens }))
     }
@@ -69,7 +69,7 @@ pub struct IdealThinCylindricalMirrorKeys {
 
 impl IdealThinCylindricalMirrorKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let coefficient = coefficient(self.reflection_coefficient);
+        let coefficient = throughput(self.reflection_coefficient);
         let gradient = Some(self.gradient_direction);
         let lens = self
             .lens

@@ -73,13 +73,14 @@ number!(
     "a distance in units of the lens radius, at least 1 (the surface) or inf"
 );
 
-/// `type = "ggrin-lens"`: r, r′ (in units of the lens radius) and φ in degrees.
+/// `type = "ggrin-lens"`: r, r′ (in units of the lens radius) and φ in degrees; where not
+/// given, those of Dr TIM's GUI's GGRIN lens (of radius 1): r = r′ = 1, φ = 0.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GgrinLensKeys {
-    r: LensDistance,
-    r_prime: LensDistance,
-    phi_deg: Finite,
+    r: Option<LensDistance>,
+    r_prime: Option<LensDistance>,
+    phi_deg: Option<Finite>,
     #[serde(flatten)]
     lens: LensKeys,
 }
@@ -87,9 +88,9 @@ pub struct GgrinLensKeys {
 impl GgrinLensKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(self.lens.lens(LensLaw::Ggrin(Ggrin {
-            r: self.r.0,
-            r_prime: self.r_prime.0,
-            phi: self.phi_deg.0.to_radians(),
+            r: self.r.map_or(1.0, |r| r.0),
+            r_prime: self.r_prime.map_or(1.0, |r| r.0),
+            phi: self.phi_deg.map_or(0.0, |phi| phi.0).to_radians(),
         })))
     }
 }

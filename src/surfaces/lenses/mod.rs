@@ -27,7 +27,7 @@ use crate::geometry::{Exit, Interaction, Shape, Sphere};
 use serde::Deserialize;
 
 use super::Surface;
-use crate::keys::coefficient;
+use crate::keys::throughput;
 use crate::keys::{Coefficient, Positive, number};
 
 /// What a lens does between entry and exit.
@@ -244,7 +244,7 @@ impl LensKeys {
             law,
             invisible_radius: self.invisible_radius.map_or(0.0, |r| r.0),
             index_ratio: self.index_ratio.map_or(1.0, |n| n.0),
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         })
     }
 }

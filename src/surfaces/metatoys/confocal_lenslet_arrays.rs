@@ -24,7 +24,7 @@ use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, Finite, NonZero, coefficient};
+use crate::keys::{Coefficient, Direction, Finite, NonZero, coefficient, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
@@ -112,8 +112,8 @@ pub struct ConfocalLensletArraysKeys {
     a: Direction,
     u: Direction,
     basis: Option<Basis>,
-    eta_u: NonZero,
-    eta_v: NonZero,
+    eta_u: Option<NonZero>,
+    eta_v: Option<NonZero>,
     delta_u: Option<Finite>,
     delta_v: Option<Finite>,
     #[serde(alias = "transmission")]
@@ -136,9 +136,13 @@ impl ConfocalLensletArraysKeys {
             a,
             u,
             basis: self.basis.unwrap_or_default(),
-            eta: DVec2::new(self.eta_u.0, self.eta_v.0),
+            // Dr TIM's GUI's (η_u, η_v) = (1, 1).
+            eta: DVec2::new(
+                self.eta_u.map_or(1.0, |e| e.0),
+                self.eta_v.map_or(1.0, |e| e.0),
+            ),
             delta: DVec2::new(delta(self.delta_u), delta(self.delta_v)),
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
     }

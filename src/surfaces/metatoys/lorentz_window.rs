@@ -18,7 +18,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Vector, coefficient};
+use crate::keys::{Coefficient, Vector, throughput};
 use crate::math::LorentzTransform;
 use crate::surfaces::{Redirection, Surface};
 
@@ -44,25 +44,26 @@ impl LorentzWindow {
     }
 }
 
-/// `type = "lorentz-window"`: the window's velocity `beta` (in units of c, magnitude below 1).
+/// `type = "lorentz-window"`: the window's velocity `beta` (in units of c, magnitude below 1;
+/// Dr TIM's GUI's 0 where not given).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LorentzWindowKeys {
-    beta: Vector,
+    beta: Option<Vector>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
 }
 
 impl LorentzWindowKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let beta = self.beta.0;
+        let beta = self.beta.map_or(glam::DVec3::ZERO, |b| b.0);
         Ok(Surface::LorentzWindow(LorentzWindow {
             boost: LorentzTransform::new(beta).ok_or_else(|| {
                 format!(
                     "lorentz-window: beta = {beta} must have magnitude below 1 (the speed of light)"
                 )
             })?,
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

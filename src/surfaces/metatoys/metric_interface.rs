@@ -28,7 +28,7 @@ use serde::{Deserialize, Deserializer, de};
 
 use super::{Basis, Outgoing, jacobian};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Matrix, coefficient};
+use crate::keys::{Coefficient, Matrix, coefficient, throughput};
 use crate::surfaces::{Redirection, Surface, reflect};
 
 /// Whether the optical path lengths on the two sides have the same sign (positive refraction)
@@ -217,7 +217,7 @@ impl MetricInterfaceKeys {
             basis,
             refraction: self.refraction.unwrap_or_default(),
             allow_imaginary: self.allow_imaginary.unwrap_or(false),
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
     }

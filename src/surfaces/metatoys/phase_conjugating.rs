@@ -12,7 +12,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, coefficient};
+use crate::keys::{Coefficient, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 /// Whether the phase-conjugated light is reflected or transmitted.
@@ -84,7 +84,7 @@ impl PhaseConjugatingKeys {
         }
         Ok(Surface::PhaseConjugating(PhaseConjugating {
             conjugation,
-            coefficient: coefficient(given),
+            coefficient: throughput(given),
         }))
     }
 }

@@ -10,7 +10,7 @@ use glam::DVec3;
 use serde::Deserialize;
 
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Finite, coefficient};
+use crate::keys::{Coefficient, Finite, throughput};
 use crate::math::Frame;
 use crate::surfaces::{Redirection, Surface};
 
@@ -55,7 +55,7 @@ impl RayFlippingKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::RayFlipping(RayFlipping {
             flip_axis_angle: self.flip_axis_angle_deg.map_or(0.0, |a| a.0).to_radians(),
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
 }

@@ -19,7 +19,7 @@ use serde::Deserialize;
 
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, Finite, coefficient};
+use crate::keys::{Coefficient, Direction, Finite, coefficient, throughput};
 use crate::math::Frame;
 use crate::surfaces::{Redirection, Surface};
 
@@ -100,7 +100,7 @@ impl RayRotatingKeys {
                 .map_or(RayRotating::DEFAULT_ANGLE_DEG, |a| a.0)
                 .to_radians(),
             axis,
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
     }

@@ -31,7 +31,7 @@ use serde::Deserialize;
 
 use super::{hologram_direction, jacobian};
 use crate::geometry::{Exit, Interaction, Shape};
-use crate::keys::{Coefficient, NonNegative, coefficient};
+use crate::keys::{Coefficient, NonNegative, coefficient, throughput};
 use crate::math::Frame;
 use crate::math::random::uniform_keyed;
 use crate::surfaces::{Redirection, Surface, reflect};
@@ -214,7 +214,7 @@ impl TeleportingKeys {
             teleportation,
             positional_error,
             angular_error: angular_error_deg.to_radians(),
-            transmission_coefficient: coefficient(self.transmission_coefficient),
+            transmission_coefficient: throughput(self.transmission_coefficient),
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
     }
