@@ -8,7 +8,7 @@
 //!   travelling along the axis inside the glass leave through the focal point (or, diverging,
 //!   from it), and a Fresnel lens sends every ray from its front conjugate point that crosses
 //!   a lens section on each side exactly through its back conjugate point, ring by ring;
-//! * the research scene `scenes/research/collimating-fresnel-lens-surface-test.toml`, traced
+//! * the research scene `scenes/research/CollimatingFresnelLensSurfaceTest.toml`, traced
 //!   by `timbre trace --json`: rays from the focal point leave each ring along the axis;
 //! * Dr TIM's spherical thick lenses of the same family, `RefractiveLensSurfaces` and
 //!   `TriangularThickLens`: their paraxial focal lengths, traced, against the thick-lens
@@ -457,7 +457,7 @@ fn triangular_thick_lenses_focus_as_thick_lenses_of_radius_2_f_n_minus_1() {
 // The research scene
 // ------------------------------------------------------------------------------------------
 
-const RESEARCH: &str = "scenes/research/collimating-fresnel-lens-surface-test.toml";
+const RESEARCH: &str = "scenes/research/CollimatingFresnelLensSurfaceTest.toml";
 
 fn research() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(RESEARCH)
