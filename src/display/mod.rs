@@ -301,7 +301,7 @@ impl Viewer {
     }
 
     /// Ends the showing once the render is done: waits (a little) for a connection under
-    /// way, and closes it ([`close`]); if the connection was down or turns out lost, tries
+    /// way, and closes it (`close`); if the connection was down or turns out lost, tries
     /// once more to connect and send the whole image (unless the wait after the last failure
     /// is not over, or no copy was kept).
     pub fn finish(mut self) {
