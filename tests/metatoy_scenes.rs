@@ -265,10 +265,11 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
             Conjugation::Transmissive,
             0.3,
         ),
+        // Dr TIM's GUI's "Transmission/reflection coefficient", DEFAULT_TRANSMISSION_COEFFICIENT.
         (
             r#"{ type = "phase-conjugating", mode = "transmissive" }"#,
             Conjugation::Transmissive,
-            1.0,
+            0.96,
         ),
     ] {
         assert_eq!(
@@ -601,7 +602,7 @@ fn equivalent_laws_render_the_same() {
     for same in [
         r#"{ type = "lorentz-window", beta = [0, 0, 0] }"#,
         r#"{ type = "metric-interface", inside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]], outside = [[2, 0.3, 0], [0.3, 1, 0], [0, 0, 3]] }"#,
-        r#"{ type = "phase-hologram", phase = { type = "linear", gradient = [0, 0] } }"#,
+        r#"{ type = "phase-hologram", phase = { type = "linear", gradient = [0, 0] }, transmission = 0.96 }"#,
     ] {
         let image = render_text(&window_scene(same, ""));
         assert!(differing(&image, &plain) <= 2, "{same}");
@@ -648,7 +649,8 @@ fn the_imaginary_solution_is_used_only_when_allowed() {
         ))
     };
     let plain = render_text(&window_scene(r#"{ type = "transparent" }"#, ""));
-    let mirror = render_text(&window_scene(r#"{ type = "mirror" }"#, ""));
+    // Total internal reflection is lossless.
+    let mirror = render_text(&window_scene(r#"{ type = "mirror", reflection = 1 }"#, ""));
     let (allowed, refused) = (minkowski(true), minkowski(false));
     assert_finite(&allowed, "allowed");
     assert_finite(&refused, "refused");
@@ -686,8 +688,12 @@ fn a_phase_conjugating_pane_returns_rays_through_the_camera() {
     };
     let magenta = DVec3::new(1.0, 0.0, 1.0);
     for (surface, right, left) in [
-        (r#"{ type = "phase-conjugating" }"#, magenta, DVec3::Y),
-        (r#"{ type = "mirror" }"#, DVec3::Y, magenta),
+        (
+            r#"{ type = "phase-conjugating", reflection = 1 }"#,
+            magenta,
+            DVec3::Y,
+        ),
+        (r#"{ type = "mirror", reflection = 1 }"#, DVec3::Y, magenta),
     ] {
         let image = view(surface);
         // Columns well inside the pane on either side of the centre, the middle row.
