@@ -19,7 +19,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::lens_simplicial_complex::face_name;
+use super::lens_simplicial_complex::{CLOAK_EDGES, face_name};
 use super::{EdgeDefaults, Edges, LensDevice, LensSimplicialComplex, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector};
 
@@ -68,24 +68,6 @@ const FACES: [([usize; 3], &str); 16] = [
     ([0, 3, 4], "back lower vertical lens"),
     ([1, 3, 4], "left lower vertical lens"),
     ([2, 3, 4], "right lower vertical lens"),
-];
-
-/// The edges joining the six vertices.
-const EDGES: [[usize; 2]; 14] = [
-    [0, 1],
-    [1, 2],
-    [2, 0],
-    [3, 0],
-    [3, 1],
-    [3, 2],
-    [4, 0],
-    [4, 1],
-    [4, 2],
-    [5, 0],
-    [5, 1],
-    [5, 2],
-    [3, 4],
-    [4, 5],
 ];
 
 /// A cloak's unit front, right and top directions and its upper inner vertex's EM-space height
@@ -152,7 +134,7 @@ impl LensDevice for IdealLensCloak {
         let complex = LensSimplicialComplex {
             vertices,
             vertices_v,
-            edges: EDGES.to_vec(),
+            edges: CLOAK_EDGES.to_vec(),
             lens_transmission_coefficient: self.interface_transmission_coefficient,
             lens_type: self.lens_element_type,
             structure_v: None,

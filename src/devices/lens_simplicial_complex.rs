@@ -66,8 +66,9 @@ const DEFAULT_VERTICES_V: [[f64; 3]; 6] = [
     [0.0, 0.0, 12.0],
 ];
 
-/// ... and the edges.
-const DEFAULT_EDGES: [[usize; 2]; 14] = [
+/// ... and the edges: those of the tetrahedral ideal-lens cloak (three base vertices 0–2, inner
+/// vertices 3 and 4 and the top 5 on the axis), which Dr TIM's default complex shares.
+pub(super) const CLOAK_EDGES: [[usize; 2]; 14] = [
     [0, 1],
     [1, 2],
     [2, 0],
@@ -473,7 +474,7 @@ impl LensSimplicialComplexKeys {
         Ok(Box::new(LensSimplicialComplex {
             vertices: points(self.vertices, DEFAULT_VERTICES),
             vertices_v: points(self.vertices_v, DEFAULT_VERTICES_V),
-            edges: self.edges.map_or(DEFAULT_EDGES.to_vec(), |e| {
+            edges: self.edges.map_or(CLOAK_EDGES.to_vec(), |e| {
                 e.into_iter().map(|e| e.0).collect()
             }),
             // Dr TIM's is always `DEFAULT_TRANSMISSION_COEFFICIENT`.

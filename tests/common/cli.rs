@@ -166,3 +166,27 @@ pub fn location(message: &str, path: impl AsRef<Path>) -> (usize, usize) {
     assert!(column >= 1, "columns are 1-based: {message}");
     (line, column)
 }
+
+/// The port a `timbre serve` child (started with `--port 0` and its standard output piped)
+/// listens on, read from the address it prints first, and that line; panics after [`HANG`].
+pub fn served_port(child: &mut std::process::Child) -> (u16, String) {
+    use std::io::{BufRead, BufReader};
+    let stdout = child.stdout.take().expect("standard output piped");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut line = String::new();
+        let _ = BufReader::new(stdout).read_line(&mut line);
+        let _ = tx.send(line);
+    });
+    let line = rx
+        .recv_timeout(HANG)
+        .expect("the server prints its address");
+    let port = line
+        .split("http://")
+        .nth(1)
+        .and_then(|rest| rest.split('/').next())
+        .and_then(|host| host.rsplit(':').next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no address in {line:?}"));
+    (port, line)
+}
