@@ -18,6 +18,7 @@ pub mod keys;
 pub mod math;
 pub mod memory;
 pub mod mesh;
+pub mod picture;
 pub mod prepare;
 pub mod production;
 pub mod render;

@@ -743,7 +743,7 @@ fn a_point_to_point_hologram_moves_with_its_object() {
         let Redirection::Leaves { direction, factor } = h.surface.redirect(&at, &mut |_| {}) else {
             panic!("not transmitted at {q}")
         };
-        assert_eq!(factor, 0.96);
+        assert_eq!(factor, glam::DVec3::splat(0.96));
         let along = (image_point - at.point()).dot(direction);
         let miss = (image_point - at.point() - along * direction).length();
         assert!(

@@ -142,7 +142,7 @@ impl<'a> Tracer<'a> {
                 match world.objects[hit.object].surface.redirect(&at, &mut |_| {}) {
                     Redirection::Lit(coloured) if self.shadows => {
                         lit[i] = Some(coloured.diffuse * self.scene.lights.ambient);
-                        self.light_paths(coloured, &at, |colour, l, distance| {
+                        self.light_paths(&coloured, &at, |colour, l, distance| {
                             let segment = at.shadow_segment(l, distance);
                             shadow_rays.push(i, colour, segment, &mut lit, &self.rays);
                         });
@@ -207,13 +207,55 @@ impl<'a> Tracer<'a> {
     ) -> Colour {
         let on = |(ray, margin)| self.trace_on(&ray, margin, level - 1, frame);
         match redirection {
-            Redirection::Lit(coloured) => self.lit(coloured, at, frame),
+            Redirection::Lit(coloured) => self.lit(&coloured, at, frame),
             Redirection::Emits(colour) => colour,
             Redirection::Lost => Colour::ZERO,
             Redirection::Leaves { direction, factor } => factor * on(at.leaving(direction)),
             Redirection::Crosses { exit, factor } | Redirection::Jumps { exit, factor } => {
                 factor * on(at.emerging(exit))
             }
+            Redirection::Absorbs { absorption } => self.absorbed(absorption, at, level, frame),
+            Redirection::Mixes(parts) => parts
+                .iter()
+                .map(|part| {
+                    let redirection = part.surface.redirect(at, &mut |_| {});
+                    part.weight * self.follow(redirection, at, level, frame)
+                })
+                .sum(),
+        }
+    }
+
+    /// The colour seen along a ray that enters an absorbing solid at `at` undeviated: what its
+    /// next hit shows, of which each channel keeps exp(−absorption·t) over the distance t to
+    /// that hit, unless the hit is on the same object (its exit accounts for the whole path).
+    #[inline(never)]
+    fn absorbed(
+        &self,
+        absorption: Colour,
+        at: &Interaction,
+        level: u32,
+        frame: ReferenceFrame,
+    ) -> Colour {
+        if level <= 1 {
+            return Colour::ZERO;
+        }
+        let (ray, margin) = at.leaving(at.ray.direction);
+        let Some(found) = self.first(&ray, margin, frame) else {
+            return Colour::ZERO;
+        };
+        let colour = self.shade(&found, level - 1);
+        if found.frame == frame && found.hit.object == at.hit.object {
+            colour
+        } else {
+            // A channel that absorbs nothing keeps all of it, even over any distance.
+            let keep = |a: f64| {
+                if a == 0.0 {
+                    1.0
+                } else {
+                    (-a * found.hit.t).exp()
+                }
+            };
+            colour * Colour::new(keep(absorption.x), keep(absorption.y), keep(absorption.z))
         }
     }
 

@@ -43,6 +43,15 @@ pub struct ChequerboardKeys {
 }
 
 impl ChequerboardKeys {
+    /// The picture files its tiles name.
+    pub fn pictures(&mut self) -> Vec<&mut crate::picture::PictureFile> {
+        self.surfaces
+            .iter_mut()
+            .flat_map(|s| s.iter_mut())
+            .flat_map(SurfaceKeys::pictures)
+            .collect()
+    }
+
     pub fn build(self) -> Result<Surface, String> {
         let surfaces = match self.surfaces {
             None => [0.5, 1.0].map(|grey| Surface::Coloured(Coloured::shiny(Colour::splat(grey)))),
@@ -118,7 +127,7 @@ mod tests {
         let is_colour = |r: Redirection| r == Redirection::Emits(red);
         let is_mirrored = |r: Redirection| {
             matches!(r, Redirection::Leaves { direction, factor }
-                if factor == 0.9 && (direction - DVec3::new(d.x, d.y, -d.z)).length() < 1e-15)
+                if factor == Colour::splat(0.9) && (direction - DVec3::new(d.x, d.y, -d.z)).length() < 1e-15)
         };
         let e = 1e-6;
         let pairs = [

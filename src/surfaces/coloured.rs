@@ -7,7 +7,7 @@ use super::Surface;
 use crate::keys::Rgb;
 use crate::math::Colour;
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Coloured {
     pub diffuse: Colour,
     pub specular: Colour,
@@ -99,7 +99,7 @@ mod tests {
             ] {
                 let at = meet(&sphere, origin, d);
                 match surface.redirect(&at, &mut |_| {}) {
-                    Redirection::Lit(c) => assert_eq!(c, &coloured),
+                    Redirection::Lit(c) => assert_eq!(c, coloured),
                     other => panic!("{other:?}"),
                 }
             }

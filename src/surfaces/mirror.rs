@@ -6,6 +6,7 @@ use serde::Deserialize;
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, throughput};
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mirror {
@@ -22,7 +23,7 @@ impl Mirror {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: reflect(at.ray.direction, at.normal()),
-            factor: self.reflection_coefficient,
+            factor: Colour::splat(self.reflection_coefficient),
         }
     }
 }

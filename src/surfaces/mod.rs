@@ -41,6 +41,7 @@ use glam::DVec3;
 use crate::geometry::{Exit, Interaction, Shape, Transform};
 use crate::keys::kinds;
 use crate::math::Colour;
+use crate::picture::PictureFile;
 
 kinds! {
     /// A `surface` table: its `type` names the law, its other keys are the law's own (read by
@@ -92,6 +93,16 @@ kinds! {
 }
 
 impl SurfaceKeys {
+    /// The picture files the surface names, its parts' too, for the scene-file reader to open
+    /// before the surface is built. A kind with a picture file, or with surfaces of its own,
+    /// says so here.
+    pub fn pictures(&mut self) -> Vec<&mut PictureFile> {
+        match self {
+            SurfaceKeys::Chequerboard(keys) => keys.pictures(),
+            _ => Vec::new(),
+        }
+    }
+
     /// The name of the object a teleporting surface leads to.
     pub fn destination(&self) -> Option<&str> {
         if let SurfaceKeys::Teleporting(keys) = self {
@@ -103,11 +114,13 @@ impl SurfaceKeys {
 }
 
 /// What a surface's law does with a ray that meets it: the one place each law is applied, both
-/// by the renderer and by ray trajectories.
+/// by the renderer and by ray trajectories. A `factor` is the fraction of each colour channel
+/// (red, green, blue) passed on.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Redirection<'a> {
-    /// The ray ends on a surface lit by the scene's lights, which the renderer shades.
-    Lit(&'a Coloured),
+    /// The ray ends on a surface of these colours lit by the scene's lights, which the
+    /// renderer shades.
+    Lit(Coloured),
     /// The ray ends on a surface that emits this colour whatever the lighting (TIM's sky).
     Emits(Colour),
     /// No light comes back along the ray: a ray trapped in a lens, teleported beyond the
@@ -116,11 +129,25 @@ pub enum Redirection<'a> {
     /// these).
     Lost,
     /// The ray leaves the hit point in unit `direction`, carrying `factor` of the light.
-    Leaves { direction: DVec3, factor: f64 },
+    Leaves { direction: DVec3, factor: Colour },
     /// The ray crosses the object and leaves where `exit` says (§3's lenses).
-    Crosses { exit: Exit, factor: f64 },
+    Crosses { exit: Exit, factor: Colour },
     /// The ray leaves from another surface, without travelling between (teleporting).
-    Jumps { exit: Exit, factor: f64 },
+    Jumps { exit: Exit, factor: Colour },
+    /// The ray enters an absorbing solid undeviated (Dr TIM's `SurfaceOfTintedSolid`): along
+    /// the distance t to its next hit each channel keeps exp(−absorption·t) of the light,
+    /// unless that hit is on the same object, whose exit then accounts for the whole path.
+    Absorbs { absorption: Colour },
+    /// The light is the sum of what several surfaces at the same point pass on, each part
+    /// weighted per channel (semi-transparent surfaces, averages).
+    Mixes(&'a [Weighted]),
+}
+
+/// One part of a mixed surface: a surface and the fraction of each colour channel it adds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Weighted {
+    pub weight: Colour,
+    pub surface: Surface,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -187,7 +214,7 @@ impl Surface {
     #[inline]
     pub fn redirect(&self, at: &Interaction, inside: &mut dyn FnMut(DVec3)) -> Redirection<'_> {
         match self {
-            Surface::Coloured(s) => Redirection::Lit(s),
+            Surface::Coloured(s) => Redirection::Lit(*s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
             _ => self.redirect_by_law(at, inside),
@@ -357,7 +384,7 @@ pub(crate) mod tests {
     /// redirection.
     pub(crate) fn leaves(r: Redirection) -> (DVec3, f64) {
         match r {
-            Redirection::Leaves { direction, factor } => (direction, factor),
+            Redirection::Leaves { direction, factor } => (direction, grey(factor)),
             other => panic!("expected the ray to leave the hit point, got {other:?}"),
         }
     }
@@ -365,9 +392,18 @@ pub(crate) mod tests {
     /// The exit and factor of a ray that crosses the object; panics on any other redirection.
     pub(crate) fn crosses(r: Redirection) -> (Exit, f64) {
         match r {
-            Redirection::Crosses { exit, factor } => (exit, factor),
+            Redirection::Crosses { exit, factor } => (exit, grey(factor)),
             other => panic!("expected the ray to cross the object, got {other:?}"),
         }
+    }
+
+    /// The one value of a factor that is the same in every channel; panics otherwise.
+    pub(crate) fn grey(factor: crate::math::Colour) -> f64 {
+        assert!(
+            factor.x == factor.y && factor.y == factor.z,
+            "a grey factor: {factor}"
+        );
+        factor.x
     }
 
     /// The distance of `target` from the line through `s` along `direction`, and how far along

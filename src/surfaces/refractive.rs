@@ -11,6 +11,7 @@ use super::mirror::reflect;
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, Positive, throughput};
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refractive {
@@ -47,7 +48,7 @@ impl Refractive {
         let n = at.normal();
         Redirection::Leaves {
             direction: refract(d, n, self.index_ratio).unwrap_or_else(|| reflect(d, n)),
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }

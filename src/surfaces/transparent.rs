@@ -5,6 +5,7 @@ use serde::Deserialize;
 use super::{Redirection, Surface};
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, throughput};
+use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transparent {
@@ -16,7 +17,7 @@ impl Transparent {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: at.ray.direction,
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }

@@ -4,9 +4,10 @@ use glam::DVec3;
 
 use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory, TrajectoryError};
 use crate::embree::Device;
-use crate::math::{Ray, ReferenceFrame};
+use crate::geometry::Interaction;
+use crate::math::{Colour, Ray, ReferenceFrame};
 use crate::scene::{SceneDescription, World};
-use crate::surfaces::Redirection;
+use crate::surfaces::{Redirection, Weighted};
 
 /// Follows every ray of every trajectory source of `description` through its scene-frame
 /// objects, in order of the sources and their rays. All of them together may have at most
@@ -82,17 +83,22 @@ fn follow(
         });
         let mut inside = Thinned::default();
         let redirection = object.surface.redirect(&at, &mut |p| inside.push(p));
+        let redirection = strongest(redirection, &at, &mut |p| inside.push(p));
         (ray, t_min) = match redirection {
-            Redirection::Lit(_) | Redirection::Emits(_) => {
+            // (A mix is never left by `strongest`.)
+            Redirection::Lit(_) | Redirection::Emits(_) | Redirection::Mixes(_) => {
                 return finish(points, End::Absorbed, ray.direction);
             }
             Redirection::Lost => return finish(points, End::Lost, ray.direction),
-            Redirection::Leaves { factor: 0.0, .. }
-            | Redirection::Crosses { factor: 0.0, .. }
-            | Redirection::Jumps { factor: 0.0, .. } => {
+            Redirection::Leaves { factor, .. }
+            | Redirection::Crosses { factor, .. }
+            | Redirection::Jumps { factor, .. }
+                if factor == Colour::ZERO =>
+            {
                 return finish(points, End::Lost, ray.direction);
             }
             Redirection::Leaves { direction, .. } => at.leaving(direction),
+            Redirection::Absorbs { .. } => at.leaving(ray.direction),
             Redirection::Crosses { exit, .. } => {
                 let inside = inside.points;
                 let arrival = if inside.is_empty() {
@@ -123,6 +129,41 @@ fn follow(
         };
     }
     finish(points, End::MaxInteractions, ray.direction)
+}
+
+/// The one way on a trajectory takes from a redirection: of a mixed surface's parts, the one
+/// that passes on the most light (the greatest sum of its weight's channels) of those that send
+/// the ray on; the first part if none does (a semi-transparent surface's trajectory goes
+/// through it, an opaque mix absorbs it).
+fn strongest<'a>(
+    redirection: Redirection<'a>,
+    at: &Interaction,
+    inside: &mut dyn FnMut(DVec3),
+) -> Redirection<'a> {
+    let Redirection::Mixes(parts) = redirection else {
+        return redirection;
+    };
+    let goes_on = |r: &Redirection| match r {
+        Redirection::Leaves { factor, .. }
+        | Redirection::Crosses { factor, .. }
+        | Redirection::Jumps { factor, .. } => *factor != Colour::ZERO,
+        Redirection::Absorbs { .. } => true,
+        Redirection::Lit(_) | Redirection::Emits(_) | Redirection::Lost | Redirection::Mixes(_) => {
+            false
+        }
+    };
+    let weight = |w: &Weighted| w.weight.element_sum();
+    let mut best: Option<&Weighted> = None;
+    for part in parts {
+        let r = strongest(part.surface.redirect(at, &mut |_| {}), at, &mut |_| {});
+        if goes_on(&r) && best.is_none_or(|b| weight(part) > weight(b)) {
+            best = Some(part);
+        }
+    }
+    // The chosen part is redirected again to show its path inside.
+    best.or(parts.first()).map_or(Redirection::Lost, |part| {
+        strongest(part.surface.redirect(at, inside), at, inside)
+    })
 }
 
 /// The points of a curved path, evenly thinned to at most [`MAX_CURVED_POINTS`]: every

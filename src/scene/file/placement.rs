@@ -8,6 +8,7 @@
 //! flatten into one array whose offsets are all the sums, so Embree needs only one level of
 //! instancing.
 
+use std::collections::HashMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -21,6 +22,7 @@ use crate::devices::{AidKeys, CoordinateSystem, Edges, LensDevice, LensesKeys, P
 use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
 use crate::keys::{Array, Finite, Positive, Vector};
 use crate::math::ReferenceFrame;
+use crate::picture::Picture;
 use crate::scene::SceneObject;
 use crate::surfaces::{Surface, SurfaceKeys};
 
@@ -371,6 +373,8 @@ pub(super) struct Placer<'a> {
     bytes: usize,
     /// Teleporting surfaces, to be linked to their destinations once every object is placed.
     pub(super) links: Vec<Link>,
+    /// The picture files read so far, by their canonical paths.
+    pictures: HashMap<PathBuf, Picture>,
 }
 
 /// A teleporting object (its name; it may have named parts) and the name of its destination,
@@ -392,6 +396,7 @@ impl<'a> Placer<'a> {
             includes: 0,
             bytes,
             links: Vec::new(),
+            pictures: HashMap::new(),
         }
     }
 
@@ -526,6 +531,19 @@ impl<'a> Placer<'a> {
         }
     }
 
+    /// The picture file `name` given in `source`, admitted as any file it names is, and read
+    /// once however often the scene names it.
+    pub(super) fn picture(&mut self, source: &Source, name: &str) -> Result<Picture, String> {
+        let (path, _) = self.admit(source, name)?;
+        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if let Some(picture) = self.pictures.get(&key) {
+            return Ok(picture.clone());
+        }
+        let picture = Picture::load(&path).map_err(|e| e.to_string())?;
+        self.pictures.insert(key, picture.clone());
+        Ok(picture)
+    }
+
     /// Adds `bytes` of scene-file text, included at `span` of `source`, to the scene's total.
     fn count_bytes(
         &mut self,
@@ -581,7 +599,15 @@ impl<'a> Placer<'a> {
                 at: source.error(Some(surface_span.clone()), String::new()),
             });
         }
-        let surface = o.surface.into_inner().build().map_err(|e| {
+        let mut keys = o.surface.into_inner();
+        for file in keys.pictures() {
+            let picture = self.picture(source, &file.name).map_err(|e| {
+                let label = super::object_label(&name);
+                source.error(Some(surface_span.clone()), format!("{label}: {e}"))
+            })?;
+            file.picture = Some(picture);
+        }
+        let surface = keys.build().map_err(|e| {
             source.error(
                 Some(surface_span.clone()),
                 format!("{}: {e}", super::object_label(&name)),

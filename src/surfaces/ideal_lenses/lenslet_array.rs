@@ -16,6 +16,7 @@ use serde::Deserialize;
 use super::ThinLens;
 use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, NonZero, Vector, throughput};
+use crate::math::Colour;
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -74,7 +75,7 @@ impl LensletArray {
         let lens = self.lenslet(s, at.normal());
         Redirection::Leaves {
             direction: lens.direction(at.ray.direction, s).normalize(),
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }

@@ -39,7 +39,7 @@ fn leaving(
 ) -> Redirection<'static> {
     Redirection::Leaves {
         direction: law(at.ray.direction, at.local_point()).normalize(),
-        factor,
+        factor: crate::math::Colour::splat(factor),
     }
 }
 

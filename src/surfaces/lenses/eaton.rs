@@ -70,7 +70,7 @@ mod tests {
         let d = DVec3::new(0.0, 0.6, -0.8);
         let at = meet(&shape, centre - 5.0 * d, d);
         let (point, out, factor) = match lens.redirect(&at, &mut |_| {}) {
-            Redirection::Crosses { exit, factor } => (exit.point, exit.direction, factor),
+            Redirection::Crosses { exit, factor } => (exit.point, exit.direction, factor.x),
             r => {
                 let (out, factor) = leaves(r);
                 (at.point(), out, factor)

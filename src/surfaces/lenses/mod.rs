@@ -29,6 +29,7 @@ use serde::Deserialize;
 use super::Surface;
 use crate::keys::throughput;
 use crate::keys::{Coefficient, Positive, number};
+use crate::math::Colour;
 
 /// What a lens does between entry and exit.
 #[derive(Debug, Clone, PartialEq)]
@@ -195,7 +196,7 @@ impl Lens {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         let d = at.ray.direction;
-        let factor = self.transmission_coefficient;
+        let factor = Colour::splat(self.transmission_coefficient);
         let Shape::Sphere(sphere) = at.shape else {
             return Redirection::Lost;
         };

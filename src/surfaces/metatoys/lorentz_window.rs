@@ -19,6 +19,7 @@ use serde::Deserialize;
 
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, Vector, throughput};
+use crate::math::Colour;
 use crate::math::LorentzTransform;
 use crate::surfaces::{Redirection, Surface};
 
@@ -39,7 +40,7 @@ impl LorentzWindow {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: self.direction(at.ray.direction),
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }

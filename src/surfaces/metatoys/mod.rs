@@ -52,6 +52,7 @@ pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
 
 use glam::{DMat3, DVec3};
 
+use crate::math::Colour;
 use crate::math::Frame;
 use crate::surfaces::Redirection;
 
@@ -111,7 +112,10 @@ impl Outgoing {
             Outgoing::Transmitted(d) => (d, transmission),
             Outgoing::Reflected(d) => (d, reflection),
         };
-        Redirection::Leaves { direction, factor }
+        Redirection::Leaves {
+            direction,
+            factor: Colour::splat(factor),
+        }
     }
 }
 
@@ -134,14 +138,14 @@ mod tests {
             leaves(None),
             Redirection::Leaves {
                 direction: DVec3::new(0.6, 0.0, -0.8),
-                factor: 1.0
+                factor: Colour::ONE
             }
         );
         assert_eq!(
             leaves(Some(d)),
             Redirection::Leaves {
                 direction: d,
-                factor: 0.96
+                factor: Colour::splat(0.96)
             }
         );
     }

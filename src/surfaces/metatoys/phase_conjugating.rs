@@ -13,6 +13,7 @@ use serde::Deserialize;
 
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, throughput};
+use crate::math::Colour;
 use crate::surfaces::{Redirection, Surface};
 
 /// Whether the phase-conjugated light is reflected or transmitted.
@@ -45,7 +46,7 @@ impl PhaseConjugating {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: phase_conjugated(at.ray.direction, at.normal(), self.conjugation),
-            factor: self.coefficient,
+            factor: Colour::splat(self.coefficient),
         }
     }
 }

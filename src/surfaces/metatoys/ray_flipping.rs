@@ -11,6 +11,7 @@ use serde::Deserialize;
 
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, Finite, throughput};
+use crate::math::Colour;
 use crate::math::Frame;
 use crate::surfaces::{Redirection, Surface};
 
@@ -37,7 +38,7 @@ impl RayFlipping {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         Redirection::Leaves {
             direction: flipped(at.ray.direction, self.flipped_tangent(&at.frame())),
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }

@@ -32,6 +32,7 @@ use serde::Deserialize;
 use super::{hologram_direction, jacobian};
 use crate::geometry::{Exit, Interaction, Shape};
 use crate::keys::{Coefficient, NonNegative, coefficient, throughput};
+use crate::math::Colour;
 use crate::math::Frame;
 use crate::math::random::uniform_keyed;
 use crate::surfaces::{Redirection, Surface, reflect};
@@ -118,13 +119,13 @@ impl Teleporting {
         else {
             return Redirection::Leaves {
                 direction: reflect(d, frame.w),
-                factor: self.reflection_coefficient,
+                factor: Colour::splat(self.reflection_coefficient),
             };
         };
         let Some((t, _)) = self.destination.intersect(p, between, 0.0, f64::INFINITY) else {
             return Redirection::Leaves {
                 direction: between,
-                factor: self.transmission_coefficient,
+                factor: Colour::splat(self.transmission_coefficient),
             };
         };
         let kick = -tangential(exit.transpose() * design);
@@ -140,7 +141,10 @@ impl Teleporting {
             direction,
             path: 0.0,
         };
-        Redirection::Jumps { exit, factor }
+        Redirection::Jumps {
+            exit,
+            factor: Colour::splat(factor),
+        }
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
@@ -169,7 +173,7 @@ impl Teleporting {
         };
         Redirection::Jumps {
             exit,
-            factor: self.transmission_coefficient,
+            factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }
@@ -270,7 +274,7 @@ mod tests {
             else {
                 panic!("c {c}: not teleported")
             };
-            assert_eq!(factor, 0.9);
+            assert_eq!(factor, Colour::splat(0.9));
             let p2 = destination.point_at(c).unwrap();
             assert!((exit.point - p2).length() < 1e-14, "c {c}: {}", exit.point);
             assert!((destination.coordinates(exit.point, 0) - c).length() < 1e-14);
@@ -300,7 +304,7 @@ mod tests {
             teleporter.holographic(origin.point_at(c).unwrap(), c, d, &frame),
             Redirection::Leaves {
                 direction: DVec3::new(d.x, d.y, -d.z),
-                factor: 1.0
+                factor: Colour::ONE
             }
         );
     }
