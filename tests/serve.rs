@@ -379,6 +379,26 @@ async fn exposure_changes_the_display_but_not_the_accumulation() {
     }
 }
 
+/// The scene's `[render] exposure` is where the display starts: the page is told it, and the
+/// frames are the unexposed ones doubled (to the rounding of 8 bits) for `exposure = 1`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_scenes_exposure_is_where_the_display_starts() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let plain = page.converged(0).await;
+    let exposed = SCENE.replace("width = 48", "width = 48\nexposure = 1");
+    assert_ne!(exposed, SCENE);
+    page.send(serde_json::json!({"type": "text", "text": exposed}))
+        .await;
+    let state = page.json("scene").await;
+    assert_eq!(state["exposure"], 1.0, "{state}");
+    let after = page.converged(plain.generation).await;
+    for (b, a) in plain.rgba.iter().zip(&after.rgba) {
+        let want = (2 * *b as i32).min(255);
+        assert!((*a as i32 - want).abs() <= 1, "{b} -> {a}");
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_error_in_the_text_is_located_and_the_last_picture_stays() {
     let server = Server::start(&[]);

@@ -28,7 +28,7 @@ use timbre::memory;
 use timbre::prepare::{self, Needs, PrepareError};
 use timbre::render::{AovSample, Image, PixelBounds, RenderError, render_part};
 use timbre::scene::file::{self, Override, SceneFileError};
-use timbre::scene::settings::{Kind, SETTINGS, Setting, SettingValues, Value};
+use timbre::scene::settings::{Kind, PngTransfer, SETTINGS, Setting, SettingValues, Value};
 use timbre::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo_until};
 use timbre::trajectories::{self, Trajectory, TrajectoryError};
@@ -227,6 +227,19 @@ fn setting_values(given: &[(String, Bound<'_, PyAny>)]) -> PyResult<SettingValue
         let value = match setting.kind {
             Kind::Whole { .. } => Value::Whole(value.extract()?),
             Kind::Switch => Value::Switch(value.extract()?),
+            Kind::Number { .. } => Value::Number(value.extract()?),
+            Kind::Choice(names) => {
+                let name: String = value.extract()?;
+                match names.iter().find(|&&n| n == name) {
+                    Some(&n) => Value::Choice(n),
+                    None => {
+                        return Err(error::<PyValueError>(format!(
+                            "{key}: expected {}, got '{name}'",
+                            setting.kind.expected()
+                        )));
+                    }
+                }
+            }
         };
         values
             .push(setting, value)
@@ -235,15 +248,42 @@ fn setting_values(given: &[(String, Bound<'_, PyAny>)]) -> PyResult<SettingValue
     Ok(values)
 }
 
-/// The render settings' keys and kinds, for the Python side: (key, "whole", least, most) or
-/// (key, "switch", 0, 1).
+/// The render settings' keys and kinds, for the Python side: (key, "whole", least, most),
+/// (key, "switch", False, True), (key, "number", least, most) or (key, "choice", [names], None).
 #[pyfunction]
-fn render_settings() -> Vec<(&'static str, &'static str, u64, u64)> {
+fn render_settings(
+    py: Python<'_>,
+) -> PyResult<Vec<(&'static str, &'static str, Py<PyAny>, Py<PyAny>)>> {
+    let any = |v: Bound<'_, PyAny>| v.unbind();
     SETTINGS
         .iter()
-        .map(|s| match s.kind {
-            Kind::Whole { least, most } => (s.key, "whole", least, most),
-            Kind::Switch => (s.key, "switch", 0, 1),
+        .map(|s| {
+            Ok(match s.kind {
+                Kind::Whole { least, most } => (
+                    s.key,
+                    "whole",
+                    any(least.into_pyobject(py)?.into_any()),
+                    any(most.into_pyobject(py)?.into_any()),
+                ),
+                Kind::Switch => (
+                    s.key,
+                    "switch",
+                    any(false.into_pyobject(py)?.to_owned().into_any()),
+                    any(true.into_pyobject(py)?.to_owned().into_any()),
+                ),
+                Kind::Number { least, most } => (
+                    s.key,
+                    "number",
+                    any(least.into_pyobject(py)?.into_any()),
+                    any(most.into_pyobject(py)?.into_any()),
+                ),
+                Kind::Choice(names) => (
+                    s.key,
+                    "choice",
+                    any(names.into_pyobject(py)?.into_any()),
+                    py.None(),
+                ),
+            })
         })
         .collect()
 }
@@ -577,6 +617,8 @@ impl NativeScene {
             match setting.get(&description.render) {
                 Value::Whole(n) => d.set_item(setting.key, n)?,
                 Value::Switch(b) => d.set_item(setting.key, b)?,
+                Value::Number(x) => d.set_item(setting.key, x)?,
+                Value::Choice(name) => d.set_item(setting.key, name)?,
             }
         }
         d.set_item("stereo", description.stereo.name())?;
@@ -696,11 +738,17 @@ impl NativeScene {
             }
         })?;
         // Stopped only by an exception, which `interruptible` raises.
-        let image = rendered
+        let mut image = rendered
             .map_err(render_error)?
             .ok_or_else(|| error::<PyRuntimeError>("the render stopped"))?;
+        // The exposure scales the values, as in every file `timbre render` writes.
+        if settings.exposure != 0.0 {
+            let gain = settings.exposure.exp2();
+            image.pixels.iter_mut().for_each(|p| *p *= gain);
+        }
         let out = PyDict::new(py);
         out.set_item("rgb", rgb(py, &image)?)?;
+        out.set_item("png_transfer", settings.png_transfer.name())?;
         for name in &aovs {
             out.set_item(name, aov_array(py, &image, name)?)?;
         }
@@ -729,9 +777,21 @@ impl NativeScene {
     }
 }
 
+/// The PNG transfer called `name` (`png_transfer`'s values).
+fn transfer(name: &str) -> PyResult<PngTransfer> {
+    match PngTransfer::NAMES.iter().position(|&n| n == name) {
+        Some(0) => Ok(PngTransfer::Linear),
+        Some(_) => Ok(PngTransfer::Srgb),
+        None => Err(error::<PyValueError>(format!(
+            "png_transfer: expected one of {}, got '{name}'",
+            PngTransfer::NAMES.join(", ")
+        ))),
+    }
+}
+
 /// A float32 (h, w, 3) array of linear colours as the image the command line writes to PNG
-/// (each channel clamped to [0, 1], times 255, rounded; no gamma).
-fn rgb8_image(rgb: &PyReadonlyArray3<'_, f32>) -> PyResult<image::RgbImage> {
+/// (each channel clamped to [0, 1], encoded by `transfer`, times 255, rounded).
+fn rgb8_image(rgb: &PyReadonlyArray3<'_, f32>, transfer: PngTransfer) -> PyResult<image::RgbImage> {
     let shape = rgb.shape();
     let (height, width) = (shape[0], shape[1]);
     if shape[2] != 3 || u32::try_from(width).is_err() || u32::try_from(height).is_err() {
@@ -752,13 +812,18 @@ fn rgb8_image(rgb: &PyReadonlyArray3<'_, f32>) -> PyResult<image::RgbImage> {
         aovs: None,
         rays: 0,
     };
-    Ok(timbre::io::to_rgb8(&image))
+    Ok(timbre::io::encoded_rgb8(&image, transfer))
 }
 
 /// The 8-bit (h, w, 3) uint8 array of a float32 (h, w, 3) image, as the command line's PNG.
 #[pyfunction]
-fn rgb8<'py>(py: Python<'py>, rgb: PyReadonlyArray3<'py, f32>) -> PyResult<Bound<'py, PyAny>> {
-    let image = rgb8_image(&rgb)?;
+#[pyo3(signature = (rgb, png_transfer="linear"))]
+fn rgb8<'py>(
+    py: Python<'py>,
+    rgb: PyReadonlyArray3<'py, f32>,
+    png_transfer: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let image = rgb8_image(&rgb, transfer(png_transfer)?)?;
     let shape = [image.height() as usize, image.width() as usize, 3];
     Ok(PyArray1::from_vec(py, image.into_raw())
         .reshape(shape)?
@@ -767,16 +832,16 @@ fn rgb8<'py>(py: Python<'py>, rgb: PyReadonlyArray3<'py, f32>) -> PyResult<Bound
 
 /// A float32 (h, w, 3) image as the PNG file the command line writes.
 #[pyfunction]
+#[pyo3(signature = (rgb, png_transfer="linear"))]
 fn png_bytes<'py>(
     py: Python<'py>,
     rgb: PyReadonlyArray3<'py, f32>,
+    png_transfer: &str,
 ) -> PyResult<Bound<'py, PyBytes>> {
-    let image = rgb8_image(&rgb)?;
+    let transfer = transfer(png_transfer)?;
+    let image = rgb8_image(&rgb, transfer)?;
     let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, image.width(), image.height());
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder
+    timbre::io::png_encoder(&mut bytes, image.width(), image.height(), transfer)
         .write_header()
         .and_then(|mut w| w.write_image_data(&image))
         .map_err(|e| error::<PyRuntimeError>(e.to_string()))?;

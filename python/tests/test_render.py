@@ -72,7 +72,7 @@ def test_every_render_setting_is_a_keyword_of_render_and_means_the_cli_option(
     assert set(keys) <= set(timbre.studio().settings)
     # A value of each, none of them the studio's own (a new setting needs one here).
     values = {"width": 40, "height": 30, "spp": 2, "seed": 7, "max_trace_level": 3,
-              "shadows": False}
+              "shadows": False, "exposure": 1.5, "png_transfer": "srgb"}
     assert set(values) == set(keys)
     assert all(timbre.studio().settings[k] != v for k, v in values.items())
     exr = tmp_path / "out.exr"
@@ -86,6 +86,24 @@ def test_every_render_setting_is_a_keyword_of_render_and_means_the_cli_option(
     assert not np.array_equal(image.view(np.ndarray), plain.view(np.ndarray))
     with pytest.raises(TypeError, match="shadows"):
         timbre.studio().render(8, 6, shadows=1)
+
+
+def test_exposure_scales_and_png_transfer_encodes_as_the_cli_does():
+    # A scene of one grey: 2^exposure times it, and the sRGB curve of IEC 61966-2-1 for the PNG
+    # (0.5 -> 0.735357 -> 188; linear: 128), with the chunk that says so.
+    grey = timbre.load('studio = "none"\n[[object]]\n'
+                       'shape = { type = "sphere", centre = [0, 0, 0], radius = 100 }\n'
+                       'surface = { type = "constant-colour", colour = [0.25, 0.25, 0.25] }\n')
+    image = grey.render(4, 3, exposure=1)
+    assert np.all(image == np.float32(0.5))
+    assert image.png_transfer == "linear" and image.to_rgb8()[0, 0, 0] == 128
+    srgb = grey.render(4, 3, exposure=1, png_transfer="srgb")
+    assert srgb.to_rgb8()[0, 0, 0] == 188
+    assert b"sRGB" in srgb.png() and b"sRGB" not in image.png()
+    with pytest.raises(ValueError, match="png_transfer"):
+        grey.render(4, 3, png_transfer="gamma")
+    with pytest.raises(ValueError, match="exposure"):
+        grey.render(4, 3, exposure=31)
 
 
 def test_pixel_bounds_are_those_pixels_of_the_whole_render_and_of_the_cli_part(timbre_cli, tmp_path):

@@ -117,13 +117,24 @@ def _override(key: str, value: Any) -> str:
     return f"{key.strip()}={_toml(value, True)}"
 
 
-def _setting(key: str, value: Any) -> Union[int, bool]:
-    """The render setting ``key`` given ``value``: a whole number in its range, or a bool."""
+def _setting(key: str, value: Any) -> Union[int, bool, float, str]:
+    """The render setting ``key`` given ``value``: a whole number or a number in its range, a
+    bool, or one of its names."""
     kind, least, most = _SETTINGS[key]
     if kind == "switch":
         if not isinstance(value, (bool, np.bool_)):
             raise TypeError(f"{key} must be True or False, got {value!r}")
         return bool(value)
+    if kind == "number":
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+            raise TypeError(f"{key} must be a number, got {value!r}")
+        if not least <= float(value) <= most:
+            raise ValueError(f"{key} must be from {least} to {most}, got {value!r}")
+        return float(value)
+    if kind == "choice":
+        if value not in least:
+            raise ValueError(f"{key} must be one of {', '.join(least)}, got {value!r}")
+        return str(value)
     return _whole(key, value, least, most)
 
 
@@ -152,16 +163,21 @@ class Image(np.ndarray):
 
     aovs: dict[str, np.ndarray]
     rays: int
+    #: How :meth:`png` and :meth:`to_rgb8` encode the values: the render's ``png_transfer``.
+    png_transfer: str
 
-    def __new__(cls, rgb: np.ndarray, aovs: Optional[dict[str, np.ndarray]] = None, rays: int = 0):
+    def __new__(cls, rgb: np.ndarray, aovs: Optional[dict[str, np.ndarray]] = None, rays: int = 0,
+                png_transfer: str = "linear"):
         image = np.asarray(rgb, dtype=np.float32).view(cls)
         image.aovs = dict(aovs or {})
         image.rays = rays
+        image.png_transfer = png_transfer
         return image
 
     def __array_finalize__(self, obj: Optional[np.ndarray]) -> None:
         self.aovs = {}
         self.rays = 0
+        self.png_transfer = getattr(obj, "png_transfer", "linear")
 
     def __array_wrap__(self, array, context=None, return_scalar=False):
         # What a ufunc makes that is no longer an image (a reduction, one channel of a sum) is a
@@ -174,10 +190,10 @@ class Image(np.ndarray):
     def __reduce__(self):
         # Pickled (to and from other processes, e.g. Dask's) with its AOVs and ray count.
         rebuild, args, state = super().__reduce__()
-        return rebuild, args, (state, self.aovs, self.rays)
+        return rebuild, args, (state, self.aovs, self.rays, self.png_transfer)
 
     def __setstate__(self, state) -> None:
-        array_state, self.aovs, self.rays = state
+        array_state, self.aovs, self.rays, self.png_transfer = state
         super().__setstate__(array_state)
 
     def _colours(self) -> np.ndarray:
@@ -187,14 +203,15 @@ class Image(np.ndarray):
 
     def to_rgb8(self) -> np.ndarray:
         """The 8-bit image (uint8, (height, width, 3)) of ``timbre render -o NAME.png``: each
-        channel clamped to [0, 1], times 255, rounded, no gamma curve."""
-        return _rgb8(self._colours())
+        channel clamped to [0, 1], encoded by ``png_transfer`` (linear: no curve; srgb: the
+        sRGB curve), times 255, rounded."""
+        return _rgb8(self._colours(), self.png_transfer)
 
     def png(self) -> bytes:
         """The PNG file ``timbre render -o NAME.png`` writes of this image."""
         if self.size == 0:
             raise ValueError("an empty image has no PNG")
-        return _png_bytes(self._colours())
+        return _png_bytes(self._colours(), self.png_transfer)
 
     def _repr_png_(self) -> Optional[bytes]:
         if self.ndim != 3 or self.shape[2] != 3 or self.size == 0:
@@ -313,6 +330,8 @@ class Scene:
         threads: Optional[int] = None,
         max_trace_level: Optional[int] = None,
         shadows: Optional[bool] = None,
+        exposure: Optional[float] = None,
+        png_transfer: Optional[str] = None,
         aovs: Iterable[str] = (),
         pixel_bounds: Optional[tuple[int, int, int, int]] = None,
         progress: Union[None, bool, Callable[[int], Any]] = None,
@@ -323,6 +342,9 @@ class Scene:
         ``timbre render --width W --height H --spp N --seed S -o NAME.exr`` writes, whatever
         ``threads`` is (default: every core).
 
+        - ``exposure``: stops; the values are multiplied by 2^exposure (as in every file
+          ``timbre render --exposure`` writes). ``png_transfer``: ``"linear"`` or ``"srgb"``,
+          how :meth:`Image.png` encodes them.
         - ``aovs``: any of ``"depth"``, ``"normal"``, ``"object"`` (``Image.aovs``).
         - ``pixel_bounds``: ``(x0, x1, y0, y1)``, half-open, renders only those pixels of the
           ``width`` x ``height`` image (``--pixel-bounds``): shape (y1 - y0, x1 - x0, 3), the
@@ -340,7 +362,8 @@ class Scene:
         wanted = [a for a in AOVS if a in wanted]
         u32 = 2**32 - 1
         given = dict(width=width, height=height, spp=spp, seed=seed,
-                     max_trace_level=max_trace_level, shadows=shadows)
+                     max_trace_level=max_trace_level, shadows=shadows, exposure=exposure,
+                     png_transfer=png_transfer)
         settings = {k: _setting(k, v) for k, v in given.items() if v is not None}
         threads = None if threads is None else _whole("threads", threads, 1, 1024)
         if pixel_bounds is not None:
@@ -376,7 +399,7 @@ class Scene:
         finally:
             if bar is not None:
                 bar.close()
-        return Image(out["rgb"], {a: out[a] for a in wanted}, out["rays"])
+        return Image(out["rgb"], {a: out[a] for a in wanted}, out["rays"], out["png_transfer"])
 
     def trajectories(self) -> list[dict[str, Any]]:
         """The scene's ``[[ray_trajectory]]`` rays, traced, exactly as ``timbre trace --json``

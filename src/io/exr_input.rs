@@ -15,6 +15,7 @@ use thiserror::Error;
 use super::exr_output::sum_channel;
 use super::{AovSelection, Provenance};
 use crate::render::{AovSample, PixelBounds, Rows, Sum};
+use crate::scene::settings::PngTransfer;
 
 /// A part that cannot be used: unreadable, truncated, corrupted or not written by timbre.
 #[derive(Debug, Error)]
@@ -117,6 +118,15 @@ pub fn read_part(path: &Path) -> Result<PartReader, PartError> {
                 .into(),
         ));
     }
+    let exposure = match attribute("timbre.exposure") {
+        None => 0.0,
+        Some(AttributeValue::F64(x)) if (-30.0..=30.0).contains(x) => *x,
+        Some(_) => {
+            return Err(fail(
+                "its timbre.exposure is not a number from -30 to 30".into(),
+            ));
+        }
+    };
     let object_names = match attribute("timbre.objects") {
         Some(AttributeValue::TextVector(v)) => v
             .iter()
@@ -159,6 +169,9 @@ pub fn read_part(path: &Path) -> Result<PartReader, PartError> {
         aovs,
         object_names,
         sums,
+        exposure,
+        // A part is OpenEXR; the merged file's own transfer is the default if it is a PNG.
+        png_transfer: PngTransfer::Linear,
     };
     let chunks = reader
         .all_chunks(true)

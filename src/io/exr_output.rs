@@ -7,8 +7,9 @@
 //!
 //! Header attributes: samples per pixel of the render (`timbre.spp`), the samples held
 //! (`timbre.samples`, "A..B"), the seed (`timbre.seed`), the scene's hash (`timbre.scene`), the
-//! timbre version (`timbre.version`) and, with `object.id`, the object names by id
-//! (`timbre.objects`).
+//! timbre version (`timbre.version`), the exposure (`timbre.exposure`, stops, a double; only
+//! when not 0: the colour channels are the rendered values × 2^exposure, the sums are not
+//! scaled) and, with `object.id`, the object names by id (`timbre.objects`).
 
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
@@ -37,8 +38,9 @@ type Value = Box<dyn Fn(&Block, usize) -> [u8; 4]>;
 fn channels(provenance: &Provenance) -> Vec<(String, SampleType, Value)> {
     let mut list: Vec<(String, SampleType, Value)> = Vec::new();
     let f32s = |v: f32| v.to_le_bytes();
+    let gain = provenance.gain();
     for (k, name) in ["R", "G", "B"].iter().enumerate() {
-        let get: Value = Box::new(move |b, i| f32s(b.colours[i][k] as f32));
+        let get: Value = Box::new(move |b, i| f32s((gain * b.colours[i][k]) as f32));
         list.push((name.to_string(), SampleType::F32, get));
     }
     let aov = |b: &Block, i: usize| b.aovs.expect("a block with AOVs")[i];
@@ -107,6 +109,10 @@ fn header(provenance: &Provenance, channels: &[(String, SampleType, Value)]) -> 
         "timbre.version",
         AttributeValue::Text(text(env!("CARGO_PKG_VERSION"))),
     );
+    // Written only when set, so that files without it are as they were.
+    if p.exposure != 0.0 {
+        note("timbre.exposure", AttributeValue::F64(p.exposure));
+    }
     if p.aovs.object {
         let names = p.object_names.iter().map(|n| text(n)).collect();
         note("timbre.objects", AttributeValue::TextVector(names));

@@ -1,5 +1,5 @@
-//! Image output: PNG (8-bit, clamped, no gamma curve, as TIM writes) and OpenEXR (f32, values
-//! unchanged, with optional AOV channels), chosen by the file extension. Images are streamed:
+//! Image output: PNG (8-bit, clamped, linear as TIM writes or sRGB-encoded) and OpenEXR (f32,
+//! with optional AOV channels), chosen by the file extension; both scaled by the exposure. Images are streamed:
 //! rows are encoded as they arrive, so memory does not grow with the image, and written
 //! crash-safely ([`crate::files::AtomicFile`]). OpenEXR files can hold a part of a render (a
 //! rectangle of the image, a range of its samples) with exact sums for `timbre merge`
@@ -18,9 +18,10 @@ use crate::files::AtomicFile;
 use crate::math::Colour;
 use crate::render::{AovSample, Image, PixelBounds, Sum};
 use crate::scene::RenderSettings;
+use crate::scene::settings::PngTransfer;
 
 pub use exr_input::{PartError, PartReader, read_part};
-pub use png_output::to_rgb8;
+pub use png_output::{encoded_rgb8, encoder as png_encoder, to_rgb8};
 
 /// Which AOV layers an EXR file gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -74,6 +75,11 @@ pub struct Provenance {
     pub object_names: Vec<String>,
     /// Whether the file keeps each pixel's exact sum of samples (a part, to be merged).
     pub sums: bool,
+    /// Exposure compensation in stops: the file's colours are the rendered ones × 2^exposure
+    /// (exact sums are kept as rendered; `timbre merge` applies the parts' exposure).
+    pub exposure: f64,
+    /// How a PNG file encodes the values.
+    pub png_transfer: PngTransfer,
 }
 
 impl Provenance {
@@ -90,7 +96,14 @@ impl Provenance {
             aovs: AovSelection::default(),
             object_names: Vec::new(),
             sums: false,
+            exposure: settings.exposure,
+            png_transfer: settings.png_transfer,
         }
+    }
+
+    /// The factor the file's colours are multiplied by: 2^exposure.
+    pub fn gain(&self) -> f64 {
+        self.exposure.exp2()
     }
 
     /// The samples held per pixel.

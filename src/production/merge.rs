@@ -124,6 +124,12 @@ pub fn merge(output: &Path, paths: &[&Path]) -> Result<Merged, JobError> {
                 named[0].0
             ))
         })?;
+        if p.exposure != first.exposure {
+            return Err(JobError::Merge(format!(
+                "{name} was written with an exposure of {} stops, {} with {}",
+                p.exposure, named[0].0, first.exposure
+            )));
+        }
         if p.spp != first.spp {
             return Err(JobError::Merge(format!(
                 "{name} is a part of a render of {} samples per pixel, {} of {}",

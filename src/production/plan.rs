@@ -113,6 +113,8 @@ impl Job {
                 scene,
                 aovs,
                 object_names: Vec::new(),
+                exposure: s.exposure,
+                png_transfer: s.png_transfer,
             },
             checkpointing,
         })

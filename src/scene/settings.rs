@@ -22,6 +22,38 @@ pub struct RenderSettings {
     pub aovs: bool,
     /// Worker threads; `None` for as many as the machine has cores.
     pub threads: Option<usize>,
+    /// Exposure compensation in stops: every output value is multiplied by 2^exposure (Dr TIM's
+    /// exposure compensation), in every format.
+    pub exposure: f64,
+    /// How PNG files encode the linear values.
+    pub png_transfer: PngTransfer,
+}
+
+/// How a PNG file's 8-bit values encode the linear values rendered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PngTransfer {
+    /// The values themselves (clamped, ×255), as TIM writes them; the file says gamma 1.
+    #[default]
+    Linear,
+    /// The sRGB transfer curve (IEC 61966-2-1); the file has an sRGB chunk.
+    Srgb,
+}
+
+impl PngTransfer {
+    /// The names `png_transfer` takes, in the order of the variants.
+    pub const NAMES: &[&str] = &["linear", "srgb"];
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The transfer called `name` (one of [`Self::NAMES`]).
+    fn named(name: &str) -> PngTransfer {
+        match name {
+            "srgb" => PngTransfer::Srgb,
+            _ => PngTransfer::Linear,
+        }
+    }
 }
 
 /// Largest accepted maximum trace level. Tracing recurses once per level, so worker threads get
@@ -76,24 +108,33 @@ impl Default for RenderSettings {
             shadows: true,
             aovs: false,
             threads: None,
+            exposure: 0.0,
+            png_transfer: PngTransfer::Linear,
         }
     }
 }
 
 /// The value of a render setting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Value {
     Whole(u64),
     Switch(bool),
+    Number(f64),
+    /// One of the names a [`Kind::Choice`] lists.
+    Choice(&'static str),
 }
 
 /// The values a render setting takes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kind {
     /// A whole number from `least` to `most`.
     Whole { least: u64, most: u64 },
     /// `true` or `false`.
     Switch,
+    /// A number from `least` to `most`.
+    Number { least: f64, most: f64 },
+    /// One of these names.
+    Choice(&'static [&'static str]),
 }
 
 /// One render setting: its key (`[render]`'s, the command line's with dashes for underscores,
@@ -106,7 +147,8 @@ pub struct Setting {
     pub help: &'static str,
     pub kind: Kind,
     get: fn(&RenderSettings) -> Value,
-    set: fn(&mut RenderSettings, u64, bool),
+    /// Sets a value of the setting's kind (checked by [`Setting::set`]).
+    set: fn(&mut RenderSettings, Value),
 }
 
 /// Whole numbers from 1 that fit a u32 (sizes, samples, levels).
@@ -119,27 +161,27 @@ const COUNT: Kind = Kind::Whole {
 /// option of `timbre render`, its parameter on the live preview's page, its entry in Python's
 /// `Scene.settings` and its keyword of `Scene.render` (whose signature and stub list it, as a
 /// test checks).
-pub const SETTINGS: [Setting; 6] = [
+pub const SETTINGS: [Setting; 8] = [
     Setting {
         key: "width",
         help: "Image width in pixels",
         kind: COUNT,
         get: |s| Value::Whole(s.width.into()),
-        set: |s, n, _| s.width = n as u32,
+        set: |s, v| s.width = v.whole() as u32,
     },
     Setting {
         key: "height",
         help: "Image height in pixels",
         kind: COUNT,
         get: |s| Value::Whole(s.height.into()),
-        set: |s, n, _| s.height = n as u32,
+        set: |s, v| s.height = v.whole() as u32,
     },
     Setting {
         key: "spp",
         help: "Samples per pixel",
         kind: COUNT,
         get: |s| Value::Whole(s.spp.into()),
-        set: |s, n, _| s.spp = n as u32,
+        set: |s, v| s.spp = v.whole() as u32,
     },
     Setting {
         key: "seed",
@@ -149,23 +191,58 @@ pub const SETTINGS: [Setting; 6] = [
             most: u64::MAX,
         },
         get: |s| Value::Whole(s.seed),
-        set: |s, n, _| s.seed = n,
+        set: |s, v| s.seed = v.whole(),
     },
     Setting {
         key: "max_trace_level",
         help: "Maximum trace level: how many surfaces a ray path may meet",
         kind: COUNT,
         get: |s| Value::Whole(s.max_trace_level.into()),
-        set: |s, n, _| s.max_trace_level = n as u32,
+        set: |s, v| s.max_trace_level = v.whole() as u32,
     },
     Setting {
         key: "shadows",
         help: "Whether objects throw shadows (hard shadows of the point lights)",
         kind: Kind::Switch,
         get: |s| Value::Switch(s.shadows),
-        set: |s, _, b| s.shadows = b,
+        set: |s, v| s.shadows = v == Value::Switch(true),
+    },
+    Setting {
+        key: "exposure",
+        help: "Exposure compensation in stops: output values are multiplied by 2^EXPOSURE",
+        kind: Kind::Number {
+            least: -30.0,
+            most: 30.0,
+        },
+        get: |s| Value::Number(s.exposure),
+        set: |s, v| {
+            if let Value::Number(x) = v {
+                s.exposure = x;
+            }
+        },
+    },
+    Setting {
+        key: "png_transfer",
+        help: "How PNG values encode the linear values: linear (as TIM writes) or srgb",
+        kind: Kind::Choice(PngTransfer::NAMES),
+        get: |s| Value::Choice(s.png_transfer.name()),
+        set: |s, v| {
+            if let Value::Choice(name) = v {
+                s.png_transfer = PngTransfer::named(name);
+            }
+        },
     },
 ];
+
+impl Value {
+    /// A whole number's value (0 for another kind, which [`Setting::set`] never passes on).
+    fn whole(self) -> u64 {
+        match self {
+            Value::Whole(n) => n,
+            _ => 0,
+        }
+    }
+}
 
 impl Setting {
     /// The setting called `key`.
@@ -180,17 +257,18 @@ impl Setting {
 
     /// Sets the setting in `settings` to `value`, or says what it takes instead.
     pub fn set(&self, settings: &mut RenderSettings, value: Value) -> Result<(), String> {
-        match (self.kind, value) {
-            (Kind::Whole { least, most }, Value::Whole(n)) if (least..=most).contains(&n) => {
-                (self.set)(settings, n, false);
-                Ok(())
-            }
-            (Kind::Switch, Value::Switch(b)) => {
-                (self.set)(settings, 0, b);
-                Ok(())
-            }
-            (kind, value) => Err(format!("expected {}, got {value}", kind.expected())),
+        let fits = match (self.kind, value) {
+            (Kind::Whole { least, most }, Value::Whole(n)) => (least..=most).contains(&n),
+            (Kind::Switch, Value::Switch(_)) => true,
+            (Kind::Number { least, most }, Value::Number(x)) => (least..=most).contains(&x),
+            (Kind::Choice(names), Value::Choice(name)) => names.contains(&name),
+            _ => false,
+        };
+        if !fits {
+            return Err(format!("expected {}, got {value}", self.kind.expected()));
         }
+        (self.set)(settings, value);
+        Ok(())
     }
 }
 
@@ -200,6 +278,8 @@ impl Kind {
         match self {
             Kind::Whole { least, most } => format!("a whole number from {least} to {most}"),
             Kind::Switch => "true or false".into(),
+            Kind::Number { least, most } => format!("a number from {least} to {most}"),
+            Kind::Choice(names) => format!("one of {}", names.join(", ")),
         }
     }
 
@@ -211,6 +291,26 @@ impl Kind {
                 .parse::<bool>()
                 .map(Value::Switch)
                 .map_err(|_| format!("expected {}, got '{text}'", self.expected())),
+            Kind::Number { least, most } => text
+                .parse::<f64>()
+                .ok()
+                .filter(|x| (least..=most).contains(x))
+                .map(Value::Number)
+                .ok_or_else(|| format!("expected {}, got '{text}'", self.expected())),
+            Kind::Choice(_) => self
+                .choice(text)
+                .ok_or_else(|| format!("expected {}, got '{text}'", self.expected())),
+        }
+    }
+
+    /// The name of a [`Kind::Choice`] that `text` is.
+    fn choice(self, text: &str) -> Option<Value> {
+        match self {
+            Kind::Choice(names) => names
+                .iter()
+                .find(|&&n| n == text)
+                .map(|&n| Value::Choice(n)),
+            _ => None,
         }
     }
 }
@@ -234,6 +334,8 @@ impl std::fmt::Display for Value {
         match self {
             Value::Whole(n) => write!(f, "{n}"),
             Value::Switch(b) => write!(f, "{b}"),
+            Value::Number(x) => write!(f, "{x}"),
+            Value::Choice(name) => write!(f, "'{name}'"),
         }
     }
 }
@@ -326,6 +428,9 @@ impl<'de> Visitor<'de> for &'static Setting {
     }
 
     fn visit_i64<E: de::Error>(self, n: i64) -> Result<Value, E> {
+        if let Kind::Number { .. } = self.kind {
+            return self.checked(Value::Number(n as f64));
+        }
         match u64::try_from(n) {
             Ok(n) => self.visit_u64(n),
             Err(_) => Err(E::custom(format!(
@@ -336,11 +441,31 @@ impl<'de> Visitor<'de> for &'static Setting {
     }
 
     fn visit_u64<E: de::Error>(self, n: u64) -> Result<Value, E> {
-        self.checked(Value::Whole(n))
+        match self.kind {
+            // `exposure = 1` is a number too.
+            Kind::Number { .. } => self.checked(Value::Number(n as f64)),
+            _ => self.checked(Value::Whole(n)),
+        }
     }
 
     fn visit_bool<E: de::Error>(self, b: bool) -> Result<Value, E> {
         self.checked(Value::Switch(b))
+    }
+
+    fn visit_f64<E: de::Error>(self, x: f64) -> Result<Value, E> {
+        self.checked(Value::Number(x))
+    }
+
+    fn visit_str<E: de::Error>(self, text: &str) -> Result<Value, E> {
+        self.kind.choice(text).map_or_else(
+            || {
+                Err(E::custom(format!(
+                    "expected {}, got '{text}'",
+                    self.kind.expected()
+                )))
+            },
+            |value| self.checked(value),
+        )
     }
 }
 

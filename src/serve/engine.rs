@@ -16,11 +16,11 @@ use super::parameters::parameters;
 use super::preview::{LoadError, Preview};
 use super::{ServeError, ServeOptions};
 use crate::cameras::Projection;
-use crate::io::{Provenance, to_rgb8, write_image};
+use crate::io::{Provenance, encoded_rgb8, write_image};
 use crate::production::{self, Job, Signals};
 use crate::render::{Image, PixelBounds};
 use crate::scene::file::{self, Confinement, MAX_FILE_BYTES, Override};
-use crate::scene::settings::{SETTINGS, Value};
+use crate::scene::settings::{PngTransfer, SETTINGS, Value};
 use crate::scene::{RenderSettings, Scene, SceneDescription, Stereo};
 use crate::stereo::render_stereo;
 
@@ -90,8 +90,11 @@ struct Inputs {
     page: Vec<Override>,
     /// Whether the text came from a page (not from the scene file on disk).
     from_page: bool,
-    /// Exposure in stops (a display setting: it does not restart the accumulation).
+    /// Exposure in stops (a display setting: it does not restart the accumulation): the
+    /// scene's `exposure` setting when it loads, then the page's slider.
     exposure: f64,
+    /// The scene's `png_transfer`, which frames are encoded by, as its PNG would be.
+    transfer: PngTransfer,
     /// Raised by every change of the picture, and of the display.
     generation: u64,
     display: u64,
@@ -165,6 +168,7 @@ impl Engine {
                 page: Vec::new(),
                 from_page: false,
                 exposure: 0.0,
+                transfer: PngTransfer::Linear,
                 generation: 1,
                 display: 0,
                 requests: VecDeque::new(),
@@ -343,9 +347,9 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     // passes until another scene is loaded.
     let (mut shown, mut failed) = (0, 0);
     loop {
-        let (work, exposure) = {
+        let work = {
             let mut inputs = lock(&shared.inputs);
-            let work = loop {
+            loop {
                 // Changes first: a request answers for the scene as the page has it now.
                 if inputs.generation != generation {
                     generation = inputs.generation;
@@ -373,11 +377,14 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     break Work::Pass;
                 }
                 inputs = shared.wake.wait(inputs).unwrap_or_else(|e| e.into_inner());
-            };
-            (work, inputs.exposure)
+            }
         };
         let show = |image: &Image, shown: u64, (done, target): (u32, u32)| {
-            let frame = encode(image, exposure, shown, done, target);
+            let (exposure, transfer) = {
+                let inputs = lock(&shared.inputs);
+                (inputs.exposure, inputs.transfer)
+            };
+            let frame = encode(image, exposure, transfer, shown, done, target);
             shared.frames.send_modify(|f| {
                 if f.generation != shown {
                     f.generation = shown;
@@ -399,6 +406,10 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 confinement(shared, check, &overrides[base.min(overrides.len())..]).as_ref(),
             ) {
                 Ok(()) => {
+                    if let Some(s) = preview.settings() {
+                        let mut inputs = lock(&shared.inputs);
+                        (inputs.exposure, inputs.transfer) = (s.exposure, s.png_transfer);
+                    }
                     let state = state(shared, &preview, &text, &overrides, generation);
                     let state: Arc<str> = ToPage::Scene(state).text().into();
                     {
@@ -552,8 +563,15 @@ fn pass_failed(message: String) -> ToPage<'static> {
 }
 
 /// A frame: [`FRAME_HEADER`], then the picture as 8-bit RGBA, each channel as a PNG output
-/// has it (linear, clamped, ×255 rounded) after multiplying by 2^`exposure`.
-fn encode(image: &Image, exposure: f64, generation: u64, done: u32, target: u32) -> Bytes {
+/// by `transfer` has it after multiplying by 2^`exposure`.
+fn encode(
+    image: &Image,
+    exposure: f64,
+    transfer: PngTransfer,
+    generation: u64,
+    done: u32,
+    target: u32,
+) -> Bytes {
     let scaled;
     let image = if exposure == 0.0 {
         image
@@ -566,7 +584,7 @@ fn encode(image: &Image, exposure: f64, generation: u64, done: u32, target: u32)
         };
         &scaled
     };
-    let rgb = to_rgb8(image);
+    let rgb = encoded_rgb8(image, transfer);
     let mut bytes = Vec::with_capacity(FRAME_HEADER + 4 * rgb.len() / 3);
     for v in [generation as u32, done, target, image.width, image.height] {
         bytes.extend_from_slice(&v.to_le_bytes());
@@ -738,6 +756,8 @@ fn render_to(
     };
     let mut provenance = Provenance {
         object_names: scene.object_names.clone(),
+        // What the page shows: its slider's exposure.
+        exposure: lock(&shared.inputs).exposure,
         ..Provenance::whole(settings, description.hash())
     };
     match &description.stereo {
@@ -889,6 +909,8 @@ fn state<'a>(
                     let value = match setting.get(r) {
                         Value::Whole(n) => toml::Value::Integer(n.min(i64::MAX as u64) as i64),
                         Value::Switch(b) => toml::Value::Boolean(b),
+                        Value::Number(x) => toml::Value::Float(x),
+                        Value::Choice(name) => toml::Value::String(name.into()),
                     };
                     render.entry(setting.key).or_insert(value);
                 }
@@ -916,6 +938,7 @@ fn state<'a>(
         width: settings.width,
         height: settings.height,
         spp: settings.spp,
+        exposure: settings.exposure,
         warnings: description.warnings(),
     }
 }

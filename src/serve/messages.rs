@@ -76,6 +76,8 @@ pub struct SceneState<'a> {
     pub width: u32,
     pub height: u32,
     pub spp: u32,
+    /// The scene's exposure setting, in stops: where the page's slider starts.
+    pub exposure: f64,
     pub warnings: Vec<String>,
 }
 
