@@ -248,12 +248,13 @@ fn setting_values(given: &[(String, Bound<'_, PyAny>)]) -> PyResult<SettingValue
     Ok(values)
 }
 
+/// A render setting's key, kind and range (or names), for Python.
+type SettingKind = (&'static str, &'static str, Py<PyAny>, Py<PyAny>);
+
 /// The render settings' keys and kinds, for the Python side: (key, "whole", least, most),
 /// (key, "switch", False, True), (key, "number", least, most) or (key, "choice", [names], None).
 #[pyfunction]
-fn render_settings(
-    py: Python<'_>,
-) -> PyResult<Vec<(&'static str, &'static str, Py<PyAny>, Py<PyAny>)>> {
+fn render_settings(py: Python<'_>) -> PyResult<Vec<SettingKind>> {
     let any = |v: Bound<'_, PyAny>| v.unbind();
     SETTINGS
         .iter()
