@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Checks that two builds of timbre render every example scene (scenes/*.toml and
-# scenes/research/*.toml) to the same bytes: PNG, and OpenEXR with every AOV. For refactors
+# scenes/research/*.toml) to the same bytes: PNG (its pixels), and OpenEXR with every AOV. For refactors
 # that must not change a picture; compare against a build of the commit before, e.g.
 #   git worktree add ../before HEAD~ && (cd ../before && cargo build --release)
 #   scripts/same-renders.sh ../before/target/release/timbre target/release/timbre
@@ -23,6 +23,20 @@ scenes=("$@")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 differ=0
+# Replaces a PNG file by its IHDR and IDAT chunks only.
+pixels() {
+    python3 - "$1" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read()
+at, kept = 8, b""
+while at < len(data):
+    n, kind = struct.unpack(">I4s", data[at:at + 8])
+    if kind in (b"IHDR", b"IDAT"):
+        kept += data[at:at + 12 + n]
+    at += 12 + n
+open(sys.argv[1], "wb").write(kept)
+PY
+}
 for scene in "${scenes[@]}"; do
     [ -f "$scene" ] || continue
     outcome=same
@@ -40,6 +54,11 @@ for scene in "${scenes[@]}"; do
             outcome="a render failed: $(tail -n 1 "$work/$build.log")"
     done
     count=$(find "$work/new" -type f | wc -l)
+    # PNGs are compared by their pixels (IHDR and IDAT chunks): builds may write other chunks
+    # (provenance, colour chunks).
+    for png in "$work"/old/*.png "$work"/new/*.png; do
+        [ -f "$png" ] && pixels "$png"
+    done
     if [ "$outcome" = same ] && ! diff -r -q "$work/old" "$work/new" >/dev/null; then
         outcome="DIFFERS: $(diff -r -q "$work/old" "$work/new" | head -n 3 | tr '\n' ' ' || true)"
     fi

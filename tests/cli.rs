@@ -1093,6 +1093,8 @@ fn each_render_setting_is_an_option_meaning_the_render_key() {
         ("seed", "5"),
         ("max_trace_level", "1"),
         ("shadows", "false"),
+        ("exposure", "1"),
+        ("png_transfer", "\"srgb\""),
     ];
     let keys: Vec<&str> = SETTINGS.iter().map(|s| s.key).collect();
     assert_eq!(
@@ -1127,7 +1129,14 @@ fn each_render_setting_is_an_option_meaning_the_render_key() {
         write(d, "keyed.toml", &in_file);
         render(&["keyed.toml", "-o", "file.png"]);
         let option = format!("--{}", key.replace('_', "-"));
-        render(&["plain.toml", "-o", "option.png", &option, value]);
+        // A string in the file is bare on the command line.
+        render(&[
+            "plain.toml",
+            "-o",
+            "option.png",
+            &option,
+            value.trim_matches('"'),
+        ]);
         let option = pixels("option.png");
         assert!(
             pixels("file.png") == option,

@@ -457,15 +457,11 @@ impl<'de> Visitor<'de> for &'static Setting {
     }
 
     fn visit_str<E: de::Error>(self, text: &str) -> Result<Value, E> {
-        self.kind.choice(text).map_or_else(
-            || {
-                Err(E::custom(format!(
-                    "expected {}, got '{text}'",
-                    self.kind.expected()
-                )))
-            },
-            |value| self.checked(value),
-        )
+        match (self.kind, self.kind.choice(text)) {
+            (_, Some(value)) => self.checked(value),
+            (Kind::Choice(_), None) => Err(E::invalid_value(de::Unexpected::Str(text), &self)),
+            _ => Err(E::invalid_type(de::Unexpected::Str(text), &self)),
+        }
     }
 }
 
