@@ -36,11 +36,23 @@ pub struct PictureError {
 }
 
 /// Linear RGB texels, row-major from the top-left corner.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct Picture {
     width: u32,
     height: u32,
     texels: Arc<[[f32; 3]]>,
+}
+
+/// A picture shows its size and a digest of its texels (FNV-1a over their bits), not the texels
+/// one by one: the scene hash, taken from the scene's Debug text, stays fast and still tells
+/// pictures apart.
+impl std::fmt::Debug for Picture {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let digest = self.texels.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+            (h ^ u64::from(v.to_bits())).wrapping_mul(0x0000_0100_0000_01b3)
+        });
+        write!(f, "Picture({}x{}, {digest:016x})", self.width, self.height)
+    }
 }
 
 impl PartialEq for Picture {
@@ -212,6 +224,17 @@ mod tests {
         // The edges u = 1, v = 1 belong to the next repeat; NaN names a texel, not a panic.
         assert_eq!(at(1.0, 0.0), 3.0);
         assert!(p.at(f64::NAN, f64::INFINITY).x.is_finite());
+    }
+
+    /// Debug text is short and tells pictures apart by their texels.
+    #[test]
+    fn debug_text_is_a_digest() {
+        let a = format!("{:?}", numbered());
+        assert!(a.starts_with("Picture(3x2, ") && a.len() < 40, "{a}");
+        let mut texels: Vec<[f32; 3]> = (0..6).map(|k| [k as f32, 0.0, 0.0]).collect();
+        texels[5][2] = 1e-30;
+        assert_ne!(a, format!("{:?}", Picture::new(3, 2, texels)));
+        assert_eq!(a, format!("{:?}", numbered()));
     }
 
     /// A PNG written here (8-bit RGB) reads back texel for texel as value/255, top row first.
