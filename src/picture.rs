@@ -43,14 +43,20 @@ pub struct Picture {
     texels: Arc<[[f32; 3]]>,
 }
 
-/// A picture shows its size and a digest of its texels (FNV-1a over their bits), not the texels
+/// A picture shows its size and a digest of its texels (FNV-1a over their mixed bits, as a
+/// mesh's), not the texels
 /// one by one: the scene hash, taken from the scene's Debug text, stays fast and still tells
 /// pictures apart.
 impl std::fmt::Debug for Picture {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let digest = self.texels.iter().flatten().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
-            (h ^ u64::from(v.to_bits())).wrapping_mul(0x0000_0100_0000_01b3)
-        });
+        let digest = self
+            .texels
+            .iter()
+            .flatten()
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+                (h ^ crate::math::random::mix(u64::from(v.to_bits())))
+                    .wrapping_mul(0x0000_0100_0000_01b3)
+            });
         write!(f, "Picture({}x{}, {digest:016x})", self.width, self.height)
     }
 }
