@@ -259,6 +259,18 @@ mod tests {
         assert!((p.texel(1, 1) - Colour::new(7.0, 8.0, 9.0) / 255.0).length() < 1e-7);
     }
 
+    /// A picture that declares 100 000 × 100 000 texels in a file of a few hundred bytes is
+    /// refused from its header, before anything is decoded; one whose data ends early is
+    /// refused as unreadable.
+    #[test]
+    fn bombs_and_truncated_pictures_are_refused() {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pictures");
+        let e = Picture::load(&data.join("huge-dimensions.png")).unwrap_err().to_string();
+        assert!(e.contains("100000x100000 texels, more than the"), "{e}");
+        let e = Picture::load(&data.join("truncated.png")).unwrap_err().to_string();
+        assert!(e.contains("not a readable Png picture"), "{e}");
+    }
+
     #[test]
     fn bad_files_are_refused_with_the_path_and_why() {
         let dir = tempfile::tempdir().unwrap();
