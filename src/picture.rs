@@ -265,9 +265,13 @@ mod tests {
     #[test]
     fn bombs_and_truncated_pictures_are_refused() {
         let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pictures");
-        let e = Picture::load(&data.join("huge-dimensions.png")).unwrap_err().to_string();
+        let e = Picture::load(&data.join("huge-dimensions.png"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("100000x100000 texels, more than the"), "{e}");
-        let e = Picture::load(&data.join("truncated.png")).unwrap_err().to_string();
+        let e = Picture::load(&data.join("truncated.png"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not a readable Png picture"), "{e}");
     }
 

@@ -780,14 +780,12 @@ impl NativeScene {
 
 /// The PNG transfer called `name` (`png_transfer`'s values).
 fn transfer(name: &str) -> PyResult<PngTransfer> {
-    match PngTransfer::NAMES.iter().position(|&n| n == name) {
-        Some(0) => Ok(PngTransfer::Linear),
-        Some(_) => Ok(PngTransfer::Srgb),
-        None => Err(error::<PyValueError>(format!(
+    PngTransfer::named(name).ok_or_else(|| {
+        error::<PyValueError>(format!(
             "png_transfer: expected one of {}, got '{name}'",
             PngTransfer::NAMES.join(", ")
-        ))),
-    }
+        ))
+    })
 }
 
 /// A float32 (h, w, 3) array of linear colours as the image the command line writes to PNG

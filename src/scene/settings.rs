@@ -47,11 +47,12 @@ impl PngTransfer {
         Self::NAMES[self as usize]
     }
 
-    /// The transfer called `name` (one of [`Self::NAMES`]).
-    fn named(name: &str) -> PngTransfer {
+    /// The transfer called `name`, if it is one of [`Self::NAMES`].
+    pub fn named(name: &str) -> Option<PngTransfer> {
         match name {
-            "srgb" => PngTransfer::Srgb,
-            _ => PngTransfer::Linear,
+            "linear" => Some(PngTransfer::Linear),
+            "srgb" => Some(PngTransfer::Srgb),
+            _ => None,
         }
     }
 }
@@ -228,7 +229,7 @@ pub const SETTINGS: [Setting; 8] = [
         get: |s| Value::Choice(s.png_transfer.name()),
         set: |s, v| {
             if let Value::Choice(name) = v {
-                s.png_transfer = PngTransfer::named(name);
+                s.png_transfer = PngTransfer::named(name).unwrap_or_default();
             }
         },
     },
