@@ -92,7 +92,7 @@ mod tests {
             Coloured::shiny(Colour::new(0.2, 0.4, 0.6)),
             Coloured::matt(Colour::new(0.9, 0.1, 0.0)),
         ] {
-            let surface = Surface::Coloured(coloured.clone());
+            let surface = Surface::Coloured(coloured);
             for (origin, d) in [
                 (DVec3::new(-3.0, 1.2, 0.1), DVec3::X),
                 (DVec3::new(0.0, 1.0, 0.0), DVec3::new(0.2, 0.3, -0.5)),
