@@ -4094,3 +4094,43 @@ fn research_holographic_lens_star_bends_rays_as_lens_holograms() {
     }
     assert!(reflected > 0);
 }
+
+/// scenes/appearance.toml: against the sky (0.5, 0.5, 1), the pixel nearest each object's
+/// centre shows Beer–Lambert's exp(−a d) through the tinted cube (a = (0.2, 1.5, 4), d the
+/// length of its line of sight between the cube's front and back faces z = 7.75 and 8.25), the
+/// filter's channels (0.2, 1, 0.3) of the sky, and through the semi-transparent ball's two
+/// surfaces 0.4 red + 0.6 (0.4 red + 0.6 sky).
+#[test]
+fn appearance_shows_tint_filter_and_semi_transparency() {
+    let (w, h) = (160, 120);
+    let camera = Camera::standard(20.0, w, h);
+    let picture = render("appearance", w, h);
+    let sky = DVec3::new(0.5, 0.5, 1.0);
+    let expect = |centre: DVec3, name: &str, colour: &dyn Fn(DVec3) -> DVec3| {
+        let (x, y) = camera.pixel_of(centre);
+        assert_eq!(picture.object(x, y), name);
+        let d = camera.direction(x as f64, y as f64).normalize();
+        let expected = colour(d);
+        let got = picture.rgb(x, y);
+        assert!(
+            (got - expected).abs().max_element() < 1e-6,
+            "{name}: got {got}, expected {expected}"
+        );
+    };
+    let a = DVec3::new(0.2, 1.5, 4.0);
+    expect(DVec3::new(-0.9, 0.2, 8.0), "tinted cube", &|d| {
+        let length = 0.5 / d.z;
+        sky * DVec3::new(
+            (-a.x * length).exp(),
+            (-a.y * length).exp(),
+            (-a.z * length).exp(),
+        )
+    });
+    expect(DVec3::new(0.0, 0.2, 8.0), "green filter", &|_| {
+        sky * DVec3::new(0.2, 1.0, 0.3)
+    });
+    let red = DVec3::new(1.0, 0.1, 0.1);
+    expect(DVec3::new(0.9, 0.2, 8.0), "semi-transparent ball", &|_| {
+        0.4 * red + 0.6 * (0.4 * red + 0.6 * sky)
+    });
+}
