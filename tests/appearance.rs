@@ -139,3 +139,31 @@ fn filters_and_semi_transparent_panes_mix_the_backdrop_as_stated() {
         0.5 * backdrop() + 0.5 * Colour::Z,
     );
 }
+
+/// A glowing cloud (Dr TIM's `SurfaceOfGlowingCloud`), a ball of radius 1 about (0, 0, 5) with
+/// glow (0, 0.5, 1) and 1/e distance 4: the backdrop seen through its centre gains
+/// glow × (1 − e^(−2/4)) on entering and nothing on leaving; a ray that ends on a constant-colour
+/// ball inside it still gains the glow of the cloud's whole depth along it (Dr TIM's "cloud"
+/// ignores other objects), and one that misses the cloud gains nothing.
+#[test]
+fn a_glowing_cloud_adds_glow_by_its_whole_depth() {
+    let glow = Colour::new(0.0, 0.5, 1.0);
+    let objects = "[[object]]\nname = \"cloud\"\nshadow_throwing = false\n\
+        shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n\
+        surface = { type = \"glowing-cloud\", glow_colour = [0, 0.5, 1], one_over_e_distance = 4 }\n\
+        [[object]]\nname = \"core\"\n\
+        shape = { type = \"sphere\", centre = [0, 0.5, 5], radius = 0.2 }\n\
+        surface = { type = \"constant-colour\", colour = [0.3, 0.3, 0.3] }\n";
+    // Through the core's centre, the cloud's chord is 2 √(1 − sin²) at the line's distance
+    // from the cloud's centre.
+    let to_core = DVec3::new(0.0, 0.5, 5.0);
+    let distance = 5.0 * to_core.normalize().cross(DVec3::Z).length();
+    let chord = 2.0 * (1.0 - distance * distance).sqrt();
+    let colours = seen(objects, &[DVec3::Z, to_core, DVec3::new(0.0, -2.0, 5.0)]);
+    assert_close(colours[0], backdrop() + glow * (1.0 - (-0.5f64).exp()));
+    assert_close(
+        colours[1],
+        Colour::splat(0.3) + glow * (1.0 - (-chord / 4.0).exp()),
+    );
+    assert_close(colours[2], backdrop());
+}

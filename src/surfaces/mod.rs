@@ -15,8 +15,8 @@ mod refractive;
 mod transparent;
 
 pub use appearance::{
-    AverageKeys, ColourFilter, ColourFilterKeys, LayerStack, LayerStackKeys, Mix,
-    SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
+    AverageKeys, ColourFilter, ColourFilterKeys, GlowingCloud, GlowingCloudKeys, LayerStack,
+    LayerStackKeys, Mix, SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
 };
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
@@ -100,6 +100,7 @@ kinds! {
         Average(AverageKeys),
         TwoSided(TwoSidedKeys),
         LayerStack(LayerStackKeys),
+        GlowingCloud(GlowingCloudKeys),
     }
 }
 
@@ -153,6 +154,9 @@ pub enum Redirection<'a> {
     /// the distance t to its next hit each channel keeps exp(−absorption·t) of the light,
     /// unless that hit is on the same object, whose exit then accounts for the whole path.
     Absorbs { absorption: Colour },
+    /// The ray goes on undeviated, and this colour is added to the light it brings (Dr TIM's
+    /// `SurfaceOfGlowingCloud`).
+    Glows { glow: Colour },
     /// The light is the sum of what several surfaces at the same point pass on, each part
     /// weighted per channel (semi-transparent surfaces, averages).
     Mixes(&'a [Weighted]),
@@ -202,6 +206,7 @@ pub enum Surface {
     Average(Mix),
     TwoSided(TwoSided),
     LayerStack(LayerStack),
+    GlowingCloud(GlowingCloud),
 }
 
 impl Surface {
@@ -234,6 +239,7 @@ impl Surface {
             Surface::Average(_) => "average",
             Surface::TwoSided(_) => "two-sided",
             Surface::LayerStack(_) => "layer-stack",
+            Surface::GlowingCloud(_) => "glowing-cloud",
         }
     }
 
@@ -288,6 +294,7 @@ impl Surface {
             Surface::ColourFilter(s) => s.redirect(at),
             Surface::TintedSolid(s) => s.redirect(at),
             Surface::LayerStack(s) => s.redirect(at),
+            Surface::GlowingCloud(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -342,6 +349,7 @@ impl Surface {
             | Surface::ConstantColour(_)
             | Surface::ColourFilter(_)
             | Surface::TintedSolid(_)
+            | Surface::GlowingCloud(_)
             | Surface::Mirror(_)
             | Surface::Refractive(_)
             | Surface::Transparent(_)
@@ -397,7 +405,8 @@ impl Surface {
             | Surface::IdealThinLensletArray(_)
             | Surface::Glens(_)
             | Surface::ColourFilter(_)
-            | Surface::TintedSolid(_) => Ok(()),
+            | Surface::TintedSolid(_)
+            | Surface::GlowingCloud(_) => Ok(()),
         }
     }
 }

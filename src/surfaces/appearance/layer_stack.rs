@@ -67,6 +67,7 @@ impl LayerStack {
                 | Redirection::Crosses { .. }
                 | Redirection::Jumps { .. }
                 | Redirection::Absorbs { .. }
+                | Redirection::Glows { .. }
                 | Redirection::Mixes(_) => return Redirection::Lost,
             }
         }
@@ -75,7 +76,8 @@ impl LayerStack {
 }
 
 /// Refuses a layer that does not keep the ray at the point where it met the stack: one that
-/// crosses the object or jumps elsewhere, absorbs along the way inside, or mixes several ways.
+/// crosses the object or jumps elsewhere, absorbs or glows along the way inside, or mixes
+/// several ways.
 fn check_layer(layer: &Surface) -> Result<(), String> {
     let refuse = || {
         Err(format!(
@@ -88,6 +90,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         Surface::Lens(_)
         | Surface::Teleporting(_)
         | Surface::TintedSolid(_)
+        | Surface::GlowingCloud(_)
         | Surface::SemiTransparent(_)
         | Surface::Average(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),

@@ -1,8 +1,10 @@
 //! How surfaces look and combine, after Dr TIM's surface appearance families: colour filters,
-//! tinted solids, semi-transparent surfaces, averages, two-sided surfaces and layer stacks.
+//! tinted solids, glowing clouds, semi-transparent surfaces, averages, two-sided surfaces and
+//! layer stacks.
 
 mod average;
 mod colour_filter;
+mod glowing_cloud;
 mod layer_stack;
 mod semi_transparent;
 mod tinted_solid;
@@ -10,6 +12,7 @@ mod two_sided;
 
 pub use average::{AverageKeys, Mix};
 pub use colour_filter::{ColourFilter, ColourFilterKeys};
+pub use glowing_cloud::{GlowingCloud, GlowingCloudKeys};
 pub use layer_stack::{LayerStack, LayerStackKeys};
 pub use semi_transparent::SemiTransparentKeys;
 pub use tinted_solid::{TintedSolid, TintedSolidKeys};
