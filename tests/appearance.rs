@@ -7,6 +7,7 @@ use timbre::embree::Device;
 use timbre::math::{Colour, Ray, ReferenceFrame};
 use timbre::render::Tracer;
 use timbre::scene::{Scene, file};
+use timbre::trajectories::{self, End};
 
 /// The backdrop: a plane at z = 10 facing the origin, showing this colour whatever the light.
 const BACKDROP: [f64; 3] = [0.8, 0.6, 0.4];
@@ -166,4 +167,45 @@ fn a_glowing_cloud_adds_glow_by_its_whole_depth() {
         Colour::splat(0.3) + glow * (1.0 - (-chord / 4.0).exp()),
     );
     assert_close(colours[2], backdrop());
+}
+
+/// A ray trajectory along +z goes straight through a semi-transparent red pane (the
+/// transparent part, the only one that sends it on), a tinted slab, a glowing cloud and a
+/// two-sided pane whose outside is a colour filter, and ends on the backdrop: every point on
+/// the z axis, at the surfaces' z in order.
+#[test]
+fn trajectories_go_straight_through_the_see_through_appearances() {
+    let objects = format!(
+        "{SLAB}\
+         [[object]]\nname = \"semi\"\n\
+         shape = {{ type = \"parallelogram\", corner = [-1, -1, 2], span_u = [2, 0, 0], span_v = [0, 2, 0] }}\n\
+         surface = {{ type = \"semi-transparent\", surface = {{ type = \"shiny\", colour = [1, 0, 0] }} }}\n\
+         [[object]]\nname = \"cloud\"\n\
+         shape = {{ type = \"sphere\", centre = [0, 0, 7], radius = 0.5 }}\n\
+         surface = {{ type = \"glowing-cloud\", glow_colour = [1, 1, 1], one_over_e_distance = 1 }}\n\
+         [[object]]\nname = \"two-sided\"\n\
+         shape = {{ type = \"disc\", centre = [0, 0, 9], normal = [0, 0, -1], radius = 1 }}\n\
+         surface = {{ type = \"two-sided\", outside = {{ type = \"colour-filter\", transmission = [1, 0, 0] }} }}\n\
+         [[ray_trajectory]]\nstart = [0, 0, 0]\ndirection = [0, 0, 1]\n"
+    );
+    let [r, g, b] = BACKDROP;
+    let text = format!(
+        "studio = \"none\"\n[[object]]\nname = \"backdrop\"\n\
+         shape = {{ type = \"plane\", point = [0, 0, 10], normal = [0, 0, -1] }}\n\
+         surface = {{ type = \"constant-colour\", colour = [{r}, {g}, {b}] }}\n{objects}"
+    );
+    let d = file::parse(&text, "trajectory.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let traced = trajectories::trace(&Device::new("").unwrap(), &d).unwrap();
+    let ray = &traced[0];
+    assert_eq!(ray.end, End::Absorbed);
+    let z: Vec<f64> = ray.points.iter().map(|p| p.position.z).collect();
+    let expected = [0.0, 2.0, 4.65, 5.35, 6.5, 7.5, 9.0, 10.0];
+    assert_eq!(z.len(), expected.len(), "{z:?}");
+    for (p, e) in ray.points.iter().zip(expected) {
+        assert!(
+            (p.position - DVec3::new(0.0, 0.0, e)).length() < 1e-9,
+            "{:?}",
+            ray.points
+        );
+    }
 }
