@@ -4094,3 +4094,109 @@ fn research_holographic_lens_star_bends_rays_as_lens_holograms() {
     }
     assert!(reflected > 0);
 }
+
+/// scenes/appearance.toml: against the sky (0.5, 0.5, 1), the pixel nearest each object's
+/// centre shows Beer–Lambert's exp(−a d) through the tinted cube (a = (0.2, 1.5, 4), d the
+/// length of its line of sight between the cube's front and back faces z = 7.75 and 8.25), the
+/// filter's channels (0.2, 1, 0.3) of the sky, and through the semi-transparent ball's two
+/// surfaces 0.4 red + 0.6 (0.4 red + 0.6 sky).
+#[test]
+fn appearance_shows_tint_filter_and_semi_transparency() {
+    let (w, h) = (160, 120);
+    let camera = Camera::standard(20.0, w, h);
+    let picture = render("appearance", w, h);
+    let sky = DVec3::new(0.5, 0.5, 1.0);
+    let expect = |centre: DVec3, name: &str, colour: &dyn Fn(DVec3) -> DVec3| {
+        let (x, y) = camera.pixel_of(centre);
+        assert_eq!(picture.object(x, y), name);
+        let d = camera.direction(x as f64, y as f64).normalize();
+        let expected = colour(d);
+        let got = picture.rgb(x, y);
+        assert!(
+            (got - expected).abs().max_element() < 1e-6,
+            "{name}: got {got}, expected {expected}"
+        );
+    };
+    let a = DVec3::new(0.2, 1.5, 4.0);
+    expect(DVec3::new(-0.9, 0.2, 8.0), "tinted cube", &|d| {
+        let length = 0.5 / d.z;
+        sky * DVec3::new(
+            (-a.x * length).exp(),
+            (-a.y * length).exp(),
+            (-a.z * length).exp(),
+        )
+    });
+    expect(DVec3::new(0.0, 0.2, 8.0), "green filter", &|_| {
+        sky * DVec3::new(0.2, 1.0, 0.3)
+    });
+    let red = DVec3::new(1.0, 0.1, 0.1);
+    expect(DVec3::new(0.9, 0.2, 8.0), "semi-transparent ball", &|_| {
+        0.4 * red + 0.6 * (0.4 * red + 0.6 * sky)
+    });
+}
+
+/// scenes/research/LensStarTrajectoryPlotter.toml: the ray from (−0.5, 0, 10) along +z first
+/// meets lens 4 (at −216° from +x about the axis through (0, 0, 10)) at z = 10 + 0.5 tan 36°,
+/// then lens 5, and leaves for the sky; it stays in the plane y = 0, and at each lens its
+/// direction turns
+/// by the ideal thin lens's law (f = 1, principal point on the axis): the tangential part of
+/// the direction per unit of its normal part loses s / f, s the point's offset from the axis.
+/// The picture shows the semi-transparent edges: the edge objects' light is a quarter shiny
+/// red and three quarters what lies behind them.
+#[test]
+fn research_lens_star_trajectory_turns_by_the_thin_lens_law() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/research/LensStarTrajectoryPlotter.toml");
+    let rays = trace_file(&path);
+    assert_eq!(rays.len(), 1);
+    let ray = &rays[0];
+    let axis = DVec3::new(0.0, 0.0, 10.0);
+    assert_near(
+        "start",
+        ray.points[0].position,
+        DVec3::new(-0.5, 0.0, 10.0),
+        1e-12,
+    );
+    assert_eq!(
+        ray.points[1].object.as_deref(),
+        Some("star of lenses/lens 4")
+    );
+    let first = DVec3::new(-0.5, 0.0, 10.0 + 0.5 * 36f64.to_radians().tan());
+    assert_near("first lens", ray.points[1].position, first, 1e-9);
+    // Lenses 4 and 5, then out to the sky.
+    assert_eq!(ray.points.len(), 4, "{ray:?}");
+    assert_eq!(ray.points[3].object.as_deref(), Some("sky"));
+    for k in 1..ray.points.len() - 1 {
+        let p = ray.points[k].position;
+        assert!(p.y.abs() < 1e-9, "left the plane y = 0 at {p}");
+        let lens = ray.points[k].object.as_deref().unwrap();
+        assert!(lens.starts_with("star of lenses/lens "), "{lens}");
+        let s = p - axis;
+        let n = DVec3::new(-s.z, 0.0, s.x).normalize();
+        let d = leaving(ray, k - 1);
+        let dn = d.dot(n);
+        let tangential = (d - dn * n) / dn.abs() - s;
+        let expected = (tangential + dn.signum() * n).normalize();
+        assert_near("after the lens", leaving(ray, k), expected, 1e-9);
+    }
+
+    let d =
+        timbre::scene::file::parse(&std::fs::read_to_string(&path).unwrap(), "ls.toml").unwrap();
+    let edge = d
+        .objects
+        .iter()
+        .find(|o| o.name == "star of lenses/axial edge")
+        .expect("the axial edge");
+    let timbre::surfaces::Surface::SemiTransparent(mix) = &edge.surface else {
+        panic!("{:?}", edge.surface)
+    };
+    let red = timbre::surfaces::Surface::Coloured(timbre::surfaces::Coloured {
+        diffuse: DVec3::X,
+        specular: DVec3::ONE,
+    });
+    assert_eq!(mix.parts[0].surface, red);
+    assert_eq!(
+        (mix.parts[0].weight, mix.parts[1].weight),
+        (DVec3::splat(0.25), DVec3::splat(0.75))
+    );
+}

@@ -3,6 +3,7 @@
 //! goes on ([`Redirection`]), which the renderer traces further and ray trajectories record.
 //! Nothing here traces rays or shades: that is `render`'s.
 
+pub mod appearance;
 mod chequerboard;
 mod coloured;
 mod constant_colour;
@@ -13,6 +14,10 @@ mod mirror;
 mod refractive;
 mod transparent;
 
+pub use appearance::{
+    AverageKeys, ColourFilter, ColourFilterKeys, GlowingCloud, GlowingCloudKeys, LayerStack,
+    LayerStackKeys, Mix, SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
+};
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
 pub use constant_colour::ConstantColourKeys;
@@ -89,6 +94,13 @@ kinds! {
         IdealThinLensletArray(IdealThinLensletArrayKeys),
         Glens(GlensKeys),
         Teleporting(TeleportingKeys),
+        ColourFilter(ColourFilterKeys),
+        TintedSolid(TintedSolidKeys),
+        SemiTransparent(SemiTransparentKeys),
+        Average(AverageKeys),
+        TwoSided(TwoSidedKeys),
+        LayerStack(LayerStackKeys),
+        GlowingCloud(GlowingCloudKeys),
     }
 }
 
@@ -99,6 +111,10 @@ impl SurfaceKeys {
     pub fn pictures(&mut self) -> Vec<&mut PictureFile> {
         match self {
             SurfaceKeys::Chequerboard(keys) => keys.pictures(),
+            SurfaceKeys::SemiTransparent(keys) => keys.pictures(),
+            SurfaceKeys::Average(keys) => keys.pictures(),
+            SurfaceKeys::TwoSided(keys) => keys.pictures(),
+            SurfaceKeys::LayerStack(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -138,6 +154,9 @@ pub enum Redirection<'a> {
     /// the distance t to its next hit each channel keeps exp(−absorption·t) of the light,
     /// unless that hit is on the same object, whose exit then accounts for the whole path.
     Absorbs { absorption: Colour },
+    /// The ray goes on undeviated, and this colour is added to the light it brings (Dr TIM's
+    /// `SurfaceOfGlowingCloud`).
+    Glows { glow: Colour },
     /// The light is the sum of what several surfaces at the same point pass on, each part
     /// weighted per channel (semi-transparent surfaces, averages).
     Mixes(&'a [Weighted]),
@@ -180,6 +199,14 @@ pub enum Surface {
     IdealThinMirror(ThinMirror),
     IdealThinLensletArray(LensletArray),
     Glens(Glens),
+    ColourFilter(ColourFilter),
+    TintedSolid(TintedSolid),
+    /// A surface and a transparent part, mixed.
+    SemiTransparent(Mix),
+    Average(Mix),
+    TwoSided(TwoSided),
+    LayerStack(LayerStack),
+    GlowingCloud(GlowingCloud),
 }
 
 impl Surface {
@@ -206,6 +233,13 @@ impl Surface {
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
+            Surface::ColourFilter(_) => "colour-filter",
+            Surface::TintedSolid(_) => "tinted-solid",
+            Surface::SemiTransparent(_) => "semi-transparent",
+            Surface::Average(_) => "average",
+            Surface::TwoSided(_) => "two-sided",
+            Surface::LayerStack(_) => "layer-stack",
+            Surface::GlowingCloud(_) => "glowing-cloud",
         }
     }
 
@@ -217,6 +251,8 @@ impl Surface {
             Surface::Coloured(s) => Redirection::Lit(*s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            Surface::SemiTransparent(m) | Surface::Average(m) => m.redirect(),
+            Surface::TwoSided(s) => s.redirect(at, inside),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -230,7 +266,12 @@ impl Surface {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         let redirection = match self {
-            Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
+            Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Chequerboard(_)
+            | Surface::SemiTransparent(_)
+            | Surface::Average(_)
+            | Surface::TwoSided(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -250,6 +291,10 @@ impl Surface {
             Surface::IdealThinMirror(s) => s.redirect(at),
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
+            Surface::ColourFilter(s) => s.redirect(at),
+            Surface::TintedSolid(s) => s.redirect(at),
+            Surface::LayerStack(s) => s.redirect(at),
+            Surface::GlowingCloud(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -288,8 +333,23 @@ impl Surface {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
+            Surface::SemiTransparent(m) => Surface::SemiTransparent(m.transformed(t)?),
+            Surface::Average(m) => Surface::Average(m.transformed(t)?),
+            Surface::TwoSided(s) => Surface::TwoSided(TwoSided {
+                sides: Box::new([s.sides[0].transformed(t)?, s.sides[1].transformed(t)?]),
+            }),
+            Surface::LayerStack(s) => Surface::LayerStack(LayerStack {
+                layers: s
+                    .layers
+                    .iter()
+                    .map(|l| l.transformed(t))
+                    .collect::<Result<_, String>>()?,
+            }),
             Surface::Coloured(_)
             | Surface::ConstantColour(_)
+            | Surface::ColourFilter(_)
+            | Surface::TintedSolid(_)
+            | Surface::GlowingCloud(_)
             | Surface::Mirror(_)
             | Surface::Refractive(_)
             | Surface::Transparent(_)
@@ -322,6 +382,9 @@ impl Surface {
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::SemiTransparent(m) | Surface::Average(m) => m.check_shape(shape),
+            Surface::TwoSided(s) => s.sides.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::LayerStack(s) => s.layers.iter().try_for_each(|s| s.check_shape(shape)),
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
             | Surface::Coloured(_)
@@ -340,7 +403,10 @@ impl Surface {
             | Surface::IdealThinLens(_)
             | Surface::IdealThinMirror(_)
             | Surface::IdealThinLensletArray(_)
-            | Surface::Glens(_) => Ok(()),
+            | Surface::Glens(_)
+            | Surface::ColourFilter(_)
+            | Surface::TintedSolid(_)
+            | Surface::GlowingCloud(_) => Ok(()),
         }
     }
 }

@@ -98,7 +98,7 @@ fn follow(
                 return finish(points, End::Lost, ray.direction);
             }
             Redirection::Leaves { direction, .. } => at.leaving(direction),
-            Redirection::Absorbs { .. } => at.leaving(ray.direction),
+            Redirection::Absorbs { .. } | Redirection::Glows { .. } => at.leaving(ray.direction),
             Redirection::Crosses { exit, .. } => {
                 let inside = inside.points;
                 let arrival = if inside.is_empty() {
@@ -147,7 +147,7 @@ fn strongest<'a>(
         Redirection::Leaves { factor, .. }
         | Redirection::Crosses { factor, .. }
         | Redirection::Jumps { factor, .. } => *factor != Colour::ZERO,
-        Redirection::Absorbs { .. } => true,
+        Redirection::Absorbs { .. } | Redirection::Glows { .. } => true,
         Redirection::Lit(_) | Redirection::Emits(_) | Redirection::Lost | Redirection::Mixes(_) => {
             false
         }
