@@ -3,6 +3,7 @@
 //! goes on ([`Redirection`]), which the renderer traces further and ray trajectories record.
 //! Nothing here traces rays or shades: that is `render`'s.
 
+pub mod appearance;
 mod chequerboard;
 mod coloured;
 mod constant_colour;
@@ -13,6 +14,10 @@ mod mirror;
 mod refractive;
 mod transparent;
 
+pub use appearance::{
+    Striped, StripedKeys, SurfaceTiling, SurfaceTilingKeys, TimeDependentColour,
+    TimeDependentColourKeys,
+};
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
 pub use constant_colour::ConstantColourKeys;
@@ -89,6 +94,10 @@ kinds! {
         IdealThinLensletArray(IdealThinLensletArrayKeys),
         Glens(GlensKeys),
         Teleporting(TeleportingKeys),
+        // Patterns and colour fields (appearance).
+        Striped(StripedKeys),
+        SurfaceTiling(SurfaceTilingKeys),
+        TimeDependentColour(TimeDependentColourKeys),
     }
 }
 
@@ -99,6 +108,8 @@ impl SurfaceKeys {
     pub fn pictures(&mut self) -> Vec<&mut PictureFile> {
         match self {
             SurfaceKeys::Chequerboard(keys) => keys.pictures(),
+            SurfaceKeys::Striped(keys) => keys.pictures(),
+            SurfaceKeys::SurfaceTiling(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -180,6 +191,10 @@ pub enum Surface {
     IdealThinMirror(ThinMirror),
     IdealThinLensletArray(LensletArray),
     Glens(Glens),
+    /// Patterns and colour fields (appearance); the patterns need surface coordinates.
+    Striped(Striped),
+    SurfaceTiling(SurfaceTiling),
+    TimeDependentColour(TimeDependentColour),
 }
 
 impl Surface {
@@ -206,6 +221,9 @@ impl Surface {
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
+            Surface::Striped(_) => "striped",
+            Surface::SurfaceTiling(_) => "surface-tiling",
+            Surface::TimeDependentColour(_) => "time-dependent-colour",
         }
     }
 
@@ -217,6 +235,9 @@ impl Surface {
             Surface::Coloured(s) => Redirection::Lit(*s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            Surface::Striped(s) => s.stripe_at(at).redirect(at, inside),
+            Surface::SurfaceTiling(s) => s.tile_at(at).redirect(at, inside),
+            Surface::TimeDependentColour(s) => s.redirect(at),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -230,7 +251,12 @@ impl Surface {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         let redirection = match self {
-            Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
+            Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Chequerboard(_)
+            | Surface::Striped(_)
+            | Surface::SurfaceTiling(_)
+            | Surface::TimeDependentColour(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -288,7 +314,16 @@ impl Surface {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
-            Surface::Coloured(_)
+            Surface::Striped(s) => Surface::Striped(Striped {
+                width: s.width,
+                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+            }),
+            Surface::SurfaceTiling(s) => Surface::SurfaceTiling(SurfaceTiling {
+                widths: s.widths,
+                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+            }),
+            Surface::TimeDependentColour(_)
+            | Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::Mirror(_)
             | Surface::Refractive(_)
@@ -322,6 +357,15 @@ impl Surface {
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::Striped(_) | Surface::SurfaceTiling(_) if !shape.is_charted() => Err(format!(
+                "a {} surface needs surface coordinates on every part of its shape (as a \
+                 phase-hologram does)",
+                self.kind()
+            )),
+            Surface::Striped(Striped { surfaces, .. })
+            | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
+                surfaces.iter().try_for_each(|s| s.check_shape(shape))
+            }
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
             | Surface::Coloured(_)
@@ -340,7 +384,8 @@ impl Surface {
             | Surface::IdealThinLens(_)
             | Surface::IdealThinMirror(_)
             | Surface::IdealThinLensletArray(_)
-            | Surface::Glens(_) => Ok(()),
+            | Surface::Glens(_)
+            | Surface::TimeDependentColour(_) => Ok(()),
         }
     }
 }
