@@ -17,6 +17,8 @@ mod transparent;
 pub use appearance::{
     AverageKeys, ColourFilter, ColourFilterKeys, GlowingCloud, GlowingCloudKeys, LayerStack,
     LayerStackKeys, Mix, SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
+    Striped, StripedKeys, SurfaceTiling, SurfaceTilingKeys, TimeDependentColour,
+    TimeDependentColourKeys,
 };
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
@@ -101,6 +103,10 @@ kinds! {
         TwoSided(TwoSidedKeys),
         LayerStack(LayerStackKeys),
         GlowingCloud(GlowingCloudKeys),
+        // Patterns and colour fields (appearance).
+        Striped(StripedKeys),
+        SurfaceTiling(SurfaceTilingKeys),
+        TimeDependentColour(TimeDependentColourKeys),
     }
 }
 
@@ -115,6 +121,8 @@ impl SurfaceKeys {
             SurfaceKeys::Average(keys) => keys.pictures(),
             SurfaceKeys::TwoSided(keys) => keys.pictures(),
             SurfaceKeys::LayerStack(keys) => keys.pictures(),
+            SurfaceKeys::Striped(keys) => keys.pictures(),
+            SurfaceKeys::SurfaceTiling(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -207,6 +215,10 @@ pub enum Surface {
     TwoSided(TwoSided),
     LayerStack(LayerStack),
     GlowingCloud(GlowingCloud),
+    /// Patterns and colour fields (appearance); the patterns need surface coordinates.
+    Striped(Striped),
+    SurfaceTiling(SurfaceTiling),
+    TimeDependentColour(TimeDependentColour),
 }
 
 impl Surface {
@@ -240,6 +252,9 @@ impl Surface {
             Surface::TwoSided(_) => "two-sided",
             Surface::LayerStack(_) => "layer-stack",
             Surface::GlowingCloud(_) => "glowing-cloud",
+            Surface::Striped(_) => "striped",
+            Surface::SurfaceTiling(_) => "surface-tiling",
+            Surface::TimeDependentColour(_) => "time-dependent-colour",
         }
     }
 
@@ -253,6 +268,9 @@ impl Surface {
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
             Surface::SemiTransparent(m) | Surface::Average(m) => m.redirect(),
             Surface::TwoSided(s) => s.redirect(at, inside),
+            Surface::Striped(s) => s.stripe_at(at).redirect(at, inside),
+            Surface::SurfaceTiling(s) => s.tile_at(at).redirect(at, inside),
+            Surface::TimeDependentColour(s) => s.redirect(at),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -271,7 +289,10 @@ impl Surface {
             | Surface::Chequerboard(_)
             | Surface::SemiTransparent(_)
             | Surface::Average(_)
-            | Surface::TwoSided(_) => {
+            | Surface::TwoSided(_)
+            | Surface::Striped(_)
+            | Surface::SurfaceTiling(_)
+            | Surface::TimeDependentColour(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -345,7 +366,16 @@ impl Surface {
                     .map(|l| l.transformed(t))
                     .collect::<Result<_, String>>()?,
             }),
-            Surface::Coloured(_)
+            Surface::Striped(s) => Surface::Striped(Striped {
+                width: s.width,
+                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+            }),
+            Surface::SurfaceTiling(s) => Surface::SurfaceTiling(SurfaceTiling {
+                widths: s.widths,
+                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+            }),
+            Surface::TimeDependentColour(_)
+            | Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::ColourFilter(_)
             | Surface::TintedSolid(_)
@@ -385,6 +415,15 @@ impl Surface {
             Surface::SemiTransparent(m) | Surface::Average(m) => m.check_shape(shape),
             Surface::TwoSided(s) => s.sides.iter().try_for_each(|s| s.check_shape(shape)),
             Surface::LayerStack(s) => s.layers.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::Striped(_) | Surface::SurfaceTiling(_) if !shape.is_charted() => Err(format!(
+                "a {} surface needs surface coordinates on every part of its shape (as a \
+                 phase-hologram does)",
+                self.kind()
+            )),
+            Surface::Striped(Striped { surfaces, .. })
+            | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
+                surfaces.iter().try_for_each(|s| s.check_shape(shape))
+            }
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
             | Surface::Coloured(_)
@@ -406,7 +445,8 @@ impl Surface {
             | Surface::Glens(_)
             | Surface::ColourFilter(_)
             | Surface::TintedSolid(_)
-            | Surface::GlowingCloud(_) => Ok(()),
+            | Surface::GlowingCloud(_)
+            | Surface::TimeDependentColour(_) => Ok(()),
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::part;
+use super::{Striped, SurfaceTiling, part};
 use crate::geometry::{Hit, Interaction};
 use crate::math::Colour;
 use crate::picture::PictureFile;
@@ -95,6 +95,10 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Average(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
+        Surface::Striped(Striped { surfaces, .. })
+        | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
+            surfaces.iter().try_for_each(check_layer)
+        }
         Surface::Coloured(_)
         | Surface::ConstantColour(_)
         | Surface::Mirror(_)
@@ -113,7 +117,8 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::IdealThinLens(_)
         | Surface::IdealThinMirror(_)
         | Surface::IdealThinLensletArray(_)
-        | Surface::Glens(_) => Ok(()),
+        | Surface::Glens(_)
+        | Surface::TimeDependentColour(_) => Ok(()),
     }
 }
 
