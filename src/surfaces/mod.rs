@@ -10,7 +10,9 @@ pub mod ideal_lenses;
 pub mod lenses;
 pub mod metatoys;
 mod mirror;
+mod picture;
 mod refractive;
+mod sky;
 mod transparent;
 
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
@@ -33,7 +35,9 @@ pub use metatoys::{
     Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
+pub use picture::{Lighting, PictureKeys, PictureSurface};
 pub use refractive::{Refractive, RefractiveKeys, refract};
+pub use sky::{ImageSky, SkyKeys};
 pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
@@ -89,6 +93,7 @@ kinds! {
         IdealThinLensletArray(IdealThinLensletArrayKeys),
         Glens(GlensKeys),
         Teleporting(TeleportingKeys),
+        Picture(PictureKeys),
     }
 }
 
@@ -99,6 +104,7 @@ impl SurfaceKeys {
     pub fn pictures(&mut self) -> Vec<&mut PictureFile> {
         match self {
             SurfaceKeys::Chequerboard(keys) => keys.pictures(),
+            SurfaceKeys::Picture(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -180,6 +186,10 @@ pub enum Surface {
     IdealThinMirror(ThinMirror),
     IdealThinLensletArray(LensletArray),
     Glens(Glens),
+    /// A picture on the shape's surface coordinates (charted shapes only).
+    Picture(PictureSurface),
+    /// An equirectangular picture of the sky at infinity, picked by the ray's direction.
+    ImageSky(ImageSky),
 }
 
 impl Surface {
@@ -206,6 +216,8 @@ impl Surface {
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
+            Surface::Picture(_) => "picture",
+            Surface::ImageSky(_) => "image sky",
         }
     }
 
@@ -250,6 +262,8 @@ impl Surface {
             Surface::IdealThinMirror(s) => s.redirect(at),
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
+            Surface::Picture(s) => s.redirect(at),
+            Surface::ImageSky(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -301,12 +315,14 @@ impl Surface {
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
-            | Surface::Teleporting(_) => self.clone(),
+            | Surface::Teleporting(_)
+            | Surface::Picture(_)
+            | Surface::ImageSky(_) => self.clone(),
         })
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms need surface coordinates on every part
+    /// sphere's centre and radius; phase holograms and pictures need surface coordinates on every part
     /// (plane coordinates or coordinate axes). The other laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match self {
@@ -321,9 +337,18 @@ impl Surface {
                  transformed); a closed cylinder's or cone's caps and meshes have none"
                     .to_string(),
             ),
+            Surface::Picture(_) if !shape.is_charted() => Err(
+                "a picture surface needs surface coordinates on every part of its shape (a flat \
+                 shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, bilinear \
+                 surface, cylinder or cone with open = true, or one of them transformed); a \
+                 closed cylinder's or cone's caps and meshes have none"
+                    .to_string(),
+            ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
+            | Surface::Picture(_)
+            | Surface::ImageSky(_)
             | Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::Mirror(_)
