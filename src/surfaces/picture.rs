@@ -24,7 +24,8 @@ pub enum Lighting {
 }
 
 /// A picture whose rectangle `corner` to `corner + size` in surface coordinates (u, v) holds
-/// the picture, u to its right and v up.
+/// the picture, u to its right and, as in Dr TIM, v down its rows from the top (upright on a
+/// sphere, whose v grows from its top).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PictureSurface {
     pub picture: Picture,
@@ -41,7 +42,8 @@ pub struct PictureSurface {
 }
 
 impl PictureSurface {
-    /// The picture coordinates of surface coordinates `uv`: [0, 1]² on the rectangle.
+    /// The picture coordinates of surface coordinates `uv`: [0, 1]² on the rectangle, from the
+    /// picture's top-left corner.
     pub fn picture_coordinates(&self, uv: DVec2) -> DVec2 {
         (uv - self.corner) / self.size
     }
@@ -55,7 +57,7 @@ impl PictureSurface {
                 factor: Colour::ONE,
             };
         }
-        let texel = self.picture.at(p.x, p.y);
+        let texel = self.picture.at(p.x, 1.0 - p.y);
         match self.lighting {
             Lighting::Diffuse => Redirection::Lit(Coloured {
                 diffuse: texel,
@@ -74,9 +76,9 @@ impl PictureSurface {
 /// rectangle from `corner` spanning `size` in the shape's surface coordinates, where not given
 /// Dr TIM's GUI's "Picture": corner (0, 0), size (1, 1), tiled, diffuse lighting with a black
 /// specular colour. `specular` (diffuse lighting) and `diffuse` (specular lighting) give the
-/// other colour, black where not given. Dr TIM counts picture rows from the top as its y grows
-/// and scales `PictureSurfaceDiffuse`'s indices by width − 1; timbre shows the picture upright
-/// where v points up, each texel on an equal share of the rectangle.
+/// other colour, black where not given. Dr TIM's `PictureSurfaceDiffuse` scales its indices by
+/// width − 1 and height − 1 (the last column and row only on the far edges); timbre gives each
+/// texel an equal share of the rectangle, as `PictureSurface` does.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PictureKeys {
@@ -126,6 +128,8 @@ impl PictureKeys {
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::PI;
+
     use glam::DVec3;
 
     use super::*;
@@ -162,24 +166,25 @@ mod tests {
     }
 
     /// On the plane z = 0 (u = x, v = y) the rectangle from (1, −1) of size (2, 4) holds the
-    /// picture: (1.5, 2) is in its top-left quarter (red), (2.5, 2) top right (green), (1.5, 0)
-    /// bottom left (blue). Tiled, (3.5, 2) is the next repeat's top left, (−0.5, −2) = (1.5,
-    /// 2) − (2, 4) too; not tiled, a ray there goes on undeviated with all its light.
+    /// picture, its top row at v = −1: (1.5, 0) is in its top-left quarter (red), (2.5, 0) top
+    /// right (green), (1.5, 2) bottom left (blue), (2.9, 2.9) bottom right (white). Tiled,
+    /// (3.5, 0) is the next repeat's top left, (−0.5, −4) = (1.5, 0) − (2, 4) too; not tiled,
+    /// a ray there goes on undeviated with all its light.
     #[test]
-    fn the_rectangle_holds_the_picture_upright() {
+    fn the_rectangle_holds_the_picture_rows_down_v() {
         let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
         let d = DVec3::new(0.1, 0.2, -1.0).normalize();
         let at = |x: f64, y: f64| meet(&plane, DVec3::new(x, y, 0.0) - 3.0 * d, d);
         let tiled = surface(true, Lighting::LightIndependent);
         let emits = |s: &PictureSurface, x, y| s.redirect(&at(x, y));
-        assert_eq!(emits(&tiled, 1.5, 2.0), Redirection::Emits(RED));
-        assert_eq!(emits(&tiled, 2.5, 2.0), Redirection::Emits(GREEN));
-        assert_eq!(emits(&tiled, 1.5, 0.0), Redirection::Emits(BLUE));
-        assert_eq!(emits(&tiled, 2.9, -0.9), Redirection::Emits(Colour::ONE));
-        assert_eq!(emits(&tiled, 3.5, 2.0), Redirection::Emits(RED));
-        assert_eq!(emits(&tiled, -0.5, -2.0), Redirection::Emits(RED));
+        assert_eq!(emits(&tiled, 1.5, 0.0), Redirection::Emits(RED));
+        assert_eq!(emits(&tiled, 2.5, 0.0), Redirection::Emits(GREEN));
+        assert_eq!(emits(&tiled, 1.5, 2.0), Redirection::Emits(BLUE));
+        assert_eq!(emits(&tiled, 2.9, 2.9), Redirection::Emits(Colour::ONE));
+        assert_eq!(emits(&tiled, 3.5, 0.0), Redirection::Emits(RED));
+        assert_eq!(emits(&tiled, -0.5, -4.0), Redirection::Emits(RED));
         let single = surface(false, Lighting::LightIndependent);
-        assert_eq!(emits(&single, 1.5, 2.0), Redirection::Emits(RED));
+        assert_eq!(emits(&single, 1.5, 0.0), Redirection::Emits(RED));
         for (x, y) in [(3.5, 2.0), (0.9, 0.0), (1.5, 3.1), (1.5, -1.1)] {
             match emits(&single, x, y) {
                 Redirection::Leaves { direction, factor } => {
@@ -201,21 +206,23 @@ mod tests {
         };
         // u' = (x − 1)/(−2): x = 0.5 gives 0.25 (left column), x = −0.5 gives 0.75 (right).
         assert_eq!(
-            s.picture_coordinates(DVec2::new(0.5, 2.0)),
-            DVec2::new(0.25, 0.75)
+            s.picture_coordinates(DVec2::new(0.5, 0.0)),
+            DVec2::new(0.25, 0.25)
         );
         let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
-        let at = |x: f64| meet(&plane, DVec3::new(x, 2.0, 1.0), -DVec3::Z);
+        let at = |x: f64| meet(&plane, DVec3::new(x, 0.0, 1.0), -DVec3::Z);
         assert_eq!(s.redirect(&at(0.5)), Redirection::Emits(RED));
         assert_eq!(s.redirect(&at(-0.5)), Redirection::Emits(GREEN));
     }
 
     /// Diffuse lighting: the texel is the diffuse colour, `other` the specular; specular
-    /// lighting the other way round; on a sphere (u the azimuth, v the polar angle) too.
+    /// lighting the other way round. On the unit sphere (u = φ, v = θ from +y) with the
+    /// picture on the whole of it (corner (−π, 0), size (2π, π)), the point (0.3, 0.2, 0.933)
+    /// has φ > 0 (the right half) and θ < π/2 (the top half): green.
     #[test]
     fn lighting_puts_the_texel_where_its_class_does() {
         let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
-        let at = meet(&plane, DVec3::new(1.5, 2.0, 1.0), -DVec3::Z);
+        let at = meet(&plane, DVec3::new(1.5, 0.0, 1.0), -DVec3::Z);
         let quarter = Colour::splat(0.25);
         assert_eq!(
             surface(true, Lighting::Diffuse).redirect(&at),
@@ -233,16 +240,12 @@ mod tests {
         );
         let sphere = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
         let hit = meet(&sphere, DVec3::new(0.3, 0.2, 5.0), -DVec3::Z);
-        let uv = hit.coordinates();
         let s = PictureSurface {
-            corner: DVec2::ZERO,
-            size: DVec2::ONE,
-            ..surface(true, Lighting::LightIndependent)
+            corner: DVec2::new(-PI, 0.0),
+            size: DVec2::new(2.0 * PI, PI),
+            ..surface(false, Lighting::LightIndependent)
         };
-        assert_eq!(
-            s.redirect(&hit),
-            Redirection::Emits(quarters().at(uv.x, uv.y))
-        );
+        assert_eq!(s.redirect(&hit), Redirection::Emits(GREEN));
     }
 
     fn keys(text: &str) -> Result<Surface, String> {
