@@ -45,7 +45,7 @@ use glam::DVec3;
 use crate::geometry::{Exit, Interaction, Shape, Transform};
 use crate::keys::kinds;
 use crate::math::Colour;
-use crate::picture::PictureFile;
+use crate::picture::{Picture, PictureFile};
 
 kinds! {
     /// A `surface` table: its `type` names the law, its other keys are the law's own (read by
@@ -319,6 +319,17 @@ impl Surface {
             | Surface::Picture(_)
             | Surface::ImageSky(_) => self.clone(),
         })
+    }
+
+    /// The pictures the surface shows, its parts' too (shared pictures as often as they
+    /// appear).
+    pub fn pictures(&self) -> Vec<&Picture> {
+        match self {
+            Surface::Picture(s) => vec![&s.picture],
+            Surface::ImageSky(s) => vec![&s.picture],
+            Surface::Chequerboard(c) => c.surfaces.iter().flat_map(Surface::pictures).collect(),
+            _ => Vec::new(),
+        }
     }
 
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
