@@ -4128,10 +4128,11 @@ fn image_sky_shows_the_texel_in_each_direction() {
     let (w, h) = (160, 90);
     let camera = Camera::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 100.0, w, h);
     let picture = render("image-sky", w, h);
+    let png = example_picture("sky.png");
     let sky = |d: DVec3| {
         let elevation = d.y.atan2(d.x.hypot(d.z));
-        example_texel(
-            "sky.png",
+        texel_of(
+            &png,
             0.5 + d.x.atan2(d.z) / (2.0 * PI),
             0.5 - elevation / PI,
         )
@@ -4189,11 +4190,8 @@ fn picture_surfaces_show_their_texels() {
         match picture.object(x, y) {
             "wall" => {
                 let p = d * (20.0 / d.z);
-                let Some(texel) = example_texel(
-                    "letter-f.png",
-                    p.x / 2.0,
-                    ((3.0 - p.y) / 2.0).rem_euclid(1.0),
-                ) else {
+                let Some(texel) = texel_of(&png, p.x / 2.0, ((3.0 - p.y) / 2.0).rem_euclid(1.0))
+                else {
                     continue;
                 };
                 let k = got.x / texel.x;
