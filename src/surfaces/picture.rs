@@ -50,8 +50,9 @@ impl PictureSurface {
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let p = self.picture_coordinates(at.coordinates());
-        let inside = |t: f64| (0.0..1.0).contains(&t);
-        if !self.tiled && !(inside(p.x) && inside(p.y)) {
+        let within = |t: f64| (0.0..1.0).contains(&t);
+        let outside = !(within(p.x) && within(p.y));
+        if outside && !self.tiled {
             return Redirection::Leaves {
                 direction: at.ray.direction,
                 factor: Colour::ONE,
