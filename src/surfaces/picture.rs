@@ -19,7 +19,6 @@ pub enum Lighting {
     /// `PictureSurfaceSpecular`: the texel is the specular colour, lit by the lights.
     Specular,
     /// `PictureSurface`: the texel is seen whatever the lighting.
-    #[serde(alias = "light_independent")]
     LightIndependent,
 }
 

@@ -56,7 +56,6 @@ impl ImageSky {
 pub struct SkyKeys {
     pub image: PictureFile,
     rotation: Option<Finite>,
-    #[serde(alias = "brightness")]
     intensity: Option<NonNegative>,
 }
 
