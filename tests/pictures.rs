@@ -156,7 +156,7 @@ surface = { type = "chequerboard", surfaces = [{ type = "picture", file = "./p.p
         path.to_str().unwrap(),
     );
     assert_eq!(none.objects.len(), 1);
-    assert_eq!(none.objects[0].surface.kind(), "image sky");
+    assert_eq!(none.objects[0].surface.kind(), "image-sky");
 }
 
 /// Read as `timbre serve` reads its page's text, a picture surface or a sky outside the scene

@@ -217,7 +217,7 @@ impl Surface {
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
             Surface::Picture(_) => "picture",
-            Surface::ImageSky(_) => "image sky",
+            Surface::ImageSky(_) => "image-sky",
         }
     }
 
