@@ -4200,3 +4200,164 @@ fn research_lens_star_trajectory_turns_by_the_thin_lens_law() {
         (DVec3::splat(0.25), DVec3::splat(0.75))
     );
 }
+
+/// The example picture `scenes/pictures/NAME`.
+fn example_picture(name: &str) -> image::RgbImage {
+    common::cli::decode_png(
+        &Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("scenes/pictures")
+            .join(name),
+    )
+}
+
+/// The texel of `png` (8-bit, read as value / 255) at picture coordinates u (across, repeated)
+/// and v (down from the top); `None` within `margin` texels of a texel's edge, where rounding
+/// (or an approximation) decides.
+fn texel_of(png: &image::RgbImage, u: f64, v_down: f64, margin: f64) -> Option<DVec3> {
+    let (w, h) = (png.width() as f64, png.height() as f64);
+    let (x, y) = ((u - u.floor()) * w, v_down * h);
+    let edge = |t: f64| (t - t.round()).abs() < margin;
+    if edge(x) || edge(y) || !(0.0..h).contains(&y) {
+        return None;
+    }
+    let p = png.get_pixel(x as u32 % png.width(), y as u32);
+    Some(DVec3::from_array(p.0.map(|c| (c as f32 / 255.0) as f64)))
+}
+
+/// scenes/image-sky.toml: every pixel that sees the sky shows the texel of the
+/// equirectangular picture in its direction d, worked out here: u = 1/2 + atan2(dx, dz)/2π
+/// (the centre ahead along +z, +x at 3/4, so that it reads unmirrored), rows from the top
+/// 1/2 − elevation/π. On the mirror ball (radius 1 at (0, 0, 8)) the pixels whose reflected
+/// direction d − 2(d·n)n rises show 0.9 of the texel in that direction (the floor is below).
+/// The label "+Z" (white) is ahead, so some sky pixels near the centre are white.
+#[test]
+fn image_sky_shows_the_texel_in_each_direction() {
+    let (w, h) = (160, 90);
+    let camera = Camera::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 100.0, w, h);
+    let picture = render("image-sky", w, h);
+    let png = example_picture("sky.png");
+    let sky = |d: DVec3| {
+        let elevation = d.y.atan2(d.x.hypot(d.z));
+        texel_of(
+            &png,
+            0.5 + d.x.atan2(d.z) / (2.0 * PI),
+            0.5 - elevation / PI,
+            1e-6,
+        )
+    };
+    let (mut sky_pixels, mut ball_pixels, mut white) = (0, 0, 0);
+    for (x, y) in picture.pixels() {
+        let d = camera.direction(x as f64, y as f64).normalize();
+        let got = picture.rgb(x, y);
+        match picture.object(x, y) {
+            "sky" => {
+                let Some(texel) = sky(d) else { continue };
+                assert_near(&format!("sky at ({x}, {y})"), got, texel, 1e-6);
+                sky_pixels += 1;
+                white += usize::from(texel == DVec3::ONE);
+            }
+            "mirror ball" => {
+                let c = DVec3::new(0.0, 0.0, 8.0);
+                let Some(t) = sphere_hit(DVec3::ZERO, d, c, 1.0) else {
+                    continue;
+                };
+                let n = (t * d - c).normalize();
+                let out = d - 2.0 * d.dot(n) * n;
+                if out.y < 0.01 {
+                    continue;
+                }
+                let Some(texel) = sky(out) else { continue };
+                assert_near(&format!("ball at ({x}, {y})"), got, 0.9 * texel, 1e-4);
+                ball_pixels += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(
+        sky_pixels > 4000 && ball_pixels > 20 && white > 20,
+        "{sky_pixels} sky, {ball_pixels} ball, {white} white"
+    );
+}
+
+/// scenes/picture-surfaces.toml, with the picture letter-f.png worked out here from each
+/// pixel's ray. The wall (plane z = 20, u = x, v = 3 − y, tiled every 2 × 2): diffuse
+/// lighting by white lights scales the texel by one factor, so the pixel's colour is a
+/// multiple of the texel's. The ball (radius 0.8 at (−1.3, −0.2, 10); u = rφ, v = rθ; size
+/// (−2πr, πr) from (0, 0)), shown whatever the lighting: column −φ/2π (repeated), row from the
+/// top θ/π, exactly the texel.
+#[test]
+fn picture_surfaces_show_their_texels() {
+    let (w, h) = (160, 120);
+    let camera = Camera::new(DVec3::ZERO, DVec3::Z, DVec3::Y, 40.0, w, h);
+    let picture = render("picture-surfaces", w, h);
+    let png = example_picture("letter-f.png");
+    let (mut wall, mut ball) = (0, 0);
+    for (x, y) in picture.pixels() {
+        let d = camera.direction(x as f64, y as f64).normalize();
+        let got = picture.rgb(x, y);
+        match picture.object(x, y) {
+            "wall" => {
+                let p = d * (20.0 / d.z);
+                let Some(texel) =
+                    texel_of(&png, p.x / 2.0, ((3.0 - p.y) / 2.0).rem_euclid(1.0), 1e-6)
+                else {
+                    continue;
+                };
+                let k = got.x / texel.x;
+                assert!(k > 0.1, "wall at ({x}, {y}) lit: {got}");
+                assert_near(&format!("wall at ({x}, {y})"), got, k * texel, 1e-5);
+                wall += 1;
+            }
+            "ball" => {
+                let c = DVec3::new(-1.3, -0.2, 10.0);
+                let Some(t) = sphere_hit(DVec3::ZERO, d, c, 0.8) else {
+                    continue;
+                };
+                let q = (t * d - c) / 0.8;
+                let (phi, theta) = (q.x.atan2(q.z), q.y.clamp(-1.0, 1.0).acos());
+                let Some(texel) = texel_of(&png, -phi / (2.0 * PI), theta / PI, 1e-6) else {
+                    continue;
+                };
+                assert_near(&format!("ball at ({x}, {y})"), got, texel, 1e-5);
+                ball += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(wall > 8000 && ball > 500, "{wall} wall, {ball} ball");
+}
+
+/// scenes/research/AutostereogramResonatorPlanar.toml, Dr TIM's program of that name: seen from
+/// the eye at (−3, 0, 0) looking at (0, 0, 50) with up −y (Dr TIM's camera turned by 180°),
+/// through the two lenses of focal lengths ±50 just before and after mirror A (which cancel
+/// to within 10⁻⁴ of the picture's units), every pixel shows the texel of the tiled picture at
+/// the point where its line of sight meets the plane z = 50.0002: u = x, v = y, corner
+/// (15, −8), size (−1, 16), columns along −x, rows down +y, lit by white ambient light only
+/// (colour = texel). Pixels within 0.02 texels of a texel's edge are left out. The
+/// first surface every line of sight meets is the lens in front of A.
+#[test]
+fn research_autostereogram_resonator_planar_shows_the_wallpaper() {
+    let (w, h) = (200, 150);
+    let eye = DVec3::new(-3.0, 0.0, 0.0);
+    let angle = 2.0 * (20.0 * 400.0 / 300.0 / 2.0 / 50.0_f64).atan().to_degrees();
+    let camera = Camera::new(eye, DVec3::new(3.0, 0.0, 50.0), -DVec3::Y, angle, w, h);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes/research/AutostereogramResonatorPlanar.toml");
+    let picture = render_file(
+        &path,
+        &["--width", "200", "--height", "150", "--aov", "object"],
+    );
+    let png = example_picture("letter-f.png");
+    let mut checked = 0;
+    for (x, y) in picture.pixels() {
+        assert_eq!(picture.object(x, y), "lens in front of mirror A");
+        let d = camera.direction(x as f64, y as f64);
+        let p = eye + d * (50.0002 / d.z);
+        let Some(texel) = texel_of(&png, (p.x - 15.0) / -1.0, (p.y + 8.0) / 16.0, 0.02) else {
+            continue;
+        };
+        assert_near(&format!("pixel ({x}, {y})"), picture.rgb(x, y), texel, 1e-5);
+        checked += 1;
+    }
+    assert!(checked > 20000, "{checked} pixels checked");
+}

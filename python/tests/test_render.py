@@ -513,3 +513,27 @@ def test_an_empty_image_has_no_png():
     assert image._repr_png_() is None
     with pytest.raises(ValueError):
         image.png()
+
+
+def test_an_image_sky_renders_as_the_cli_with_the_texel_ahead(timbre_cli, tmp_path, monkeypatch):
+    # A 9 x 3 equirectangular sky, a different colour in each texel (column c, row r).
+    texels = np.array(
+        [[[10 + 25 * c, 20 + 100 * r, 128] for c in range(9)] for r in range(3)], dtype=np.uint8
+    )
+    PILImage.fromarray(texels, "RGB").save(tmp_path / "sky.png")
+    text = 'studio = "none"\n[sky]\nimage = "sky.png"\n'
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    exr = tmp_path / "out.exr"
+    cli(timbre_cli, "render", path, "--width", 3, "--height", 3, "-q", "-o", exr)
+    scene = timbre.load(path)
+    image = scene.render(3, 3)
+    assert np.array_equal(image.view(np.ndarray), exr_rgb(read_exr(exr)))
+    # The standard camera looks along +z, the picture's centre: column 4 of 9, the middle row.
+    assert np.allclose(image[1, 1], texels[1, 4] / np.float32(255), atol=1e-6)
+    # Turned by 90 degrees about +y, the centre moves to +x; +z is then at u = 1/4, column 2.
+    turned = scene.copy().set("sky.rotation", 90).render(3, 3)
+    assert np.allclose(turned[1, 1], texels[1, 2] / np.float32(255), atol=1e-6)
+    # Scene text names the picture relative to the working directory.
+    monkeypatch.chdir(tmp_path)
+    assert np.array_equal(timbre.load(text).render(3, 3), image)

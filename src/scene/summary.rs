@@ -7,6 +7,7 @@ use glam::DVec3;
 use super::{SceneDescription, Stereo};
 use crate::geometry::Shape;
 use crate::math::ReferenceFrame;
+use crate::picture::Picture;
 
 /// Counts and bounds of a scene's geometry.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,10 +61,28 @@ impl SceneDescription {
         summary
     }
 
+    /// The distinct pictures the scene's surfaces show (a picture file named several times
+    /// is read once and held once).
+    pub fn pictures(&self) -> Vec<&Picture> {
+        let mut pictures: Vec<&Picture> = Vec::new();
+        for p in self.objects.iter().flat_map(|o| o.surface.pictures()) {
+            if !pictures.contains(&p) {
+                pictures.push(p);
+            }
+        }
+        pictures
+    }
+
+    /// Bytes of memory the scene's pictures hold.
+    pub fn picture_bytes(&self) -> u64 {
+        self.pictures().iter().map(|p| p.bytes()).sum()
+    }
+
     /// Bytes that building the scene adds to what its description holds, generously: Embree's
     /// geometry and BVH and timbre's tables, measured with Embree 3.13.5 at about 520 bytes an
     /// array copy (counted as 640), 120 a mesh triangle (each prototype once) and 600 an
-    /// object.
+    /// object. The pictures are not counted: the description holds them already, read only
+    /// where the memory was there ([`Picture::load`]), and building shares them.
     pub fn build_memory(&self) -> u64 {
         let triangles: u64 = self
             .objects
@@ -142,6 +161,14 @@ impl fmt::Display for Report<'_> {
         }
         writeln!(f, "  shapes:       {}", shape_counts(d))?;
         writeln!(f, "  point lights: {}", d.lights.points.len())?;
+        let pictures = d.pictures().len();
+        if pictures > 0 {
+            writeln!(
+                f,
+                "  pictures:     {pictures} ({:.2} MiB)",
+                d.picture_bytes() as f64 / f64::from(1 << 20)
+            )?;
+        }
         if !d.trajectories.is_empty() {
             let rays: usize = d.trajectories.iter().map(|t| t.rays().len()).sum();
             writeln!(f, "  trajectories: {} ({rays} rays)", d.trajectories.len())?;

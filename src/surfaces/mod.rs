@@ -11,7 +11,9 @@ pub mod ideal_lenses;
 pub mod lenses;
 pub mod metatoys;
 mod mirror;
+mod picture;
 mod refractive;
+mod sky;
 mod transparent;
 
 pub use appearance::{
@@ -40,7 +42,9 @@ pub use metatoys::{
     Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
+pub use picture::{Lighting, PictureKeys, PictureSurface};
 pub use refractive::{Refractive, RefractiveKeys, refract};
+pub use sky::{ImageSky, SkyKeys};
 pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
@@ -48,7 +52,7 @@ use glam::DVec3;
 use crate::geometry::{Exit, Interaction, Shape, Transform};
 use crate::keys::kinds;
 use crate::math::Colour;
-use crate::picture::PictureFile;
+use crate::picture::{Picture, PictureFile};
 
 kinds! {
     /// A `surface` table: its `type` names the law, its other keys are the law's own (read by
@@ -107,6 +111,7 @@ kinds! {
         Striped(StripedKeys),
         SurfaceTiling(SurfaceTilingKeys),
         TimeDependentColour(TimeDependentColourKeys),
+        Picture(PictureKeys),
     }
 }
 
@@ -123,6 +128,7 @@ impl SurfaceKeys {
             SurfaceKeys::LayerStack(keys) => keys.pictures(),
             SurfaceKeys::Striped(keys) => keys.pictures(),
             SurfaceKeys::SurfaceTiling(keys) => keys.pictures(),
+            SurfaceKeys::Picture(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -219,6 +225,10 @@ pub enum Surface {
     Striped(Striped),
     SurfaceTiling(SurfaceTiling),
     TimeDependentColour(TimeDependentColour),
+    /// A picture on the shape's surface coordinates (charted shapes only).
+    Picture(PictureSurface),
+    /// An equirectangular picture of the sky at infinity, picked by the ray's direction.
+    ImageSky(ImageSky),
 }
 
 impl Surface {
@@ -255,6 +265,8 @@ impl Surface {
             Surface::Striped(_) => "striped",
             Surface::SurfaceTiling(_) => "surface-tiling",
             Surface::TimeDependentColour(_) => "time-dependent-colour",
+            Surface::Picture(_) => "picture",
+            Surface::ImageSky(_) => "image-sky",
         }
     }
 
@@ -316,6 +328,8 @@ impl Surface {
             Surface::TintedSolid(s) => s.redirect(at),
             Surface::LayerStack(s) => s.redirect(at),
             Surface::GlowingCloud(s) => s.redirect(at),
+            Surface::Picture(s) => s.redirect(at),
+            Surface::ImageSky(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -391,12 +405,25 @@ impl Surface {
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
-            | Surface::Teleporting(_) => self.clone(),
+            | Surface::Teleporting(_)
+            | Surface::Picture(_)
+            | Surface::ImageSky(_) => self.clone(),
         })
     }
 
+    /// The pictures the surface shows, its parts' too (shared pictures as often as they
+    /// appear).
+    pub fn pictures(&self) -> Vec<&Picture> {
+        match self {
+            Surface::Picture(s) => vec![&s.picture],
+            Surface::ImageSky(s) => vec![&s.picture],
+            Surface::Chequerboard(c) => c.surfaces.iter().flat_map(Surface::pictures).collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms need surface coordinates on every part
+    /// sphere's centre and radius; phase holograms and pictures need surface coordinates on every part
     /// (plane coordinates or coordinate axes). The other laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match self {
@@ -409,6 +436,13 @@ impl Surface {
                  (a flat shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, \
                  bilinear surface, cylinder or cone with open = true, or one of them \
                  transformed); a closed cylinder's or cone's caps and meshes have none"
+                    .to_string(),
+            ),
+            Surface::Picture(_) if !shape.is_charted() => Err(
+                "a picture surface needs surface coordinates on every part of its shape (a flat \
+                 shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, bilinear \
+                 surface, cylinder or cone with open = true, or one of them transformed); a \
+                 closed cylinder's or cone's caps and meshes have none"
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
@@ -426,6 +460,8 @@ impl Surface {
             }
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
+            | Surface::Picture(_)
+            | Surface::ImageSky(_)
             | Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::Mirror(_)

@@ -18,13 +18,14 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use thiserror::Error;
 
-use super::SceneDescription;
 use super::lights::{Lights, PointLight};
 use super::settings::SettingValues;
 use super::studio::{self, Studio};
+use super::{SceneDescription, SceneObject};
 use crate::geometry::{Shape, Transform};
 use crate::keys::{Positive, Rgb, Vector};
 use crate::math::ReferenceFrame;
+use crate::surfaces::SkyKeys;
 use crate::surfaces::Surface;
 use crate::surfaces::SurfaceKeys;
 use camera::CameraSection;
@@ -380,6 +381,7 @@ struct File {
     #[serde(default)]
     include: Vec<IncludeSection>,
     window: Option<Spanned<WindowSection>>,
+    sky: Option<Spanned<SkyKeys>>,
     #[serde(default)]
     ray_trajectory: Vec<Spanned<TrajectorySection>>,
 }
@@ -409,6 +411,7 @@ impl File {
         one(&mut self.render, next.render, "render")?;
         one(&mut self.camera, next.camera, "camera")?;
         one(&mut self.window, next.window, "window")?;
+        one(&mut self.sky, next.sky, "sky")?;
         self.light.extend(next.light);
         self.object.extend(next.object);
         self.device.extend(next.device);
@@ -612,9 +615,13 @@ fn describe(
         scene.trajectories.push(trajectory);
     }
 
+    let mut placer = Placer::new(path, source.text.len(), within);
     let mut links = Vec::new();
     if let Some(window) = file.window {
-        links.extend(set_window(source, &mut scene, studio, window)?);
+        links.extend(set_window(source, &mut placer, &mut scene, studio, window)?);
+    }
+    if let Some(sky) = file.sky {
+        set_sky(source, &mut placer, &mut scene, sky)?;
     }
 
     let studio_objects = scene.objects.len();
@@ -624,7 +631,6 @@ fn describe(
         group: file.group,
         include: file.include,
     };
-    let mut placer = Placer::new(path, source.text.len(), within);
     let placed = placer.items(
         source,
         items,
@@ -671,6 +677,7 @@ fn lights(sections: Vec<LightSection>) -> Lights {
 /// pane's link to its destination is returned, to be made once every object is placed.
 fn set_window(
     source: &Source,
+    placer: &mut Placer,
     scene: &mut SceneDescription,
     studio: Option<Studio>,
     window: Spanned<WindowSection>,
@@ -687,8 +694,9 @@ fn set_window(
             )
         })?;
     let surface_span = window.into_inner().surface;
-    let (span, section) = (surface_span.span(), surface_span.into_inner());
+    let (span, mut section) = (surface_span.span(), surface_span.into_inner());
     let at = |m: String| source.error(Some(span.clone()), format!("window: {m}"));
+    placer.open_pictures(source, &mut section).map_err(at)?;
     let link = section.destination().map(|destination| Link {
         origin: studio::WINDOW.to_string(),
         destination: destination.to_string(),
@@ -697,6 +705,29 @@ fn set_window(
     pane.surface = section.build().map_err(at)?;
     pane.surface.check_shape(&pane.shape).map_err(at)?;
     Ok(link)
+}
+
+/// Gives the studio's sky the `[sky]` table's picture, or adds a sky with it to a scene
+/// without a studio.
+fn set_sky(
+    source: &Source,
+    placer: &mut Placer,
+    scene: &mut SceneDescription,
+    sky: Spanned<SkyKeys>,
+) -> Result<(), SceneFileError> {
+    let span = sky.span();
+    let at = |m: String| source.error(Some(span.clone()), format!("sky: {m}"));
+    let mut keys = sky.into_inner();
+    keys.image.picture = Some(placer.picture(source, &keys.image.name).map_err(at)?);
+    let surface = keys.build().map_err(at)?;
+    match scene.objects.iter_mut().find(|o| o.name == "sky") {
+        Some(studio_sky) => studio_sky.surface = surface,
+        None => scene.objects.push(SceneObject {
+            surface,
+            ..studio::sky()
+        }),
+    }
+    Ok(())
 }
 
 /// Gives the teleporting surfaces of object `origin` (and, for a mesh file, its parts) the

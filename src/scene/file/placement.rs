@@ -544,6 +544,18 @@ impl<'a> Placer<'a> {
         Ok(picture)
     }
 
+    /// Opens the picture files the surface `keys` of `source` name.
+    pub(super) fn open_pictures(
+        &mut self,
+        source: &Source,
+        keys: &mut SurfaceKeys,
+    ) -> Result<(), String> {
+        for file in keys.pictures() {
+            file.picture = Some(self.picture(source, &file.name)?);
+        }
+        Ok(())
+    }
+
     /// Adds `bytes` of scene-file text, included at `span` of `source`, to the scene's total.
     fn count_bytes(
         &mut self,
@@ -600,13 +612,10 @@ impl<'a> Placer<'a> {
             });
         }
         let mut keys = o.surface.into_inner();
-        for file in keys.pictures() {
-            let picture = self.picture(source, &file.name).map_err(|e| {
-                let label = super::object_label(&name);
-                source.error(Some(surface_span.clone()), format!("{label}: {e}"))
-            })?;
-            file.picture = Some(picture);
-        }
+        self.open_pictures(source, &mut keys).map_err(|e| {
+            let label = super::object_label(&name);
+            source.error(Some(surface_span.clone()), format!("{label}: {e}"))
+        })?;
         let surface = keys.build().map_err(|e| {
             source.error(
                 Some(surface_span.clone()),

@@ -118,7 +118,9 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::IdealThinMirror(_)
         | Surface::IdealThinLensletArray(_)
         | Surface::Glens(_)
-        | Surface::TimeDependentColour(_) => Ok(()),
+        | Surface::TimeDependentColour(_)
+        | Surface::Picture(_)
+        | Surface::ImageSky(_) => Ok(()),
     }
 }
 
