@@ -302,20 +302,42 @@ impl MeshKeys {
     }
 
     /// The parts of the mesh file, relative to `dir`, as triangle meshes, each with its name
-    /// ("" for a file of one part).
+    /// ("" for a file of one part); materials are not read.
     pub fn load(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {
-        let path = dir.join(self.file);
-        let meshes = mesh::load(&path).map_err(|e| e.to_string())?;
-        let single = meshes.len() == 1;
-        meshes
+        let (parts, _) = self.load_with(dir, None)?;
+        Ok(parts
             .into_iter()
+            .map(|(name, shape, _)| (name, shape))
+            .collect())
+    }
+
+    /// [`Self::load`] with each part's material, when `open` is given to read the MTL files
+    /// an OBJ file names (relative to the OBJ file), and the MTL files' warnings. A part with
+    /// a material is named after it too.
+    #[allow(clippy::type_complexity)]
+    pub fn load_with(
+        self,
+        dir: &Path,
+        open: Option<mesh::Open>,
+    ) -> Result<(Vec<(String, Shape, Option<mesh::Material>)>, Vec<String>), String> {
+        let path = dir.join(self.file);
+        let loaded = mesh::load_with(&path, open).map_err(|e| e.to_string())?;
+        let single = loaded.meshes.len() == 1;
+        let materials = &loaded.materials;
+        let parts = loaded
+            .meshes
+            .into_iter()
+            .zip(loaded.material_of)
             .enumerate()
-            .filter(|(_, m)| !m.triangles.is_empty())
-            .map(|(i, m)| {
-                let name = match (single, m.name.is_empty()) {
-                    (true, _) => String::new(),
-                    (false, true) => format!("part {}", i + 1),
-                    (false, false) => m.name.clone(),
+            .filter(|(_, (m, _))| !m.triangles.is_empty())
+            .map(|(i, (m, material))| {
+                let material = material.map(|k| materials[k].clone());
+                let name = match (single, m.name.is_empty(), &material) {
+                    (true, _, _) => String::new(),
+                    (false, true, Some(mat)) => mat.name.clone(),
+                    (false, false, Some(mat)) => format!("{} ({})", m.name, mat.name),
+                    (false, true, None) => format!("part {}", i + 1),
+                    (false, false, None) => m.name.clone(),
                 };
                 let normals = m.normals.filter(|_| self.smooth);
                 let part = if single {
@@ -324,10 +346,11 @@ impl MeshKeys {
                     format!(" (part '{name}')")
                 };
                 TriangleMesh::with_normals(m.vertices, m.triangles, normals)
-                    .map(|t| (name, Shape::TriangleMesh(t)))
+                    .map(|t| (name, Shape::TriangleMesh(t), material))
                     .map_err(|e| format!("{}{part}: {e}", path.display()))
             })
-            .collect()
+            .collect::<Result<_, _>>()?;
+        Ok((parts, loaded.warnings))
     }
 }
 

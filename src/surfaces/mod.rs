@@ -8,6 +8,7 @@ mod coloured;
 mod constant_colour;
 pub mod ideal_lenses;
 pub mod lenses;
+pub mod mesh_materials;
 pub mod metatoys;
 mod mirror;
 mod refractive;
@@ -180,6 +181,8 @@ pub enum Surface {
     IdealThinMirror(ThinMirror),
     IdealThinLensletArray(LensletArray),
     Glens(Glens),
+    /// A mesh material with MTL `d` < 1 ([`mesh_materials`]).
+    Dissolved(mesh_materials::Dissolved),
 }
 
 impl Surface {
@@ -206,6 +209,7 @@ impl Surface {
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
+            Surface::Dissolved(_) => "mesh material",
         }
     }
 
@@ -217,6 +221,7 @@ impl Surface {
             Surface::Coloured(s) => Redirection::Lit(*s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            Surface::Dissolved(d) => Redirection::Mixes(&d.parts[..]),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -230,7 +235,10 @@ impl Surface {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         let redirection = match self {
-            Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
+            Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Chequerboard(_)
+            | Surface::Dissolved(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -301,7 +309,8 @@ impl Surface {
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
-            | Surface::Teleporting(_) => self.clone(),
+            | Surface::Teleporting(_)
+            | Surface::Dissolved(_) => self.clone(),
         })
     }
 
@@ -340,7 +349,8 @@ impl Surface {
             | Surface::IdealThinLens(_)
             | Surface::IdealThinMirror(_)
             | Surface::IdealThinLensletArray(_)
-            | Surface::Glens(_) => Ok(()),
+            | Surface::Glens(_)
+            | Surface::Dissolved(_) => Ok(()),
         }
     }
 }

@@ -1,0 +1,169 @@
+//! Materials from mesh files: an OBJ file's MTL colours become its parts' surfaces, one per
+//! `usemtl`; a given surface overrides them; unsupported keys are warnings; a missing library
+//! or material is an error located in the scene file and the OBJ file.
+
+mod common;
+
+use std::path::Path;
+
+use glam::DVec3;
+use tempfile::TempDir;
+use timbre::io::to_rgb8;
+use timbre::scene::{SceneDescription, file};
+use timbre::surfaces::{Coloured, Surface};
+
+use common::images::render_description;
+
+/// A unit square at z = 0 in two triangles, the lower right one `red` and the upper left one
+/// `blue`.
+const SQUARE: &str = "mtllib two.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n\
+                      usemtl red\nf 1 2 3\nusemtl blue\nf 1 3 4\n";
+const TWO: &str = "newmtl red\nKd 1 0 0\nKs 0.25 0.5 0.75\nnewmtl blue\nKd 0 0 1\nd 0.25\n";
+
+fn dir_with(files: &[(&str, &str)]) -> TempDir {
+    let dir = TempDir::new().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+fn parse_in(dir: &Path, text: &str) -> Result<SceneDescription, String> {
+    let path = dir.join("scene.toml");
+    file::parse(text, path.to_str().unwrap()).map_err(|e| e.to_string())
+}
+
+fn surface_of<'a>(d: &'a SceneDescription, name: &str) -> &'a Surface {
+    let found = d.objects.iter().find(|o| o.name == name);
+    &found
+        .unwrap_or_else(|| panic!("no object '{name}'"))
+        .surface
+}
+
+const SCENE: &str = "[[object]]\nname = \"sq\"\nshape = { type = \"mesh\", file = \"square.obj\" }\n\
+                     transform = { translate = [-0.5, -0.5, 5] }\n";
+
+#[test]
+fn each_usemtl_part_shows_its_mtl_colours() {
+    let dir = dir_with(&[("square.obj", SQUARE), ("two.mtl", TWO)]);
+    let d = parse_in(dir.path(), SCENE).unwrap();
+    assert_eq!(
+        *surface_of(&d, "sq/red"),
+        Surface::Coloured(Coloured {
+            diffuse: DVec3::new(1.0, 0.0, 0.0),
+            specular: DVec3::new(0.25, 0.5, 0.75),
+        })
+    );
+    // d = 0.25: a quarter of the colour, three quarters of what lies behind.
+    let Surface::Dissolved(blue) = surface_of(&d, "sq/blue") else {
+        panic!("blue is not dissolved");
+    };
+    assert_eq!(blue.parts[0].weight, DVec3::splat(0.25));
+    assert_eq!(blue.parts[1].weight, DVec3::splat(0.75));
+    assert_eq!(
+        blue.parts[0].surface,
+        Surface::Coloured(Coloured::matt(DVec3::new(0.0, 0.0, 1.0)))
+    );
+}
+
+#[test]
+fn a_red_diffuse_material_reflects_no_green_or_blue() {
+    let mtl = "newmtl red\nKd 1 0 0\n";
+    let obj = "mtllib red.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl red\nf 1 2 3 4\n";
+    let dir = dir_with(&[("square.obj", obj), ("red.mtl", mtl)]);
+    let d = parse_in(
+        dir.path(),
+        &format!("[render]\nwidth = 40\nheight = 30\nspp = 1\n{SCENE}"),
+    )
+    .unwrap();
+    let picture = to_rgb8(&render_description(&d));
+    let centre = picture.get_pixel(20, 15);
+    assert!(centre[0] > 50, "{centre:?}");
+    assert_eq!((centre[1], centre[2]), (0, 0), "{centre:?}");
+}
+
+#[test]
+fn a_given_surface_overrides_the_materials() {
+    let dir = dir_with(&[("square.obj", SQUARE), ("two.mtl", TWO)]);
+    let text = format!("{SCENE}surface = {{ type = \"mirror\" }}\n");
+    let d = parse_in(dir.path(), &text).unwrap();
+    let mesh: Vec<_> = d
+        .objects
+        .iter()
+        .filter(|o| o.name.starts_with("sq"))
+        .collect();
+    // Without the materials the file is one part.
+    assert_eq!(mesh.len(), 1);
+    assert_eq!(mesh[0].surface.kind(), "mirror");
+}
+
+#[test]
+fn every_copy_of_an_array_keeps_its_parts_materials() {
+    let dir = dir_with(&[("square.obj", SQUARE), ("two.mtl", TWO)]);
+    let text = format!("{SCENE}array = {{ vectors = [[2, 0, 0]], counts = [3] }}\n");
+    let d = parse_in(dir.path(), &text).unwrap();
+    assert_eq!(d.arrays.len(), 1);
+    let array = &d.arrays[0];
+    assert_eq!(array.offsets.len(), 3);
+    let mut kinds: Vec<(&str, &str)> = d.objects[array.objects.clone()]
+        .iter()
+        .map(|o| (o.name.as_str(), o.surface.kind()))
+        .collect();
+    kinds.sort();
+    assert_eq!(
+        kinds,
+        [("sq/blue", "mesh material"), ("sq/red", "coloured")]
+    );
+}
+
+#[test]
+fn unsupported_mtl_keys_are_warnings_naming_them() {
+    let mtl = format!("{TWO}Ka 0.1 0.1 0.1\nillum 2\n");
+    let dir = dir_with(&[("square.obj", SQUARE), ("two.mtl", &mtl)]);
+    let warnings = parse_in(dir.path(), SCENE).unwrap().warnings();
+    for (key, line) in [("Ka", 7), ("illum", 8)] {
+        let expected = format!("object 'sq': two.mtl:{line}:1: '{key}' is not supported");
+        assert!(
+            warnings.iter().any(|w| w.starts_with(&expected)),
+            "{expected} not in {warnings:?}"
+        );
+    }
+}
+
+#[test]
+fn a_missing_library_or_material_is_a_located_error() {
+    let obj = SQUARE.replace("two.mtl", "none.mtl");
+    let dir = dir_with(&[("square.obj", &obj)]);
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(e.contains("scene.toml:3:9: object 'sq': "), "{e}");
+    assert!(e.contains("square.obj:1:8: mtllib: "), "{e}");
+    assert!(e.contains("none.mtl"), "{e}");
+
+    let obj = SQUARE.replace("usemtl blue", "usemtl green");
+    let dir = dir_with(&[("square.obj", &obj), ("two.mtl", TWO)]);
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(
+        e.contains("square.obj:8:8: usemtl: no material 'green'"),
+        "{e}"
+    );
+
+    let dir = dir_with(&[
+        ("square.obj", SQUARE),
+        ("two.mtl", "newmtl red\nKd 2 0 0\n"),
+    ]);
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(
+        e.contains("in 'two.mtl': 2:4: Kd: 2 must be in [0, 1]"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_mesh_without_materials_still_needs_a_surface() {
+    let dir = dir_with(&[("square.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")]);
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(
+        e.contains(":3:9: object 'sq': missing field `surface`"),
+        "{e}"
+    );
+}
