@@ -167,3 +167,86 @@ fn a_mesh_without_materials_still_needs_a_surface() {
         "{e}"
     );
 }
+
+/// A 2 × 2 texture: red, green on the top row; blue, white on the bottom one.
+fn write_quadrants(path: &Path) {
+    let mut picture = image::RgbImage::new(2, 2);
+    picture.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+    picture.put_pixel(1, 0, image::Rgb([0, 255, 0]));
+    picture.put_pixel(0, 1, image::Rgb([0, 0, 255]));
+    picture.put_pixel(1, 1, image::Rgb([255, 255, 255]));
+    picture.save(path).unwrap();
+}
+
+#[test]
+fn a_textured_material_shows_the_texel_at_the_interpolated_texture_coordinates() {
+    // The square's texture coordinates run over the texture once; u right, v up.
+    let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+               usemtl t\nf 1/1 2/2 3/3 4/4\n";
+    let dir = dir_with(&[
+        ("square.obj", obj),
+        ("t.mtl", "newmtl t\nKd 1 1 1\nmap_Kd q.png\n"),
+    ]);
+    write_quadrants(&dir.path().join("q.png"));
+    let d = parse_in(
+        dir.path(),
+        &format!("[render]\nwidth = 40\nheight = 40\nspp = 1\n{SCENE}"),
+    )
+    .unwrap();
+    let picture = to_rgb8(&render_description(&d));
+    // The camera looks along +z with x to the left on the picture (the square spans x in
+    // [-0.5, 0.5] at z = 5): find the square's pixels and check each quadrant's hue.
+    let hue = |x: u32, y: u32| {
+        let p = picture.get_pixel(x, y);
+        (p[0] > 20, p[1] > 20, p[2] > 20)
+    };
+    let (cx, cy) = (20, 20);
+    let off = 2;
+    let quadrants = [
+        hue(cx - off, cy - off),
+        hue(cx + off, cy - off),
+        hue(cx - off, cy + off),
+        hue(cx + off, cy + off),
+    ];
+    // Top row of the picture is the top of the texture (v up = y up); the four colours each
+    // appear once.
+    let mut seen = quadrants.to_vec();
+    seen.sort();
+    assert_eq!(
+        seen,
+        [
+            (false, false, true),
+            (false, true, false),
+            (true, false, false),
+            (true, true, true)
+        ],
+        "{quadrants:?}"
+    );
+    assert!(
+        [(true, false, false), (false, true, false)].contains(&quadrants[0]),
+        "the top of the picture shows the top row of the texture: {quadrants:?}"
+    );
+}
+
+#[test]
+fn a_missing_texture_is_an_error_naming_it() {
+    let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl t\nf 1/1 2/2 3/3\n";
+    let dir = dir_with(&[
+        ("square.obj", obj),
+        ("t.mtl", "newmtl t\nmap_Kd gone.png\n"),
+    ]);
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(
+        e.contains(":3:9: object 'sq': material 't': map_Kd 'gone.png': "),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_texture_without_texture_coordinates_is_refused() {
+    let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl t\nf 1 2 3\n";
+    let dir = dir_with(&[("square.obj", obj), ("t.mtl", "newmtl t\nmap_Kd q.png\n")]);
+    write_quadrants(&dir.path().join("q.png"));
+    let e = parse_in(dir.path(), SCENE).unwrap_err();
+    assert!(e.contains("needs texture coordinates (OBJ vt)"), "{e}");
+}

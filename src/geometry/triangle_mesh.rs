@@ -30,6 +30,8 @@ struct MeshData {
     normals: Option<Vec<DVec3>>,
     /// Zero-area triangles left out of `triangles`.
     removed: usize,
+    /// Texture coordinates (u, v), one pair per vertex, when the file has them.
+    uvs: Option<Vec<DVec2>>,
 }
 
 /// A mesh shows its sizes and a digest of its data (FNV-1a over the mixed bits of every
@@ -55,13 +57,19 @@ impl std::fmt::Debug for MeshData {
             eat(u64::from(t[0]) | u64::from(t[1]) << 32);
             eat(u64::from(t[2]));
         }
-        f.debug_struct("MeshData")
-            .field("vertices", &self.vertices.len())
+        for c in self.uvs.iter().flatten().flat_map(|c| c.to_array()) {
+            eat(c.to_bits());
+        }
+        let mut out = f.debug_struct("MeshData");
+        out.field("vertices", &self.vertices.len())
             .field("triangles", &self.triangles.len())
             .field("normals", &self.normals.is_some())
-            .field("removed", &self.removed)
-            .field("digest", &format_args!("{digest:016x}"))
-            .finish()
+            .field("removed", &self.removed);
+        // Shown only when there are some: meshes without them keep their text (and scene hash).
+        if self.uvs.is_some() {
+            out.field("uvs", &true);
+        }
+        out.field("digest", &format_args!("{digest:016x}")).finish()
     }
 }
 
@@ -118,8 +126,23 @@ impl TriangleMesh {
                 removed: before - triangles.len(),
                 triangles,
                 normals,
+                uvs: None,
             }),
         })
+    }
+
+    /// The mesh with texture coordinates, one (u, v) per vertex (ignored unless there is one
+    /// for each vertex and all are finite); [`Self::coordinates`] interpolates them.
+    pub fn with_uvs(mut self, uvs: Vec<DVec2>) -> TriangleMesh {
+        if uvs.len() == self.data.vertices.len() && uvs.iter().all(|c| c.is_finite()) {
+            Arc::get_mut(&mut self.data).expect("not yet shared").uvs = Some(uvs);
+        }
+        self
+    }
+
+    /// Per-vertex texture coordinates, if the mesh has them.
+    pub fn uvs(&self) -> Option<&[DVec2]> {
+        self.data.uvs.as_deref()
     }
 
     pub fn vertices(&self) -> &[DVec3] {
@@ -153,7 +176,9 @@ impl TriangleMesh {
             .normals()
             .map(|ns| ns.iter().map(|&n| t.normal(n)).collect());
         let mut mesh = TriangleMesh::with_normals(vertices, triangles, normals)?;
-        Arc::get_mut(&mut mesh.data).expect("just made").removed += self.data.removed;
+        let data = Arc::get_mut(&mut mesh.data).expect("just made");
+        data.removed += self.data.removed;
+        data.uvs = self.data.uvs.clone();
         Ok(mesh)
     }
 
@@ -221,25 +246,40 @@ impl TriangleMesh {
     /// barycentrically at `p`, turned to the outward side if they point inwards; u lies along
     /// the triangle's first edge, made perpendicular to w.
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
-        let [v0, v1, v2] = self.corners(prim);
+        let [v0, v1, _] = self.corners(prim);
         let geometric = self.face_normal(prim);
         let smooth = self.normals().and_then(|normals| {
-            let [n0, n1, n2] = self.data.triangles[prim as usize].map(|i| normals[i as usize]);
-            // Barycentric weights of p: sub-triangle areas over the whole.
-            let area = |a: DVec3, b: DVec3| (b - p).cross(a - p).dot(geometric);
-            let whole = geometric.length_squared();
-            let (w0, w1) = (area(v2, v1) / whole, area(v0, v2) / whole);
-            let n = w0 * n0 + w1 * n1 + (1.0 - w0 - w1) * n2;
+            let n = self.interpolated(normals, p, prim);
             let n = n.try_normalize()?;
             Some(if n.dot(geometric) < 0.0 { -n } else { n })
         });
         Frame::from_normal_and_u(smooth.unwrap_or(geometric), v1 - v0)
     }
 
-    /// Surface coordinates of a mesh point: its world x and z (a mesh has no global
-    /// parametrisation; this makes a chequerboard on a mesh look like one laid on the floor).
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        DVec2::new(p.x, p.z)
+    /// Per-vertex `values` interpolated barycentrically at point `p` of triangle `prim`.
+    fn interpolated<T>(&self, values: &[T], p: DVec3, prim: u32) -> T
+    where
+        T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
+    {
+        let [v0, v1, v2] = self.corners(prim);
+        let [a, b, c] = self.data.triangles[prim as usize].map(|i| values[i as usize]);
+        let geometric = self.face_normal(prim);
+        // Barycentric weights of p: sub-triangle areas over the whole.
+        let area = |x: DVec3, y: DVec3| (y - p).cross(x - p).dot(geometric);
+        let whole = geometric.length_squared();
+        let (w0, w1) = (area(v2, v1) / whole, area(v0, v2) / whole);
+        a * w0 + b * w1 + c * (1.0 - w0 - w1)
+    }
+
+    /// Surface coordinates of point `p` of triangle `prim`: the texture coordinates
+    /// interpolated barycentrically when the mesh has them; else its world x and z (a mesh
+    /// has no global parametrisation; this makes a chequerboard on a mesh look like one laid
+    /// on the floor).
+    pub fn coordinates(&self, p: DVec3, prim: u32) -> DVec2 {
+        match self.uvs() {
+            Some(uvs) => self.interpolated(uvs, p, prim),
+            None => DVec2::new(p.x, p.z),
+        }
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {
@@ -328,9 +368,10 @@ impl MeshKeys {
             .meshes
             .into_iter()
             .zip(loaded.material_of)
+            .zip(loaded.uvs)
             .enumerate()
-            .filter(|(_, (m, _))| !m.triangles.is_empty())
-            .map(|(i, (m, material))| {
+            .filter(|(_, ((m, _), _))| !m.triangles.is_empty())
+            .map(|(i, ((m, material), uvs))| {
                 let material = material.map(|k| materials[k].clone());
                 let name = match (single, m.name.is_empty(), &material) {
                     (true, _, _) => String::new(),
@@ -346,6 +387,10 @@ impl MeshKeys {
                     format!(" (part '{name}')")
                 };
                 TriangleMesh::with_normals(m.vertices, m.triangles, normals)
+                    .map(|t| match uvs {
+                        Some(uvs) => t.with_uvs(uvs),
+                        None => t,
+                    })
                     .map(|t| (name, Shape::TriangleMesh(t), material))
                     .map_err(|e| format!("{}{part}: {e}", path.display()))
             })
@@ -389,6 +434,30 @@ mod tests {
         assert_ne!(base, text(mirrored, t(), None));
         // Sizes, not values: the text stays short however large the mesh.
         assert!(base.len() < 200, "{base}");
+    }
+
+    #[test]
+    fn texture_coordinates_are_interpolated_barycentrically() {
+        let uvs = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        let m = triangle(None).with_uvs(uvs);
+        // p = 0.5·v0 + 0.25·v1 + 0.25·v2 = (0.25, 0.25, 0): (u, v) = 0.25·(1, 0) + 0.25·(0, 2).
+        let c = m.coordinates(DVec3::new(0.25, 0.25, 0.0), 0);
+        assert!((c - DVec2::new(0.25, 0.5)).length() < 1e-15, "{c}");
+        // Without them: world x and z.
+        assert_eq!(
+            triangle(None).coordinates(DVec3::new(0.25, 0.5, 0.0), 0),
+            DVec2::new(0.25, 0.0)
+        );
+        // They survive a transform, and the digest tells them apart.
+        let moved = m.transformed(&Transform::translation(DVec3::Z)).unwrap();
+        assert_eq!(moved.uvs(), m.uvs());
+        let other = triangle(None).with_uvs(vec![DVec2::ZERO, DVec2::X, DVec2::Y]);
+        assert_ne!(format!("{m:?}"), format!("{other:?}"));
+        assert!(!format!("{:?}", triangle(None)).contains("uvs"));
     }
 
     #[test]

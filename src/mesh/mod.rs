@@ -84,6 +84,8 @@ pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
 #[derive(Debug)]
 pub struct Loaded {
     pub meshes: Vec<Mesh>,
+    /// Each mesh's texture coordinates (OBJ `vt`), one per vertex, if it has them.
+    pub uvs: Vec<Option<Vec<glam::DVec2>>>,
     /// The index in `materials` of each mesh's material (OBJ `usemtl`), if any.
     pub material_of: Vec<Option<usize>>,
     pub materials: Vec<Material>,
@@ -106,16 +108,10 @@ pub fn load_with(path: &Path, open: Option<Open>) -> Result<Loaded, MeshError> {
             source,
         })?;
     let loaded = match format {
-        MeshFormat::Obj => {
-            obj::read_with(&bytes, open).map(|(meshes, material_of, materials, warnings)| Loaded {
-                meshes,
-                material_of,
-                materials,
-                warnings,
-            })
-        }
+        MeshFormat::Obj => obj::read_with(&bytes, open),
         MeshFormat::Ply => ply::read(&bytes).map(|m| Loaded {
             meshes: vec![m],
+            uvs: vec![None],
             material_of: vec![None],
             materials: Vec::new(),
             warnings: Vec::new(),

@@ -1,6 +1,6 @@
 //! Wavefront MTL material libraries, read line by line with located errors: `newmtl`, `Kd`,
-//! `Ks` (r g b, each in [0, 1]), `d` (in [0, 1]); `Ns` (≥ 0), `Ni` (> 0) and `map_Kd` are
-//! checked and kept but not used, with a warning; every other key is named in a warning and
+//! `Ks` (r g b, each in [0, 1]), `d` (in [0, 1]), `map_Kd` (a file name); `Ns` (≥ 0) and `Ni`
+//! (> 0) are checked and kept but not used, with a warning; every other key is named in a warning and
 //! ignored.
 
 use glam::DVec3;
@@ -22,7 +22,7 @@ pub struct Material {
     pub dissolve: f64,
     /// `Ni`, refractive index (read; not used).
     pub index: Option<f64>,
-    /// `map_Kd`, the diffuse texture's file name as written (relative to the MTL file).
+    /// `map_Kd`, the diffuse texture's file name (as loaded from an OBJ file: relative to it).
     pub diffuse_map: Option<String>,
 }
 
@@ -98,10 +98,6 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
                 ));
             }
             material.diffuse_map = Some(words[0].to_string());
-            warnings.push(format!(
-                "{}: 'map_Kd' (a texture) is not drawn yet; the material shows its Kd",
-                super::obj::column(line_no, line, key)
-            ));
             continue;
         }
         let numbers = words
@@ -176,7 +172,6 @@ mod tests {
                  (phong_exponent)",
                 "7:1: 'Ni' is read but not used: a partly transparent material passes light \
                  straight on",
-                "8:1: 'map_Kd' (a texture) is not drawn yet; the material shows its Kd",
             ]
         );
         assert_eq!(m.len(), 2);

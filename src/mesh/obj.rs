@@ -1,5 +1,5 @@
 //! Wavefront OBJ, read with `tobj` (one mesh per object or group and material; polygons
-//! triangulated; materials from `mtllib` files when asked for; texture coordinates ignored) and written with one `v` (and `vn`) line per
+//! triangulated; materials from `mtllib` files when asked for; texture coordinates) and written with one `v` (and `vn`) line per
 //! vertex.
 //!
 //! `tobj` reports what went wrong but not where, and takes some malformed lines without a word,
@@ -19,10 +19,10 @@
 use std::borrow::Cow;
 use std::io::Write;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::mtl::Material;
-use super::{Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
+use super::{Loaded, Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
 
 /// Opens a file an OBJ file names (an MTL library), by its name relative to the OBJ file.
 pub type Open<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
@@ -30,10 +30,7 @@ pub type Open<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
 /// The meshes of an OBJ file, each with the index of its material in the libraries its
 /// `mtllib` lines name (read through `open` when given; ignored, as `tobj` alone would, when
 /// not), the materials, and the libraries' warnings (each "LIBRARY:N:C: ...").
-pub(super) fn read_with(
-    bytes: &[u8],
-    open: Option<Open>,
-) -> Result<(Vec<Mesh>, Vec<Option<usize>>, Vec<Material>, Vec<String>), ParseProblem> {
+pub(super) fn read_with(bytes: &[u8], open: Option<Open>) -> Result<Loaded, ParseProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| not_utf8(bytes, &e))?;
     let checked = check(text)?;
     let options = tobj::LoadOptions {
@@ -63,7 +60,16 @@ pub(super) fn read_with(
                     })?;
                     let first = materials.len();
                     warnings.extend(told.into_iter().map(|w| format!("{name}:{w}")));
-                    materials.extend(read);
+                    // A texture is named relative to its library, kept relative to the OBJ file.
+                    let dir = std::path::Path::new(name)
+                        .parent()
+                        .unwrap_or(std::path::Path::new(""));
+                    materials.extend(read.into_iter().map(|mut m| {
+                        m.diffuse_map = m
+                            .diffuse_map
+                            .map(|t| dir.join(t).to_string_lossy().into_owned());
+                        m
+                    }));
                     libraries.push((name.to_string(), first..materials.len()));
                 }
                 Some("usemtl") if !libraries.is_empty() => {
@@ -103,10 +109,15 @@ pub(super) fn read_with(
     })
     .map_err(|e| ParseProblem::new("", format!("invalid OBJ file: {e}")))?;
     let mut indices = Vec::with_capacity(models.len());
+    let mut uvs = Vec::with_capacity(models.len());
     let mut meshes = Vec::with_capacity(models.len());
     for model in models {
         let m = model.mesh;
         indices.push(m.material_id);
+        uvs.push(
+            (m.texcoords.len() * 3 == m.positions.len() * 2)
+                .then(|| m.texcoords.chunks_exact(2).map(DVec2::from_slice).collect()),
+        );
         let vertices = to_points(&m.positions);
         check_finite("vertex", &vertices, |_| String::new())?;
         let normals = (m.normals.len() == m.positions.len())
@@ -128,7 +139,13 @@ pub(super) fn read_with(
             normals,
         });
     }
-    Ok((meshes, indices, materials, warnings))
+    Ok(Loaded {
+        meshes,
+        uvs,
+        material_of: indices,
+        materials,
+        warnings,
+    })
 }
 
 /// An object or group name with control and invisible characters escaped (it ends up in

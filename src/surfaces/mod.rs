@@ -183,6 +183,8 @@ pub enum Surface {
     Glens(Glens),
     /// A mesh material with MTL `d` < 1 ([`mesh_materials`]).
     Dissolved(mesh_materials::Dissolved),
+    /// A mesh material with a texture (MTL `map_Kd`).
+    Textured(mesh_materials::Textured),
 }
 
 impl Surface {
@@ -210,6 +212,7 @@ impl Surface {
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
             Surface::Dissolved(_) => "mesh material",
+            Surface::Textured(_) => "textured mesh material",
         }
     }
 
@@ -258,6 +261,7 @@ impl Surface {
             Surface::IdealThinMirror(s) => s.redirect(at),
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
+            Surface::Textured(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -310,7 +314,8 @@ impl Surface {
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
             | Surface::Teleporting(_)
-            | Surface::Dissolved(_) => self.clone(),
+            | Surface::Dissolved(_)
+            | Surface::Textured(_) => self.clone(),
         })
     }
 
@@ -351,6 +356,14 @@ impl Surface {
             | Surface::IdealThinLensletArray(_)
             | Surface::Glens(_)
             | Surface::Dissolved(_) => Ok(()),
+            Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
+                Err(
+                    "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \
+                     every face of its part"
+                        .to_string(),
+                )
+            }
+            Surface::Textured(_) => Ok(()),
         }
     }
 }

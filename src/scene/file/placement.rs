@@ -588,15 +588,18 @@ impl<'a> Placer<'a> {
         let shape_span = o.shape.span();
         let label = super::object_label(&name);
         let at_shape = |e: String| source.error(Some(shape_span.clone()), format!("{label}: {e}"));
+        // Files a mesh file names (MTL libraries, their textures) are relative to it, and
+        // admitted as if the scene file named them.
+        let mesh_dir = match o.shape.get_ref() {
+            ShapeKeys::Mesh(mesh) => Path::new(mesh.file())
+                .parent()
+                .map(Path::to_path_buf)
+                .unwrap_or_default(),
+            _ => PathBuf::new(),
+        };
         let parts = match o.shape.into_inner() {
             ShapeKeys::Mesh(mesh) => {
                 self.admit(source, mesh.file()).map_err(&at_shape)?;
-                // The MTL files are named relative to the mesh file, and admitted as if the
-                // scene file named them.
-                let mesh_dir = Path::new(mesh.file())
-                    .parent()
-                    .map(Path::to_path_buf)
-                    .unwrap_or_default();
                 let mut open = |library: &str| {
                     let relative = mesh_dir.join(library);
                     let (path, _) = self.admit(source, &relative.to_string_lossy())?;
@@ -646,7 +649,24 @@ impl<'a> Placer<'a> {
             .map(|(part, shape, material)| {
                 let surface = match (&surface, material) {
                     (Some(s), _) => s.clone(),
-                    (None, Some(m)) => mesh_materials::from_material(&m),
+                    (None, Some(m)) => {
+                        let texture = match &m.diffuse_map {
+                            Some(map) => {
+                                let relative = mesh_dir.join(map);
+                                let picture = self
+                                    .picture(source, &relative.to_string_lossy())
+                                    .map_err(|e| {
+                                        at_shape(format!(
+                                            "material '{}': map_Kd '{map}': {e}",
+                                            m.name
+                                        ))
+                                    })?;
+                                Some(picture)
+                            }
+                            None => None,
+                        };
+                        mesh_materials::from_material(&m, texture)
+                    }
                     (None, None) => {
                         return Err(at_shape(if part.is_empty() {
                             "missing field `surface` (only a mesh file whose parts have materials may \
