@@ -250,3 +250,67 @@ fn a_texture_without_texture_coordinates_is_refused() {
     let e = parse_in(dir.path(), SCENE).unwrap_err();
     assert!(e.contains("needs texture coordinates (OBJ vt)"), "{e}");
 }
+
+/// A PLY square (z = 0, x and y in [0, 1]) with the given vertex colours (`uchar` r g b).
+fn coloured_ply(colours: [[u8; 3]; 4]) -> String {
+    let corners = ["0 0 0", "1 0 0", "1 1 0", "0 1 0"];
+    let mut text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+                    property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+                    element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        .to_string();
+    for (p, [r, g, b]) in corners.iter().zip(colours) {
+        text += &format!("{p} {r} {g} {b}\n");
+    }
+    text + "4 0 1 2 3\n"
+}
+
+const PLY_SCENE: &str = "[render]\nwidth = 40\nheight = 30\nspp = 1\n[[object]]\nname = \"sq\"\n\
+                         shape = { type = \"mesh\", file = \"square.ply\" }\n\
+                         transform = { translate = [-0.5, -0.5, 5] }\n";
+
+#[test]
+fn ply_vertex_colours_are_the_surface_when_none_is_given() {
+    let ply = coloured_ply([[255, 0, 0]; 4]);
+    let dir = dir_with(&[("square.ply", &ply)]);
+    let d = parse_in(dir.path(), PLY_SCENE).unwrap();
+    assert_eq!(surface_of(&d, "sq").kind(), "vertex colours");
+    let Some(timbre::geometry::Shape::TriangleMesh(m)) =
+        d.objects.iter().find(|o| o.name == "sq").map(|o| &o.shape)
+    else {
+        panic!("not a mesh");
+    };
+    // 255 of uchar is 1.
+    assert_eq!(m.colours().unwrap()[0], DVec3::new(1.0, 0.0, 0.0));
+    let picture = to_rgb8(&render_description(&d));
+    let centre = picture.get_pixel(20, 15);
+    assert!(centre[0] > 50, "{centre:?}");
+    assert_eq!((centre[1], centre[2]), (0, 0), "{centre:?}");
+}
+
+#[test]
+fn ply_vertex_colours_are_interpolated_to_their_mean_at_the_centroid() {
+    // Triangle 0 of the fan is vertices 0, 1, 2; its centroid (2/3, 1/3, 0) sees the mean.
+    let ply = coloured_ply([[255, 0, 0], [0, 255, 0], [0, 0, 255], [0, 0, 0]]);
+    let dir = dir_with(&[("square.ply", &ply)]);
+    let d = parse_in(dir.path(), PLY_SCENE).unwrap();
+    let o = d.objects.iter().find(|o| o.name == "sq").unwrap();
+    let timbre::geometry::Shape::TriangleMesh(m) = &o.shape else {
+        panic!("not a mesh");
+    };
+    let [a, b, c] = m.triangles()[0].map(|i| m.vertices()[i as usize]);
+    let c = m.colour_at((a + b + c) / 3.0, 0).unwrap();
+    assert!((c - DVec3::splat(1.0 / 3.0)).length() < 1e-12, "{c}");
+}
+
+#[test]
+fn a_ply_colour_out_of_range_is_a_located_error() {
+    let ply = coloured_ply([[255, 0, 0]; 4]).replace("property uchar red", "property float red");
+    let ply = ply.replacen("0 0 0 255 0 0", "0 0 0 1.5 0 0", 1);
+    let dir = dir_with(&[("square.ply", &ply)]);
+    let e = parse_in(dir.path(), PLY_SCENE).unwrap_err();
+    assert!(e.contains("square.ply:13:"), "{e}");
+    assert!(
+        e.contains("red is 1.5: a colour's component must be in [0, 1]"),
+        "{e}"
+    );
+}

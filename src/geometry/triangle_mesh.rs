@@ -32,6 +32,8 @@ struct MeshData {
     removed: usize,
     /// Texture coordinates (u, v), one pair per vertex, when the file has them.
     uvs: Option<Vec<DVec2>>,
+    /// Diffuse colours, one per vertex, when the file has them.
+    colours: Option<Vec<DVec3>>,
 }
 
 /// A mesh shows its sizes and a digest of its data (FNV-1a over the mixed bits of every
@@ -60,6 +62,9 @@ impl std::fmt::Debug for MeshData {
         for c in self.uvs.iter().flatten().flat_map(|c| c.to_array()) {
             eat(c.to_bits());
         }
+        for c in self.colours.iter().flatten().flat_map(|c| c.to_array()) {
+            eat(c.to_bits());
+        }
         let mut out = f.debug_struct("MeshData");
         out.field("vertices", &self.vertices.len())
             .field("triangles", &self.triangles.len())
@@ -68,6 +73,9 @@ impl std::fmt::Debug for MeshData {
         // Shown only when there are some: meshes without them keep their text (and scene hash).
         if self.uvs.is_some() {
             out.field("uvs", &true);
+        }
+        if self.colours.is_some() {
+            out.field("colours", &true);
         }
         out.field("digest", &format_args!("{digest:016x}")).finish()
     }
@@ -127,6 +135,7 @@ impl TriangleMesh {
                 triangles,
                 normals,
                 uvs: None,
+                colours: None,
             }),
         })
     }
@@ -138,6 +147,27 @@ impl TriangleMesh {
             Arc::get_mut(&mut self.data).expect("not yet shared").uvs = Some(uvs);
         }
         self
+    }
+
+    /// The mesh with diffuse colours, one per vertex (ignored unless there is one for each).
+    pub fn with_colours(mut self, colours: Vec<DVec3>) -> TriangleMesh {
+        if colours.len() == self.data.vertices.len() {
+            Arc::get_mut(&mut self.data)
+                .expect("not yet shared")
+                .colours = Some(colours);
+        }
+        self
+    }
+
+    /// The vertex colours interpolated barycentrically at point `p` of triangle `prim`, if
+    /// the mesh has them.
+    pub fn colour_at(&self, p: DVec3, prim: u32) -> Option<DVec3> {
+        Some(self.interpolated(self.colours()?, p, prim))
+    }
+
+    /// Per-vertex diffuse colours, if the mesh has them.
+    pub fn colours(&self) -> Option<&[DVec3]> {
+        self.data.colours.as_deref()
     }
 
     /// Per-vertex texture coordinates, if the mesh has them.
@@ -179,6 +209,7 @@ impl TriangleMesh {
         let data = Arc::get_mut(&mut mesh.data).expect("just made");
         data.removed += self.data.removed;
         data.uvs = self.data.uvs.clone();
+        data.colours = self.data.colours.clone();
         Ok(mesh)
     }
 
@@ -369,9 +400,10 @@ impl MeshKeys {
             .into_iter()
             .zip(loaded.material_of)
             .zip(loaded.uvs)
+            .zip(loaded.colours)
             .enumerate()
-            .filter(|(_, ((m, _), _))| !m.triangles.is_empty())
-            .map(|(i, ((m, material), uvs))| {
+            .filter(|(_, (((m, _), _), _))| !m.triangles.is_empty())
+            .map(|(i, (((m, material), uvs), colours))| {
                 let material = material.map(|k| materials[k].clone());
                 let name = match (single, m.name.is_empty(), &material) {
                     (true, _, _) => String::new(),
@@ -389,6 +421,10 @@ impl MeshKeys {
                 TriangleMesh::with_normals(m.vertices, m.triangles, normals)
                     .map(|t| match uvs {
                         Some(uvs) => t.with_uvs(uvs),
+                        None => t,
+                    })
+                    .map(|t| match colours {
+                        Some(colours) => t.with_colours(colours),
                         None => t,
                     })
                     .map(|t| (name, Shape::TriangleMesh(t), material))
@@ -434,6 +470,24 @@ mod tests {
         assert_ne!(base, text(mirrored, t(), None));
         // Sizes, not values: the text stays short however large the mesh.
         assert!(base.len() < 200, "{base}");
+    }
+
+    #[test]
+    fn vertex_colours_at_the_centroid_are_their_mean() {
+        let colours = vec![
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 0.5),
+        ];
+        let m = triangle(None).with_colours(colours);
+        let c = m.colour_at(DVec3::new(1.0, 1.0, 0.0) / 3.0, 0).unwrap();
+        assert!(
+            (c - DVec3::new(1.0, 1.0, 0.5) / 3.0).length() < 1e-15,
+            "{c}"
+        );
+        // At a corner, its own colour.
+        assert!((m.colour_at(DVec3::X, 0).unwrap() - DVec3::Y).length() < 1e-15);
+        assert_eq!(triangle(None).colour_at(DVec3::ZERO, 0), None);
     }
 
     #[test]

@@ -86,6 +86,8 @@ pub struct Loaded {
     pub meshes: Vec<Mesh>,
     /// Each mesh's texture coordinates (OBJ `vt`), one per vertex, if it has them.
     pub uvs: Vec<Option<Vec<glam::DVec2>>>,
+    /// Each mesh's vertex colours (PLY `red green blue`), one per vertex, if it has them.
+    pub colours: Vec<Option<Vec<DVec3>>>,
     /// The index in `materials` of each mesh's material (OBJ `usemtl`), if any.
     pub material_of: Vec<Option<usize>>,
     pub materials: Vec<Material>,
@@ -109,9 +111,10 @@ pub fn load_with(path: &Path, open: Option<Open>) -> Result<Loaded, MeshError> {
         })?;
     let loaded = match format {
         MeshFormat::Obj => obj::read_with(&bytes, open),
-        MeshFormat::Ply => ply::read(&bytes).map(|m| Loaded {
+        MeshFormat::Ply => ply::read(&bytes).map(|(m, colours)| Loaded {
             meshes: vec![m],
             uvs: vec![None],
+            colours: vec![colours],
             material_of: vec![None],
             materials: Vec::new(),
             warnings: Vec::new(),

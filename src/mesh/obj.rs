@@ -140,6 +140,7 @@ pub(super) fn read_with(bytes: &[u8], open: Option<Open>) -> Result<Loaded, Pars
         });
     }
     Ok(Loaded {
+        colours: vec![None; meshes.len()],
         meshes,
         uvs,
         material_of: indices,

@@ -2,7 +2,9 @@
 //! straight into vertices and triangles (no allocation per face), and written by hand
 //! (`double` vertices, `uint` indices).
 //!
-//! Read: element `vertex` with `x y z` (any numeric type) and optionally `nx ny nz`; element
+//! Read: element `vertex` with `x y z` (any numeric type) and optionally `nx ny nz` and
+//! `red green blue` (colours: an integer type's values over its largest, or floats in [0, 1]);
+//! element
 //! `face` with a list `vertex_indices` (or `vertex_index`) of an integer type; other elements
 //! and properties are read, checked and skipped. Only PLY 1.0.
 //!
@@ -439,13 +441,15 @@ fn scalar(word: &[u8], at: &impl Fn(String) -> ParseProblem) -> Result<Scalar, P
 enum Role {
     /// Read, checked and dropped.
     Skip,
-    /// Coordinate k of a vertex: x, y, z, nx, ny, nz.
+    /// Coordinate k of a vertex: x, y, z, nx, ny, nz, red, green, blue.
     Coordinate(usize),
     /// The face's vertex indices.
     Indices,
 }
 
-const COORDINATES: [&[u8]; 6] = [b"x", b"y", b"z", b"nx", b"ny", b"nz"];
+const COORDINATES: [&[u8]; 9] = [
+    b"x", b"y", b"z", b"nx", b"ny", b"nz", b"red", b"green", b"blue",
+];
 
 /// What the header means for timbre: which element is which, and each property's role.
 struct Plan {
@@ -453,6 +457,7 @@ struct Plan {
     face: usize,
     vertex_count: u64,
     normals: bool,
+    colours: bool,
     roles: Vec<Vec<Role>>,
 }
 
@@ -468,16 +473,16 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
     let vertex = find(b"vertex".as_slice())
         .ok_or_else(|| ParseProblem::new("header", "there is no 'vertex' element"))?;
     let v = &header.elements[vertex];
-    let mut present = [false; 6];
+    let mut present = [false; 9];
     for (k, p) in v.properties.iter().enumerate() {
         let Some(c) = COORDINATES.iter().position(|&c| c == p.name) else {
             continue;
         };
         if p.is_list() {
-            let what = if c < 3 {
-                "a coordinate"
-            } else {
-                "a normal's component"
+            let what = match c {
+                0..3 => "a coordinate",
+                3..6 => "a normal's component",
+                _ => "a colour's component",
             };
             return Err(ParseProblem::new(
                 line(p.line),
@@ -499,13 +504,13 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
             ),
         ));
     }
-    let normals = present[3..].iter().all(|&p| p);
-    if !normals {
-        // Part of a normal is no normal: those properties are skipped.
-        for r in &mut roles[vertex] {
-            if matches!(r, Role::Coordinate(3..)) {
-                *r = Role::Skip;
-            }
+    let normals = present[3..6].iter().all(|&p| p);
+    let colours = present[6..].iter().all(|&p| p);
+    // Part of a normal is no normal, part of a colour no colour: those properties are skipped.
+    for r in &mut roles[vertex] {
+        if matches!(r, Role::Coordinate(c) if (!normals && (3..6).contains(c)) || (!colours && *c >= 6))
+        {
+            *r = Role::Skip;
         }
     }
     // Indices are u32.
@@ -569,11 +574,13 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
         face,
         vertex_count: v.count,
         normals,
+        colours,
         roles,
     })
 }
 
-pub(super) fn read(bytes: &[u8]) -> Result<Mesh, ParseProblem> {
+/// The mesh of a PLY file and its vertex colours (linear RGB in [0, 1]), if it has them.
+pub(super) fn read(bytes: &[u8]) -> Result<(Mesh, Option<Vec<DVec3>>), ParseProblem> {
     let header = parse_header(bytes)?;
     let plan = plan(&header)?;
     let body = header.body;
@@ -1044,9 +1051,14 @@ impl Instance<'_> {
     }
 }
 
-fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh, ParseProblem> {
+fn read_body<S: Source>(
+    mut src: S,
+    header: &Header,
+    plan: &Plan,
+) -> Result<(Mesh, Option<Vec<DVec3>>), ParseProblem> {
     let mut vertices: Vec<DVec3> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();
+    let mut colours: Vec<DVec3> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let vertex_count = plan.vertex_count;
 
@@ -1062,6 +1074,9 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
             vertices.reserve_exact(capacity);
             if plan.normals {
                 normals.reserve_exact(capacity);
+            }
+            if plan.colours {
+                colours.reserve_exact(capacity);
             }
         } else if e == plan.face {
             triangles.reserve(capacity);
@@ -1081,7 +1096,7 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                 index,
                 declared: element.properties.len() as u64,
             };
-            let mut values = [0.0f64; 6];
+            let mut values = [0.0f64; 9];
             let mut short_face = None;
             for (p, (property, &role)) in element.properties.iter().zip(roles).enumerate() {
                 match (property.kind, role) {
@@ -1097,6 +1112,22 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                                     "{} is {}",
                                     shown(property.name),
                                     not_finite(v, src.token(), t.with_article())
+                                ),
+                            ));
+                        }
+                        // A colour: an integer type's values over its largest.
+                        let v = if c >= 6 && t.is_integer() {
+                            v / t.range().1 as f64
+                        } else {
+                            v
+                        };
+                        if c >= 6 && !(0.0..=1.0).contains(&v) {
+                            return Err(instance.at(
+                                &src,
+                                format_args!(
+                                    "{} is {v}: a colour's component must be in [0, 1] (an \
+                                     integer type's 0 to its largest)",
+                                    shown(property.name)
                                 ),
                             ));
                         }
@@ -1127,6 +1158,9 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                 if plan.normals {
                     normals.push(DVec3::new(values[3], values[4], values[5]));
                 }
+                if plan.colours {
+                    colours.push(DVec3::new(values[6], values[7], values[8]));
+                }
             }
         }
     }
@@ -1146,12 +1180,13 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
         ));
     }
     let normals = (plan.normals && normals.iter().all(|n| n.is_finite())).then_some(normals);
-    Ok(Mesh {
+    let mesh = Mesh {
         name: String::new(),
         vertices,
         triangles,
         normals,
-    })
+    };
+    Ok((mesh, plan.colours.then_some(colours)))
 }
 
 /// Reads list property `p` of `instance` (a property of kind `Kind::List`): into `faces` as a

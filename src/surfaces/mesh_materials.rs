@@ -6,10 +6,25 @@
 //! at the hit's texture coordinates.
 
 use super::{Coloured, Redirection, Surface, Transparent, Weighted};
-use crate::geometry::Interaction;
+use crate::geometry::{Interaction, Shape};
 use crate::math::Colour;
 use crate::mesh::Material;
 use crate::picture::Picture;
+
+/// A mesh's own vertex colours (PLY `red green blue`), interpolated barycentrically at the
+/// hit: a matt surface of that colour (black on a shape without them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VertexColours;
+
+impl VertexColours {
+    pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
+        let colour = match at.shape {
+            Shape::TriangleMesh(m) => m.colour_at(at.local_point(), at.hit.prim),
+            _ => None,
+        };
+        Redirection::Lit(Coloured::matt(colour.unwrap_or(Colour::ZERO)))
+    }
+}
 
 /// A textured material: its colours, the diffuse one multiplied by the picture's texel at the
 /// hit's surface coordinates (a mesh's interpolated texture coordinates).

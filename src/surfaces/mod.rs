@@ -185,6 +185,8 @@ pub enum Surface {
     Dissolved(mesh_materials::Dissolved),
     /// A mesh material with a texture (MTL `map_Kd`).
     Textured(mesh_materials::Textured),
+    /// A mesh's vertex colours.
+    VertexColours(mesh_materials::VertexColours),
 }
 
 impl Surface {
@@ -213,6 +215,7 @@ impl Surface {
             Surface::Glens(_) => "glens",
             Surface::Dissolved(_) => "mesh material",
             Surface::Textured(_) => "textured mesh material",
+            Surface::VertexColours(_) => "vertex colours",
         }
     }
 
@@ -262,6 +265,7 @@ impl Surface {
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
             Surface::Textured(s) => s.redirect(at),
+            Surface::VertexColours(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -315,7 +319,8 @@ impl Surface {
             | Surface::LorentzWindow(_)
             | Surface::Teleporting(_)
             | Surface::Dissolved(_)
-            | Surface::Textured(_) => self.clone(),
+            | Surface::Textured(_)
+            | Surface::VertexColours(_) => self.clone(),
         })
     }
 
@@ -355,7 +360,8 @@ impl Surface {
             | Surface::IdealThinMirror(_)
             | Surface::IdealThinLensletArray(_)
             | Surface::Glens(_)
-            | Surface::Dissolved(_) => Ok(()),
+            | Surface::Dissolved(_)
+            | Surface::VertexColours(_) => Ok(()),
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
                 Err(
                     "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \

@@ -30,6 +30,11 @@ use crate::surfaces::{Surface, SurfaceKeys, mesh_materials};
 /// Embree instance of about 500 bytes.
 pub const MAX_ARRAY_ELEMENTS: u64 = 10_000_000;
 
+/// Whether `shape` is a mesh with vertex colours of its own.
+fn has_colours(shape: &Shape) -> bool {
+    matches!(shape, Shape::TriangleMesh(m) if m.colours().is_some())
+}
+
 /// Largest MTL material library read, in bytes.
 const MAX_LIBRARY_BYTES: u64 = 64 << 20;
 
@@ -667,10 +672,13 @@ impl<'a> Placer<'a> {
                         };
                         mesh_materials::from_material(&m, texture)
                     }
+                    (None, None) if has_colours(&shape) => {
+                        Surface::VertexColours(mesh_materials::VertexColours)
+                    }
                     (None, None) => {
                         return Err(at_shape(if part.is_empty() {
-                            "missing field `surface` (only a mesh file whose parts have materials may \
-                             omit it)"
+                            "missing field `surface` (only a mesh file with materials or vertex \
+                             colours may omit it)"
                                 .into()
                         } else {
                             format!(
