@@ -360,8 +360,11 @@ impl Surface {
             | Surface::IdealThinMirror(_)
             | Surface::IdealThinLensletArray(_)
             | Surface::Glens(_)
-            | Surface::Dissolved(_)
             | Surface::VertexColours(_) => Ok(()),
+            Surface::Dissolved(d) => d
+                .parts
+                .iter()
+                .try_for_each(|p| p.surface.check_shape(shape)),
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
                 Err(
                     "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \
