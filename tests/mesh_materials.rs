@@ -314,3 +314,30 @@ fn a_ply_colour_out_of_range_is_a_located_error() {
         "{e}"
     );
 }
+
+#[test]
+fn ply_texture_coordinates_are_the_meshs_surface_coordinates() {
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nproperty float s\nproperty float t\nelement face 1\n\
+               property list uchar int vertex_indices\nend_header\n\
+               0 0 0 0 0\n1 0 0 0.5 0\n0 1 0 0 0.25\n3 0 1 2\n";
+    let dir = dir_with(&[("square.ply", ply)]);
+    let d = parse_in(
+        dir.path(),
+        &format!("{PLY_SCENE}surface = {{ type = \"mirror\" }}\n"),
+    )
+    .unwrap();
+    let o = d.objects.iter().find(|o| o.name == "sq").unwrap();
+    // The centroid's coordinates are the mean of the corners' (0, 0), (0.5, 0), (0, 0.25).
+    let [a, b, c] = match &o.shape {
+        timbre::geometry::Shape::TriangleMesh(m) => {
+            m.triangles()[0].map(|i| m.vertices()[i as usize])
+        }
+        _ => panic!("not a mesh"),
+    };
+    let at = o.shape.coordinates((a + b + c) / 3.0, 0);
+    assert!(
+        (at - glam::DVec2::new(0.5, 0.25) / 3.0).length() < 1e-12,
+        "{at}"
+    );
+}

@@ -84,7 +84,7 @@ pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
 #[derive(Debug)]
 pub struct Loaded {
     pub meshes: Vec<Mesh>,
-    /// Each mesh's texture coordinates (OBJ `vt`), one per vertex, if it has them.
+    /// Each mesh's texture coordinates (OBJ `vt`, PLY `s t`), one per vertex, if it has them.
     pub uvs: Vec<Option<Vec<glam::DVec2>>>,
     /// Each mesh's vertex colours (PLY `red green blue`), one per vertex, if it has them.
     pub colours: Vec<Option<Vec<DVec3>>>,
@@ -111,10 +111,10 @@ pub fn load_with(path: &Path, open: Option<Open>) -> Result<Loaded, MeshError> {
         })?;
     let loaded = match format {
         MeshFormat::Obj => obj::read_with(&bytes, open),
-        MeshFormat::Ply => ply::read(&bytes).map(|(m, colours)| Loaded {
-            meshes: vec![m],
-            uvs: vec![None],
-            colours: vec![colours],
+        MeshFormat::Ply => ply::read(&bytes).map(|r| Loaded {
+            meshes: vec![r.mesh],
+            uvs: vec![r.uvs],
+            colours: vec![r.colours],
             material_of: vec![None],
             materials: Vec::new(),
             warnings: Vec::new(),
