@@ -461,7 +461,7 @@ impl Shape {
     /// Surface coordinates of surface point `p` of primitive `prim` (units of length; see
     /// each shape).
     pub fn coordinates(&self, p: DVec3, prim: u32) -> DVec2 {
-        dispatch!(self, s => s.coordinates(p, prim), m => m.coordinates(p))
+        dispatch!(self, s => s.coordinates(p, prim), m => m.coordinates(p, prim))
     }
 
     /// The point with surface coordinates `c` (inverse of [`Self::coordinates`]; a cylinder's

@@ -30,6 +30,10 @@ struct MeshData {
     normals: Option<Vec<DVec3>>,
     /// Zero-area triangles left out of `triangles`.
     removed: usize,
+    /// Texture coordinates (u, v), one pair per vertex, when the file has them.
+    uvs: Option<Vec<DVec2>>,
+    /// Diffuse colours, one per vertex, when the file has them.
+    colours: Option<Vec<DVec3>>,
 }
 
 /// A mesh shows its sizes and a digest of its data (FNV-1a over the mixed bits of every
@@ -55,13 +59,25 @@ impl std::fmt::Debug for MeshData {
             eat(u64::from(t[0]) | u64::from(t[1]) << 32);
             eat(u64::from(t[2]));
         }
-        f.debug_struct("MeshData")
-            .field("vertices", &self.vertices.len())
+        for c in self.uvs.iter().flatten().flat_map(|c| c.to_array()) {
+            eat(c.to_bits());
+        }
+        for c in self.colours.iter().flatten().flat_map(|c| c.to_array()) {
+            eat(c.to_bits());
+        }
+        let mut out = f.debug_struct("MeshData");
+        out.field("vertices", &self.vertices.len())
             .field("triangles", &self.triangles.len())
             .field("normals", &self.normals.is_some())
-            .field("removed", &self.removed)
-            .field("digest", &format_args!("{digest:016x}"))
-            .finish()
+            .field("removed", &self.removed);
+        // Shown only when there are some: meshes without them keep their text (and scene hash).
+        if self.uvs.is_some() {
+            out.field("uvs", &true);
+        }
+        if self.colours.is_some() {
+            out.field("colours", &true);
+        }
+        out.field("digest", &format_args!("{digest:016x}")).finish()
     }
 }
 
@@ -118,8 +134,45 @@ impl TriangleMesh {
                 removed: before - triangles.len(),
                 triangles,
                 normals,
+                uvs: None,
+                colours: None,
             }),
         })
+    }
+
+    /// The mesh with texture coordinates, one (u, v) per vertex (ignored unless there is one
+    /// for each vertex and all are finite); [`Self::coordinates`] interpolates them.
+    pub fn with_uvs(mut self, uvs: Vec<DVec2>) -> TriangleMesh {
+        if uvs.len() == self.data.vertices.len() && uvs.iter().all(|c| c.is_finite()) {
+            Arc::get_mut(&mut self.data).expect("not yet shared").uvs = Some(uvs);
+        }
+        self
+    }
+
+    /// The mesh with diffuse colours, one per vertex (ignored unless there is one for each).
+    pub fn with_colours(mut self, colours: Vec<DVec3>) -> TriangleMesh {
+        if colours.len() == self.data.vertices.len() {
+            Arc::get_mut(&mut self.data)
+                .expect("not yet shared")
+                .colours = Some(colours);
+        }
+        self
+    }
+
+    /// The vertex colours interpolated barycentrically at point `p` of triangle `prim`, if
+    /// the mesh has them.
+    pub fn colour_at(&self, p: DVec3, prim: u32) -> Option<DVec3> {
+        Some(self.interpolated(self.colours()?, p, prim))
+    }
+
+    /// Per-vertex diffuse colours, if the mesh has them.
+    pub fn colours(&self) -> Option<&[DVec3]> {
+        self.data.colours.as_deref()
+    }
+
+    /// Per-vertex texture coordinates, if the mesh has them.
+    pub fn uvs(&self) -> Option<&[DVec2]> {
+        self.data.uvs.as_deref()
     }
 
     pub fn vertices(&self) -> &[DVec3] {
@@ -153,7 +206,10 @@ impl TriangleMesh {
             .normals()
             .map(|ns| ns.iter().map(|&n| t.normal(n)).collect());
         let mut mesh = TriangleMesh::with_normals(vertices, triangles, normals)?;
-        Arc::get_mut(&mut mesh.data).expect("just made").removed += self.data.removed;
+        let data = Arc::get_mut(&mut mesh.data).expect("just made");
+        data.removed += self.data.removed;
+        data.uvs = self.data.uvs.clone();
+        data.colours = self.data.colours.clone();
         Ok(mesh)
     }
 
@@ -221,25 +277,40 @@ impl TriangleMesh {
     /// barycentrically at `p`, turned to the outward side if they point inwards; u lies along
     /// the triangle's first edge, made perpendicular to w.
     pub fn frame(&self, p: DVec3, prim: u32) -> Frame {
-        let [v0, v1, v2] = self.corners(prim);
+        let [v0, v1, _] = self.corners(prim);
         let geometric = self.face_normal(prim);
         let smooth = self.normals().and_then(|normals| {
-            let [n0, n1, n2] = self.data.triangles[prim as usize].map(|i| normals[i as usize]);
-            // Barycentric weights of p: sub-triangle areas over the whole.
-            let area = |a: DVec3, b: DVec3| (b - p).cross(a - p).dot(geometric);
-            let whole = geometric.length_squared();
-            let (w0, w1) = (area(v2, v1) / whole, area(v0, v2) / whole);
-            let n = w0 * n0 + w1 * n1 + (1.0 - w0 - w1) * n2;
+            let n = self.interpolated(normals, p, prim);
             let n = n.try_normalize()?;
             Some(if n.dot(geometric) < 0.0 { -n } else { n })
         });
         Frame::from_normal_and_u(smooth.unwrap_or(geometric), v1 - v0)
     }
 
-    /// Surface coordinates of a mesh point: its world x and z (a mesh has no global
-    /// parametrisation; this makes a chequerboard on a mesh look like one laid on the floor).
-    pub fn coordinates(&self, p: DVec3) -> DVec2 {
-        DVec2::new(p.x, p.z)
+    /// Per-vertex `values` interpolated barycentrically at point `p` of triangle `prim`.
+    fn interpolated<T>(&self, values: &[T], p: DVec3, prim: u32) -> T
+    where
+        T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
+    {
+        let [v0, v1, v2] = self.corners(prim);
+        let [a, b, c] = self.data.triangles[prim as usize].map(|i| values[i as usize]);
+        let geometric = self.face_normal(prim);
+        // Barycentric weights of p: sub-triangle areas over the whole.
+        let area = |x: DVec3, y: DVec3| (y - p).cross(x - p).dot(geometric);
+        let whole = geometric.length_squared();
+        let (w0, w1) = (area(v2, v1) / whole, area(v0, v2) / whole);
+        a * w0 + b * w1 + c * (1.0 - w0 - w1)
+    }
+
+    /// Surface coordinates of point `p` of triangle `prim`: the texture coordinates
+    /// interpolated barycentrically when the mesh has them; else its world x and z (a mesh
+    /// has no global parametrisation; this makes a chequerboard on a mesh look like one laid
+    /// on the floor).
+    pub fn coordinates(&self, p: DVec3, prim: u32) -> DVec2 {
+        match self.uvs() {
+            Some(uvs) => self.interpolated(uvs, p, prim),
+            None => DVec2::new(p.x, p.z),
+        }
     }
 
     pub fn bounds(&self) -> (DVec3, DVec3) {
@@ -302,20 +373,44 @@ impl MeshKeys {
     }
 
     /// The parts of the mesh file, relative to `dir`, as triangle meshes, each with its name
-    /// ("" for a file of one part).
+    /// ("" for a file of one part); materials are not read.
     pub fn load(self, dir: &Path) -> Result<Vec<(String, Shape)>, String> {
-        let path = dir.join(self.file);
-        let meshes = mesh::load(&path).map_err(|e| e.to_string())?;
-        let single = meshes.len() == 1;
-        meshes
+        let (parts, _) = self.load_with(dir, None)?;
+        Ok(parts
             .into_iter()
+            .map(|(name, shape, _)| (name, shape))
+            .collect())
+    }
+
+    /// [`Self::load`] with each part's material, when `open` is given to read the MTL files
+    /// an OBJ file names (relative to the OBJ file), and the MTL files' warnings. A part with
+    /// a material is named after it too.
+    #[allow(clippy::type_complexity)]
+    pub fn load_with(
+        self,
+        dir: &Path,
+        open: Option<mesh::Open>,
+    ) -> Result<(Vec<(String, Shape, Option<mesh::Material>)>, Vec<String>), String> {
+        let path = dir.join(self.file);
+        let loaded = mesh::load_with(&path, open).map_err(|e| e.to_string())?;
+        let single = loaded.meshes.len() == 1;
+        let materials = &loaded.materials;
+        let parts = loaded
+            .meshes
+            .into_iter()
+            .zip(loaded.material_of)
+            .zip(loaded.uvs)
+            .zip(loaded.colours)
             .enumerate()
-            .filter(|(_, m)| !m.triangles.is_empty())
-            .map(|(i, m)| {
-                let name = match (single, m.name.is_empty()) {
-                    (true, _) => String::new(),
-                    (false, true) => format!("part {}", i + 1),
-                    (false, false) => m.name.clone(),
+            .filter(|(_, (((m, _), _), _))| !m.triangles.is_empty())
+            .map(|(i, (((m, material), uvs), colours))| {
+                let material = material.map(|k| materials[k].clone());
+                let name = match (single, m.name.is_empty(), &material) {
+                    (true, _, _) => String::new(),
+                    (false, true, Some(mat)) => mat.name.clone(),
+                    (false, false, Some(mat)) => format!("{} ({})", m.name, mat.name),
+                    (false, true, None) => format!("part {}", i + 1),
+                    (false, false, None) => m.name.clone(),
                 };
                 let normals = m.normals.filter(|_| self.smooth);
                 let part = if single {
@@ -324,10 +419,19 @@ impl MeshKeys {
                     format!(" (part '{name}')")
                 };
                 TriangleMesh::with_normals(m.vertices, m.triangles, normals)
-                    .map(|t| (name, Shape::TriangleMesh(t)))
+                    .map(|t| match uvs {
+                        Some(uvs) => t.with_uvs(uvs),
+                        None => t,
+                    })
+                    .map(|t| match colours {
+                        Some(colours) => t.with_colours(colours),
+                        None => t,
+                    })
+                    .map(|t| (name, Shape::TriangleMesh(t), material))
                     .map_err(|e| format!("{}{part}: {e}", path.display()))
             })
-            .collect()
+            .collect::<Result<_, _>>()?;
+        Ok((parts, loaded.warnings))
     }
 }
 
@@ -366,6 +470,48 @@ mod tests {
         assert_ne!(base, text(mirrored, t(), None));
         // Sizes, not values: the text stays short however large the mesh.
         assert!(base.len() < 200, "{base}");
+    }
+
+    #[test]
+    fn vertex_colours_at_the_centroid_are_their_mean() {
+        let colours = vec![
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, 0.5),
+        ];
+        let m = triangle(None).with_colours(colours);
+        let c = m.colour_at(DVec3::new(1.0, 1.0, 0.0) / 3.0, 0).unwrap();
+        assert!(
+            (c - DVec3::new(1.0, 1.0, 0.5) / 3.0).length() < 1e-15,
+            "{c}"
+        );
+        // At a corner, its own colour.
+        assert!((m.colour_at(DVec3::X, 0).unwrap() - DVec3::Y).length() < 1e-15);
+        assert_eq!(triangle(None).colour_at(DVec3::ZERO, 0), None);
+    }
+
+    #[test]
+    fn texture_coordinates_are_interpolated_barycentrically() {
+        let uvs = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        let m = triangle(None).with_uvs(uvs);
+        // p = 0.5·v0 + 0.25·v1 + 0.25·v2 = (0.25, 0.25, 0): (u, v) = 0.25·(1, 0) + 0.25·(0, 2).
+        let c = m.coordinates(DVec3::new(0.25, 0.25, 0.0), 0);
+        assert!((c - DVec2::new(0.25, 0.5)).length() < 1e-15, "{c}");
+        // Without them: world x and z.
+        assert_eq!(
+            triangle(None).coordinates(DVec3::new(0.25, 0.5, 0.0), 0),
+            DVec2::new(0.25, 0.0)
+        );
+        // They survive a transform, and the digest tells them apart.
+        let moved = m.transformed(&Transform::translation(DVec3::Z)).unwrap();
+        assert_eq!(moved.uvs(), m.uvs());
+        let other = triangle(None).with_uvs(vec![DVec2::ZERO, DVec2::X, DVec2::Y]);
+        assert_ne!(format!("{m:?}"), format!("{other:?}"));
+        assert!(!format!("{:?}", triangle(None)).contains("uvs"));
     }
 
     #[test]

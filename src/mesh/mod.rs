@@ -8,6 +8,7 @@
 //! file is shortened and has its control characters escaped.
 
 pub mod generate;
+mod mtl;
 mod obj;
 mod ply;
 
@@ -16,6 +17,8 @@ use std::path::Path;
 use glam::DVec3;
 use thiserror::Error;
 
+pub use mtl::Material;
+pub use obj::Open;
 pub use ply::PlyEncoding;
 
 /// A triangle mesh as read from (or written to) a file: shared vertices, index triples
@@ -71,8 +74,30 @@ impl MeshFormat {
 /// Largest mesh file that is read, in bytes (4 GiB: 200 million triangles in binary PLY).
 pub const MAX_FILE_BYTES: u64 = 4 << 30;
 
-/// Reads the meshes in an OBJ or PLY file (a PLY file holds one).
+/// Reads the meshes in an OBJ or PLY file (a PLY file holds one); an OBJ file's materials are
+/// not read.
 pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
+    Ok(load_with(path, None)?.meshes)
+}
+
+/// A mesh file's meshes with their materials.
+#[derive(Debug)]
+pub struct Loaded {
+    pub meshes: Vec<Mesh>,
+    /// Each mesh's texture coordinates (OBJ `vt`, PLY `s t`), one per vertex, if it has them.
+    pub uvs: Vec<Option<Vec<glam::DVec2>>>,
+    /// Each mesh's vertex colours (PLY `red green blue`), one per vertex, if it has them.
+    pub colours: Vec<Option<Vec<DVec3>>>,
+    /// The index in `materials` of each mesh's material (OBJ `usemtl`), if any.
+    pub material_of: Vec<Option<usize>>,
+    pub materials: Vec<Material>,
+    /// Unsupported MTL keys, each "LIBRARY:N:C: 'KEY' is not supported and is ignored".
+    pub warnings: Vec<String>,
+}
+
+/// Reads the meshes in an OBJ or PLY file; with `open`, also the materials of the MTL files
+/// an OBJ file names (`open` is given their names relative to the OBJ file).
+pub fn load_with(path: &Path, open: Option<Open>) -> Result<Loaded, MeshError> {
     let shown = path.display().to_string();
     let format = MeshFormat::from_path(path).ok_or_else(|| MeshError::Invalid {
         path: shown.clone(),
@@ -84,19 +109,26 @@ pub fn load(path: &Path) -> Result<Vec<Mesh>, MeshError> {
             path: shown.clone(),
             source,
         })?;
-    let meshes = match format {
-        MeshFormat::Obj => obj::read(&bytes),
-        MeshFormat::Ply => ply::read(&bytes).map(|m| vec![m]),
+    let loaded = match format {
+        MeshFormat::Obj => obj::read_with(&bytes, open),
+        MeshFormat::Ply => ply::read(&bytes).map(|r| Loaded {
+            meshes: vec![r.mesh],
+            uvs: vec![r.uvs],
+            colours: vec![r.colours],
+            material_of: vec![None],
+            materials: Vec::new(),
+            warnings: Vec::new(),
+        }),
     }
     .map_err(|e| e.in_file(&shown))?;
-    if meshes.iter().all(|m| m.triangles.is_empty()) {
+    if loaded.meshes.iter().all(|m| m.triangles.is_empty()) {
         return Err(MeshError::Invalid {
             path: shown,
             location: String::new(),
             message: "the mesh has no faces".into(),
         });
     }
-    Ok(meshes)
+    Ok(loaded)
 }
 
 /// Writes a mesh as OBJ or PLY (chosen by the extension; PLY in the given encoding).

@@ -1,5 +1,5 @@
-//! Wavefront OBJ, read with `tobj` (one mesh per object or group; polygons triangulated;
-//! materials and texture coordinates ignored) and written with one `v` (and `vn`) line per
+//! Wavefront OBJ, read with `tobj` (one mesh per object or group and material; polygons
+//! triangulated; materials from `mtllib` files when asked for; texture coordinates) and written with one `v` (and `vn`) line per
 //! vertex.
 //!
 //! `tobj` reports what went wrong but not where, and takes some malformed lines without a word,
@@ -19,11 +19,18 @@
 use std::borrow::Cow;
 use std::io::Write;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
-use super::{Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
+use super::mtl::Material;
+use super::{Loaded, Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
 
-pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
+/// Opens a file an OBJ file names (an MTL library), by its name relative to the OBJ file.
+pub type Open<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
+
+/// The meshes of an OBJ file, each with the index of its material in the libraries its
+/// `mtllib` lines name (read through `open` when given; ignored, as `tobj` alone would, when
+/// not), the materials, and the libraries' warnings (each "LIBRARY:N:C: ...").
+pub(super) fn read_with(bytes: &[u8], open: Option<Open>) -> Result<Loaded, ParseProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| not_utf8(bytes, &e))?;
     let checked = check(text)?;
     let options = tobj::LoadOptions {
@@ -32,14 +39,85 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj_buf(&mut checked.as_bytes(), &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
+    let mut libraries = Vec::new();
+    let mut materials = Vec::new();
+    let mut warnings = Vec::new();
+    if let Some(open) = open {
+        for (i, line) in text.lines().enumerate() {
+            let mut words = line.split_whitespace();
+            match words.next() {
+                Some("mtllib") => {
+                    let name = line.split_once(' ').unwrap_or_default().1.trim();
+                    let at = |m: String| ParseProblem::new(column(i + 1, line, name), m);
+                    let bytes = open(name).map_err(|e| at(format!("mtllib: {e}")))?;
+                    let (read, told) = super::mtl::read(&bytes).map_err(|e| {
+                        at(format!(
+                            "in '{}': {}: {}",
+                            shown(name.as_bytes()),
+                            e.location,
+                            e.message
+                        ))
+                    })?;
+                    let first = materials.len();
+                    warnings.extend(told.into_iter().map(|w| format!("{name}:{w}")));
+                    // A texture is named relative to its library, kept relative to the OBJ file.
+                    let dir = std::path::Path::new(name)
+                        .parent()
+                        .unwrap_or(std::path::Path::new(""));
+                    materials.extend(read.into_iter().map(|mut m| {
+                        m.diffuse_map = m
+                            .diffuse_map
+                            .map(|t| dir.join(t).to_string_lossy().into_owned());
+                        m
+                    }));
+                    libraries.push((name.to_string(), first..materials.len()));
+                }
+                Some("usemtl") if !libraries.is_empty() => {
+                    let name = line.split_once(' ').unwrap_or_default().1.trim();
+                    if !materials.iter().any(|m: &Material| m.name == name) {
+                        return Err(ParseProblem::new(
+                            column(i + 1, line, name),
+                            format!(
+                                "usemtl: no material '{}' in the libraries named before",
+                                shown(name.as_bytes())
+                            ),
+                        ));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let (models, _materials) = tobj::load_obj_buf(&mut checked.as_bytes(), &options, |path| {
+        let name = path.to_string_lossy();
+        let Some((_, range)) = libraries.iter().find(|(n, _)| *n == name) else {
+            return Err(tobj::LoadError::OpenFileFailed);
+        };
+        let map = materials[range.clone()]
+            .iter()
+            .enumerate()
+            .map(|(k, m)| (m.name.clone(), k))
+            .collect();
+        let named = materials[range.clone()]
+            .iter()
+            .map(|m| tobj::Material {
+                name: m.name.clone(),
+                ..Default::default()
+            })
+            .collect();
+        Ok((named, map))
     })
     .map_err(|e| ParseProblem::new("", format!("invalid OBJ file: {e}")))?;
-
+    let mut indices = Vec::with_capacity(models.len());
+    let mut uvs = Vec::with_capacity(models.len());
     let mut meshes = Vec::with_capacity(models.len());
     for model in models {
         let m = model.mesh;
+        indices.push(m.material_id);
+        uvs.push(
+            (m.texcoords.len() * 3 == m.positions.len() * 2)
+                .then(|| m.texcoords.chunks_exact(2).map(DVec2::from_slice).collect()),
+        );
         let vertices = to_points(&m.positions);
         check_finite("vertex", &vertices, |_| String::new())?;
         let normals = (m.normals.len() == m.positions.len())
@@ -61,7 +139,14 @@ pub(super) fn read(bytes: &[u8]) -> Result<Vec<Mesh>, ParseProblem> {
             normals,
         });
     }
-    Ok(meshes)
+    Ok(Loaded {
+        colours: vec![None; meshes.len()],
+        meshes,
+        uvs,
+        material_of: indices,
+        materials,
+        warnings,
+    })
 }
 
 /// An object or group name with control and invisible characters escaped (it ends up in
@@ -102,7 +187,7 @@ fn to_points(xyz: &[f64]) -> Vec<DVec3> {
 }
 
 /// Where `word` (a slice of `line`) starts, as "N:C" (line and column).
-fn column(line_no: usize, line: &str, word: &str) -> String {
+pub(super) fn column(line_no: usize, line: &str, word: &str) -> String {
     let offset = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
     let column = line.get(..offset).map_or(0, |s| s.chars().count()) + 1;
     format!("{line_no}:{column}")

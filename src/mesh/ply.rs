@@ -2,7 +2,10 @@
 //! straight into vertices and triangles (no allocation per face), and written by hand
 //! (`double` vertices, `uint` indices).
 //!
-//! Read: element `vertex` with `x y z` (any numeric type) and optionally `nx ny nz`; element
+//! Read: element `vertex` with `x y z` (any numeric type) and optionally `nx ny nz` and
+//! `red green blue` (colours: an integer type's values over its largest, or floats in [0, 1])
+//! and `s t` (or `u v`, `texture_u texture_v`: texture coordinates);
+//! element
 //! `face` with a list `vertex_indices` (or `vertex_index`) of an integer type; other elements
 //! and properties are read, checked and skipped. Only PLY 1.0.
 //!
@@ -16,7 +19,7 @@
 use std::collections::HashMap;
 use std::io::Write;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use super::{Mesh, ParseProblem, not_finite, shown};
 
@@ -439,13 +442,24 @@ fn scalar(word: &[u8], at: &impl Fn(String) -> ParseProblem) -> Result<Scalar, P
 enum Role {
     /// Read, checked and dropped.
     Skip,
-    /// Coordinate k of a vertex: x, y, z, nx, ny, nz.
+    /// Coordinate k of a vertex: x, y, z, nx, ny, nz, red, green, blue, s, t.
     Coordinate(usize),
     /// The face's vertex indices.
     Indices,
 }
 
-const COORDINATES: [&[u8]; 6] = [b"x", b"y", b"z", b"nx", b"ny", b"nz"];
+const COORDINATES: [&[u8]; 11] = [
+    b"x", b"y", b"z", b"nx", b"ny", b"nz", b"red", b"green", b"blue", b"s", b"t",
+];
+
+/// Other names of texture coordinates s and t.
+fn texture_alias(name: &[u8]) -> Option<usize> {
+    match name {
+        b"u" | b"texture_u" => Some(9),
+        b"v" | b"texture_v" => Some(10),
+        _ => None,
+    }
+}
 
 /// What the header means for timbre: which element is which, and each property's role.
 struct Plan {
@@ -453,6 +467,8 @@ struct Plan {
     face: usize,
     vertex_count: u64,
     normals: bool,
+    colours: bool,
+    uvs: bool,
     roles: Vec<Vec<Role>>,
 }
 
@@ -468,16 +484,21 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
     let vertex = find(b"vertex".as_slice())
         .ok_or_else(|| ParseProblem::new("header", "there is no 'vertex' element"))?;
     let v = &header.elements[vertex];
-    let mut present = [false; 6];
+    let mut present = [false; 11];
     for (k, p) in v.properties.iter().enumerate() {
-        let Some(c) = COORDINATES.iter().position(|&c| c == p.name) else {
+        let Some(c) = COORDINATES
+            .iter()
+            .position(|&c| c == p.name)
+            .or_else(|| texture_alias(p.name))
+        else {
             continue;
         };
         if p.is_list() {
-            let what = if c < 3 {
-                "a coordinate"
-            } else {
-                "a normal's component"
+            let what = match c {
+                0..3 => "a coordinate",
+                3..6 => "a normal's component",
+                6..9 => "a colour's component",
+                _ => "a texture coordinate",
             };
             return Err(ParseProblem::new(
                 line(p.line),
@@ -499,13 +520,19 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
             ),
         ));
     }
-    let normals = present[3..].iter().all(|&p| p);
-    if !normals {
-        // Part of a normal is no normal: those properties are skipped.
-        for r in &mut roles[vertex] {
-            if matches!(r, Role::Coordinate(3..)) {
-                *r = Role::Skip;
-            }
+    let normals = present[3..6].iter().all(|&p| p);
+    let colours = present[6..9].iter().all(|&p| p);
+    let uvs = present[9..].iter().all(|&p| p);
+    // Part of a normal, colour or texture coordinate pair is none: those properties are skipped.
+    let kept = |c: usize| match c {
+        0..3 => true,
+        3..6 => normals,
+        6..9 => colours,
+        _ => uvs,
+    };
+    for r in &mut roles[vertex] {
+        if matches!(r, Role::Coordinate(c) if !kept(*c)) {
+            *r = Role::Skip;
         }
     }
     // Indices are u32.
@@ -569,11 +596,22 @@ fn plan(header: &Header) -> Result<Plan, ParseProblem> {
         face,
         vertex_count: v.count,
         normals,
+        colours,
+        uvs,
         roles,
     })
 }
 
-pub(super) fn read(bytes: &[u8]) -> Result<Mesh, ParseProblem> {
+/// What a PLY file holds.
+pub(super) struct Read {
+    pub mesh: Mesh,
+    pub colours: Option<Vec<DVec3>>,
+    pub uvs: Option<Vec<DVec2>>,
+}
+
+/// The mesh of a PLY file, its vertex colours (linear RGB in [0, 1]) and texture
+/// coordinates, if it has them.
+pub(super) fn read(bytes: &[u8]) -> Result<Read, ParseProblem> {
     let header = parse_header(bytes)?;
     let plan = plan(&header)?;
     let body = header.body;
@@ -1044,9 +1082,11 @@ impl Instance<'_> {
     }
 }
 
-fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh, ParseProblem> {
+fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Read, ParseProblem> {
     let mut vertices: Vec<DVec3> = Vec::new();
+    let mut uvs: Vec<DVec2> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();
+    let mut colours: Vec<DVec3> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let vertex_count = plan.vertex_count;
 
@@ -1062,6 +1102,12 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
             vertices.reserve_exact(capacity);
             if plan.normals {
                 normals.reserve_exact(capacity);
+            }
+            if plan.colours {
+                colours.reserve_exact(capacity);
+            }
+            if plan.uvs {
+                uvs.reserve_exact(capacity);
             }
         } else if e == plan.face {
             triangles.reserve(capacity);
@@ -1081,7 +1127,7 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                 index,
                 declared: element.properties.len() as u64,
             };
-            let mut values = [0.0f64; 6];
+            let mut values = [0.0f64; 11];
             let mut short_face = None;
             for (p, (property, &role)) in element.properties.iter().zip(roles).enumerate() {
                 match (property.kind, role) {
@@ -1097,6 +1143,22 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                                     "{} is {}",
                                     shown(property.name),
                                     not_finite(v, src.token(), t.with_article())
+                                ),
+                            ));
+                        }
+                        // A colour: an integer type's values over its largest.
+                        let v = if (6..9).contains(&c) && t.is_integer() {
+                            v / t.range().1 as f64
+                        } else {
+                            v
+                        };
+                        if (6..9).contains(&c) && !(0.0..=1.0).contains(&v) {
+                            return Err(instance.at(
+                                &src,
+                                format_args!(
+                                    "{} is {v}: a colour's component must be in [0, 1] (an \
+                                     integer type's 0 to its largest)",
+                                    shown(property.name)
                                 ),
                             ));
                         }
@@ -1127,6 +1189,12 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
                 if plan.normals {
                     normals.push(DVec3::new(values[3], values[4], values[5]));
                 }
+                if plan.colours {
+                    colours.push(DVec3::new(values[6], values[7], values[8]));
+                }
+                if plan.uvs {
+                    uvs.push(DVec2::new(values[9], values[10]));
+                }
             }
         }
     }
@@ -1146,11 +1214,16 @@ fn read_body<S: Source>(mut src: S, header: &Header, plan: &Plan) -> Result<Mesh
         ));
     }
     let normals = (plan.normals && normals.iter().all(|n| n.is_finite())).then_some(normals);
-    Ok(Mesh {
+    let mesh = Mesh {
         name: String::new(),
         vertices,
         triangles,
         normals,
+    };
+    Ok(Read {
+        mesh,
+        colours: plan.colours.then_some(colours),
+        uvs: plan.uvs.then_some(uvs),
     })
 }
 

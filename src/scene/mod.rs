@@ -62,6 +62,8 @@ pub struct SceneDescription {
     pub focus_surface: Vec<Shape>,
     /// A single view, or a stereo output of two views.
     pub stereo: Stereo,
+    /// Warnings found while reading the scene's files (unsupported MTL keys).
+    pub file_warnings: Vec<String>,
     pub render: RenderSettings,
     /// Rays whose paths are traced and drawn into the scene before it is rendered.
     pub trajectories: Vec<RayTrajectory>,
@@ -115,7 +117,7 @@ impl SceneDescription {
     }
 
     /// Things worth telling the user that are not errors: zero-area triangles left out of
-    /// meshes; a moving camera with the focus-surface shutter focused on shapes (pixels that
+    /// meshes; unsupported keys of MTL files; a moving camera with the focus-surface shutter focused on shapes (pixels that
     /// miss them start their rays at a different time, see [`crate::cameras::Shutter`]).
     pub fn warnings(&self) -> Vec<String> {
         let c = &self.camera;
@@ -142,6 +144,7 @@ impl SceneDescription {
                     .map(|e| format!("object '{}': {e}; it renders black", o.name))
             }))
             .chain(seam)
+            .chain(self.file_warnings.iter().cloned())
             .chain(self.trajectories_miss_camera_frame())
             .chain(self.lenses_around(self.camera.position()).map(|name| {
                 format!(

@@ -237,6 +237,7 @@ impl Studio {
             camera: camera(),
             focus_surface: Vec::new(),
             stereo: Stereo::default(),
+            file_warnings: Vec::new(),
             render: RenderSettings::default(),
             trajectories: Vec::new(),
         }

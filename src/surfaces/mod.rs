@@ -9,6 +9,7 @@ mod coloured;
 mod constant_colour;
 pub mod ideal_lenses;
 pub mod lenses;
+pub mod mesh_materials;
 pub mod metatoys;
 mod mirror;
 mod picture;
@@ -229,6 +230,12 @@ pub enum Surface {
     Picture(PictureSurface),
     /// An equirectangular picture of the sky at infinity, picked by the ray's direction.
     ImageSky(ImageSky),
+    /// A mesh material with MTL `d` < 1 ([`mesh_materials`]).
+    Dissolved(mesh_materials::Dissolved),
+    /// A mesh material with a texture (MTL `map_Kd`).
+    Textured(mesh_materials::Textured),
+    /// A mesh's vertex colours.
+    VertexColours(mesh_materials::VertexColours),
 }
 
 impl Surface {
@@ -267,6 +274,9 @@ impl Surface {
             Surface::TimeDependentColour(_) => "time-dependent-colour",
             Surface::Picture(_) => "picture",
             Surface::ImageSky(_) => "image-sky",
+            Surface::Dissolved(_) => "mesh material",
+            Surface::Textured(_) => "textured mesh material",
+            Surface::VertexColours(_) => "vertex colours",
         }
     }
 
@@ -283,6 +293,7 @@ impl Surface {
             Surface::Striped(s) => s.stripe_at(at).redirect(at, inside),
             Surface::SurfaceTiling(s) => s.tile_at(at).redirect(at, inside),
             Surface::TimeDependentColour(s) => s.redirect(at),
+            Surface::Dissolved(d) => Redirection::Mixes(&d.parts[..]),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -304,7 +315,8 @@ impl Surface {
             | Surface::TwoSided(_)
             | Surface::Striped(_)
             | Surface::SurfaceTiling(_)
-            | Surface::TimeDependentColour(_) => {
+            | Surface::TimeDependentColour(_)
+            | Surface::Dissolved(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -330,6 +342,8 @@ impl Surface {
             Surface::GlowingCloud(s) => s.redirect(at),
             Surface::Picture(s) => s.redirect(at),
             Surface::ImageSky(s) => s.redirect(at),
+            Surface::Textured(s) => s.redirect(at),
+            Surface::VertexColours(s) => s.redirect(at),
         };
         // A direction or exit that overflowed f64 (a law at an extreme of its parameters) passes
         // no light on, rather than a NaN ray.
@@ -407,7 +421,10 @@ impl Surface {
             | Surface::LorentzWindow(_)
             | Surface::Teleporting(_)
             | Surface::Picture(_)
-            | Surface::ImageSky(_) => self.clone(),
+            | Surface::ImageSky(_)
+            | Surface::Dissolved(_)
+            | Surface::Textured(_)
+            | Surface::VertexColours(_) => self.clone(),
         })
     }
 
@@ -482,7 +499,20 @@ impl Surface {
             | Surface::ColourFilter(_)
             | Surface::TintedSolid(_)
             | Surface::GlowingCloud(_)
-            | Surface::TimeDependentColour(_) => Ok(()),
+            | Surface::TimeDependentColour(_)
+            | Surface::VertexColours(_) => Ok(()),
+            Surface::Dissolved(d) => d
+                .parts
+                .iter()
+                .try_for_each(|p| p.surface.check_shape(shape)),
+            Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
+                Err(
+                    "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \
+                     every face of its part"
+                        .to_string(),
+                )
+            }
+            Surface::Textured(_) => Ok(()),
         }
     }
 }

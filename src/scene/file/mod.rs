@@ -582,6 +582,7 @@ fn describe(
             camera: studio::camera(),
             focus_surface: Vec::new(),
             stereo: Default::default(),
+            file_warnings: Vec::new(),
             render: Default::default(),
             trajectories: Vec::new(),
         },
@@ -639,6 +640,7 @@ fn describe(
         "",
     )?;
     scene.objects.extend(placed.objects);
+    scene.file_warnings.append(&mut placer.warnings);
     scene.arrays.extend(placed.arrays.into_iter().map(|mut a| {
         a.objects = a.objects.start + studio_objects..a.objects.end + studio_objects;
         a

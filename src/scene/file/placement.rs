@@ -24,11 +24,19 @@ use crate::keys::{Array, Finite, Positive, Vector};
 use crate::math::ReferenceFrame;
 use crate::picture::Picture;
 use crate::scene::SceneObject;
-use crate::surfaces::{Surface, SurfaceKeys};
+use crate::surfaces::{Surface, SurfaceKeys, mesh_materials};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
 /// Embree instance of about 500 bytes.
 pub const MAX_ARRAY_ELEMENTS: u64 = 10_000_000;
+
+/// Whether `shape` is a mesh with vertex colours of its own.
+fn has_colours(shape: &Shape) -> bool {
+    matches!(shape, Shape::TriangleMesh(m) if m.colours().is_some())
+}
+
+/// Largest MTL material library read, in bytes.
+const MAX_LIBRARY_BYTES: u64 = 64 << 20;
 
 /// Most objects a scene may have (each mesh file part is one; repetition belongs in arrays).
 pub const MAX_OBJECTS: usize = 1_000_000;
@@ -58,7 +66,8 @@ pub(super) struct ObjectSection {
     shadow_throwing: bool,
     frame: Option<FrameName>,
     shape: Spanned<ShapeKeys>,
-    surface: Spanned<SurfaceKeys>,
+    /// Omitted for a mesh file whose parts all have materials.
+    surface: Option<Spanned<SurfaceKeys>>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     surface_axes: Option<Spanned<SurfaceAxesSection>>,
@@ -375,6 +384,8 @@ pub(super) struct Placer<'a> {
     pub(super) links: Vec<Link>,
     /// The picture files read so far, by their canonical paths.
     pictures: HashMap<PathBuf, Picture>,
+    /// Warnings about the files read (unsupported MTL keys), each naming its object.
+    pub(super) warnings: Vec<String>,
 }
 
 /// A teleporting object (its name; it may have named parts) and the name of its destination,
@@ -397,6 +408,7 @@ impl<'a> Placer<'a> {
             bytes,
             links: Vec::new(),
             pictures: HashMap::new(),
+            warnings: Vec::new(),
         }
     }
 
@@ -591,39 +603,105 @@ impl<'a> Placer<'a> {
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
         let shape_span = o.shape.span();
-        if let ShapeKeys::Mesh(mesh) = o.shape.get_ref() {
-            self.admit(source, mesh.file()).map_err(|e| {
-                let label = super::object_label(&name);
-                source.error(Some(shape_span.clone()), format!("{label}: {e}"))
-            })?;
-        }
-        let parts = o.shape.into_inner().parts(source.dir()).map_err(|e| {
-            source.error(
-                Some(shape_span.clone()),
-                format!("{}: {e}", super::object_label(&name)),
-            )
-        })?;
-        let surface_span = o.surface.span();
-        if let Some(destination) = o.surface.get_ref().destination() {
-            self.links.push(Link {
-                origin: name.clone(),
-                destination: destination.to_string(),
-                at: source.error(Some(surface_span.clone()), String::new()),
-            });
-        }
-        let mut keys = o.surface.into_inner();
-        self.open_pictures(source, &mut keys).map_err(|e| {
-            let label = super::object_label(&name);
-            source.error(Some(surface_span.clone()), format!("{label}: {e}"))
-        })?;
-        let surface = keys.build().map_err(|e| {
-            source.error(
-                Some(surface_span.clone()),
-                format!("{}: {e}", super::object_label(&name)),
-            )
-        })?;
+        let label = super::object_label(&name);
+        let at_shape = |e: String| source.error(Some(shape_span.clone()), format!("{label}: {e}"));
+        // Files a mesh file names (MTL libraries, their textures) are relative to it, and
+        // admitted as if the scene file named them.
+        let mesh_dir = match o.shape.get_ref() {
+            ShapeKeys::Mesh(mesh) => Path::new(mesh.file())
+                .parent()
+                .map(Path::to_path_buf)
+                .unwrap_or_default(),
+            _ => PathBuf::new(),
+        };
+        let parts = match o.shape.into_inner() {
+            ShapeKeys::Mesh(mesh) => {
+                self.admit(source, mesh.file()).map_err(&at_shape)?;
+                let mut open = |library: &str| {
+                    let relative = mesh_dir.join(library);
+                    let (path, _) = self.admit(source, &relative.to_string_lossy())?;
+                    crate::files::read_regular(&path, MAX_LIBRARY_BYTES)
+                        .map_err(|e| format!("{}: {e}", path.display()))
+                };
+                let (parts, warnings) = mesh
+                    .load_with(source.dir(), o.surface.is_none().then_some(&mut open as _))
+                    .map_err(&at_shape)?;
+                self.warnings
+                    .extend(warnings.into_iter().map(|w| format!("{label}: {w}")));
+                parts
+            }
+            shape => shape
+                .parts(source.dir())
+                .map_err(&at_shape)?
+                .into_iter()
+                .map(|(part, shape)| (part, shape, None))
+                .collect(),
+        };
+        // Each part's surface: the one given, or its material's.
+        let (surface_span, given) = match o.surface {
+            Some(s) => (s.span(), Some(s.into_inner())),
+            None => (shape_span.clone(), None),
+        };
+        let at_surface =
+            |e: String| source.error(Some(surface_span.clone()), format!("{label}: {e}"));
+        let surface = match given {
+            Some(mut keys) => {
+                if let Some(destination) = keys.destination() {
+                    self.links.push(Link {
+                        origin: name.clone(),
+                        destination: destination.to_string(),
+                        at: source.error(Some(surface_span.clone()), String::new()),
+                    });
+                }
+                self.open_pictures(source, &mut keys).map_err(&at_surface)?;
+                Some(keys.build().map_err(&at_surface)?)
+            }
+            None => None,
+        };
+        let parts = parts
+            .into_iter()
+            .map(|(part, shape, material)| {
+                let surface = match (&surface, material) {
+                    (Some(s), _) => s.clone(),
+                    (None, Some(m)) => {
+                        let texture = match &m.diffuse_map {
+                            Some(map) => {
+                                let relative = mesh_dir.join(map);
+                                let picture = self
+                                    .picture(source, &relative.to_string_lossy())
+                                    .map_err(|e| {
+                                        at_shape(format!(
+                                            "material '{}': map_Kd '{map}': {e}",
+                                            m.name
+                                        ))
+                                    })?;
+                                Some(picture)
+                            }
+                            None => None,
+                        };
+                        mesh_materials::from_material(&m, texture)
+                    }
+                    (None, None) if has_colours(&shape) => {
+                        Surface::VertexColours(mesh_materials::VertexColours)
+                    }
+                    (None, None) => {
+                        return Err(at_shape(if part.is_empty() {
+                            "missing field `surface` (only a mesh file with materials or vertex \
+                             colours may omit it)"
+                                .into()
+                        } else {
+                            format!(
+                                "missing field `surface`: mesh part '{part}' has no material \
+                                 (usemtl) to show"
+                            )
+                        }));
+                    }
+                };
+                Ok((part, shape, surface))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let mut placed = Placed::default();
-        for (part, shape) in parts {
+        for (part, shape, surface) in parts {
             surface.check_shape(&shape).map_err(|e| {
                 source.error(
                     Some(surface_span.clone()),
@@ -645,7 +723,7 @@ impl<'a> Placer<'a> {
                         format!("{name}/{part}")
                     },
                     shape,
-                    surface: surface.clone(),
+                    surface,
                     shadow_throwing: o.shadow_throwing,
                     frame: FrameName::or(o.frame, frame),
                 },

@@ -92,7 +92,8 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::TintedSolid(_)
         | Surface::GlowingCloud(_)
         | Surface::SemiTransparent(_)
-        | Surface::Average(_) => refuse(),
+        | Surface::Average(_)
+        | Surface::Dissolved(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
         Surface::Striped(Striped { surfaces, .. })
@@ -120,7 +121,9 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Glens(_)
         | Surface::TimeDependentColour(_)
         | Surface::Picture(_)
-        | Surface::ImageSky(_) => Ok(()),
+        | Surface::ImageSky(_)
+        | Surface::Textured(_)
+        | Surface::VertexColours(_) => Ok(()),
     }
 }
 
