@@ -11,6 +11,7 @@ pub mod lenses;
 pub mod metatoys;
 mod mirror;
 mod refractive;
+mod text;
 mod transparent;
 
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
@@ -34,6 +35,7 @@ pub use metatoys::{
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use refractive::{Refractive, RefractiveKeys, refract};
+pub use text::{Text, TextKeys};
 pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
@@ -89,6 +91,7 @@ kinds! {
         IdealThinLensletArray(IdealThinLensletArrayKeys),
         Glens(GlensKeys),
         Teleporting(TeleportingKeys),
+        Text(TextKeys),
     }
 }
 
@@ -99,6 +102,7 @@ impl SurfaceKeys {
     pub fn pictures(&mut self) -> Vec<&mut PictureFile> {
         match self {
             SurfaceKeys::Chequerboard(keys) => keys.pictures(),
+            SurfaceKeys::Text(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -180,6 +184,8 @@ pub enum Surface {
     IdealThinMirror(ThinMirror),
     IdealThinLensletArray(LensletArray),
     Glens(Glens),
+    /// Letters of the shipped font on a background.
+    Text(Text),
 }
 
 impl Surface {
@@ -206,6 +212,7 @@ impl Surface {
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
             Surface::IdealThinLensletArray(_) => "ideal-thin-lenslet-array",
             Surface::Glens(_) => "glens",
+            Surface::Text(_) => "text",
         }
     }
 
@@ -217,6 +224,7 @@ impl Surface {
             Surface::Coloured(s) => Redirection::Lit(*s),
             Surface::ConstantColour(c) => Redirection::Emits(*c),
             Surface::Chequerboard(s) => s.tile_at(at).redirect(at, inside),
+            Surface::Text(s) => s.surface_at(at).redirect(at, inside),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -230,7 +238,10 @@ impl Surface {
         inside: &mut dyn FnMut(DVec3),
     ) -> Redirection<'static> {
         let redirection = match self {
-            Surface::Coloured(_) | Surface::ConstantColour(_) | Surface::Chequerboard(_) => {
+            Surface::Coloured(_)
+            | Surface::ConstantColour(_)
+            | Surface::Chequerboard(_)
+            | Surface::Text(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -288,6 +299,10 @@ impl Surface {
                 tile_width: c.tile_width,
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
+            Surface::Text(c) => Surface::Text(Text {
+                lines: c.lines.clone(),
+                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+            }),
             Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::Mirror(_)
@@ -322,6 +337,7 @@ impl Surface {
                     .to_string(),
             ),
             Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
+            Surface::Text(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
             | Surface::Coloured(_)
