@@ -15,6 +15,7 @@ mod mirror;
 mod picture;
 mod refractive;
 mod sky;
+mod text;
 mod transparent;
 
 pub use appearance::{
@@ -46,6 +47,7 @@ pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
 pub use refractive::{Refractive, RefractiveKeys, refract};
 pub use sky::{ImageSky, SkyKeys};
+pub use text::{Text, TextKeys};
 pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
@@ -113,6 +115,7 @@ kinds! {
         SurfaceTiling(SurfaceTilingKeys),
         TimeDependentColour(TimeDependentColourKeys),
         Picture(PictureKeys),
+        Text(TextKeys),
     }
 }
 
@@ -130,6 +133,7 @@ impl SurfaceKeys {
             SurfaceKeys::Striped(keys) => keys.pictures(),
             SurfaceKeys::SurfaceTiling(keys) => keys.pictures(),
             SurfaceKeys::Picture(keys) => keys.pictures(),
+            SurfaceKeys::Text(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -236,6 +240,8 @@ pub enum Surface {
     Textured(mesh_materials::Textured),
     /// A mesh's vertex colours.
     VertexColours(mesh_materials::VertexColours),
+    /// Letters of the shipped font on a background.
+    Text(Text),
 }
 
 impl Surface {
@@ -277,6 +283,7 @@ impl Surface {
             Surface::Dissolved(_) => "mesh material",
             Surface::Textured(_) => "textured mesh material",
             Surface::VertexColours(_) => "vertex colours",
+            Surface::Text(_) => "text",
         }
     }
 
@@ -294,6 +301,7 @@ impl Surface {
             Surface::SurfaceTiling(s) => s.tile_at(at).redirect(at, inside),
             Surface::TimeDependentColour(s) => s.redirect(at),
             Surface::Dissolved(d) => Redirection::Mixes(&d.parts[..]),
+            Surface::Text(s) => s.surface_at(at).redirect(at, inside),
             _ => self.redirect_by_law(at, inside),
         }
     }
@@ -316,7 +324,8 @@ impl Surface {
             | Surface::Striped(_)
             | Surface::SurfaceTiling(_)
             | Surface::TimeDependentColour(_)
-            | Surface::Dissolved(_) => {
+            | Surface::Dissolved(_)
+            | Surface::Text(_) => {
                 unreachable!("answered by Surface::redirect itself")
             }
             Surface::Mirror(s) => s.redirect(at),
@@ -402,6 +411,10 @@ impl Surface {
                 widths: s.widths,
                 surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
             }),
+            Surface::Text(c) => Surface::Text(Text {
+                lines: c.lines.clone(),
+                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+            }),
             Surface::TimeDependentColour(_)
             | Surface::Coloured(_)
             | Surface::ConstantColour(_)
@@ -431,10 +444,32 @@ impl Surface {
     /// The pictures the surface shows, its parts' too (shared pictures as often as they
     /// appear).
     pub fn pictures(&self) -> Vec<&Picture> {
+        let own = match self {
+            Surface::Picture(s) => Some(&s.picture),
+            Surface::ImageSky(s) => Some(&s.picture),
+            Surface::Textured(s) => Some(&s.picture),
+            _ => None,
+        };
+        own.into_iter()
+            .chain(self.parts().into_iter().flat_map(Surface::pictures))
+            .collect()
+    }
+
+    /// The surfaces this one is made of (none for a surface of one law).
+    pub fn parts(&self) -> Vec<&Surface> {
         match self {
-            Surface::Picture(s) => vec![&s.picture],
-            Surface::ImageSky(s) => vec![&s.picture],
-            Surface::Chequerboard(c) => c.surfaces.iter().flat_map(Surface::pictures).collect(),
+            Surface::Chequerboard(Chequerboard { surfaces, .. })
+            | Surface::Striped(Striped { surfaces, .. })
+            | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. })
+            | Surface::Text(Text { surfaces, .. })
+            | Surface::TwoSided(TwoSided {
+                sides: surfaces, ..
+            }) => surfaces.iter().collect(),
+            Surface::LayerStack(s) => s.layers.iter().collect(),
+            Surface::SemiTransparent(m) | Surface::Average(m) => {
+                m.parts.iter().map(|p| &p.surface).collect()
+            }
+            Surface::Dissolved(d) => d.parts.iter().map(|p| &p.surface).collect(),
             _ => Vec::new(),
         }
     }
@@ -475,6 +510,7 @@ impl Surface {
             | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
                 surfaces.iter().try_for_each(|s| s.check_shape(shape))
             }
+            Surface::Text(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
             Surface::Lens(_)
             | Surface::PhaseHologram(_)
             | Surface::Picture(_)

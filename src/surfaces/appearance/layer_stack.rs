@@ -96,6 +96,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Dissolved(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
+        Surface::Text(t) => t.surfaces.iter().try_for_each(check_layer),
         Surface::Striped(Striped { surfaces, .. })
         | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
             surfaces.iter().try_for_each(check_layer)
