@@ -4400,3 +4400,60 @@ fn textured_mesh_scene_shows_the_files_texture_and_colours() {
         "{red} of {red_part} red"
     );
 }
+
+/// scenes/patterns.toml: on the holey pane (z = 11.5, u along +x from x = 0.1, v down from
+/// y = 0.2, its 0.8 × 0.8 mask `letter-f.png`, with light holes) a pixel whose ray meets a dark
+/// texel (blue below 127/255) shows the pane's matt (0.2, 0.4, 1) lit by white light, so in
+/// exactly those proportions, and one that meets a light texel (a hole: the F and the blue
+/// quarter) shows what lies behind, in other proportions; on the either-or square (z = 12
+/// from x = 1.1), dark texels show matt red and light ones the mirror (the sky and floor, with
+/// green in them).
+#[test]
+fn patterns_holes_and_masks_follow_the_mask_picture() {
+    let (w, h) = (320, 240);
+    let camera = Camera::standard(20.0, w, h);
+    let picture = render("patterns", w, h);
+    let png = example_picture("letter-f.png");
+    let mask = |z: f64, left: f64, d: DVec3| {
+        let p = d * (z / d.z);
+        let (u, v) = ((p.x - left) / 0.8, (0.2 - p.y) / 0.8);
+        if !(0.0..1.0).contains(&u) || !(0.0..1.0).contains(&v) {
+            return None;
+        }
+        texel_of(&png, u, v, 1e-3).map(|t| t.z < 127.0 / 255.0)
+    };
+    let (mut holes, mut pane, mut red, mut mirror) = (0, 0, 0, 0);
+    for (x, y) in picture.pixels() {
+        let d = camera.direction(x as f64, y as f64).normalize();
+        let (object, got) = (picture.object(x, y), picture.rgb(x, y));
+        let pane_blue = (got / got.z - DVec3::new(0.2, 0.4, 1.0)).abs().max_element() < 1e-6;
+        match mask(11.5, 0.1, d) {
+            Some(true) => {
+                assert!(pane_blue, "the pane at ({x}, {y}): {got}");
+                pane += 1;
+            }
+            Some(false) => {
+                assert!(!pane_blue, "a hole at ({x}, {y}): {got}");
+                holes += 1;
+            }
+            None => {}
+        }
+        if object == "either-or" {
+            match mask(12.0, 1.1, d) {
+                Some(true) => {
+                    assert!(got.x > 0.0 && got.y == 0.0 && got.z == 0.0, "red at ({x}, {y}): {got}");
+                    red += 1;
+                }
+                Some(false) => {
+                    assert!(got.y > 0.05, "mirror at ({x}, {y}): {got}");
+                    mirror += 1;
+                }
+                None => {}
+            }
+        }
+    }
+    assert!(
+        holes > 100 && pane > 100 && red > 100 && mirror > 50,
+        "{holes} holes, {pane} pane, {red} red, {mirror} mirror"
+    );
+}

@@ -195,6 +195,13 @@ fn check_finite(
 /// The longest text from a file that a message shows; longer is cut, with "…".
 const SHOWN_CHARS: usize = 40;
 
+/// Where `word` (a slice of `line`) starts, as "N:C" (line and column).
+pub(super) fn column(line_no: usize, line: &str, word: &str) -> String {
+    let offset = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
+    let column = line.get(..offset).map_or(0, |s| s.chars().count()) + 1;
+    format!("{line_no}:{column}")
+}
+
 /// Text from a file as a message may show it: at most [`SHOWN_CHARS`] characters (then "…"),
 /// with [`escaped`] characters, so that a file cannot flood or drive the terminal.
 fn shown(bytes: &[u8]) -> String {

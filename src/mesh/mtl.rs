@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::{ParseProblem, shown};
+use super::{ParseProblem, column, shown};
 
 /// One material of an MTL file, in plain numbers (the defaults are the MTL format's: black
 /// specular, opaque).
@@ -56,7 +56,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
         let at = |word: &str, message: String| {
-            ParseProblem::new(super::obj::column(line_no, line, word), message)
+            ParseProblem::new(column(line_no, line, word), message)
         };
         let mut words = line.split_whitespace();
         let Some(key) = words.next() else { continue };
@@ -82,7 +82,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
         if !known {
             warnings.push(format!(
                 "{}: '{}' is not supported and is ignored",
-                super::obj::column(line_no, line, key),
+                column(line_no, line, key),
                 shown(key.as_bytes())
             ));
             continue;
@@ -149,7 +149,7 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
         if !unused.is_empty() {
             warnings.push(format!(
                 "{}: '{key}' is read but not used: {unused}",
-                super::obj::column(line_no, line, key)
+                column(line_no, line, key)
             ));
         }
     }

@@ -22,7 +22,7 @@ use std::io::Write;
 use glam::{DVec2, DVec3};
 
 use super::mtl::Material;
-use super::{Loaded, Mesh, ParseProblem, check_finite, escaped, not_finite, shown};
+use super::{Loaded, Mesh, ParseProblem, check_finite, column, escaped, not_finite, shown};
 
 /// Opens a file an OBJ file names (an MTL library), by its name relative to the OBJ file.
 pub type Open<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
@@ -184,13 +184,6 @@ fn numbers_count(n: usize) -> String {
 
 fn to_points(xyz: &[f64]) -> Vec<DVec3> {
     xyz.chunks_exact(3).map(DVec3::from_slice).collect()
-}
-
-/// Where `word` (a slice of `line`) starts, as "N:C" (line and column).
-pub(super) fn column(line_no: usize, line: &str, word: &str) -> String {
-    let offset = (word.as_ptr() as usize).saturating_sub(line.as_ptr() as usize);
-    let column = line.get(..offset).map_or(0, |s| s.chars().count()) + 1;
-    format!("{line_no}:{column}")
 }
 
 /// Checks every vertex, normal and face line (see the module's rules), and returns the text

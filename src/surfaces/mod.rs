@@ -22,7 +22,9 @@ pub use appearance::{
     AverageKeys, ColourFilter, ColourFilterKeys, GlowingCloud, GlowingCloudKeys, LayerStack,
     LayerStackKeys, Mix, SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
     Striped, StripedKeys, SurfaceTiling, SurfaceTilingKeys, TimeDependentColour,
-    TimeDependentColourKeys,
+    TimeDependentColourKeys, EitherOr, EitherOrKeys, HoleyKeys, HueBrightnessGradient,
+    HueBrightnessGradientKeys, PositionDependentColour, PositionDependentColourKeys, Rainbow,
+    RainbowKeys, SnellenChart, SnellenChartKeys, UsafChart, UsafChartKeys,
 };
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
@@ -114,6 +116,13 @@ kinds! {
         Striped(StripedKeys),
         SurfaceTiling(SurfaceTilingKeys),
         TimeDependentColour(TimeDependentColourKeys),
+        PositionDependentColour(PositionDependentColourKeys),
+        HueBrightnessGradient(HueBrightnessGradientKeys),
+        Rainbow(RainbowKeys),
+        EitherOr(EitherOrKeys),
+        Holey(HoleyKeys),
+        UsafChart(UsafChartKeys),
+        SnellenChart(SnellenChartKeys),
         Picture(PictureKeys),
         Text(TextKeys),
     }
@@ -134,6 +143,10 @@ impl SurfaceKeys {
             SurfaceKeys::SurfaceTiling(keys) => keys.pictures(),
             SurfaceKeys::Picture(keys) => keys.pictures(),
             SurfaceKeys::Text(keys) => keys.pictures(),
+            SurfaceKeys::EitherOr(keys) => keys.pictures(),
+            SurfaceKeys::Holey(keys) => keys.pictures(),
+            SurfaceKeys::UsafChart(keys) => keys.pictures(),
+            SurfaceKeys::SnellenChart(keys) => keys.pictures(),
             _ => Vec::new(),
         }
     }
@@ -173,9 +186,9 @@ pub enum Redirection<'a> {
     /// the distance t to its next hit each channel keeps exp(−absorption·t) of the light,
     /// unless that hit is on the same object, whose exit then accounts for the whole path.
     Absorbs { absorption: Colour },
-    /// The ray goes on undeviated, and this colour is added to the light it brings (Dr TIM's
-    /// `SurfaceOfGlowingCloud`).
-    Glows { glow: Colour },
+    /// The ray goes on undeviated, carrying `factor` of the light it brings, and `glow` is
+    /// added (Dr TIM's `SurfaceOfGlowingCloud`, factor 1, and `Rainbow`).
+    Glows { glow: Colour, factor: Colour },
     /// The light is the sum of what several surfaces at the same point pass on, each part
     /// weighted per channel (semi-transparent surfaces, averages).
     Mixes(&'a [Weighted]),
@@ -230,6 +243,15 @@ pub enum Surface {
     Striped(Striped),
     SurfaceTiling(SurfaceTiling),
     TimeDependentColour(TimeDependentColour),
+    PositionDependentColour(PositionDependentColour),
+    /// Charted shapes only.
+    HueBrightnessGradient(HueBrightnessGradient),
+    Rainbow(Rainbow),
+    /// A mask choosing between two surfaces (also a holey surface); charted shapes only.
+    EitherOr(EitherOr),
+    /// Test charts; charted shapes only.
+    UsafChart(UsafChart),
+    SnellenChart(SnellenChart),
     /// A picture on the shape's surface coordinates (charted shapes only).
     Picture(PictureSurface),
     /// An equirectangular picture of the sky at infinity, picked by the ray's direction.
@@ -278,6 +300,12 @@ impl Surface {
             Surface::Striped(_) => "striped",
             Surface::SurfaceTiling(_) => "surface-tiling",
             Surface::TimeDependentColour(_) => "time-dependent-colour",
+            Surface::PositionDependentColour(_) => "position-dependent-colour",
+            Surface::HueBrightnessGradient(_) => "hue-brightness-gradient",
+            Surface::Rainbow(_) => "rainbow",
+            Surface::EitherOr(_) => "either-or",
+            Surface::UsafChart(_) => "usaf-chart",
+            Surface::SnellenChart(_) => "snellen-chart",
             Surface::Picture(_) => "picture",
             Surface::ImageSky(_) => "image-sky",
             Surface::Dissolved(_) => "mesh material",
@@ -300,6 +328,11 @@ impl Surface {
             Surface::Striped(s) => s.stripe_at(at).redirect(at, inside),
             Surface::SurfaceTiling(s) => s.tile_at(at).redirect(at, inside),
             Surface::TimeDependentColour(s) => s.redirect(at),
+            Surface::PositionDependentColour(s) => s.redirect(at),
+            Surface::HueBrightnessGradient(s) => s.redirect(at),
+            Surface::EitherOr(s) => s.surface_at(at).redirect(at, inside),
+            Surface::UsafChart(s) => s.surface_at(at).redirect(at, inside),
+            Surface::SnellenChart(s) => s.surface_at(at).redirect(at, inside),
             Surface::Dissolved(d) => Redirection::Mixes(&d.parts[..]),
             Surface::Text(s) => s.surface_at(at).redirect(at, inside),
             _ => self.redirect_by_law(at, inside),
@@ -324,6 +357,11 @@ impl Surface {
             | Surface::Striped(_)
             | Surface::SurfaceTiling(_)
             | Surface::TimeDependentColour(_)
+            | Surface::PositionDependentColour(_)
+            | Surface::HueBrightnessGradient(_)
+            | Surface::EitherOr(_)
+            | Surface::UsafChart(_)
+            | Surface::SnellenChart(_)
             | Surface::Dissolved(_)
             | Surface::Text(_) => {
                 unreachable!("answered by Surface::redirect itself")
@@ -345,6 +383,7 @@ impl Surface {
             Surface::IdealThinMirror(s) => s.redirect(at),
             Surface::IdealThinLensletArray(s) => s.redirect(at),
             Surface::Glens(s) => s.redirect(at),
+            Surface::Rainbow(s) => s.redirect(at),
             Surface::ColourFilter(s) => s.redirect(at),
             Surface::TintedSolid(s) => s.redirect(at),
             Surface::LayerStack(s) => s.redirect(at),
@@ -415,7 +454,22 @@ impl Surface {
                 lines: c.lines.clone(),
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
+            Surface::EitherOr(e) => Surface::EitherOr(EitherOr {
+                surfaces: Box::new([e.surfaces[0].transformed(t)?, e.surfaces[1].transformed(t)?]),
+                ..e.clone()
+            }),
+            Surface::UsafChart(c) => Surface::UsafChart(UsafChart {
+                bars: c.bars.clone(),
+                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+            }),
+            Surface::SnellenChart(c) => Surface::SnellenChart(SnellenChart {
+                lines: c.lines.clone(),
+                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+            }),
+            Surface::Rainbow(r) => Surface::Rainbow(r.transformed(t)),
+            Surface::PositionDependentColour(c) => Surface::PositionDependentColour(c.transformed(t)),
             Surface::TimeDependentColour(_)
+            | Surface::HueBrightnessGradient(_)
             | Surface::Coloured(_)
             | Surface::ConstantColour(_)
             | Surface::ColourFilter(_)
@@ -462,6 +516,9 @@ impl Surface {
             | Surface::Striped(Striped { surfaces, .. })
             | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. })
             | Surface::Text(Text { surfaces, .. })
+            | Surface::EitherOr(EitherOr { surfaces, .. })
+            | Surface::UsafChart(UsafChart { surfaces, .. })
+            | Surface::SnellenChart(SnellenChart { surfaces, .. })
             | Surface::TwoSided(TwoSided {
                 sides: surfaces, ..
             }) => surfaces.iter().collect(),
@@ -474,73 +531,16 @@ impl Surface {
         }
     }
 
-    /// Whether the law works on `shape`: §3's lenses, also as chequerboard tiles, need a
-    /// sphere's centre and radius; phase holograms and pictures need surface coordinates on every part
-    /// (plane coordinates or coordinate axes). The other laws work on any shape.
+    /// Whether the law works on `shape`: §3's lenses, also as parts of other surfaces, need a
+    /// sphere's centre and radius; phase holograms, pictures, patterns, masks, text and charts
+    /// need surface coordinates on every part (plane coordinates or coordinate axes); a mesh's
+    /// texture needs its texture coordinates. The other laws work on any shape.
     pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
         match self {
             Surface::Lens(l) if !matches!(shape, Shape::Sphere(_)) => Err(format!(
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
-            Surface::PhaseHologram(_) if !shape.is_charted() => Err(
-                "a phase-hologram surface needs surface coordinates on every part of its shape \
-                 (a flat shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, \
-                 bilinear surface, cylinder or cone with open = true, or one of them \
-                 transformed); a closed cylinder's or cone's caps and meshes have none"
-                    .to_string(),
-            ),
-            Surface::Picture(_) if !shape.is_charted() => Err(
-                "a picture surface needs surface coordinates on every part of its shape (a flat \
-                 shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, bilinear \
-                 surface, cylinder or cone with open = true, or one of them transformed); a \
-                 closed cylinder's or cone's caps and meshes have none"
-                    .to_string(),
-            ),
-            Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
-            Surface::SemiTransparent(m) | Surface::Average(m) => m.check_shape(shape),
-            Surface::TwoSided(s) => s.sides.iter().try_for_each(|s| s.check_shape(shape)),
-            Surface::LayerStack(s) => s.layers.iter().try_for_each(|s| s.check_shape(shape)),
-            Surface::Striped(_) | Surface::SurfaceTiling(_) if !shape.is_charted() => Err(format!(
-                "a {} surface needs surface coordinates on every part of its shape (as a \
-                 phase-hologram does)",
-                self.kind()
-            )),
-            Surface::Striped(Striped { surfaces, .. })
-            | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
-                surfaces.iter().try_for_each(|s| s.check_shape(shape))
-            }
-            Surface::Text(c) => c.surfaces.iter().try_for_each(|s| s.check_shape(shape)),
-            Surface::Lens(_)
-            | Surface::PhaseHologram(_)
-            | Surface::Picture(_)
-            | Surface::ImageSky(_)
-            | Surface::Coloured(_)
-            | Surface::ConstantColour(_)
-            | Surface::Mirror(_)
-            | Surface::Refractive(_)
-            | Surface::Transparent(_)
-            | Surface::MetricInterface(_)
-            | Surface::ConfocalLensletArrays(_)
-            | Surface::RayRotating(_)
-            | Surface::RayFlipping(_)
-            | Surface::PointToPointImagingHologram(_)
-            | Surface::PhaseConjugating(_)
-            | Surface::LorentzWindow(_)
-            | Surface::Teleporting(_)
-            | Surface::IdealThinLens(_)
-            | Surface::IdealThinMirror(_)
-            | Surface::IdealThinLensletArray(_)
-            | Surface::Glens(_)
-            | Surface::ColourFilter(_)
-            | Surface::TintedSolid(_)
-            | Surface::GlowingCloud(_)
-            | Surface::TimeDependentColour(_)
-            | Surface::VertexColours(_) => Ok(()),
-            Surface::Dissolved(d) => d
-                .parts
-                .iter()
-                .try_for_each(|p| p.surface.check_shape(shape)),
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
                 Err(
                     "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \
@@ -548,8 +548,31 @@ impl Surface {
                         .to_string(),
                 )
             }
-            Surface::Textured(_) => Ok(()),
+            _ if self.needs_coordinates() && !shape.is_charted() => Err(format!(
+                "a {} surface needs surface coordinates on every part of its shape (a flat \
+                 shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, bilinear \
+                 surface, cylinder or cone with open = true, or one of them transformed); a \
+                 closed cylinder's or cone's caps and meshes have none",
+                self.kind()
+            )),
+            _ => self.parts().into_iter().try_for_each(|s| s.check_shape(shape)),
         }
+    }
+
+    /// Whether the law reads the shape's surface coordinates.
+    fn needs_coordinates(&self) -> bool {
+        matches!(
+            self,
+            Surface::PhaseHologram(_)
+                | Surface::Picture(_)
+                | Surface::Striped(_)
+                | Surface::SurfaceTiling(_)
+                | Surface::Text(_)
+                | Surface::EitherOr(_)
+                | Surface::UsafChart(_)
+                | Surface::SnellenChart(_)
+                | Surface::HueBrightnessGradient(_)
+        )
     }
 }
 

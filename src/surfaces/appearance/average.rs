@@ -4,7 +4,7 @@
 use serde::Deserialize;
 
 use super::part;
-use crate::geometry::{Shape, Transform};
+use crate::geometry::Transform;
 use crate::keys::NonNegative;
 use crate::math::Colour;
 use crate::picture::PictureFile;
@@ -33,13 +33,6 @@ impl Mix {
         Ok(Mix {
             parts: parts.collect::<Result<_, String>>()?,
         })
-    }
-
-    /// Whether every part works on `shape`.
-    pub fn check_shape(&self, shape: &Shape) -> Result<(), String> {
-        self.parts
-            .iter()
-            .try_for_each(|p| p.surface.check_shape(shape))
     }
 }
 

@@ -26,7 +26,10 @@ impl GlowingCloud {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let d = at.ray.direction;
         if d.dot(at.normal()) > 0.0 {
-            return Redirection::Glows { glow: Colour::ZERO };
+            return Redirection::Glows {
+                glow: Colour::ZERO,
+                factor: Colour::ONE,
+            };
         }
         let depth = at
             .shape
@@ -34,6 +37,7 @@ impl GlowingCloud {
             .map_or(f64::INFINITY, |(t, _)| t);
         Redirection::Glows {
             glow: self.glow * -(-depth / self.one_over_e_distance).exp_m1(),
+            factor: Colour::ONE,
         }
     }
 }
@@ -78,7 +82,7 @@ mod tests {
     fn a_ray_entering_gains_glow_by_the_depth_of_its_chord() {
         let sphere = Shape::Sphere(Sphere::new(DVec3::new(0.0, 0.0, 5.0), 1.0).unwrap());
         let glows = |origin: DVec3, d: DVec3| match cloud().redirect(&meet(&sphere, origin, d)) {
-            Redirection::Glows { glow } => glow,
+            Redirection::Glows { glow, .. } => glow,
             other => panic!("{other:?}"),
         };
         let through_centre = glows(DVec3::ZERO, DVec3::Z);
@@ -105,7 +109,8 @@ mod tests {
         assert_eq!(
             cloud().redirect(&at),
             Redirection::Glows {
-                glow: Colour::new(1.0, 0.5, 0.0)
+                glow: Colour::new(1.0, 0.5, 0.0),
+                factor: Colour::ONE,
             }
         );
     }

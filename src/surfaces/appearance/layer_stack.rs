@@ -3,11 +3,11 @@
 
 use serde::Deserialize;
 
-use super::{Striped, SurfaceTiling, part};
+use super::{EitherOr, SnellenChart, Striped, SurfaceTiling, UsafChart, part};
 use crate::geometry::{Hit, Interaction};
 use crate::math::Colour;
 use crate::picture::PictureFile;
-use crate::surfaces::{Coloured, Redirection, Surface, SurfaceKeys};
+use crate::surfaces::{Coloured, Redirection, Surface, SurfaceKeys, Text};
 
 /// Most passes through the layers of one stack at one point; a ray still inside after them
 /// (bouncing between two mirror layers) is lost.
@@ -93,10 +93,16 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::GlowingCloud(_)
         | Surface::SemiTransparent(_)
         | Surface::Average(_)
+        | Surface::Rainbow(_)
         | Surface::Dissolved(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
-        Surface::Text(t) => t.surfaces.iter().try_for_each(check_layer),
+        Surface::Text(Text { surfaces, .. })
+        | Surface::EitherOr(EitherOr { surfaces, .. })
+        | Surface::UsafChart(UsafChart { surfaces, .. })
+        | Surface::SnellenChart(SnellenChart { surfaces, .. }) => {
+            surfaces.iter().try_for_each(check_layer)
+        }
         Surface::Striped(Striped { surfaces, .. })
         | Surface::SurfaceTiling(SurfaceTiling { surfaces, .. }) => {
             surfaces.iter().try_for_each(check_layer)
@@ -121,6 +127,8 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::IdealThinLensletArray(_)
         | Surface::Glens(_)
         | Surface::TimeDependentColour(_)
+        | Surface::PositionDependentColour(_)
+        | Surface::HueBrightnessGradient(_)
         | Surface::Picture(_)
         | Surface::ImageSky(_)
         | Surface::Textured(_)

@@ -3,7 +3,7 @@
 
 use serde::Deserialize;
 
-use super::{band, parts_pictures, two_parts};
+use super::{band, greys, parts_pictures, two_parts};
 use crate::geometry::Interaction;
 use crate::keys::Positive;
 use crate::picture::PictureFile;
@@ -47,7 +47,7 @@ impl StripedKeys {
     pub fn build(self) -> Result<Surface, String> {
         Ok(Surface::Striped(Striped {
             width: self.width.map_or(1.0, |w| w.0),
-            surfaces: two_parts(self.surfaces, [0.0, 0.9], "striped surface")?,
+            surfaces: two_parts(self.surfaces, greys([0.0, 0.9], true), "striped surface")?,
         }))
     }
 }

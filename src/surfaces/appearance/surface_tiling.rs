@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use super::{band, parts_pictures, two_parts};
+use super::{band, greys, parts_pictures, two_parts};
 use crate::geometry::Interaction;
 use crate::keys::Positive;
 use crate::picture::PictureFile;
@@ -53,7 +53,7 @@ impl SurfaceTilingKeys {
         let width = |w: Option<Positive>| w.map_or(1.0, |w| w.0);
         Ok(Surface::SurfaceTiling(SurfaceTiling {
             widths: [width(self.width_u), width(self.width_v)],
-            surfaces: two_parts(self.surfaces, [0.5, 1.0], "surface tiling")?,
+            surfaces: two_parts(self.surfaces, greys([0.5, 1.0], true), "surface tiling")?,
         }))
     }
 }

@@ -44,7 +44,6 @@ impl TintedSolid {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TintedSolidKeys {
-    #[serde(alias = "absorption")]
     absorption_coefficient: Array<NonNegative, 3>,
 }
 
