@@ -4426,7 +4426,10 @@ fn patterns_holes_and_masks_follow_the_mask_picture() {
     for (x, y) in picture.pixels() {
         let d = camera.direction(x as f64, y as f64).normalize();
         let (object, got) = (picture.object(x, y), picture.rgb(x, y));
-        let pane_blue = (got / got.z - DVec3::new(0.2, 0.4, 1.0)).abs().max_element() < 1e-6;
+        let pane_blue = (got / got.z - DVec3::new(0.2, 0.4, 1.0))
+            .abs()
+            .max_element()
+            < 1e-6;
         match mask(11.5, 0.1, d) {
             Some(true) => {
                 assert!(pane_blue, "the pane at ({x}, {y}): {got}");
@@ -4441,7 +4444,10 @@ fn patterns_holes_and_masks_follow_the_mask_picture() {
         if object == "either-or" {
             match mask(12.0, 1.1, d) {
                 Some(true) => {
-                    assert!(got.x > 0.0 && got.y == 0.0 && got.z == 0.0, "red at ({x}, {y}): {got}");
+                    assert!(
+                        got.x > 0.0 && got.y == 0.0 && got.z == 0.0,
+                        "red at ({x}, {y}): {got}"
+                    );
                     red += 1;
                 }
                 Some(false) => {

@@ -55,9 +55,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
     let mut warnings = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
-        let at = |word: &str, message: String| {
-            ParseProblem::new(column(line_no, line, word), message)
-        };
+        let at =
+            |word: &str, message: String| ParseProblem::new(column(line_no, line, word), message);
         let mut words = line.split_whitespace();
         let Some(key) = words.next() else { continue };
         if key.starts_with('#') {

@@ -215,9 +215,7 @@ impl<'a> Tracer<'a> {
                 factor * on(at.emerging(exit))
             }
             Redirection::Absorbs { absorption } => self.absorbed(absorption, at, level, frame),
-            Redirection::Glows { glow, factor } => {
-                glow + factor * on(at.leaving(at.ray.direction))
-            }
+            Redirection::Glows { glow, factor } => glow + factor * on(at.leaving(at.ray.direction)),
             Redirection::Mixes(parts) => parts
                 .iter()
                 .map(|part| {

@@ -19,12 +19,12 @@ mod text;
 mod transparent;
 
 pub use appearance::{
-    AverageKeys, ColourFilter, ColourFilterKeys, GlowingCloud, GlowingCloudKeys, LayerStack,
-    LayerStackKeys, Mix, SemiTransparentKeys, TintedSolid, TintedSolidKeys, TwoSided, TwoSidedKeys,
-    Striped, StripedKeys, SurfaceTiling, SurfaceTilingKeys, TimeDependentColour,
-    TimeDependentColourKeys, EitherOr, EitherOrKeys, HoleyKeys, HueBrightnessGradient,
-    HueBrightnessGradientKeys, PositionDependentColour, PositionDependentColourKeys, Rainbow,
-    RainbowKeys, SnellenChart, SnellenChartKeys, UsafChart, UsafChartKeys,
+    AverageKeys, ColourFilter, ColourFilterKeys, EitherOr, EitherOrKeys, GlowingCloud,
+    GlowingCloudKeys, HoleyKeys, HueBrightnessGradient, HueBrightnessGradientKeys, LayerStack,
+    LayerStackKeys, Mix, PositionDependentColour, PositionDependentColourKeys, Rainbow,
+    RainbowKeys, SemiTransparentKeys, SnellenChart, SnellenChartKeys, Striped, StripedKeys,
+    SurfaceTiling, SurfaceTilingKeys, TimeDependentColour, TimeDependentColourKeys, TintedSolid,
+    TintedSolidKeys, TwoSided, TwoSidedKeys, UsafChart, UsafChartKeys,
 };
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
@@ -467,7 +467,9 @@ impl Surface {
                 surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
             }),
             Surface::Rainbow(r) => Surface::Rainbow(r.transformed(t)),
-            Surface::PositionDependentColour(c) => Surface::PositionDependentColour(c.transformed(t)),
+            Surface::PositionDependentColour(c) => {
+                Surface::PositionDependentColour(c.transformed(t))
+            }
             Surface::TimeDependentColour(_)
             | Surface::HueBrightnessGradient(_)
             | Surface::Coloured(_)
@@ -555,7 +557,10 @@ impl Surface {
                  closed cylinder's or cone's caps and meshes have none",
                 self.kind()
             )),
-            _ => self.parts().into_iter().try_for_each(|s| s.check_shape(shape)),
+            _ => self
+                .parts()
+                .into_iter()
+                .try_for_each(|s| s.check_shape(shape)),
         }
     }
 

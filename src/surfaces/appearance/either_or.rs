@@ -147,7 +147,8 @@ mod tests {
 
     fn surface_at(e: &EitherOr, x: f64, y: f64) -> Surface {
         let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
-        e.surface_at(&meet(&plane, DVec3::new(x, y, 1.0), -DVec3::Z)).clone()
+        e.surface_at(&meet(&plane, DVec3::new(x, y, 1.0), -DVec3::Z))
+            .clone()
     }
 
     fn grey(g: f64) -> Surface {

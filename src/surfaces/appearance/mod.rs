@@ -76,7 +76,11 @@ fn two_parts(
 fn greys(greys: [f64; 2], shiny: bool) -> [Surface; 2] {
     greys.map(|grey| {
         let c = Colour::splat(grey);
-        Surface::Coloured(if shiny { Coloured::shiny(c) } else { Coloured::matt(c) })
+        Surface::Coloured(if shiny {
+            Coloured::shiny(c)
+        } else {
+            Coloured::matt(c)
+        })
     })
 }
 
@@ -95,7 +99,11 @@ fn parts_pictures(keys: &mut Option<Box<[SurfaceKeys; 2]>>) -> Vec<&mut PictureF
 /// modulo 1) lies below 1/6, 1/2, 2/3 or above. Dr TIM wraps the offsets only once, which
 /// differs where |h| > 1.
 fn hsl(h: f64, s: f64, l: f64) -> Colour {
-    let q = if l < 0.5 { l * (1.0 + s) } else { l + s - l * s };
+    let q = if l < 0.5 {
+        l * (1.0 + s)
+    } else {
+        l + s - l * s
+    };
     let p = 2.0 * l - q;
     let channel = |t: f64| {
         let t = t.rem_euclid(1.0);
@@ -134,7 +142,10 @@ mod tests {
         ];
         for ((h, s, l), expected) in cases {
             let got = hsl(h, s, l);
-            assert!((got - expected).abs().max_element() < 1e-12, "hsl({h}, {s}, {l}) = {got}");
+            assert!(
+                (got - expected).abs().max_element() < 1e-12,
+                "hsl({h}, {s}, {l}) = {got}"
+            );
         }
     }
 }

@@ -84,7 +84,8 @@ mod tests {
             lightness: 0.35,
             light_source_position: DVec3::ZERO,
         };
-        let plane = Shape::Plane(Plane::new(DVec3::new(0.0, 0.0, 10.0), DVec3::Z, DVec3::X).unwrap());
+        let plane =
+            Shape::Plane(Plane::new(DVec3::new(0.0, 0.0, 10.0), DVec3::Z, DVec3::X).unwrap());
         // The hit point (0, 0, 10) lies along +z from the light; a ray arriving there with
         // direction at angle θ from +z, in the x-z plane.
         let theta = theta_degrees.to_radians();
@@ -102,7 +103,10 @@ mod tests {
         let Redirection::Glows { glow, factor } = redirection_at_angle(42.5) else {
             panic!("a rainbow glows");
         };
-        assert!((factor - Colour::splat(0.65)).abs().max_element() < 1e-9, "{factor}");
+        assert!(
+            (factor - Colour::splat(0.65)).abs().max_element() < 1e-9,
+            "{factor}"
+        );
         let expected = Colour::new(0.0, 0.7, 0.7 * 6.0 * (0.4 - 1.0 / 3.0));
         assert!((glow - expected).abs().max_element() < 1e-9, "{glow}");
         let Redirection::Glows { glow, factor } = redirection_at_angle(30.0) else {

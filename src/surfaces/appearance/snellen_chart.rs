@@ -45,7 +45,10 @@ impl SnellenChart {
             .outline(font.glyph_id('E'))
             .map(|o| (o.bounds.max.y - o.bounds.min.y).abs() as f64)
             .expect("the shipped font has an E");
-        let (ascent, descent) = (font.ascent_unscaled() as f64, font.descent_unscaled() as f64);
+        let (ascent, descent) = (
+            font.ascent_unscaled() as f64,
+            font.descent_unscaled() as f64,
+        );
         // Letter heights in units of the 20/20 row's, and the chart's height in those units.
         let sizes = ROWS.map(|(n, _)| n as f64 / 20.0);
         let total: f64 = sizes.iter().map(|h| (1.0 + GAP) * h).sum::<f64>() + GAP * sizes[7];
@@ -135,12 +138,20 @@ mod tests {
         let stem = e.corner[0] + 0.15 * e.width();
         let (top, bottom) = inked_extent(&lines[..1], stem, 0.0, -1.0).unwrap();
         assert!((top - -0.5 * 10.0 * h).abs() < 2e-3, "E's top {top}");
-        assert!((top - bottom - 10.0 * h).abs() < 2e-3, "E's height {}", top - bottom);
+        assert!(
+            (top - bottom - 10.0 * h).abs() < 2e-3,
+            "E's height {}",
+            top - bottom
+        );
         // The last row: the D's stem.
         let d = &lines[7];
         let stem = d.corner[0] + 0.04 * d.width();
         let (top, bottom) = inked_extent(&lines[7..], stem, 0.0, -1.0).unwrap();
-        assert!((top - bottom - h).abs() < 2e-3, "D's height {}", top - bottom);
+        assert!(
+            (top - bottom - h).abs() < 2e-3,
+            "D's height {}",
+            top - bottom
+        );
         assert!(bottom > -1.0 + 0.4 * h, "the last row within the chart");
         for line in &lines {
             let middle = line.corner[0] + 0.5 * line.width();
