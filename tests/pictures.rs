@@ -159,6 +159,33 @@ surface = { type = "chequerboard", surfaces = [{ type = "picture", file = "./p.p
     assert_eq!(none.objects[0].surface.kind(), "image-sky");
 }
 
+/// Pictures inside other surfaces count too, each file once: a mask (either-or), a holey
+/// surface's mask inside a two-sided surface, a picture inside stripes and a semi-transparent
+/// surface; two files of 9 × 3 and 2 × 2 texels hold 12 bytes a texel.
+#[test]
+fn pictures_inside_other_surfaces_are_counted_once() {
+    let dir = TempDir::new().unwrap();
+    png(dir.path(), "p.png", 9, 3, numbered);
+    png(dir.path(), "q.png", 2, 2, numbered);
+    let path = dir.path().join("scene.toml");
+    let text = r#"studio = "none"
+[[object]]
+shape = { type = "parallelogram" }
+surface = { type = "either-or", file = "p.png" }
+[[object]]
+shape = { type = "parallelogram" }
+surface = { type = "two-sided", outside = { type = "holey", file = "q.png", surface = { type = "mirror" } } }
+[[object]]
+shape = { type = "parallelogram" }
+surface = { type = "striped", surfaces = [{ type = "picture", file = "p.png" }, { type = "semi-transparent", surface = { type = "picture", file = "q.png" } }] }
+"#;
+    let d = parse_as(text, path.to_str().unwrap());
+    assert_eq!(d.pictures().len(), 2);
+    assert_eq!(d.picture_bytes(), (9 * 3 + 2 * 2) * 12);
+    let each: Vec<usize> = d.objects.iter().map(|o| o.surface.pictures().len()).collect();
+    assert_eq!(each, [1, 1, 2]);
+}
+
 /// Read as `timbre serve` reads its page's text, a picture surface or a sky outside the scene
 /// file's directory is refused before it is read, as meshes and includes are; one inside is
 /// read.

@@ -504,6 +504,7 @@ impl Surface {
             Surface::Picture(s) => Some(&s.picture),
             Surface::ImageSky(s) => Some(&s.picture),
             Surface::Textured(s) => Some(&s.picture),
+            Surface::EitherOr(s) => Some(&s.mask),
             _ => None,
         };
         own.into_iter()
