@@ -4463,3 +4463,54 @@ fn patterns_holes_and_masks_follow_the_mask_picture() {
         "{holes} holes, {pane} pane, {red} red, {mirror} mirror"
     );
 }
+
+/// scenes/research/WedgeExplorer.toml: a pixel's ray from (0, 0, −10) crosses the three
+/// interfaces z = 0, 0.5, 1, each multiplying the index by 1.1, so that the transverse part of
+/// its unit direction shrinks by 1.1 at each (Snell's law), and, where it stays inside the
+/// wedges' square, meets the backdrop z = 30 at (x, y). There the backdrop's colour is Dr
+/// TIM's position-dependent one at the distance |x − y|/√2 from the line through (0, 0, 30)
+/// along (1, 1, 0), period 2: c_k = 0.5 + 0.5 sin(πd + 2πk/3). Lit with a white specular
+/// colour by white lights, the pixel is a·c + b·(1, 1, 1): two of its channels fix a and b,
+/// the third must agree.
+#[test]
+fn research_wedge_explorer_shows_the_backdrop_where_snell_sends_each_ray() {
+    let (w, h) = (160, 120);
+    let origin = DVec3::new(0.0, 0.0, -10.0);
+    let camera = Camera::new(origin, DVec3::Z, DVec3::Y, 20.0, w, h);
+    let picture = render("research/WedgeExplorer", w, h);
+    let mut checked = 0;
+    for (x, y) in picture.pixels() {
+        let mut d = camera.direction(x as f64, y as f64).normalize();
+        let mut p = origin + d * (-origin.z / d.z);
+        for z in [0.5, 1.0, 30.0] {
+            let transverse = DVec3::new(d.x, d.y, 0.0) / 1.1;
+            d = transverse + DVec3::Z * (1.0 - transverse.length_squared()).sqrt();
+            p += d * ((z - p.z) / d.z);
+        }
+        if p.x.abs().max(p.y.abs()) > 0.99 {
+            continue;
+        }
+        let distance = (p.x - p.y).abs() / 2f64.sqrt();
+        let c = DVec3::from_array(
+            [0.0, 1.0, 2.0].map(|k| 0.5 + 0.5 * (PI * distance + k * 2.0 * PI / 3.0).sin()),
+        );
+        let got = picture.rgb(x, y);
+        // a and b from the two channels whose colours differ most.
+        let (i, j, k) = if (c.x - c.y).abs() > (c.x - c.z).abs().max((c.y - c.z).abs()) {
+            (0, 1, 2)
+        } else if (c.x - c.z).abs() > (c.y - c.z).abs() {
+            (0, 2, 1)
+        } else {
+            (1, 2, 0)
+        };
+        let a = (got[i] - got[j]) / (c[i] - c[j]);
+        let b = got[i] - a * c[i];
+        assert!(a > 0.0, "({x}, {y}): lit, {got}");
+        assert!(
+            (a * c[k] + b - got[k]).abs() < 1e-6,
+            "({x}, {y}): {got} is not a·{c} + b"
+        );
+        checked += 1;
+    }
+    assert!(checked > 50, "{checked} pixels");
+}

@@ -182,7 +182,11 @@ surface = { type = "striped", surfaces = [{ type = "picture", file = "p.png" }, 
     let d = parse_as(text, path.to_str().unwrap());
     assert_eq!(d.pictures().len(), 2);
     assert_eq!(d.picture_bytes(), (9 * 3 + 2 * 2) * 12);
-    let each: Vec<usize> = d.objects.iter().map(|o| o.surface.pictures().len()).collect();
+    let each: Vec<usize> = d
+        .objects
+        .iter()
+        .map(|o| o.surface.pictures().len())
+        .collect();
     assert_eq!(each, [1, 1, 2]);
 }
 
