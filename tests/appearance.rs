@@ -76,6 +76,26 @@ fn a_tinted_slab_keeps_exp_minus_a_d_straight_and_obliquely() {
     assert_close(colours[1], backdrop() * kept(a, 0.7 / theta.cos()));
 }
 
+/// Coloured glass: a layer stack of a refracting surface (index ratio 1.5, transmission 0.9)
+/// over a tinted solid, on the slab. At 40° the ray refracts to θ' with sin θ' = sin 40°/1.5
+/// (Snell), crosses 0.7/cos θ' of the tint and leaves at 40° again, shifted sideways (the
+/// backdrop shows one colour, so only the light kept counts): 0.9² exp(−a·0.7/cos θ').
+#[test]
+fn coloured_glass_refracts_and_absorbs_along_the_refracted_path() {
+    let a = Colour::from_array(A);
+    let glass = "[[object]]\nname = \"glass\"\nshadow_throwing = false\n\
+        shape = { type = \"cuboid\", centre = [0, 0, 5], size = [40, 40, 0.7] }\n\
+        surface = { type = \"layer-stack\", layers = [\
+        { type = \"refractive\", index_ratio = 1.5, transmission_coefficient = 0.9 }, \
+        { type = \"tinted-solid\", absorption_coefficient = [0.5, 1, 2] }] }\n";
+    let theta = 40f64.to_radians();
+    let inside = (theta.sin() / 1.5).asin();
+    let oblique = DVec3::new(theta.sin(), 0.0, theta.cos());
+    let colours = seen(glass, &[DVec3::Z, oblique]);
+    assert_close(colours[0], backdrop() * 0.81 * kept(a, 0.7));
+    assert_close(colours[1], backdrop() * 0.81 * kept(a, 0.7 / inside.cos()));
+}
+
 /// Inside a solid 2 thick (z from 4 to 6), a constant-colour ball of radius 0.3 about
 /// (0, 0, 5) is seen through 0.7 of the tint; a transparent ball (radius 0.5, about (1, 0, 5))
 /// takes its diameter out of the tinted path of a ray through its centre, which keeps

@@ -214,7 +214,11 @@ impl<'a> Tracer<'a> {
             Redirection::Crosses { exit, factor } | Redirection::Jumps { exit, factor } => {
                 factor * on(at.emerging(exit))
             }
-            Redirection::Absorbs { absorption } => self.absorbed(absorption, at, level, frame),
+            Redirection::Absorbs {
+                absorption,
+                direction,
+                factor,
+            } => factor * self.absorbed(absorption, at, direction, level, frame),
             Redirection::Glows { glow, factor } => glow + factor * on(at.leaving(at.ray.direction)),
             Redirection::Mixes(parts) => parts
                 .iter()
@@ -226,21 +230,23 @@ impl<'a> Tracer<'a> {
         }
     }
 
-    /// The colour seen along a ray that enters an absorbing solid at `at` undeviated: what its
-    /// next hit shows, of which each channel keeps exp(−absorption·t) over the distance t to
-    /// that hit, unless the hit is on the same object (its exit accounts for the whole path).
+    /// The colour seen along a ray that enters an absorbing solid at `at` in `direction`: what
+    /// its next hit shows, of which each channel keeps exp(−absorption·t) over the distance t
+    /// to that hit, unless the hit is on the same object (its exit accounts for the whole
+    /// path).
     #[inline(never)]
     fn absorbed(
         &self,
         absorption: Colour,
         at: &Interaction,
+        direction: DVec3,
         level: u32,
         frame: ReferenceFrame,
     ) -> Colour {
         if level <= 1 {
             return Colour::ZERO;
         }
-        let (ray, margin) = at.leaving(at.ray.direction);
+        let (ray, margin) = at.leaving(direction);
         let Some(found) = self.first(&ray, margin, frame) else {
             return Colour::ZERO;
         };

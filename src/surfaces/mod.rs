@@ -182,10 +182,16 @@ pub enum Redirection<'a> {
     Crosses { exit: Exit, factor: Colour },
     /// The ray leaves from another surface, without travelling between (teleporting).
     Jumps { exit: Exit, factor: Colour },
-    /// The ray enters an absorbing solid undeviated (Dr TIM's `SurfaceOfTintedSolid`): along
-    /// the distance t to its next hit each channel keeps exp(−absorption·t) of the light,
-    /// unless that hit is on the same object, whose exit then accounts for the whole path.
-    Absorbs { absorption: Colour },
+    /// The ray enters an absorbing solid (Dr TIM's `SurfaceOfTintedSolid`) in unit
+    /// `direction` (its own, or refracted by a layer in front), carrying `factor` of the
+    /// light: along the distance t to its next hit each channel keeps exp(−absorption·t) of
+    /// the light, unless that hit is on the same object, whose exit then accounts for the
+    /// whole path.
+    Absorbs {
+        absorption: Colour,
+        direction: DVec3,
+        factor: Colour,
+    },
     /// The ray goes on undeviated, carrying `factor` of the light it brings, and `glow` is
     /// added (Dr TIM's `SurfaceOfGlowingCloud`, factor 1, and `Rainbow`).
     Glows { glow: Colour, factor: Colour },

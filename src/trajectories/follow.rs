@@ -98,7 +98,8 @@ fn follow(
                 return finish(points, End::Lost, ray.direction);
             }
             Redirection::Leaves { direction, .. } => at.leaving(direction),
-            Redirection::Absorbs { .. } | Redirection::Glows { .. } => at.leaving(ray.direction),
+            Redirection::Absorbs { direction, .. } => at.leaving(direction),
+            Redirection::Glows { .. } => at.leaving(ray.direction),
             Redirection::Crosses { exit, .. } => {
                 let inside = inside.points;
                 let arrival = if inside.is_empty() {

@@ -62,11 +62,22 @@ impl LayerStack {
                         ..*at
                     };
                 }
+                // Only the last layer may absorb: the ray goes on into the solid.
+                Redirection::Absorbs {
+                    absorption,
+                    direction,
+                    factor: f,
+                } => {
+                    return Redirection::Absorbs {
+                        absorption,
+                        direction,
+                        factor: factor * f,
+                    };
+                }
                 // Refused when the stack is built (see `check_layer`).
                 Redirection::Lost
                 | Redirection::Crosses { .. }
                 | Redirection::Jumps { .. }
-                | Redirection::Absorbs { .. }
                 | Redirection::Glows { .. }
                 | Redirection::Mixes(_) => return Redirection::Lost,
             }
@@ -76,13 +87,14 @@ impl LayerStack {
 }
 
 /// Refuses a layer that does not keep the ray at the point where it met the stack: one that
-/// crosses the object or jumps elsewhere, absorbs or glows along the way inside, or mixes
-/// several ways.
+/// crosses the object or jumps elsewhere, absorbs (but as the innermost layer) or glows along
+/// the way inside, or mixes several ways.
 fn check_layer(layer: &Surface) -> Result<(), String> {
     let refuse = || {
         Err(format!(
             "a {} surface cannot be a layer of a layer stack (a layer must colour the ray or \
-             send it on from the same point in one direction)",
+             send it on from the same point in one direction; a tinted solid may be the last \
+             layer)",
             layer.kind()
         ))
     };
@@ -156,12 +168,17 @@ impl LayerStackKeys {
         if self.layers.is_empty() {
             return Err("a layer stack needs at least one layer".into());
         }
+        let last = self.layers.len() - 1;
         let layers = self
             .layers
             .into_iter()
-            .map(|keys| {
+            .enumerate()
+            .map(|(k, keys)| {
                 let layer = part(keys, "a layer of a layer stack")?;
-                check_layer(&layer)?;
+                // The innermost layer may be a tinted solid: the stack's inside absorbs.
+                if !(k == last && matches!(layer, Surface::TintedSolid(_))) {
+                    check_layer(&layer)?;
+                }
                 Ok(layer)
             })
             .collect::<Result<_, String>>()?;

@@ -34,6 +34,8 @@ impl TintedSolid {
         } else {
             Redirection::Absorbs {
                 absorption: self.absorption,
+                direction: d,
+                factor: Colour::ONE,
             }
         }
     }
@@ -91,7 +93,14 @@ mod tests {
         let solid = TintedSolid { absorption: a };
         let sphere = Shape::Sphere(Sphere::new(DVec3::ZERO, 1.0).unwrap());
         let at = meet(&sphere, DVec3::new(0.2, 0.1, -5.0), DVec3::Z);
-        assert_eq!(solid.redirect(&at), Redirection::Absorbs { absorption: a });
+        assert_eq!(
+            solid.redirect(&at),
+            Redirection::Absorbs {
+                absorption: a,
+                direction: at.ray.direction,
+                factor: Colour::ONE
+            }
+        );
     }
 
     #[test]
