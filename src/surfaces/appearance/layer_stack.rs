@@ -297,9 +297,9 @@ mod tests {
                 .unwrap_err()
                 .contains("at least one layer")
         );
-        let e =
-            build(r#"layers = [{ type = "tinted-solid", absorption_coefficient = [1, 1, 1] }]"#)
-                .unwrap_err();
+        let tint = r#"{ type = "tinted-solid", absorption_coefficient = [1, 1, 1] }"#;
+        assert!(build(&format!(r#"layers = [{{ type = "mirror" }}, {tint}]"#)).is_ok());
+        let e = build(&format!(r#"layers = [{tint}, {{ type = "mirror" }}]"#)).unwrap_err();
         assert!(
             e.starts_with("a tinted-solid surface cannot be a layer"),
             "{e}"
