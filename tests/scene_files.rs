@@ -1282,6 +1282,45 @@ shape = { type = "sphere", centre = [0, 1, 5], radius = 1 }
 surface = { type = "matt", colour = [1, 0.2, 0.2] }
 "#;
 
+/// A camera at (0.5, 2, −1) told to look at the ball's centre (0, 1, 5) sees what one told to
+/// look along (0, 1, 5) − (0.5, 2, −1) = (−0.5, −1, 6) sees, pixel for pixel, from the file
+/// and from `--set` (which replaces the file's view_direction); both together, or a look-at
+/// point at the camera, is a located error.
+#[test]
+fn look_at_is_the_view_direction_towards_a_point() {
+    let dir = TempDir::new().unwrap();
+    write(dir.path(), "scene.toml", RENDER_SCENE);
+    let render = |out: &str, sets: &[&str]| {
+        let mut args = vec!["render", "scene.toml", "-o", out, "--quiet"];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        timbre(dir.path(), &args).assert_success();
+        decode_png(&dir.path().join(out))
+    };
+    let at = "camera.position=[0.5, 2, -1]";
+    let along = render("along.png", &[at, "camera.view_direction=[-0.5, -1, 6]"]);
+    let looking = render("at.png", &[at, "camera.look_at=[0, 1, 5]"]);
+    assert_eq!(along, looking);
+    assert_ne!(
+        along,
+        render("plain.png", &[at]),
+        "the view direction matters"
+    );
+    let text = RENDER_SCENE.replace("view_direction = [0, 0, 1]", "look_at = [0, 1.0001, 5]");
+    let d = file::parse(&text, "scene.toml").unwrap();
+    assert!((d.camera.view_direction() - DVec3::Z).length() < 1e-12);
+    let both = RENDER_SCENE.replace("up = [0, 1, 0]", "look_at = [0, 1, 5]");
+    let e = file::parse(&both, "scene.toml").unwrap_err().to_string();
+    assert!(
+        e.contains("scene.toml:12:11:") && e.contains("view_direction or look_at, not both"),
+        "{e}"
+    );
+    let here = RENDER_SCENE.replace("view_direction = [0, 0, 1]", "look_at = [0, 1.0001, 0]");
+    let e = file::parse(&here, "scene.toml").unwrap_err().to_string();
+    assert!(e.contains("look_at point is its position"), "{e}");
+}
+
 #[test]
 fn set_changes_the_camera_and_the_picture_size() {
     let dir = TempDir::new().unwrap();

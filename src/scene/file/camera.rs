@@ -23,7 +23,8 @@ pub(super) struct CameraSection {
     #[serde(rename = "type")]
     kind: Option<CameraKind>,
     position: Option<Vector>,
-    view_direction: Option<Vector>,
+    view_direction: Option<Spanned<Vector>>,
+    look_at: Option<Spanned<Vector>>,
     up: Option<Vector>,
     horizontal_view_angle_deg: Option<Spanned<Positive>>,
     view_width: Option<Spanned<Positive>>,
@@ -107,9 +108,26 @@ impl CameraSection {
     ) -> Result<CameraSetup, SceneFileError> {
         let at = |s: Option<Range<usize>>, m: &str| source.error(s.or(span.clone()), m.to_string());
         let position = self.position.map_or(studio::CAMERA_POSITION, |v| v.0);
-        let view = self
-            .view_direction
-            .map_or(studio::CAMERA_VIEW_DIRECTION, |v| v.0);
+        let view = match (&self.view_direction, &self.look_at) {
+            (Some(_), Some(l)) => {
+                return Err(at(
+                    Some(l.span()),
+                    "give the camera view_direction or look_at, not both",
+                ));
+            }
+            (Some(v), None) => v.get_ref().0,
+            (None, Some(l)) => {
+                let view = l.get_ref().0 - position;
+                if view == DVec3::ZERO {
+                    return Err(at(
+                        Some(l.span()),
+                        "the camera's look_at point is its position: no direction to look in",
+                    ));
+                }
+                view
+            }
+            (None, None) => studio::CAMERA_VIEW_DIRECTION,
+        };
         let up = self.up.map_or(studio::CAMERA_UP, |v| v.0);
         let aperture = self
             .aperture_radius

@@ -151,11 +151,22 @@ fn locate(
     Err(format!("index {entry} is beyond the {before} entries"))
 }
 
+/// Keys that say the same thing two ways: setting one removes the other from its table.
+const EITHER_OR: &[[&str; 2]] = &[["view_direction", "look_at"]];
+
 fn set(root: &mut Table, o: &Override) -> Result<(), String> {
     let (last, path) = o.key.split_last().expect("keys are not empty");
     let mut here = Value::Table(std::mem::take(root));
     let result = descend(&mut here, path, last).map(|slot| match slot {
         Value::Table(t) => {
+            for pair in EITHER_OR
+                .iter()
+                .filter(|pair| pair.contains(&last.as_str()))
+            {
+                pair.iter().filter(|&&k| k != last).for_each(|k| {
+                    t.remove(*k);
+                });
+            }
             t.insert(last.clone(), o.value.clone());
             Ok(())
         }
@@ -256,5 +267,16 @@ mod tests {
             e.contains("'x' cannot be set inside a value of type integer"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_look_at_point_replaces_the_view_direction_and_back() {
+        let text = "[camera]\nview_direction = [0, 0, 1]\n";
+        let t = apply_one(text, "camera.look_at=[1,2,3]").unwrap();
+        assert!(t["camera"].get("view_direction").is_none());
+        assert!(t["camera"]["look_at"].is_array());
+        let text = "[camera]\nlook_at = [0, 0, 1]\n";
+        let t = apply_one(text, "camera.view_direction=[1,2,3]").unwrap();
+        assert!(t["camera"].get("look_at").is_none());
     }
 }
