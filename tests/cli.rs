@@ -215,7 +215,19 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     assert_eq!((s.size.as_str(), s.spp), ("80x60", 2));
     assert_eq!(s.rays, 80 * 60 * 2, "{}", run.stdout);
 
-    // --spp overrides the file too.
+    // --width alone keeps the file's aspect ratio (40:30): 100 wide is 75 high.
+    let run = timbre(
+        dir.path(),
+        &["render", path_str(&scene), "-o", "w.png", "--width", "100"],
+    );
+    run.assert_success();
+    assert_eq!(
+        decode_png(&dir.path().join("w.png")).dimensions(),
+        (100, 75)
+    );
+
+    // --spp overrides the file too; --height alone keeps the aspect: 10 high is
+    // round(40 × 10/30) = 13 wide.
     let run = timbre(
         dir.path(),
         &[
@@ -232,11 +244,11 @@ fn scene_file_renders_and_the_command_line_overrides_it() {
     run.assert_success();
     assert_eq!(
         decode_png(&dir.path().join("spp.png")).dimensions(),
-        (40, 10)
+        (13, 10)
     );
     let s = summary(&run.stdout);
-    assert_eq!((s.size.as_str(), s.spp), ("40x10", 3));
-    assert_eq!(s.rays, 40 * 10 * 3, "{}", run.stdout);
+    assert_eq!((s.size.as_str(), s.spp), ("13x10", 3));
+    assert_eq!(s.rays, 13 * 10 * 3, "{}", run.stdout);
 
     // A matt inside of the ball lit by a point light at its centre: every sample is a primary
     // ray and one shadow ray towards the light (nothing is in the way, and the matt surface
@@ -1125,6 +1137,12 @@ fn each_render_setting_is_an_option_meaning_the_render_key() {
                 format!("{}{key} = {value}{}", &studio[..at], &studio[end..])
             }
             None => format!("{studio}{key} = {value}\n"),
+        };
+        // A width or height alone on the command line keeps the scene's 64:48 aspect ratio.
+        let in_file = match key {
+            "width" => in_file.replace("height = 48", "height = 45"),
+            "height" => in_file.replace("width = 64", "width = 53"),
+            _ => in_file,
         };
         write(d, "keyed.toml", &in_file);
         render(&["keyed.toml", "-o", "file.png"]);

@@ -667,7 +667,7 @@ impl NativeScene {
         let description = &state.description;
         let given = setting_values(&settings)?;
         let mut settings: RenderSettings = description.render.clone();
-        given.apply(&mut settings);
+        given.apply_over(&mut settings);
         let mut channels = 0;
         for name in &aovs {
             let Some((_, n)) = AOVS.iter().find(|(a, _)| a == name) else {

@@ -139,6 +139,9 @@ def test_shapes_dtypes_and_aovs():
     assert timbre.studio().render(8, 6).aovs == {}
     # The scene's own size when none is given.
     assert timbre.studio().render(spp=1).shape == (480, 640, 3)
+    # A width or a height alone keeps the studio's 640:480: 100 wide is 75 high, 30 high 40 wide.
+    assert timbre.studio().render(width=100).shape == (75, 100, 3)
+    assert timbre.studio().render(height=30).shape == (30, 40, 3)
 
 
 def test_the_studio_is_the_cli_default_scene(timbre_cli, tmp_path):

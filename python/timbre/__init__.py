@@ -342,6 +342,8 @@ class Scene:
         ``timbre render --width W --height H --spp N --seed S -o NAME.exr`` writes, whatever
         ``threads`` is (default: every core).
 
+        - ``width`` or ``height`` alone keeps the scene's aspect ratio, the other side scaled
+          and rounded (as ``--width`` alone does).
         - ``exposure``: stops; the values are multiplied by 2^exposure (as in every file
           ``timbre render --exposure`` writes). ``png_transfer``: ``"linear"`` or ``"srgb"``,
           how :meth:`Image.png` encodes them.

@@ -287,7 +287,7 @@ pub enum ProgressMode {
 impl RenderArgs {
     /// The command line's values in place of the scene file's.
     pub fn apply_to(&self, s: &mut RenderSettings) {
-        self.settings.0.apply(s);
+        self.settings.0.apply_over(s);
         s.aovs = !self.aov.is_empty();
         s.threads = self.threads.map(|t| t as usize);
     }

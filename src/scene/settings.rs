@@ -361,6 +361,24 @@ impl SettingValues {
         }
     }
 
+    /// These values over a scene's `settings`, as the command line, the live preview and
+    /// Python give them: a width or a height given alone scales the other, rounded (at least
+    /// 1), so that the picture keeps the scene's aspect ratio.
+    pub fn apply_over(&self, settings: &mut RenderSettings) {
+        let (width, height) = (settings.width, settings.height);
+        self.apply(settings);
+        let scaled = |n: u32, new: u32, old: u32| {
+            (n as f64 * new as f64 / old as f64)
+                .round()
+                .clamp(1.0, u32::MAX as f64) as u32
+        };
+        match (self.gives("width"), self.gives("height")) {
+            (true, false) => settings.height = scaled(height, settings.width, width),
+            (false, true) => settings.width = scaled(width, settings.height, height),
+            _ => {}
+        }
+    }
+
     /// Whether `key` is given.
     pub fn gives(&self, key: &str) -> bool {
         self.0.iter().any(|(s, _)| s.key == key)

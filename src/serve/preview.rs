@@ -162,7 +162,7 @@ impl Preview {
         if !o.settings.gives("spp") {
             s.spp = s.spp.max(DEFAULT_SPP);
         }
-        o.settings.apply(&mut s);
+        o.settings.apply_over(&mut s);
         s.threads = o.threads.map(|t| t as usize);
         s.aovs = false;
         prepare::check_settings(&s, &description.stereo).map_err(LoadError::plain)?;
