@@ -1166,3 +1166,56 @@ fn each_render_setting_is_an_option_meaning_the_render_key() {
         );
     }
 }
+
+/// `--crop x0,x1,y0,y1` writes those pixels of the picture as a picture of their own: the PNG
+/// is the same window of the whole PNG, and the OpenEXR the same window of the whole OpenEXR,
+/// with its display window at the origin (a plain picture, not a part placed in a larger one);
+/// a crop outside the image, or with a part's options, is refused.
+#[test]
+fn a_crop_is_that_window_of_the_whole_picture() {
+    let dir = TempDir::new().unwrap();
+    let d = dir.path();
+    let render = |args: &[&str]| {
+        timbre(
+            d,
+            &[&["render", "-q", "--width", "48", "--height", "36"], args].concat(),
+        )
+    };
+    render(&["-o", "whole.png"]).assert_success();
+    render(&["-o", "crop.png", "--crop", "10,30,5,25"]).assert_success();
+    let whole = decode_png(&d.join("whole.png"));
+    let crop = decode_png(&d.join("crop.png"));
+    assert_eq!(crop.dimensions(), (20, 20));
+    for (x, y, p) in crop.enumerate_pixels() {
+        assert_eq!(*p, *whole.get_pixel(x + 10, y + 5), "({x}, {y})");
+    }
+    render(&["-o", "whole.exr"]).assert_success();
+    render(&["-o", "crop.exr", "--crop", "10,30,5,25"]).assert_success();
+    let (whole, crop) = (
+        Exr::read(&d.join("whole.exr")),
+        Exr::read(&d.join("crop.exr")),
+    );
+    assert_eq!(crop.size, (20, 20));
+    for (x, y) in (0..20).flat_map(|y| (0..20).map(move |x| (x, y))) {
+        for c in ["R", "G", "B"] {
+            assert_eq!(crop.at(c, x, y), whole.at(c, x + 10, y + 5));
+        }
+    }
+    let meta = exr::meta::MetaData::read_from_file(d.join("crop.exr"), false).unwrap();
+    let header = &meta.headers[0];
+    assert_eq!(header.own_attributes.layer_position, exr::math::Vec2(0, 0));
+    assert_eq!(
+        header.shared_attributes.display_window.size,
+        exr::math::Vec2(20, 20)
+    );
+    let run = render(&["-o", "out.png", "--crop", "40,50,0,10"]);
+    assert_eq!(run.code, Some(2));
+    assert!(
+        run.stderr
+            .contains("--crop 40,50,0,10 is not within the 48x36 image"),
+        "{}",
+        run.stderr
+    );
+    let run = render(&["-o", "out.exr", "--crop", "0,8,0,8", "--samples", "0..1"]);
+    assert_eq!(run.code, Some(2), "{}", run.stderr);
+}

@@ -177,6 +177,10 @@ pub struct RenderArgs {
     /// Render only the pixels x0..x1, y0..y1 (half-open) as a part for `timbre merge`.
     #[arg(long, value_name = "x0,x1,y0,y1")]
     pub pixel_bounds: Option<BoundsArg>,
+    /// Render only the pixels x0..x1, y0..y1 (half-open) of the picture, written as a picture
+    /// of their own (PNG or OpenEXR), not a part.
+    #[arg(long, value_name = "x0,x1,y0,y1", conflicts_with_all = ["pixel_bounds", "tile", "samples"])]
+    pub crop: Option<BoundsArg>,
     /// Render samples A to B-1 of each pixel's sample sequence (of --spp) as a part for
     /// `timbre merge`.
     #[arg(long, value_name = "A..B")]

@@ -173,10 +173,10 @@ fn check_output(
     if settings.aovs && format != OutputFormat::Exr {
         return Err(bad_input("--aov needs an OpenEXR output (-o NAME.exr)"));
     }
-    let production = job.provenance.sums || job.checkpointing.is_some();
+    let production = job.provenance.sums || job.checkpointing.is_some() || args.crop.is_some();
     if production && *stereo != Stereo::Mono {
         return Err(bad_input(
-            "--tile, --pixel-bounds, --samples, --checkpoint-interval and --resume work with single views only (camera.stereo = \"none\")",
+            "--tile, --pixel-bounds, --crop, --samples, --checkpoint-interval and --resume work with single views only (camera.stereo = \"none\")",
         ));
     }
     if job.provenance.sums && format != OutputFormat::Exr {
@@ -342,6 +342,7 @@ fn job(args: &RenderArgs, s: &RenderSettings, hash: String) -> Result<Job, Failu
     let part = Part {
         tile: args.tile.map(|TileArg { k, n }| (k, n)),
         pixels: args.pixel_bounds.map(|BoundsArg(b)| b),
+        crop: args.crop.map(|BoundsArg(b)| b),
         samples: args.samples.clone().map(|SamplesArg(r)| r),
     };
     let checkpoints = Checkpoints {

@@ -84,11 +84,21 @@ fn channels(provenance: &Provenance) -> Vec<(String, SampleType, Value)> {
 fn header(provenance: &Provenance, channels: &[(String, SampleType, Value)]) -> Header {
     let p = provenance;
     let b = p.bounds;
+    // A part (to be merged) keeps its place in the whole picture; a picture of some pixels
+    // only (a crop) is a picture of its own, from the origin.
+    let (origin, display) = if p.sums {
+        (
+            Vec2(b.x0 as i32, b.y0 as i32),
+            (p.width as usize, p.height as usize),
+        )
+    } else {
+        (Vec2(0, 0), (b.width() as usize, b.height() as usize))
+    };
     // EXR strings are byte strings; timbre writes UTF-8 (exr's `Text::from` takes Latin-1 only
     // and panics on other characters).
     let text = |s: &str| Text::from_bytes_unchecked(SmallVec::from_slice(s.as_bytes()));
     let mut attributes = LayerAttributes {
-        layer_position: Vec2(b.x0 as i32, b.y0 as i32),
+        layer_position: origin,
         ..LayerAttributes::default()
     };
     let mut note = |key: &str, value| attributes.other.insert(Text::from(key), value);
@@ -138,10 +148,7 @@ fn header(provenance: &Provenance, channels: &[(String, SampleType, Value)]) -> 
         LineOrder::Increasing,
     )
     .with_attributes(attributes)
-    .with_display_window(IntegerBounds::new(
-        (0, 0),
-        (p.width as usize, p.height as usize),
-    ));
+    .with_display_window(IntegerBounds::new((0, 0), display));
     header.own_attributes.layer_name = None;
     header
 }

@@ -21,6 +21,9 @@ pub struct Part {
     pub tile: Option<(u32, u32)>,
     /// A rectangle of pixels (with no tile).
     pub pixels: Option<PixelBounds>,
+    /// A rectangle of pixels written as a picture of its own, not a part (with no tile, pixels
+    /// or samples).
+    pub crop: Option<PixelBounds>,
     /// Samples A to B − 1 of each pixel's sequence.
     pub samples: Option<Range<u32>>,
 }
@@ -46,7 +49,7 @@ impl Job {
     ) -> Result<Job, String> {
         let s = settings;
         let full = PixelBounds::full(s.width, s.height);
-        let bounds = match (part.tile, part.pixels) {
+        let bounds = match (part.tile, part.pixels.or(part.crop)) {
             (Some((k, n)), _) => {
                 if n > s.height {
                     return Err(format!(
@@ -62,8 +65,13 @@ impl Job {
                 }
             }
             (None, Some(b)) if !full.contains(&b) => {
+                let option = if part.crop.is_some() {
+                    "--crop"
+                } else {
+                    "--pixel-bounds"
+                };
                 return Err(format!(
-                    "--pixel-bounds {b} is not within the {}x{} image",
+                    "{option} {b} is not within the {}x{} image",
                     s.width, s.height
                 ));
             }
