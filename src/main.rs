@@ -9,7 +9,7 @@ use serde::Serialize;
 use timbre::embree::Device;
 
 use timbre::io::OutputFormat;
-use timbre::mesh::{self, PlyEncoding, generate};
+use timbre::mesh::{self, PlyEncoding, Precision, generate};
 use timbre::prepare::{self, Needs, PrepareError};
 use timbre::production::{self, JobError};
 use timbre::render::RenderError;
@@ -44,7 +44,7 @@ macro_rules! err {
 // After the macros, which its modules use.
 mod cli;
 
-use cli::args::{Cli, Command, Encoding, ServeArgs};
+use cli::args::{Cli, Command, Encoding, PrecisionArg, ServeArgs};
 use cli::progress::spinner;
 use cli::render::run_render;
 
@@ -239,6 +239,7 @@ fn run_generate_mesh(
     triangles: u64,
     displacement: f64,
     encoding: Encoding,
+    precision: PrecisionArg,
 ) -> Result<(), Failure> {
     if !displacement.is_finite() || displacement.abs() >= 1.0 {
         return Err(bad_input(format!(
@@ -260,7 +261,11 @@ fn run_generate_mesh(
         Encoding::BinaryLittleEndian => PlyEncoding::BinaryLittleEndian,
         Encoding::BinaryBigEndian => PlyEncoding::BinaryBigEndian,
     };
-    mesh::save(output, &mesh, encoding).map_err(bad_input)?;
+    let precision = match precision {
+        PrecisionArg::F32 => Precision::F32,
+        PrecisionArg::F64 => Precision::F64,
+    };
+    mesh::save_as(output, &mesh, encoding, precision).map_err(bad_input)?;
     out!(
         "{} triangles, {} vertices -> {}",
         mesh.triangles.len(),
@@ -348,7 +353,8 @@ fn main() -> ExitCode {
             triangles,
             displacement,
             encoding,
-        } => run_generate_mesh(&output, triangles, displacement, encoding),
+            precision,
+        } => run_generate_mesh(&output, triangles, displacement, encoding, precision),
         Command::Merge {
             output,
             parts,

@@ -2133,3 +2133,54 @@ fn ply_with_no_faces_is_an_error() {
         format!("{}: the mesh has no faces", path.display())
     );
 }
+
+/// `generate-mesh` writes single precision unless asked for double: the PLY declares `float`
+/// coordinates (and normals), its vertex data takes half the bytes (the file is shorter by
+/// 4 bytes a coordinate: 6 a vertex with its normal), and every coordinate read back is the
+/// double-precision one rounded to the nearest f32; in every encoding and in OBJ alike.
+#[test]
+fn generated_meshes_are_single_precision_unless_asked() {
+    let dir = TempDir::new().unwrap();
+    let generate = |file: &str, extra: &[&str]| {
+        let args = [&["generate-mesh", "-o", file, "--triangles", "2000"], extra].concat();
+        timbre(dir.path(), &args).assert_success();
+        dir.path().join(file)
+    };
+    for encoding in ["binary-little-endian", "binary-big-endian", "ascii"] {
+        let single = generate("s.ply", &["--encoding", encoding]);
+        let double = generate("d.ply", &["--encoding", encoding, "--precision", "f64"]);
+        let text = |p: &Path| String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
+        assert!(text(&single).contains("property float x\n"), "{encoding}");
+        assert!(text(&double).contains("property double x\n"), "{encoding}");
+        let (s, d) = (load_ok(&single).remove(0), load_ok(&double).remove(0));
+        if encoding != "ascii" {
+            let size = |p: &Path| std::fs::metadata(p).unwrap().len();
+            let header = |p: &Path| text(p).find("end_header\n").unwrap() as u64;
+            let coordinates = d.vertices.len() as u64 * (3 + 3 * d.normals.is_some() as u64);
+            assert_eq!(
+                size(&double) - header(&double) - (size(&single) - header(&single)),
+                4 * coordinates,
+                "{encoding}"
+            );
+        }
+        let rounded =
+            |v: DVec3| DVec3::new(v.x as f32 as f64, v.y as f32 as f64, v.z as f32 as f64);
+        assert_eq!(s.triangles, d.triangles);
+        for (a, b) in s.vertices.iter().zip(&d.vertices) {
+            assert_eq!(*a, rounded(*b), "{encoding}");
+        }
+    }
+    let (single, double) = (
+        generate("s.obj", &[]),
+        generate("d.obj", &["--precision", "f64"]),
+    );
+    let (s, d) = (load_ok(&single).remove(0), load_ok(&double).remove(0));
+    assert_eq!(s.vertices.len(), d.vertices.len());
+    let rounded = |v: DVec3| DVec3::new(v.x as f32 as f64, v.y as f32 as f64, v.z as f32 as f64);
+    let sorted = |m: &Mesh| {
+        let mut v: Vec<[f64; 3]> = m.vertices.iter().map(|v| rounded(*v).to_array()).collect();
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        v
+    };
+    assert_eq!(sorted(&s), sorted(&d));
+}

@@ -60,6 +60,9 @@ pub enum Command {
         /// PLY encoding.
         #[arg(long, value_enum, default_value_t = Encoding::BinaryLittleEndian)]
         encoding: Encoding,
+        /// Precision of the coordinates: f32 (half the size of f64) or f64 (exact).
+        #[arg(long, value_enum, default_value_t = PrecisionArg::F32)]
+        precision: PrecisionArg,
     },
     /// Merge parts of one render (written with --tile, --pixel-bounds, --samples) into the
     /// whole image, exactly as a single render would have made it.
@@ -295,6 +298,12 @@ impl RenderArgs {
         s.aovs = !self.aov.is_empty();
         s.threads = self.threads.map(|t| t as usize);
     }
+}
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+pub enum PrecisionArg {
+    F32,
+    F64,
 }
 
 #[derive(Clone, Copy, PartialEq, ValueEnum)]

@@ -19,7 +19,7 @@ use thiserror::Error;
 
 pub use mtl::Material;
 pub use obj::Open;
-pub use ply::PlyEncoding;
+pub use ply::{PlyEncoding, Precision};
 
 /// A triangle mesh as read from (or written to) a file: shared vertices, index triples
 /// (counter-clockwise seen from outside) and optional per-vertex normals.
@@ -131,8 +131,19 @@ pub fn load_with(path: &Path, open: Option<Open>) -> Result<Loaded, MeshError> {
     Ok(loaded)
 }
 
-/// Writes a mesh as OBJ or PLY (chosen by the extension; PLY in the given encoding).
+/// Writes a mesh as OBJ or PLY (chosen by the extension; PLY in the given encoding), exactly
+/// (coordinates in double precision).
 pub fn save(path: &Path, mesh: &Mesh, encoding: PlyEncoding) -> Result<(), MeshError> {
+    save_as(path, mesh, encoding, Precision::F64)
+}
+
+/// [`save`] with the coordinates in the given precision.
+pub fn save_as(
+    path: &Path,
+    mesh: &Mesh,
+    encoding: PlyEncoding,
+    precision: Precision,
+) -> Result<(), MeshError> {
     let shown = path.display().to_string();
     let io = |source| MeshError::Io {
         path: shown.clone(),
@@ -146,8 +157,8 @@ pub fn save(path: &Path, mesh: &Mesh, encoding: PlyEncoding) -> Result<(), MeshE
         });
     };
     crate::files::write_atomically(path, |mut out| match format {
-        MeshFormat::Obj => obj::write(&mut out, mesh),
-        MeshFormat::Ply => ply::write(&mut out, mesh, encoding),
+        MeshFormat::Obj => obj::write(&mut out, mesh, precision),
+        MeshFormat::Ply => ply::write(&mut out, mesh, encoding, precision),
     })
     .map_err(io)
 }

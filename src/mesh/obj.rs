@@ -22,7 +22,9 @@ use std::io::Write;
 use glam::{DVec2, DVec3};
 
 use super::mtl::Material;
-use super::{Loaded, Mesh, ParseProblem, check_finite, column, escaped, not_finite, shown};
+use super::{
+    Loaded, Mesh, ParseProblem, Precision, check_finite, column, escaped, not_finite, shown,
+};
 
 /// Opens a file an OBJ file names (an MTL library), by its name relative to the OBJ file.
 pub type Open<'a> = &'a mut dyn FnMut(&str) -> Result<Vec<u8>, String>;
@@ -373,19 +375,25 @@ fn check_reference(word: &str, counts: &[i64; 3]) -> Result<(bool, bool), String
     Ok((has(1), has(2)))
 }
 
-pub(super) fn write(out: &mut impl Write, mesh: &Mesh) -> std::io::Result<()> {
+pub(super) fn write(
+    out: &mut impl Write,
+    mesh: &Mesh,
+    precision: Precision,
+) -> std::io::Result<()> {
     writeln!(out, "# written by timbre {}", env!("CARGO_PKG_VERSION"))?;
     if !mesh.name.is_empty() {
         writeln!(out, "o {}", mesh.name)?;
     }
-    // Rust prints f64 with the fewest digits that read back exactly.
+    // Rust prints f64 (and f32) with the fewest digits that read back exactly (as f32).
+    let line = |out: &mut dyn Write, key: &str, v: &DVec3| match precision {
+        Precision::F32 => writeln!(out, "{key} {} {} {}", v.x as f32, v.y as f32, v.z as f32),
+        Precision::F64 => writeln!(out, "{key} {} {} {}", v.x, v.y, v.z),
+    };
     for v in &mesh.vertices {
-        writeln!(out, "v {} {} {}", v.x, v.y, v.z)?;
+        line(out, "v", v)?;
     }
-    if let Some(normals) = &mesh.normals {
-        for n in normals {
-            writeln!(out, "vn {} {} {}", n.x, n.y, n.z)?;
-        }
+    for n in mesh.normals.iter().flatten() {
+        line(out, "vn", n)?;
     }
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|i| i + 1);

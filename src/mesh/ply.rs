@@ -31,6 +31,14 @@ pub enum PlyEncoding {
     BinaryBigEndian,
 }
 
+/// The precision of a written mesh's coordinates: single (half the size, about 7 significant
+/// digits) or double (exact).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    F32,
+    F64,
+}
+
 /// A PLY number type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Scalar {
@@ -1295,6 +1303,7 @@ pub(super) fn write(
     out: &mut impl Write,
     mesh: &Mesh,
     encoding: PlyEncoding,
+    precision: Precision,
 ) -> std::io::Result<()> {
     let format = match encoding {
         PlyEncoding::Ascii => "ascii",
@@ -1308,12 +1317,16 @@ pub(super) fn write(
         env!("CARGO_PKG_VERSION")
     )?;
     writeln!(out, "element vertex {}", mesh.vertices.len())?;
+    let scalar = match precision {
+        Precision::F32 => "float",
+        Precision::F64 => "double",
+    };
     for p in ["x", "y", "z"] {
-        writeln!(out, "property double {p}")?;
+        writeln!(out, "property {scalar} {p}")?;
     }
     if mesh.normals.is_some() {
         for p in ["nx", "ny", "nz"] {
-            writeln!(out, "property double {p}")?;
+            writeln!(out, "property {scalar} {p}")?;
         }
     }
     writeln!(out, "element face {}", mesh.triangles.len())?;
@@ -1325,21 +1338,31 @@ pub(super) fn write(
         if let Some(n) = normals {
             values.extend(n[i].to_array());
         }
-        match encoding {
-            PlyEncoding::Ascii => {
-                let words: Vec<String> = values.iter().map(f64::to_string).collect();
-                writeln!(out, "{}", words.join(" "))?;
-            }
-            PlyEncoding::BinaryLittleEndian => {
-                for x in values {
-                    out.write_all(&x.to_le_bytes())?;
+        for (k, x) in values.into_iter().enumerate() {
+            match (encoding, precision) {
+                (PlyEncoding::Ascii, _) => {
+                    let space = if k == 0 { "" } else { " " };
+                    match precision {
+                        Precision::F32 => write!(out, "{space}{}", x as f32)?,
+                        Precision::F64 => write!(out, "{space}{x}")?,
+                    }
+                }
+                (PlyEncoding::BinaryLittleEndian, Precision::F32) => {
+                    out.write_all(&(x as f32).to_le_bytes())?
+                }
+                (PlyEncoding::BinaryLittleEndian, Precision::F64) => {
+                    out.write_all(&x.to_le_bytes())?
+                }
+                (PlyEncoding::BinaryBigEndian, Precision::F32) => {
+                    out.write_all(&(x as f32).to_be_bytes())?
+                }
+                (PlyEncoding::BinaryBigEndian, Precision::F64) => {
+                    out.write_all(&x.to_be_bytes())?
                 }
             }
-            PlyEncoding::BinaryBigEndian => {
-                for x in values {
-                    out.write_all(&x.to_be_bytes())?;
-                }
-            }
+        }
+        if encoding == PlyEncoding::Ascii {
+            writeln!(out)?;
         }
     }
     for t in &mesh.triangles {
