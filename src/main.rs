@@ -361,6 +361,7 @@ fn main() -> ExitCode {
             quiet,
         } => run_merge(&output, &parts, quiet),
         Command::Info => run_info(),
+        Command::Image { command } => cli::image::run_image(command),
         Command::Serve(args) => run_serve(args),
     };
     match result {

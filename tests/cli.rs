@@ -1219,3 +1219,67 @@ fn a_crop_is_that_window_of_the_whole_picture() {
     let run = render(&["-o", "out.exr", "--crop", "0,8,0,8", "--samples", "0..1"]);
     assert_eq!(run.code, Some(2), "{}", run.stderr);
 }
+
+/// `timbre image`: `convert --exposure 1` doubles every value (2^1), the picture otherwise as
+/// it was; `diff` measures the difference and exits 1 only past a threshold given (0 for equal
+/// pictures, whose PSNR is infinite), 2 for pictures of different sizes; `info` tells the size
+/// and what the render recorded.
+#[test]
+fn image_tools_convert_compare_and_describe() {
+    let dir = TempDir::new().unwrap();
+    let d = dir.path();
+    let run = |args: &[&str]| timbre(d, args);
+    run(&[
+        "render", "-q", "--width", "32", "--height", "24", "--seed", "9", "-o", "a.exr",
+    ])
+    .assert_success();
+    run(&["image", "convert", "a.exr", "b.exr", "--exposure", "1"]).assert_success();
+    let (a, b) = (Exr::read(&d.join("a.exr")), Exr::read(&d.join("b.exr")));
+    assert_eq!(b.size, (32, 24));
+    for c in ["R", "G", "B"] {
+        for (x, y) in [(0, 0), (16, 12), (31, 23)] {
+            assert_eq!(b.at(c, x, y), 2.0 * a.at(c, x, y));
+        }
+    }
+    let same = run(&["image", "diff", "a.exr", "a.exr", "--max-error", "0"]);
+    same.assert_success();
+    assert!(same.stdout.starts_with("PSNR inf dB"), "{}", same.stdout);
+    // b − a = a: the largest error is the largest value of a.
+    let largest = ["R", "G", "B"]
+        .iter()
+        .flat_map(|c| a.channels[*c].iter())
+        .fold(0f32, |m, &v| m.max(v)) as f64;
+    let within = format!("{}", largest * 1.001);
+    let beyond = format!("{}", largest * 0.999);
+    run(&["image", "diff", "a.exr", "b.exr", "--max-error", &within]).assert_success();
+    let over = run(&["image", "diff", "a.exr", "b.exr", "--max-error", &beyond]);
+    assert_eq!(over.code, Some(1), "{}", over.stderr);
+    let many = run(&["image", "diff", "a.exr", "b.exr", "--max-differing", "10"]);
+    assert_eq!(many.code, Some(1), "{}", many.stderr);
+    run(&[
+        "render",
+        "-q",
+        "--width",
+        "16",
+        "--height",
+        "12",
+        "-o",
+        "small.exr",
+    ])
+    .assert_success();
+    let sizes = run(&["image", "diff", "a.exr", "small.exr"]);
+    assert_eq!(sizes.code, Some(2), "{}", sizes.stderr);
+    assert!(
+        sizes.stderr.contains("is 32x24 but small.exr is 16x12"),
+        "{}",
+        sizes.stderr
+    );
+    let info = run(&["image", "info", "a.exr"]);
+    info.assert_success();
+    assert!(
+        info.stdout.starts_with("a.exr: 32x24 exr"),
+        "{}",
+        info.stdout
+    );
+    assert!(info.stdout.contains("timbre.seed: 9"), "{}", info.stdout);
+}

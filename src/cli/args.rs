@@ -78,6 +78,11 @@ pub enum Command {
     },
     /// Print the versions of timbre and Embree, the CPU's SIMD support and the thread count.
     Info,
+    /// Picture tools: information, conversion with exposure, comparison with a metric.
+    Image {
+        #[command(subcommand)]
+        command: super::image::ImageCommand,
+    },
     /// Serve a live, progressive preview of a scene file to a web browser: navigation,
     /// parameters, the scene text, inspection, saving (docs/PREVIEW.md).
     Serve(ServeArgs),

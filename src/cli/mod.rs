@@ -2,5 +2,6 @@
 //! (main.rs runs the other commands, which are short).
 
 pub mod args;
+pub mod image;
 pub mod progress;
 pub mod render;

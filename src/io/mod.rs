@@ -21,7 +21,7 @@ use crate::scene::RenderSettings;
 use crate::scene::settings::PngTransfer;
 
 pub use exr_input::{PartError, PartReader, read_part};
-pub use png_output::{encoded_rgb8, encoder as png_encoder, to_rgb8};
+pub use png_output::{encoded_rgb8, encoder as png_encoder, linear_from_srgb, to_rgb8};
 
 /// Which AOV layers an EXR file gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

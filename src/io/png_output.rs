@@ -24,6 +24,15 @@ fn srgb(v: f64) -> f64 {
     }
 }
 
+/// The linear value of an sRGB-encoded value in [0, 1]: the inverse of [`srgb`].
+pub fn linear_from_srgb(v: f64) -> f64 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// A linear colour as 8-bit RGB by `transfer`.
 fn rgb8(c: &Colour, transfer: PngTransfer) -> [u8; 3] {
     c.to_array().map(|v| {
