@@ -1,7 +1,7 @@
 //! Wavefront MTL material libraries, read line by line with located errors: `newmtl`, `Kd`,
-//! `Ks` (r g b, each in [0, 1]), `d` (in [0, 1]), `map_Kd` (a file name); `Ns` (≥ 0) and `Ni`
-//! (> 0) are checked and kept but not used, with a warning; every other key is named in a warning and
-//! ignored.
+//! `Ks` (r g b, each in [0, 1], or one number for all three), `d` (in [0, 1]), `map_Kd` (a file
+//! name). `Ns` and `Ni` are not used, and every other key is ignored: each such key is named in
+//! one warning, with where it first appears and how often.
 
 use glam::DVec3;
 
@@ -16,12 +16,8 @@ pub struct Material {
     pub diffuse: DVec3,
     /// `Ks`, specular colour.
     pub specular: DVec3,
-    /// `Ns`, Phong exponent (read; timbre's exponent is the light's).
-    pub shininess: Option<f64>,
     /// `d`, the opaque fraction (1 − transparency).
     pub dissolve: f64,
-    /// `Ni`, refractive index (read; not used).
-    pub index: Option<f64>,
     /// `map_Kd`, the diffuse texture's file name (as loaded from an OBJ file: relative to it).
     pub diffuse_map: Option<String>,
 }
@@ -32,16 +28,14 @@ impl Material {
             name: name.to_string(),
             diffuse: DVec3::splat(0.8),
             specular: DVec3::ZERO,
-            shininess: None,
             dissolve: 1.0,
-            index: None,
             diffuse_map: None,
         }
     }
 }
 
-/// The materials of an MTL file's text, and a warning for each key that is not read, each
-/// starting "N:C: " (line and column).
+/// The materials of an MTL file's text, and a warning for each key that is not used, starting
+/// "N:C: " (the line and column where it first appears).
 pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParseProblem> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()]
@@ -52,7 +46,8 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
         ParseProblem::new(line.to_string(), "not a text file (invalid UTF-8)")
     })?;
     let mut materials: Vec<Material> = Vec::new();
-    let mut warnings = Vec::new();
+    // Keys not used: the key, where it first appears, how many lines have it.
+    let mut ignored: Vec<(String, String, usize)> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line_no = i + 1;
         let at =
@@ -77,13 +72,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
             materials.push(Material::new(rest));
             continue;
         }
-        let known = matches!(key, "Kd" | "Ks" | "Ns" | "d" | "Ni" | "map_Kd");
-        if !known {
-            warnings.push(format!(
-                "{}: '{}' is not supported and is ignored",
-                column(line_no, line, key),
-                shown(key.as_bytes())
-            ));
+        if !matches!(key, "Kd" | "Ks" | "d" | "map_Kd") {
+            match ignored.iter_mut().find(|(k, _, _)| k == key) {
+                Some((_, _, n)) => *n += 1,
+                None => ignored.push((key.to_string(), column(line_no, line, key), 1)),
+            }
             continue;
         }
         let Some(material) = materials.last_mut() else {
@@ -113,45 +106,44 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
                     })
             })
             .collect::<Result<Vec<f64>, _>>()?;
-        let count = if matches!(key, "Kd" | "Ks") { 3 } else { 1 };
-        if numbers.len() != count {
-            let what = if count == 3 { "r g b" } else { "one number" };
+        let colour = matches!(key, "Kd" | "Ks");
+        let counts: &[usize] = if colour { &[1, 3] } else { &[1] };
+        if !counts.contains(&numbers.len()) {
+            let what = if colour { "r g b (or one number)" } else { "one number" };
             return Err(at(
                 key,
                 format!("{key} needs {what}, got {} numbers", numbers.len()),
             ));
         }
-        let (low, high, range) = match key {
-            "Kd" | "Ks" | "d" => (0.0, 1.0, "in [0, 1]"),
-            "Ns" => (0.0, f64::INFINITY, "at least 0"),
-            _ => (f64::MIN_POSITIVE, f64::INFINITY, "positive"),
-        };
         if let Some((k, x)) = numbers
             .iter()
             .enumerate()
-            .find(|(_, x)| !(low..=high).contains(*x))
+            .find(|(_, x)| !(0.0..=1.0).contains(*x))
         {
-            return Err(at(words[k], format!("{key}: {x} must be {range}")));
+            return Err(at(words[k], format!("{key}: {x} must be in [0, 1]")));
         }
-        match key {
-            "Kd" => material.diffuse = DVec3::from_slice(&numbers),
-            "Ks" => material.specular = DVec3::from_slice(&numbers),
-            "Ns" => material.shininess = Some(numbers[0]),
-            "d" => material.dissolve = numbers[0],
-            _ => material.index = Some(numbers[0]),
-        }
-        let unused = match key {
-            "Ns" => "the Phong exponent is each light's (phong_exponent)",
-            "Ni" => "a partly transparent material passes light straight on",
-            _ => "",
+        let value = match numbers[..] {
+            [r, g, b] => DVec3::new(r, g, b),
+            _ => DVec3::splat(numbers[0]),
         };
-        if !unused.is_empty() {
-            warnings.push(format!(
-                "{}: '{key}' is read but not used: {unused}",
-                column(line_no, line, key)
-            ));
+        match key {
+            "Kd" => material.diffuse = value,
+            "Ks" => material.specular = value,
+            _ => material.dissolve = numbers[0],
         }
     }
+    let warnings = ignored
+        .into_iter()
+        .map(|(key, first, n)| {
+            let why = match key.as_str() {
+                "Ns" => "not used: the Phong exponent is each light's (phong_exponent)",
+                "Ni" => "not used: a partly transparent material passes light straight on",
+                _ => "not supported and is ignored",
+            };
+            let lines = if n > 1 { format!(" ({n} lines)") } else { String::new() };
+            format!("{first}: '{}' is {why}{lines}", shown(key.as_bytes()))
+        })
+        .collect();
     Ok((materials, warnings))
 }
 
@@ -167,10 +159,8 @@ mod tests {
         assert_eq!(
             warnings,
             [
-                "6:1: 'Ns' is read but not used: the Phong exponent is each light's \
-                 (phong_exponent)",
-                "7:1: 'Ni' is read but not used: a partly transparent material passes light \
-                 straight on",
+                "6:1: 'Ns' is not used: the Phong exponent is each light's (phong_exponent)",
+                "7:1: 'Ni' is not used: a partly transparent material passes light straight on",
             ]
         );
         assert_eq!(m.len(), 2);
@@ -178,22 +168,30 @@ mod tests {
         assert_eq!(m[0].diffuse, DVec3::new(1.0, 0.0, 0.0));
         assert_eq!(m[0].specular, DVec3::new(0.25, 0.5, 0.75));
         assert_eq!(m[0].dissolve, 0.4);
-        assert_eq!(m[0].shininess, Some(20.0));
-        assert_eq!(m[0].index, Some(1.5));
         assert_eq!(m[0].diffuse_map.as_deref(), Some("tex.png"));
         assert_eq!(m[1], Material::new("plain"));
     }
 
     #[test]
-    fn unsupported_keys_are_warnings_that_name_them() {
-        let (_, warnings) = read(b"newmtl a\n  Ka 1 1 1\nillum 2\n").unwrap();
+    fn unsupported_keys_are_warnings_that_name_them_once() {
+        let (_, warnings) =
+            read(b"newmtl a\n  Ka 1 1 1\nillum 2\nNi 0\nnewmtl b\nKa 0 0 0\n").unwrap();
         assert_eq!(
             warnings,
             [
-                "2:3: 'Ka' is not supported and is ignored",
-                "3:1: 'illum' is not supported and is ignored"
+                "2:3: 'Ka' is not supported and is ignored (2 lines)",
+                "3:1: 'illum' is not supported and is ignored",
+                "4:1: 'Ni' is not used: a partly transparent material passes light straight on",
             ]
         );
+    }
+
+    /// The MTL format's one-number colour means grey: `Kd 0.5` is (0.5, 0.5, 0.5).
+    #[test]
+    fn one_number_is_a_grey() {
+        let (m, _) = read(b"newmtl a\nKd 0.5\nKs 0.25\n").unwrap();
+        assert_eq!(m[0].diffuse, DVec3::splat(0.5));
+        assert_eq!(m[0].specular, DVec3::splat(0.25));
     }
 
     #[test]
@@ -216,6 +214,9 @@ mod tests {
             err("newmtl a\nnewmtl a\n"),
             "2:1: material 'a' is defined twice"
         );
-        assert_eq!(err("newmtl a\nNi 0\n"), "2:4: Ni: 0 must be positive");
+        assert_eq!(
+            err("newmtl a\nKs 1 1\n"),
+            "2:1: Ks needs r g b (or one number), got 2 numbers"
+        );
     }
 }

@@ -91,9 +91,7 @@ mod tests {
             name: "m".into(),
             diffuse: DVec3::new(0.5, 0.25, 1.0),
             specular: DVec3::new(0.1, 0.2, 0.3),
-            shininess: None,
             dissolve,
-            index: None,
             diffuse_map: None,
         }
     }

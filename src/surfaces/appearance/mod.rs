@@ -92,6 +92,13 @@ fn parts_pictures(keys: &mut Option<Box<[SurfaceKeys; 2]>>) -> Vec<&mut PictureF
         .collect()
 }
 
+/// Dr TIM's cycle of colours at phase φ: each channel k = 0, 1, 2 (red, green, blue) is
+/// 0.5 + 0.5 sin(φ + k·2π/3) (`SurfaceColourTimeDependent`, `SurfaceColourPositionDependent`).
+fn cycle(phase: f64) -> Colour {
+    use std::f64::consts::TAU;
+    Colour::from_array([0.0, 1.0, 2.0].map(|k| 0.5 + 0.5 * (phase + k * TAU / 3.0).sin()))
+}
+
 /// The colour of hue `h` (in turns, taken modulo 1: 0 red, 1/3 green, 2/3 blue), saturation
 /// `s` and lightness `l`, by the HSL formula Dr TIM's `DoubleColour.getColourFromHSL` uses:
 /// with q = l(1 + s) for l < 1/2, else l + s − ls, and p = 2l − q, each channel is

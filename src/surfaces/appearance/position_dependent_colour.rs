@@ -6,6 +6,7 @@ use std::f64::consts::TAU;
 use glam::DVec3;
 use serde::Deserialize;
 
+use super::cycle;
 use crate::geometry::{Interaction, Transform};
 use crate::keys::{Direction, Positive, Vector};
 use crate::math::Colour;
@@ -28,8 +29,7 @@ impl PositionDependentColour {
     /// Dr TIM's colour at distance d: with phase φ = 2πd/period, each channel is
     /// 0.5 + 0.5 sin(φ + k·2π/3), k = 0, 1, 2 for red, green and blue.
     pub fn colour(&self, distance: f64) -> Colour {
-        let phase = TAU * distance / self.period;
-        Colour::from_array([0.0, 1.0, 2.0].map(|k| 0.5 + 0.5 * (phase + k * TAU / 3.0).sin()))
+        cycle(TAU * distance / self.period)
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {

@@ -1,33 +1,39 @@
-//! The Snellen chart (Dr TIM's `SnellenChart`, "Set Letters"): the classic rows of letters,
-//! each row's letters as high as the row's Snellen fraction says, drawn in the shipped font.
+//! The Snellen chart of Dr TIM's `SnellenChart` with its set letters ("Set Letters"): nine
+//! rows of letters from 6/60 to 6/3, drawn in the shipped font.
 
 use glam::DVec2;
 use serde::Deserialize;
 
-use super::{greys, parts_pictures, two_parts};
+use super::{parts_pictures, two_parts};
 use crate::geometry::Interaction;
 use crate::keys::{Positive, Vector2};
+use crate::math::Colour;
 use crate::picture::PictureFile;
 use crate::surfaces::text::{Line, font};
-use crate::surfaces::{Surface, SurfaceKeys};
+use crate::surfaces::{Coloured, Surface, SurfaceKeys};
 use ab_glyph::Font;
 
-/// The classic chart's rows: the denominator of the Snellen fraction 20/N (feet; 6/(0.3 N) in
-/// metres) and the row's letters. A row of 20/N is read by an eye of that acuity, whose
-/// letters subtend 5 arcminutes × N/20 at the testing distance.
-pub const ROWS: [(u32, &str); 8] = [
-    (200, "E"),
-    (100, "FP"),
-    (70, "TOZ"),
-    (50, "LPED"),
-    (40, "PECFD"),
-    (30, "EDFCZP"),
-    (25, "FELOPZD"),
-    (20, "DEFPOTEC"),
+/// Dr TIM's rows: the letters, and each row's letter size relative to the top row's (its
+/// `calculateTextHeight`: 10, 6, 4, 2, 1.5, then (12 − row)/6, all over 10), i.e. Snellen
+/// fractions 6/60, 6/36, 6/24, 6/12, 6/9, 6/6, 6/5, 6/4 and 6/3.
+pub const ROWS: [(&str, f64); 9] = [
+    ("Z", 1.0),
+    ("LP", 0.6),
+    ("EFL", 0.4),
+    ("VREH", 0.2),
+    ("HLDCK", 0.15),
+    ("LPKFPC", 0.1),
+    ("EPZNHDP", 5.0 / 60.0),
+    ("ZCPFHRVR", 4.0 / 60.0),
+    ("KPVNHFEZ", 3.0 / 60.0),
 ];
 
-/// The gap above each row, and below the last, in letter heights of that row.
-const GAP: f64 = 0.5;
+/// The top row's letter height as a fraction of the chart's height: Dr TIM's 87.3 mm on an
+/// A3 sheet 420 mm high (6/60 at 6 m).
+const TOP_LETTER: f64 = 87.3 / 420.0;
+
+/// The width of the chart as a fraction of its height, Dr TIM's 1/1.4.
+pub const WIDTH: f64 = 1.0 / 1.4;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct SnellenChart {
@@ -37,39 +43,35 @@ pub struct SnellenChart {
 }
 
 impl SnellenChart {
-    /// The rows of a chart `height` high (and, as Dr TIM's, height/√2 wide) whose top left
-    /// corner is at `corner` (u to the right, v up, as text), each row centred.
+    /// The rows of a chart `height` high whose top left corner is at `corner` (u to the right,
+    /// v up, as text), laid out as Dr TIM's `textCentre` does: row k's centre lies below the
+    /// chart's top by the sum, over the rows down to it, of height/30 and half the heights of
+    /// each row and the one above; each row centred across the chart's width, its letters
+    /// (capitals, whose height is the row's letter size) two spaces apart.
     pub fn lines(height: f64, corner: DVec2) -> Vec<Line> {
         let font = font();
         let cap = font
-            .outline(font.glyph_id('E'))
+            .outline(font.glyph_id('Z'))
             .map(|o| (o.bounds.max.y - o.bounds.min.y).abs() as f64)
-            .expect("the shipped font has an E");
-        let (ascent, descent) = (
-            font.ascent_unscaled() as f64,
-            font.descent_unscaled() as f64,
-        );
-        // Letter heights in units of the 20/20 row's, and the chart's height in those units.
-        let sizes = ROWS.map(|(n, _)| n as f64 / 20.0);
-        let total: f64 = sizes.iter().map(|h| (1.0 + GAP) * h).sum::<f64>() + GAP * sizes[7];
-        let scale = height / total;
-        let centre = corner.x + 0.5 * height / 2f64.sqrt();
-        let mut top = corner.y;
+            .expect("the shipped font has a Z");
+        let (ascent, descent) = (font.ascent_unscaled() as f64, font.descent_unscaled() as f64);
+        let centre_u = corner.x + 0.5 * WIDTH * height;
+        let (mut below_top, mut above) = (0.0, 0.0);
         ROWS.iter()
-            .zip(sizes)
-            .map(|(&(_, letters), size)| {
-                let h = size * scale;
-                let baseline = top - (1.0 + GAP) * h;
-                top = baseline;
-                // The line's box reaches `descent` (negative) below the baseline, and is
-                // ascent − descent high, in the font's units, of which `cap` is a letter's.
-                let spaced: String = letters.chars().flat_map(|c| [c, ' ']).collect();
+            .map(|&(letters, scale)| {
+                let size = scale * TOP_LETTER * height;
+                below_top += height / 30.0 + 0.5 * above + 0.5 * size;
+                above = size;
+                let baseline = corner.y - below_top - 0.5 * size;
+                let spaced: String = letters.chars().flat_map(|c| [c, ' ', ' ']).collect();
+                // The line's box reaches `descent` (negative) below the baseline and is
+                // ascent − descent high, in the font's units, of which `cap` is a capital's.
                 let mut line = Line::new(
                     spaced.trim_end(),
-                    [0.0, baseline + descent / cap * h],
-                    (ascent - descent) / cap * h,
+                    [0.0, baseline + descent / cap * size],
+                    (ascent - descent) / cap * size,
                 );
-                line.corner[0] = centre - 0.5 * line.width();
+                line.corner[0] = centre_u - 0.5 * line.width();
                 line
             })
             .collect()
@@ -83,9 +85,10 @@ impl SnellenChart {
     }
 }
 
-/// `type = "snellen-chart"`: the chart `height` high (default 1; it is height/√2 wide, as Dr
+/// `type = "snellen-chart"`: the chart `height` high (default 1; it is height/1.4 wide, as Dr
 /// TIM's) with its top left corner at `corner` (default [0, 0]; u to the right, v up), letters
-/// and paper `surfaces = [LETTERS, PAPER]` (default matt black and matt white).
+/// and paper `surfaces = [LETTERS, PAPER]` (default Dr TIM's matt black letters on shiny
+/// white).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SnellenChartKeys {
@@ -105,7 +108,14 @@ impl SnellenChartKeys {
         let corner = self.corner.map_or(DVec2::ZERO, |c| c.0);
         Ok(Surface::SnellenChart(SnellenChart {
             lines: SnellenChart::lines(height, corner),
-            surfaces: two_parts(self.surfaces, greys([0.0, 1.0], false), "Snellen chart")?,
+            surfaces: two_parts(
+                self.surfaces,
+                [
+                    Surface::Coloured(Coloured::matt(Colour::ZERO)),
+                    Surface::Coloured(Coloured::shiny(Colour::ONE)),
+                ],
+                "Snellen chart",
+            )?,
         }))
     }
 }
@@ -114,48 +124,47 @@ impl SnellenChartKeys {
 mod tests {
     use super::*;
 
-    /// The inked extent in v of a vertical line at u through `lines`, from v = 0 down to
-    /// −height: the first and last inked v, sampled finely.
-    fn inked_extent(lines: &[Line], u: f64, from: f64, to: f64) -> Option<(f64, f64)> {
-        let n = 20000;
+    /// The first and last inked v along the vertical line at u through `line`, sampled finely
+    /// between v = 0 and −1.
+    fn inked_extent(line: &Line, u: f64) -> Option<(f64, f64)> {
+        let n = 40000;
         let vs: Vec<f64> = (0..n)
-            .map(|k| from + (to - from) * k as f64 / n as f64)
-            .filter(|&v| lines.iter().any(|l| l.inked(u, v)))
+            .map(|k| -(k as f64) / n as f64)
+            .filter(|&v| line.inked(u, v))
             .collect();
         Some((*vs.first()?, *vs.last()?))
     }
 
-    /// The top row's E (20/200) is ten times as high as the letters of the 20/20 row, and the
-    /// chart's rows lie within its height: with the rows' heights 200/20, ..., 20/20 times h
-    /// and gaps of half a row, h = 1/((1.5)(10 + 5 + 3.5 + 2.5 + 2 + 1.5 + 1.25 + 1) + 0.5).
+    /// Dr TIM's sizes on a chart 1 high: the top Z is 87.3/420 high with its top 1/30 below the
+    /// chart's; the last row's K is 3/60 of that, its centre below the top by the sum of the
+    /// nine gaps of 1/30 and of each row's height (half of the last); every row is centred
+    /// across the 1/1.4 width.
     #[test]
-    fn the_rows_have_the_snellen_sizes() {
+    fn the_rows_have_dr_tims_sizes_and_places() {
         let lines = SnellenChart::lines(1.0, DVec2::ZERO);
-        let h = 1.0 / (1.5 * (10.0 + 5.0 + 3.5 + 2.5 + 2.0 + 1.5 + 1.25 + 1.0) + 0.5);
-        let centre = 0.5 / 2f64.sqrt();
-        // The E's stem is left of its centre: scan a little left of the middle of the E.
-        let e = &lines[0];
-        let stem = e.corner[0] + 0.15 * e.width();
-        let (top, bottom) = inked_extent(&lines[..1], stem, 0.0, -1.0).unwrap();
-        assert!((top - -0.5 * 10.0 * h).abs() < 2e-3, "E's top {top}");
+        let top = 87.3 / 420.0;
+        let z = &lines[0];
+        // The Z's diagonal crosses its middle column; its top and bottom bars span it.
+        let (zt, zb) = inked_extent(z, z.corner[0] + 0.5 * z.width()).unwrap();
+        assert!((zt - -1.0 / 30.0).abs() < 1e-3, "Z's top {zt}");
+        assert!((zt - zb - top).abs() < 1e-3, "Z's height {}", zt - zb);
+        let k = &lines[8];
+        let size = top * 3.0 / 60.0;
+        // The K's stem (Arial's, so Liberation Sans's, from 0.075 to 0.165 em) at the left of
+        // its line, whose height is 1.117 em.
+        let em = k.height / 1.117;
+        let (kt, kb) = inked_extent(k, k.corner[0] + 0.12 * em).unwrap();
+        assert!((kt - kb - size).abs() < 2e-4, "K's height {}", kt - kb);
+        let sizes: f64 = ROWS.iter().map(|(_, s)| s * top).sum();
+        let centre = -(9.0 / 30.0 + sizes - 0.5 * size);
         assert!(
-            (top - bottom - 10.0 * h).abs() < 2e-3,
-            "E's height {}",
-            top - bottom
+            (0.5 * (kt + kb) - centre).abs() < 2e-4,
+            "K's centre {}",
+            0.5 * (kt + kb)
         );
-        // The last row: the D's stem.
-        let d = &lines[7];
-        let stem = d.corner[0] + 0.04 * d.width();
-        let (top, bottom) = inked_extent(&lines[7..], stem, 0.0, -1.0).unwrap();
-        assert!(
-            (top - bottom - h).abs() < 2e-3,
-            "D's height {}",
-            top - bottom
-        );
-        assert!(bottom > -1.0 + 0.4 * h, "the last row within the chart");
         for line in &lines {
             let middle = line.corner[0] + 0.5 * line.width();
-            assert!((middle - centre).abs() < 1e-12, "each row centred");
+            assert!((middle - 0.5 / 1.4).abs() < 1e-12, "each row centred");
         }
     }
 }

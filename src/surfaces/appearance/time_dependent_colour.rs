@@ -5,6 +5,7 @@ use std::f64::consts::TAU;
 
 use serde::Deserialize;
 
+use super::cycle;
 use crate::geometry::Interaction;
 use crate::keys::Positive;
 use crate::math::Colour;
@@ -22,13 +23,13 @@ impl TimeDependentColour {
     /// Dr TIM's colour at time t: with phase φ = 2πt/period, each channel is
     /// 0.5 + 0.5 sin(φ + k·2π/3), k = 0, 1, 2 for red, green and blue.
     pub fn colour(&self, time: f64) -> Colour {
-        let phase = TAU * time / self.period;
-        Colour::from_array([0.0, 1.0, 2.0].map(|k| 0.5 + 0.5 * (phase + k * TAU / 3.0).sin()))
+        cycle(TAU * time / self.period)
     }
 
-    /// The colour at the time of the ray.
+    /// The colour at the time the ray meets the surface: its time, less the distance it went
+    /// (c = 1; rays are traced backwards, so the light left the surface that much earlier).
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
-        let c = self.colour(at.ray.time);
+        let c = self.colour(at.ray.time - at.hit.t);
         if self.glowing {
             Redirection::Emits(c)
         } else {
@@ -77,9 +78,10 @@ mod tests {
         assert!(close(s.colour(0.0), Colour::new(0.5, 0.5 + h, 0.5 - h)));
         assert!(close(s.colour(0.5), Colour::new(1.0, 0.25, 0.25)));
         assert!(close(s.colour(2.5), Colour::new(1.0, 0.25, 0.25)));
-        // Through a ray's time: glowing emits, otherwise lit as shiny.
+        // At the time the ray meets the surface: a ray at time 1.5 one unit away meets it at
+        // 0.5 (as Dr TIM's advanced ray does). Glowing emits, otherwise lit as shiny.
         let plane = Shape::Plane(Plane::new(DVec3::ZERO, DVec3::Z, DVec3::X).unwrap());
-        let ray = Ray::new(DVec3::new(0.0, 0.0, 1.0), -DVec3::Z, 0.5);
+        let ray = Ray::new(DVec3::new(0.0, 0.0, 1.0), -DVec3::Z, 1.5);
         let (t, prim) = plane
             .intersect(ray.origin, ray.direction, 0.0, 9.0)
             .unwrap();
