@@ -109,7 +109,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
         let colour = matches!(key, "Kd" | "Ks");
         let counts: &[usize] = if colour { &[1, 3] } else { &[1] };
         if !counts.contains(&numbers.len()) {
-            let what = if colour { "r g b (or one number)" } else { "one number" };
+            let what = if colour {
+                "r g b (or one number)"
+            } else {
+                "one number"
+            };
             return Err(at(
                 key,
                 format!("{key} needs {what}, got {} numbers", numbers.len()),
@@ -140,7 +144,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<(Vec<Material>, Vec<String>), ParsePr
                 "Ni" => "not used: a partly transparent material passes light straight on",
                 _ => "not supported and is ignored",
             };
-            let lines = if n > 1 { format!(" ({n} lines)") } else { String::new() };
+            let lines = if n > 1 {
+                format!(" ({n} lines)")
+            } else {
+                String::new()
+            };
             format!("{first}: '{}' is {why}{lines}", shown(key.as_bytes()))
         })
         .collect();

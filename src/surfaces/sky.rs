@@ -1,7 +1,7 @@
 //! The image sky: an equirectangular picture at infinity, the texel picked by the direction of
-//! the ray (not where it meets the sky sphere). Dr TIM's sky is a constant colour (its
-//! `EditableSceneObjectCollection` studio's `SurfaceColourLightSourceIndependent`); an image
-//! sky is what renderers use for environment maps.
+//! the ray (not where it meets the sky sphere), as renderers' environment maps are. Dr TIM's
+//! standard sky is a constant colour; its `EditableSky` picture skies put a `PictureSurface`
+//! on a sky sphere.
 
 use std::f64::consts::{PI, TAU};
 

@@ -21,6 +21,10 @@ const FONT: &[u8] = include_bytes!("../../assets/fonts/LiberationSans-Regular.tt
 /// Bitmap rows per line height.
 pub const PIXELS_PER_LINE: f32 = 256.0;
 
+/// The most characters a text may have: each takes about 32 KB of bitmap (and four times that
+/// while it is drawn), so a label of this many takes about 32 MB.
+pub const MAX_CHARACTERS: usize = 1000;
+
 /// The shipped font.
 pub fn font() -> FontRef<'static> {
     FontRef::try_from_slice(FONT).expect("the shipped font parses")
@@ -125,10 +129,7 @@ impl Text {
             None => Surface::Transparent(Transparent {
                 transmission_coefficient: 1.0,
             }),
-            Some(keys) if keys.destination().is_some() => {
-                return Err("a teleporting surface cannot be a text background".into());
-            }
-            Some(keys) => keys.build()?,
+            Some(keys) => super::appearance::part(keys, "a text background")?,
         };
         let ink = Surface::Coloured(Coloured::shiny(colour.map_or(Colour::ZERO, |c| c.0)));
         Ok(Text {
@@ -165,6 +166,12 @@ impl TextKeys {
         let text = self.text.unwrap_or_else(|| "Hello, world!".into());
         if text.trim().is_empty() {
             return Err("the text is empty".into());
+        }
+        let characters = text.chars().count();
+        if characters > MAX_CHARACTERS {
+            return Err(format!(
+                "a text may have at most {MAX_CHARACTERS} characters, got {characters}"
+            ));
         }
         let height = self.height.map_or(1.0, |h| h.0);
         let [u, v] = self.corner.map_or([0.0; 2], |c| c.0.map(|x| x.0));

@@ -109,6 +109,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Dissolved(_) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
+        Surface::LayerStack(s) => s.layers.iter().try_for_each(check_layer),
         Surface::Text(Text { surfaces, .. })
         | Surface::EitherOr(EitherOr { surfaces, .. })
         | Surface::UsafChart(UsafChart { surfaces, .. })
@@ -125,7 +126,6 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Refractive(_)
         | Surface::Transparent(_)
         | Surface::ColourFilter(_)
-        | Surface::LayerStack(_)
         | Surface::MetricInterface(_)
         | Surface::ConfocalLensletArrays(_)
         | Surface::RayRotating(_)

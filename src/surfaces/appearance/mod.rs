@@ -35,7 +35,7 @@ pub use surface_tiling::{SurfaceTiling, SurfaceTilingKeys};
 pub use time_dependent_colour::{TimeDependentColour, TimeDependentColourKeys};
 pub use tinted_solid::{TintedSolid, TintedSolidKeys};
 pub use two_sided::{TwoSided, TwoSidedKeys};
-pub use usaf_chart::{UsafChart, UsafChartKeys, bar_width};
+pub use usaf_chart::{UsafChart, UsafChartKeys};
 
 use super::{Coloured, Surface, SurfaceKeys};
 use crate::math::Colour;
@@ -43,7 +43,7 @@ use crate::picture::PictureFile;
 
 /// A surface that is part of another (`role` says which), built; a teleporting part is
 /// refused, as it needs a destination that only a whole object can have.
-fn part(keys: SurfaceKeys, role: &str) -> Result<Surface, String> {
+pub(super) fn part(keys: SurfaceKeys, role: &str) -> Result<Surface, String> {
     if keys.destination().is_some() {
         return Err(format!("a teleporting surface cannot be {role}"));
     }

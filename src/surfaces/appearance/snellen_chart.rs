@@ -54,7 +54,10 @@ impl SnellenChart {
             .outline(font.glyph_id('Z'))
             .map(|o| (o.bounds.max.y - o.bounds.min.y).abs() as f64)
             .expect("the shipped font has a Z");
-        let (ascent, descent) = (font.ascent_unscaled() as f64, font.descent_unscaled() as f64);
+        let (ascent, descent) = (
+            font.ascent_unscaled() as f64,
+            font.descent_unscaled() as f64,
+        );
         let centre_u = corner.x + 0.5 * WIDTH * height;
         let (mut below_top, mut above) = (0.0, 0.0);
         ROWS.iter()
