@@ -134,8 +134,12 @@ fn a_run_killed_outright_leaves_a_temporary_file_that_the_next_run_removes() {
         .spawn()
         .unwrap();
     let start = Instant::now();
+    // The render's own temporary file once the image streams into it: not the empty one that
+    // checking the output is writable makes and removes at once.
+    let streaming =
+        |n: &String| is_temporary(n) && std::fs::metadata(d.join(n)).is_ok_and(|m| m.len() > 0);
     let temporary = loop {
-        if let Some(name) = files_in(d).into_iter().find(is_temporary) {
+        if let Some(name) = files_in(d).into_iter().find(streaming) {
             break name;
         }
         let exited = child.try_wait().unwrap();
