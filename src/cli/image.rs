@@ -261,7 +261,7 @@ fn diff(
     max_error: Option<f64>,
     max_differing: Option<u64>,
 ) -> Result<(), Failure> {
-    if !(tolerance >= 0.0) {
+    if tolerance.is_nan() || tolerance < 0.0 {
         return Err(bad_input(format!(
             "--tolerance must be a number of at least 0, got {tolerance}"
         )));

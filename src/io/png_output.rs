@@ -24,7 +24,8 @@ fn srgb(v: f64) -> f64 {
     }
 }
 
-/// The linear value of an sRGB-encoded value in [0, 1]: the inverse of [`srgb`].
+/// The linear value of an sRGB-encoded value in [0, 1]: the inverse of the sRGB transfer curve
+/// (IEC 61966-2-1) a PNG with `png_transfer = "srgb"` is written with.
 pub fn linear_from_srgb(v: f64) -> f64 {
     if v <= 0.040_45 {
         v / 12.92
