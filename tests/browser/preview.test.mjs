@@ -349,6 +349,18 @@ test('malformed TOML shows the located error and keeps the picture', { timeout: 
     assert.deepEqual([s1.generation, s1.samples, s1.target], [s0.generation, SPP, SPP]);
     assert.equal(changed(old, await canvasRGB(page)), 0, 'canvas pixels changed after the malformed text');
     assert.equal(await page.textContent('#samples'), `${SPP} / ${SPP} samples`);
+    // The error stays in sight wherever the sidebar is scrolled: at its top, or its bottom.
+    for (const where of [0, 1e9]) {
+      const inSight = await page.evaluate((top) => {
+        const side = document.getElementById('side');
+        side.scrollTop = top;
+        const e = document.getElementById('error').getBoundingClientRect();
+        const s = side.getBoundingClientRect();
+        return e.height > 0 && e.top >= s.top - 1 && e.bottom <= s.bottom + 1
+          && e.top < window.innerHeight;
+      }, where);
+      assert.ok(inSight, `the error is out of sight with the sidebar scrolled to ${where}`);
+    }
   });
 });
 
