@@ -4,8 +4,11 @@ Scenes are timbre's TOML scene files (docs/SCENE_FORMAT.md); renders come back a
 arrays with exactly the values ``timbre render -o NAME.exr`` writes::
 
     import timbre
-    scene = timbre.load("scenes/relativistic.toml", set={"camera.beta": [0, 0, 0.9]})
+    scene = timbre.load("scenes/fig2a-at-rest.toml", set={"camera.beta": [0, 0, 0.9]})
     image = scene.render(width=640, height=480, spp=4)   # float32, shape (480, 640, 3)
+
+(``scenes/`` is the repository's folder of example scenes; ``timbre.studio()`` is TIM's
+standard studio without a file.)
 
 ``Scene.set`` changes a value as ``--set KEY=VALUE`` does on the command line, for parameter
 sweeps. docs/PYTHON.md is the guide.
