@@ -306,6 +306,22 @@ test('dragging the picture turns the camera and restarts the accumulation', { ti
   });
 });
 
+test('a slider reaches round values exactly', { timeout: 2 * WAIT }, async () => {
+  await withPage(async (page) => {
+    const s0 = await converged(page);
+    // index_ratio is 1.5: its slider must give 1 itself (not 1.002, off a grid of span/500).
+    const slider = page.locator(`div.param[data-key="${INDEX_KEY}"] input[type=range]`);
+    const step = Number(await slider.getAttribute('step'));
+    const min = Number(await slider.getAttribute('min'));
+    assert.ok(Number.isInteger(Math.round((1 - min) / step)) && Math.abs((1 - min) / step - Math.round((1 - min) / step)) < 1e-9,
+      `1 is on the slider's grid (min ${min}, step ${step})`);
+    await slider.evaluate((r) => { r.value = '1'; r.dispatchEvent(new Event('input', { bubbles: true })); });
+    await converged(page, s0.generation);
+    const state = (await grab(page)).state;
+    assert.equal(state.parameters.find((q) => q.key === INDEX_KEY).value, 1, 'the parameter is 1');
+  });
+});
+
 test('a parameter changed on the page gives the CLI --set render', { timeout: 2 * WAIT }, async () => {
   const value = 1.2;
   const ref = reference([`${INDEX_KEY}=${value}`]);
