@@ -428,6 +428,35 @@ async fn an_error_in_the_text_is_located_and_the_last_picture_stays() {
     assert_ne!(fixed.rgba, good.rgba);
 }
 
+/// While the text has an error, a move still moves: the picture becomes the last good scene
+/// with the move (the CLI's render of the scene file with that --set), the page gets that
+/// scene and then the text's error again.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn moves_go_on_while_the_text_has_an_error() {
+    let server = Server::start(&[]);
+    let mut page = server.connect().await;
+    let good = page.converged(0).await;
+    let broken = SCENE.replace("width = 48", "width = = 48");
+    page.send(serde_json::json!({"type": "text", "text": broken}))
+        .await;
+    assert_eq!(page.json("error").await["line"], 3);
+    let set = "camera.position=[0.2, 0.1, 0]";
+    page.send(serde_json::json!({"type": "set", "set": [set]}))
+        .await;
+    let state = page.json("scene").await;
+    assert!(
+        state["overrides"].to_string().contains("camera.position"),
+        "{state}"
+    );
+    let error = page.json("error").await;
+    assert_eq!(
+        (error["line"].as_u64(), error["text"].as_str()),
+        (Some(3), Some(broken.as_str()))
+    );
+    let moved = page.converged(good.generation).await;
+    assert_eq!(moved.differences(&server.reference(&[set])), 0);
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn inspecting_a_pixel_finds_what_the_cli_aovs_record() {
     let server = Server::start(&[]);

@@ -346,6 +346,9 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     // leaves the earlier scene, and its label), and the one whose passes failed: no more
     // passes until another scene is loaded.
     let (mut shown, mut failed) = (0, 0);
+    // The text of the scene that loaded last, how it was checked and the changes it had: while
+    // the text has an error, moves and settings go on with that text and the new changes.
+    let mut good: Option<(String, Check, Vec<Override>)> = None;
     loop {
         let work = {
             let mut inputs = lock(&shared.inputs);
@@ -400,12 +403,31 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 generation,
                 check,
                 base,
-            } => match preview.load(
-                &text,
-                &overrides,
-                confinement(shared, check, &overrides[base.min(overrides.len())..]).as_ref(),
-            ) {
-                Ok(()) => {
+            } => {
+                let changes = &overrides[base.min(overrides.len())..];
+                let load = |preview: &mut Preview, text: &str, check| {
+                    preview.load(
+                        text,
+                        &overrides,
+                        confinement(shared, check, changes).as_ref(),
+                    )
+                };
+                // The new text, or else the last good text with the new changes (the error
+                // is still the new text's).
+                let (loaded, error) = match load(&mut preview, &text, check) {
+                    Ok(()) => (Some((text.clone(), check)), None),
+                    Err(e) => {
+                        let message: Arc<str> = error(&e, &text, generation).text().into();
+                        // Only for new changes: without them the last good scene is loaded.
+                        let fallback = good
+                            .as_ref()
+                            .filter(|(g, _, o)| *g != text && *o != overrides)
+                            .map(|(g, c, _)| (g.clone(), *c))
+                            .filter(|(g, c)| load(&mut preview, g, *c).is_ok());
+                        (fallback, Some(message))
+                    }
+                };
+                if let Some((text, check)) = loaded {
                     if let Some(s) = preview.settings() {
                         let mut inputs = lock(&shared.inputs);
                         (inputs.exposure, inputs.transfer) = (s.exposure, s.png_transfer);
@@ -418,6 +440,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         latest.error = None;
                     }
                     let _ = shared.out.send(state);
+                    good = Some((text, check, overrides.clone()));
                     shown = generation;
                     match preview.coarse() {
                         Ok(Some(image)) => show(&image, shown, preview.progress()),
@@ -425,12 +448,11 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         Err(e) => send(shared, pass_failed(e)),
                     }
                 }
-                Err(e) => {
-                    let message: Arc<str> = error(&e, &text, generation).text().into();
+                if let Some(message) = error {
                     lock(&shared.latest).error = Some(message.clone());
                     let _ = shared.out.send(message);
                 }
-            },
+            }
             Work::Show => {
                 if let Some(image) = preview.picture() {
                     show(&image, shown, preview.progress());
