@@ -271,7 +271,10 @@ fn a_checkpoint_is_continued_exactly_and_one_of_another_render_is_refused() {
         &[AOVS, "--seed", "12"],
         &["rows-0.exr", "seed is 11, not 12"],
     );
-    refused(&[AOVS, "--width", "100"], &["image is 96x72, not 100x72"]);
+    refused(
+        &[AOVS, "--width", "100", "--height", "72"],
+        &["image is 96x72, not 100x72"],
+    );
     refused(
         &[AOVS, "--set", "camera.position=[0, 1, -2]"],
         &["another scene"],

@@ -516,10 +516,13 @@ fn stereo_outputs_are_checked_against_the_final_image_size() {
     timbre(dir.path(), &["check", path]).assert_bad_input(&[path, "even width, got 41"]);
     timbre(dir.path(), &["render", "-q", path, "-o", "x.png"])
         .assert_bad_input(&["even width, got 41"]);
-    // The command line may fix what the file gets wrong.
+    // The command line may fix what the file gets wrong (both sides: a width alone would keep
+    // the file's aspect ratio).
     timbre(
         dir.path(),
-        &["render", "-q", path, "-o", "x.png", "--width", "40"],
+        &[
+            "render", "-q", path, "-o", "x.png", "--width", "40", "--height", "30",
+        ],
     )
     .assert_success();
     assert_eq!(decode_png(&dir.path().join("x.png")).dimensions(), (40, 30));
