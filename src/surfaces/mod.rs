@@ -434,12 +434,12 @@ impl Surface {
             }
             Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
                 tile_width: c.tile_width,
-                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&c.surfaces, t)?,
             }),
             Surface::SemiTransparent(m) => Surface::SemiTransparent(m.transformed(t)?),
             Surface::Average(m) => Surface::Average(m.transformed(t)?),
             Surface::TwoSided(s) => Surface::TwoSided(TwoSided {
-                sides: Box::new([s.sides[0].transformed(t)?, s.sides[1].transformed(t)?]),
+                sides: transformed_pair(&s.sides, t)?,
             }),
             Surface::LayerStack(s) => Surface::LayerStack(LayerStack {
                 layers: s
@@ -450,27 +450,27 @@ impl Surface {
             }),
             Surface::Striped(s) => Surface::Striped(Striped {
                 width: s.width,
-                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&s.surfaces, t)?,
             }),
             Surface::SurfaceTiling(s) => Surface::SurfaceTiling(SurfaceTiling {
                 widths: s.widths,
-                surfaces: Box::new([s.surfaces[0].transformed(t)?, s.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&s.surfaces, t)?,
             }),
             Surface::Text(c) => Surface::Text(Text {
                 lines: c.lines.clone(),
-                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&c.surfaces, t)?,
             }),
             Surface::EitherOr(e) => Surface::EitherOr(EitherOr {
-                surfaces: Box::new([e.surfaces[0].transformed(t)?, e.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&e.surfaces, t)?,
                 ..e.clone()
             }),
             Surface::UsafChart(c) => Surface::UsafChart(UsafChart {
                 bars: c.bars.clone(),
-                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&c.surfaces, t)?,
             }),
             Surface::SnellenChart(c) => Surface::SnellenChart(SnellenChart {
                 lines: c.lines.clone(),
-                surfaces: Box::new([c.surfaces[0].transformed(t)?, c.surfaces[1].transformed(t)?]),
+                surfaces: transformed_pair(&c.surfaces, t)?,
             }),
             Surface::Rainbow(r) => Surface::Rainbow(r.transformed(t)),
             Surface::PositionDependentColour(c) => {
@@ -586,6 +586,11 @@ impl Surface {
                 | Surface::HueBrightnessGradient(_)
         )
     }
+}
+
+/// Both surfaces of a two-part surface, for an object placed by `t`.
+fn transformed_pair(pair: &[Surface; 2], t: &Transform) -> Result<Box<[Surface; 2]>, String> {
+    Ok(Box::new([pair[0].transformed(t)?, pair[1].transformed(t)?]))
 }
 
 #[cfg(test)]
