@@ -622,6 +622,66 @@ const ALL_CHANNELS: [&str; 8] = [
 ];
 const AOV_CHANNELS: [&str; 5] = ["depth.Z", "normal.X", "normal.Y", "normal.Z", "object.id"];
 
+/// Dr TIM-style coloured surfaces behind a transparent pane and in a mirror, for the albedo
+/// AOV: a wall at z = 6 of diffuse colour (0.2, 0.5, 0.8) fills the view; a pane of
+/// transmission 0.5 covers the lower left quadrant (z = 2), a mirror of reflection 0.9 the upper
+/// right one (z = 3), which shows a wall of diffuse colour (0.9, 0.1, 0.1) behind the camera.
+const ALBEDO_SCENE: &str = r#"
+studio = "none"
+[camera]
+horizontal_view_angle_deg = 60
+[[object]]
+name = "wall"
+shape = { type = "parallelogram", corner = [-10, -10, 6], span_u = [20, 0, 0], span_v = [0, 20, 0] }
+surface = { type = "coloured", diffuse = [0.2, 0.5, 0.8], specular = [1, 1, 1] }
+[[object]]
+name = "back wall"
+shape = { type = "parallelogram", corner = [-50, -50, -6], span_u = [100, 0, 0], span_v = [0, 100, 0] }
+surface = { type = "coloured", diffuse = [0.9, 0.1, 0.1] }
+[[object]]
+name = "pane"
+shape = { type = "parallelogram", corner = [-5, -5, 2], span_u = [5, 0, 0], span_v = [0, 5, 0] }
+surface = { type = "transparent", transmission = 0.5 }
+[[object]]
+name = "mirror"
+shape = { type = "parallelogram", corner = [0, 0, 3], span_u = [5, 0, 0], span_v = [0, 5, 0] }
+surface = { type = "mirror", reflection = 0.9 }
+"#;
+
+#[test]
+fn the_albedo_is_the_diffuse_colour_seen_through_every_law_times_its_factors() {
+    let dir = TempDir::new().unwrap();
+    write(dir.path(), "albedo.toml", ALBEDO_SCENE);
+    timbre_line(
+        dir.path(),
+        "render albedo.toml -o a.exr --aov albedo --spp 4 --width 40 --height 30",
+    )
+    .assert_success();
+    let exr = Exr::read(&dir.path().join("a.exr"));
+    assert_eq!(
+        exr.names(),
+        ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R"]
+    );
+    let albedo = |x, y| ["albedo.R", "albedo.G", "albedo.B"].map(|c| exr.at(c, x, y));
+    let (wall, back) = ([0.2, 0.5, 0.8], [0.9, 0.1, 0.1]);
+    // Pixel (x, y) of the quadrants: the wall, unlit (the picture itself is lit: shiny and
+    // shaded); through the pane, times its transmission; in the mirror, times its reflection.
+    for (x, y, want) in [
+        (5, 5, wall),
+        (35, 25, wall),
+        (5, 25, wall.map(|c| 0.5 * c)),
+        (35, 5, back.map(|c| 0.9 * c)),
+    ] {
+        let got = albedo(x, y);
+        assert!(
+            got.iter().zip(want).all(|(g, w)| (*g as f64 - w).abs() < 1e-6),
+            "albedo at ({x}, {y}): {got:?}, expected {want:?}"
+        );
+        let colour = ["R", "G", "B"].map(|c| exr.at(c, x, y));
+        assert_ne!(colour, got, "the colour at ({x}, {y}) is lit, not the albedo");
+    }
+}
+
 #[test]
 fn exr_has_colour_and_aov_channels_and_provenance() {
     let dir = TempDir::new().unwrap();

@@ -17,7 +17,7 @@ use common::cli::{Run, files_in, path_str, timbre, write};
 
 /// A small scene with several samples per pixel (jittered) and every AOV.
 const SCENE: &str = "studio = \"lattice\"\n[render]\nwidth = 96\nheight = 72\nspp = 4\nseed = 11\n";
-const AOVS: &str = "--aov=depth,normal,object";
+const AOVS: &str = "--aov=depth,normal,object,albedo";
 
 fn bytes(path: &Path) -> Vec<u8> {
     std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -281,7 +281,7 @@ fn a_checkpoint_is_continued_exactly_and_one_of_another_render_is_refused() {
     );
     refused(
         &["--aov", "depth"],
-        &["AOVs are depth,normal,object, not depth"],
+        &["AOVs are depth,normal,object,albedo, not depth"],
     );
     refused(
         &[AOVS, "--spp", "3"],

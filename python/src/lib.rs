@@ -47,7 +47,7 @@ const POLL: Duration = Duration::from_millis(50);
 const MAX_THREADS: u32 = 1024;
 
 /// The AOVs a render can add, and their channels.
-const AOVS: [(&str, usize); 3] = [("depth", 1), ("normal", 3), ("object", 1)];
+const AOVS: [(&str, usize); 4] = [("depth", 1), ("normal", 3), ("object", 1), ("albedo", 3)];
 
 /// A scene's text, read once, and the name that stands for it in messages and locates the
 /// relative paths in it: a file's path, or `<text>` (the working directory).
@@ -441,16 +441,18 @@ fn rgb<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, PyAny>> {
     Ok(PyArray1::from_vec(py, values).reshape(shape)?.into_any())
 }
 
-/// The AOV `name` of `image` as a float32 array: `depth` and `object` (h, w), `normal` (h, w, 3).
+/// The AOV `name` of `image` as a float32 array: `depth` and `object` (h, w), `normal` and
+/// `albedo` (h, w, 3).
 fn aov_array<'py>(py: Python<'py>, image: &Image, name: &str) -> PyResult<Bound<'py, PyAny>> {
     let aovs: &[AovSample] = image.aovs.as_deref().unwrap_or_default();
     let (h, w) = (image.height as usize, image.width as usize);
-    let channels = if name == "normal" { 3 } else { 1 };
+    let channels = AOVS.iter().find(|(a, _)| *a == name).map_or(1, |(_, n)| *n);
     let mut values = buffer(channels * aovs.len())?;
     for a in aovs {
         match name {
             "depth" => values.push(a.depth),
             "normal" => values.extend(a.normal.to_array()),
+            "albedo" => values.extend(a.albedo.to_array()),
             _ => values.push(a.object),
         }
     }
@@ -672,12 +674,13 @@ impl NativeScene {
         for name in &aovs {
             let Some((_, n)) = AOVS.iter().find(|(a, _)| a == name) else {
                 return Err(error::<PyValueError>(format!(
-                    "unknown AOV '{name}': the AOVs are depth, normal and object"
+                    "unknown AOV '{name}': the AOVs are depth, normal, object and albedo"
                 )));
             };
             channels += *n as u64;
         }
         settings.aovs = !aovs.is_empty();
+        settings.albedo = aovs.iter().any(|a| a == "albedo");
         if let Some(t) = threads {
             if !(1..=MAX_THREADS).contains(&t) {
                 return Err(error::<PyValueError>(format!(

@@ -37,10 +37,10 @@ CASES = [
 def test_arrays_equal_the_cli_exr_bit_for_bit(timbre_cli, tmp_path, name, width, height, spp, seed):
     exr = tmp_path / "out.exr"
     cli(timbre_cli, "render", SCENES / name, "--width", width, "--height", height,
-        "--spp", spp, "--seed", seed, "--aov", "depth,normal,object", "-q", "-o", exr)
+        "--spp", spp, "--seed", seed, "--aov", "depth,normal,object,albedo", "-q", "-o", exr)
     want = read_exr(exr)
     image = timbre.load(SCENES / name).render(
-        width, height, spp=spp, seed=seed, aovs=["depth", "normal", "object"]
+        width, height, spp=spp, seed=seed, aovs=["depth", "normal", "object", "albedo"]
     )
     assert image.dtype == np.float32 and image.shape == (height, width, 3)
     # Bit for bit: the same float32 values, NaN and infinities included.
@@ -49,6 +49,8 @@ def test_arrays_equal_the_cli_exr_bit_for_bit(timbre_cli, tmp_path, name, width,
     normal = np.stack([want[f"normal.{a}"] for a in "XYZ"], axis=-1)
     assert np.array_equal(image.aovs["normal"], normal)
     assert np.array_equal(image.aovs["object"], want["object.id"])
+    albedo = np.stack([want[f"albedo.{c}"] for c in "RGB"], axis=-1)
+    assert np.array_equal(image.aovs["albedo"], albedo)
     # Something is seen: the comparison is not of two black pictures.
     assert image.max() > 0.1 and (image.aovs["object"] >= 0).any()
 

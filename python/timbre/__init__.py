@@ -62,8 +62,9 @@ SCENES = Path(__file__).parent / "scenes"
 STUDIOS = ("empty", "lattice", "metatoy-window", "none")
 
 #: The arbitrary output variables ``Scene.render(aovs=...)`` can add: the distance to the surface
-#: seen through each pixel centre, its outward normal, and the object's index (-1 for none).
-AOVS = ("depth", "normal", "object")
+#: seen through each pixel centre, its outward normal, the object's index (-1 for none), and the
+#: albedo (a denoiser's guide: docs/SCENE_FORMAT.md).
+AOVS = ("depth", "normal", "object", "albedo")
 
 # The render settings, defined once in timbre (its ``SETTINGS``): each key's kind ("whole" or
 # "switch") and range. ``Scene.render`` takes each as a keyword (a test checks that it does).
@@ -168,7 +169,7 @@ class Image(np.ndarray):
     the top, with exactly the values ``timbre render`` writes to OpenEXR.
 
     ``aovs`` holds the AOVs asked for (``depth`` and ``object`` of shape (height, width),
-    ``normal`` of shape (height, width, 3)); ``rays`` counts the rays traced. Arrays derived from
+    ``normal`` and ``albedo`` of shape (height, width, 3)); ``rays`` counts the rays traced. Arrays derived from
     an image (slices, arithmetic) are images without AOVs. In Jupyter an image shows itself as
     the PNG ``timbre render -o NAME.png`` would write.
     """
@@ -363,7 +364,8 @@ class Scene:
         - ``exposure``: stops; the values are multiplied by 2^exposure (as in every file
           ``timbre render --exposure`` writes). ``png_transfer``: ``"linear"`` or ``"srgb"``,
           how :meth:`Image.png` encodes them.
-        - ``aovs``: any of ``"depth"``, ``"normal"``, ``"object"`` (``Image.aovs``).
+        - ``aovs``: any of ``"depth"``, ``"normal"``, ``"object"``, ``"albedo"``
+          (``Image.aovs``).
         - ``pixel_bounds``: ``(x0, x1, y0, y1)``, half-open, renders only those pixels of the
           ``width`` x ``height`` image (``--pixel-bounds``): shape (y1 - y0, x1 - x0, 3), the
           same values as those pixels of the whole render.

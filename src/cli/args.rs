@@ -166,7 +166,8 @@ pub struct RenderArgs {
     /// Worker threads (default: all cores), at most 1024.
     #[arg(long, value_parser = whole::<u32>(1, 1024))]
     pub threads: Option<u32>,
-    /// Extra EXR channels: depth (depth.Z), normal (normal.X/Y/Z), object (object.id).
+    /// Extra EXR channels: depth (depth.Z), normal (normal.X/Y/Z), object (object.id), albedo
+    /// (albedo.R/G/B: a denoiser's guide).
     #[arg(long, value_delimiter = ',')]
     pub aov: Vec<Aov>,
     /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
@@ -301,6 +302,7 @@ impl RenderArgs {
     pub fn apply_to(&self, s: &mut RenderSettings) {
         self.settings.0.apply_over(s);
         s.aovs = !self.aov.is_empty();
+        s.albedo = self.aov.contains(&Aov::Albedo);
         s.threads = self.threads.map(|t| t as usize);
     }
 }
@@ -323,4 +325,5 @@ pub enum Aov {
     Depth,
     Normal,
     Object,
+    Albedo,
 }

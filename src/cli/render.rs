@@ -27,7 +27,7 @@ fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputForma
     let views = stereo.views() as u64;
     let output = match format {
         OutputFormat::Png => 3 * 2 * (1 + (views > 1) as u64),
-        OutputFormat::Exr => 4 * (3 + 5 * settings.aovs as u64) * 2,
+        OutputFormat::Exr => 4 * (3 + 5 * settings.aovs as u64 + 3 * settings.albedo as u64) * 2,
     };
     stereo::memory_needed(settings.aovs, stereo, pixels) + pixels * output
 }
@@ -353,6 +353,7 @@ fn job(args: &RenderArgs, s: &RenderSettings, hash: String) -> Result<Job, Failu
         depth: args.aov.contains(&Aov::Depth),
         normal: args.aov.contains(&Aov::Normal),
         object: args.aov.contains(&Aov::Object),
+        albedo: args.aov.contains(&Aov::Albedo),
     };
     Job::plan(args.output.clone(), s, &part, checkpoints, hash, aovs).map_err(bad_input)
 }

@@ -109,6 +109,7 @@ pub fn read_part(path: &Path) -> Result<PartReader, PartError> {
         depth: has("depth.Z"),
         normal: has("normal.X"),
         object: has("object.id"),
+        albedo: has("albedo.R"),
     };
     let sums = (0..3).all(|c| (0..4).all(|w| has(&sum_channel(c, w))));
     if !sums {
@@ -244,6 +245,7 @@ impl PartReader {
             aov_at("normal.Z"),
             aov_at("object.id"),
         );
+        let albedo = ["albedo.R", "albedo.G", "albedo.B"].map(aov_at);
         let f = |line, at: Option<usize>, x, default: f32| {
             at.map_or(default, |at| f32::from_bits(word(line, at, x)))
         };
@@ -266,6 +268,7 @@ impl PartReader {
                             f(line, nz, x, 0.0),
                         ),
                         object: f(line, object, x, -1.0),
+                        albedo: Vec3::from_array(albedo.map(|at| f(line, at, x, 0.0))),
                     };
                 }
             }

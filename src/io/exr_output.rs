@@ -65,6 +65,12 @@ fn channels(provenance: &Provenance) -> Vec<(String, SampleType, Value)> {
             Box::new(move |b, i| f32s(aov(b, i).object)),
         ));
     }
+    if a.albedo {
+        for (k, colour) in ["R", "G", "B"].iter().enumerate() {
+            let get: Value = Box::new(move |b, i| f32s(aov(b, i).albedo[k]));
+            list.push((format!("albedo.{colour}"), SampleType::F32, get));
+        }
+    }
     if provenance.sums {
         for colour in 0..3 {
             for word in 0..4 {

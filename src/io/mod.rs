@@ -29,11 +29,12 @@ pub struct AovSelection {
     pub depth: bool,
     pub normal: bool,
     pub object: bool,
+    pub albedo: bool,
 }
 
 impl AovSelection {
     pub fn any(&self) -> bool {
-        self.depth || self.normal || self.object
+        self.depth || self.normal || self.object || self.albedo
     }
 }
 
@@ -44,6 +45,7 @@ impl std::fmt::Display for AovSelection {
             (self.depth, "depth"),
             (self.normal, "normal"),
             (self.object, "object"),
+            (self.albedo, "albedo"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))

@@ -37,13 +37,21 @@ pub struct AovSample {
     pub normal: Vec3,
     /// Object index in the scene; −1 where nothing is hit.
     pub object: f32,
+    /// The albedo (a denoiser's guide): see [`ALBEDO_SAMPLES`] and [`Tracer::albedo`]; zero
+    /// unless asked for.
+    pub albedo: Vec3,
 }
+
+/// The albedo AOV of a pixel is the mean over its first `min(spp, ALBEDO_SAMPLES)` samples
+/// (the same in every part of a render, whichever samples the part renders).
+pub const ALBEDO_SAMPLES: u32 = 16;
 
 impl AovSample {
     pub const MISS: AovSample = AovSample {
         depth: f32::INFINITY,
         normal: Vec3::ZERO,
         object: -1.0,
+        albedo: Vec3::ZERO,
     };
 }
 
@@ -276,6 +284,7 @@ fn render_tile(
     tile: PixelBounds,
 ) -> pipeline::Tile {
     let tracer = Tracer::new(scene, camera, s.shadows);
+    let albedo_tracer = (aovs && s.albedo).then(|| Tracer::albedo(scene, camera));
     let n = tile.pixels() as usize;
     let mut out = pipeline::Tile {
         sums: vec![Sum::default(); if sums { n } else { 0 }],
@@ -365,8 +374,19 @@ fn render_tile(
                             depth: f.hit.t as f32,
                             normal: normal.as_vec3(),
                             object: object as f32,
+                            albedo: Vec3::ZERO,
                         }
                     });
+                    if let Some(albedo_tracer) = &albedo_tracer {
+                        let n = s.spp.min(ALBEDO_SAMPLES);
+                        let sum: Colour = (0..n)
+                            .map(|sample| {
+                                let ray = sample_ray(x, y, sample);
+                                albedo_tracer.trace(&ray, 0.0, s.max_trace_level, ReferenceFrame::Camera)
+                            })
+                            .sum();
+                        aovs[k].albedo = (sum / n as f64).clamp(Colour::ZERO, Colour::ONE).as_vec3();
+                    }
                 }
             }
         }

@@ -31,6 +31,8 @@ pub struct Tracer<'a> {
     pub(super) scene: &'a Scene,
     camera: &'a Camera,
     shadows: bool,
+    /// Whether lit surfaces show their albedo instead of being lit ([`Tracer::albedo`]).
+    albedo: bool,
     rays: Cell<u64>,
 }
 
@@ -40,7 +42,20 @@ impl<'a> Tracer<'a> {
             scene,
             camera,
             shadows,
+            albedo: false,
             rays: Cell::new(0),
+        }
+    }
+
+    /// A tracer of the albedo a denoiser is guided by (Intel Open Image Denoise's definition):
+    /// the ray is followed through every law as the colour is (mirrors, lenses, METATOYs, each
+    /// one's transmission factor, absorption, mixes), but a lit surface shows its diffuse
+    /// colour instead of being lit, so that what is seen through an optical component keeps
+    /// its texture; emitting surfaces show their colour.
+    pub fn albedo(scene: &'a Scene, camera: &'a Camera) -> Tracer<'a> {
+        Tracer {
+            albedo: true,
+            ..Tracer::new(scene, camera, false)
         }
     }
 
@@ -207,6 +222,7 @@ impl<'a> Tracer<'a> {
     ) -> Colour {
         let on = |(ray, margin)| self.trace_on(&ray, margin, level - 1, frame);
         match redirection {
+            Redirection::Lit(coloured) if self.albedo => coloured.diffuse,
             Redirection::Lit(coloured) => self.lit(&coloured, at, frame),
             Redirection::Emits(colour) => colour,
             Redirection::Lost => Colour::ZERO,

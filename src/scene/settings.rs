@@ -20,6 +20,8 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Also record depth, normal and object id of the surface seen through each pixel centre.
     pub aovs: bool,
+    /// With `aovs`, also the albedo of each pixel ([`crate::render::ALBEDO_SAMPLES`]).
+    pub albedo: bool,
     /// Worker threads; `None` for as many as the machine has cores.
     pub threads: Option<usize>,
     /// Exposure compensation in stops: every output value is multiplied by 2^exposure (Dr TIM's
@@ -108,6 +110,7 @@ impl Default for RenderSettings {
             max_trace_level: 100,
             shadows: true,
             aovs: false,
+            albedo: false,
             threads: None,
             exposure: 0.0,
             png_transfer: PngTransfer::Linear,
