@@ -15,6 +15,20 @@ fn main() {
     println!("cargo:rerun-if-changed=vendor-headers/shim.h");
     println!("cargo:rerun-if-changed=vendor-headers/shim.c");
     println!("cargo:rerun-if-env-changed=EMBREE_DIR");
+    println!("cargo:rerun-if-env-changed=OIDN_DIR");
+    // The `denoise` feature links Open Image Denoise from $OIDN_DIR/lib (the oidn crate's build
+    // finds it there): the binaries find it at run time through their rpath.
+    if env::var_os("CARGO_FEATURE_DENOISE").is_some() {
+        match env::var_os("OIDN_DIR").filter(|d| !d.is_empty()) {
+            Some(dir) => println!(
+                "cargo:rustc-link-arg=-Wl,-rpath,{}",
+                Path::new(&dir).join("lib").display()
+            ),
+            None => println!(
+                "cargo:warning=the denoise feature needs Open Image Denoise: run scripts/setup-oidn.sh and build with OIDN_DIR=target/oidn"
+            ),
+        }
+    }
 
     let embree4 = env::var_os("CARGO_FEATURE_EMBREE4").is_some();
     let (major, lib) = if embree4 {

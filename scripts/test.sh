@@ -24,12 +24,18 @@ scripts/slurm-e2e.sh
 # A short fuzz smoke run, 20 s a target from the committed corpus (docs/RELIABILITY.md);
 # installs cargo-fuzz if missing.
 scripts/fuzz.sh 20
-# The same suite against Embree 4 (the `embree4` feature) beside Debian's Embree 3: installs
-# Embree 4.4 into target/embree4 from the package registries (scripts/setup-embree4.sh), then
-# clippy and every test with the feature. Only timbre itself is built again (the dependencies'
-# builds are shared); the last line puts the Embree 3 build of target/release/timbre back.
+# The same suite against Embree 4 (the `embree4` feature) beside Debian's Embree 3, and with
+# denoising (the `denoise` feature, tests/denoise.rs): installs Embree 4.4 into target/embree4
+# and Intel Open Image Denoise 2.5 into target/oidn from the package registries
+# (scripts/setup-embree4.sh, scripts/setup-oidn.sh), then clippy and every test with both
+# features. Only timbre itself is built again (the dependencies' builds are shared); the last
+# line puts the Embree 3 build of target/release/timbre back.
 embree4="$PWD/target/embree4"
+oidn="$PWD/target/oidn"
 scripts/setup-embree4.sh "$embree4"
-EMBREE_DIR="$embree4" cargo clippy --all-targets --release --locked --features embree4 -- -D warnings
-EMBREE_DIR="$embree4" cargo test --release --locked --features embree4
+scripts/setup-oidn.sh "$oidn"
+export EMBREE_DIR="$embree4" OIDN_DIR="$oidn"
+cargo clippy --all-targets --release --locked --features embree4,denoise -- -D warnings
+cargo test --release --locked --features embree4,denoise
+unset EMBREE_DIR OIDN_DIR
 cargo build --release --locked --quiet

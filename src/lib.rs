@@ -5,6 +5,8 @@
 //! Courtial); equation numbers in doc comments refer to it.
 
 pub mod cameras;
+#[cfg(feature = "denoise")]
+pub mod denoise;
 pub mod devices;
 pub mod display;
 // The one exception to `unsafe_code = "deny"` (Cargo.toml's lints): the Embree binding calls C,

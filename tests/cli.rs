@@ -674,11 +674,16 @@ fn the_albedo_is_the_diffuse_colour_seen_through_every_law_times_its_factors() {
     ] {
         let got = albedo(x, y);
         assert!(
-            got.iter().zip(want).all(|(g, w)| (*g as f64 - w).abs() < 1e-6),
+            got.iter()
+                .zip(want)
+                .all(|(g, w)| (*g as f64 - w).abs() < 1e-6),
             "albedo at ({x}, {y}): {got:?}, expected {want:?}"
         );
         let colour = ["R", "G", "B"].map(|c| exr.at(c, x, y));
-        assert_ne!(colour, got, "the colour at ({x}, {y}) is lit, not the albedo");
+        assert_ne!(
+            colour, got,
+            "the colour at ({x}, {y}) is lit, not the albedo"
+        );
     }
 }
 

@@ -170,6 +170,11 @@ pub struct RenderArgs {
     /// (albedo.R/G/B: a denoiser's guide).
     #[arg(long, value_delimiter = ',')]
     pub aov: Vec<Aov>,
+    /// Also write the picture denoised by Intel Open Image Denoise, as NAME.denoised.exr beside
+    /// the OpenEXR output (which keeps the albedo and normal it is guided by); needs a build
+    /// with the `denoise` feature.
+    #[arg(long)]
+    pub denoise: bool,
     /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<Override>,
@@ -301,8 +306,8 @@ impl RenderArgs {
     /// The command line's values in place of the scene file's.
     pub fn apply_to(&self, s: &mut RenderSettings) {
         self.settings.0.apply_over(s);
-        s.aovs = !self.aov.is_empty();
-        s.albedo = self.aov.contains(&Aov::Albedo);
+        s.aovs = !self.aov.is_empty() || self.denoise;
+        s.albedo = self.aov.contains(&Aov::Albedo) || self.denoise;
         s.threads = self.threads.map(|t| t as usize);
     }
 }

@@ -46,6 +46,14 @@ pub enum ImageCommand {
         #[arg(long)]
         max_differing: Option<u64>,
     },
+    /// Denoise an OpenEXR render that has the albedo and normal AOVs (`--aov albedo,normal`,
+    /// a merged render's too) with Intel Open Image Denoise (a build with the `denoise`
+    /// feature), into a new file: by default NAME.denoised.exr beside it.
+    Denoise {
+        input: PathBuf,
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
 }
 
 pub fn run_image(command: ImageCommand) -> Result<(), Failure> {
@@ -64,6 +72,25 @@ pub fn run_image(command: ImageCommand) -> Result<(), Failure> {
             max_error,
             max_differing,
         } => diff(&a, &b, tolerance, max_error, max_differing),
+        ImageCommand::Denoise { input, output } => {
+            let output = output.unwrap_or_else(|| super::denoise::denoised_path(&input));
+            if OutputFormat::from_path(&output).map_err(bad_input)? != OutputFormat::Exr {
+                return Err(bad_input(format!(
+                    "{}: the denoised picture is written in OpenEXR (-o NAME.exr)",
+                    output.display()
+                )));
+            }
+            let same = |a: &Path, b: &Path| a.canonicalize().ok() == b.canonicalize().ok();
+            if output.exists() && same(&input, &output) {
+                return Err(bad_input(format!(
+                    "{}: the denoised picture goes into a new file, never over the render (-o NAME.exr)",
+                    output.display()
+                )));
+            }
+            super::denoise::denoise_file(&input, &output)?;
+            out!("{} -> {}", input.display(), output.display());
+            Ok(())
+        }
     }
 }
 

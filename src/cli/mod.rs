@@ -2,6 +2,7 @@
 //! (main.rs runs the other commands, which are short).
 
 pub mod args;
+pub mod denoise;
 pub mod image;
 pub mod progress;
 pub mod render;

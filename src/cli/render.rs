@@ -16,6 +16,7 @@ use timbre::scene::{RenderSettings, SceneDescription, Stereo};
 use timbre::stereo::{self, render_stereo};
 
 use super::args::{Aov, BoundsArg, ProgressMode, RenderArgs, SamplesArg, TileArg};
+use super::denoise;
 use super::progress::{JsonProgress, spinner};
 use crate::{Failure, bad_input, internal, job_failure, load, unprepared};
 
@@ -80,6 +81,7 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
         shown.bar.finish_and_clear();
         let rays = written(&args, done, &stopping)?;
         let seconds = start.elapsed().as_secs_f64();
+
         if let Some(viewer) = viewer {
             viewer.finish();
         }
@@ -107,6 +109,13 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
         }
         (image.rays, seconds)
     };
+    // Beside the output, which stays as it is (check_output allows it for single views only).
+    let denoised = args.denoise.then(|| denoise::denoised_path(&args.output));
+    if let Some(denoised) = &denoised {
+        let waiting = spinner(args.quiet, "denoising");
+        denoise::denoise_file(&args.output, denoised)?;
+        waiting.finish_and_clear();
+    }
     if !args.quiet {
         let (pixels_part, samples_part) = job.part_names(&settings);
         out!(
@@ -129,6 +138,12 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
             build_seconds,
             memory::peak().unwrap_or_else(|| "unknown".into())
         );
+        if let Some(denoised) = denoised {
+            out!(
+                "denoised with Intel Open Image Denoise -> {}",
+                denoised.display()
+            );
+        }
     }
     Ok(())
 }
@@ -165,6 +180,16 @@ fn check_output(
     format: OutputFormat,
     job: &Job,
 ) -> Result<(), Failure> {
+    if args.denoise {
+        if let Some(why) = denoise::unavailable() {
+            return Err(bad_input(format!("--denoise: {why}")));
+        }
+        if *stereo != Stereo::Mono || format != OutputFormat::Exr || job.provenance.sums {
+            return Err(bad_input(
+                "--denoise needs a whole single view in OpenEXR (-o NAME.exr, camera.stereo = \"none\", no --tile, --pixel-bounds or --samples: denoise a merged render with `timbre image denoise`)",
+            ));
+        }
+    }
     if settings.aovs && *stereo != Stereo::Mono {
         return Err(bad_input(
             "--aov works with single views only (camera.stereo = \"none\")",
@@ -351,9 +376,9 @@ fn job(args: &RenderArgs, s: &RenderSettings, hash: String) -> Result<Job, Failu
     };
     let aovs = AovSelection {
         depth: args.aov.contains(&Aov::Depth),
-        normal: args.aov.contains(&Aov::Normal),
+        normal: args.aov.contains(&Aov::Normal) || args.denoise,
         object: args.aov.contains(&Aov::Object),
-        albedo: args.aov.contains(&Aov::Albedo),
+        albedo: args.aov.contains(&Aov::Albedo) || args.denoise,
     };
     Job::plan(args.output.clone(), s, &part, checkpoints, hash, aovs).map_err(bad_input)
 }

@@ -382,10 +382,16 @@ fn render_tile(
                         let sum: Colour = (0..n)
                             .map(|sample| {
                                 let ray = sample_ray(x, y, sample);
-                                albedo_tracer.trace(&ray, 0.0, s.max_trace_level, ReferenceFrame::Camera)
+                                albedo_tracer.trace(
+                                    &ray,
+                                    0.0,
+                                    s.max_trace_level,
+                                    ReferenceFrame::Camera,
+                                )
                             })
                             .sum();
-                        aovs[k].albedo = (sum / n as f64).clamp(Colour::ZERO, Colour::ONE).as_vec3();
+                        aovs[k].albedo =
+                            (sum / n as f64).clamp(Colour::ZERO, Colour::ONE).as_vec3();
                     }
                 }
             }

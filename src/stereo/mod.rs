@@ -73,16 +73,17 @@ pub fn autostereogram(stereo: &Stereo, width: u32, seed: u64) -> Option<Autoster
 
 /// Bytes the image `stereo` asks for needs in memory while it is rendered and combined, at its
 /// peak, roughly, for `pixels` pixels a view: each view's f64 colours (24 bytes a pixel) and,
-/// with `aovs`, AOVs (20); two views' combination copies both and makes the output (up to
+/// with `aovs`, AOVs (32); two views' combination copies both and makes the output (up to
 /// twice a view); an autostereogram renders the depth AOV whatever `aovs`, and keeps three f64
 /// depths (8 each) and its output (24).
 pub fn memory_needed(aovs: bool, stereo: &Stereo, pixels: u64) -> u64 {
-    let view = 24 + 20 * aovs as u64;
+    let aov = size_of::<crate::render::AovSample>() as u64;
+    let view = 24 + aov * aovs as u64;
     pixels
         * match stereo {
             Stereo::Mono => view,
             Stereo::Anaglyph { .. } | Stereo::FramePacking { .. } => 2 * view + 4 * 24,
-            Stereo::Autostereogram { .. } => 24 + 20 + 3 * 8 + 24,
+            Stereo::Autostereogram { .. } => 24 + aov + 3 * 8 + 24,
         }
 }
 
