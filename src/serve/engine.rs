@@ -12,7 +12,7 @@ use axum::body::Bytes;
 use tokio::sync::{broadcast, watch};
 
 use super::messages::{CameraState, Hit, SceneState, ToPage};
-use super::parameters::parameters;
+use super::parameters::{Parameter, Slider, parameters};
 use super::preview::{LoadError, Preview};
 use super::{ServeError, ServeOptions};
 use crate::cameras::Projection;
@@ -33,6 +33,17 @@ const RACY_STAMP: Duration = Duration::from_secs(2);
 
 /// Scene texts longer than this get no parameter list (it would be enormous).
 const MAX_PARAMETER_TEXT: usize = 8 << 20;
+
+/// The longest the sliders of one scene state are probed for their keys' domains (a check of
+/// the scene a probe); the sliders left then keep their unnarrowed ranges, for this state.
+const PROBE_BUDGET: Duration = Duration::from_millis(250);
+
+/// The sliders found for a scene text, by key and value (the bits of the f64).
+#[derive(Default)]
+struct Sliders {
+    text: String,
+    found: std::collections::HashMap<(String, u64), Slider>,
+}
 
 /// Most `--set`s a page may have at once.
 pub const MAX_PAGE_OVERRIDES: usize = 1000;
@@ -349,6 +360,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
     // The text of the scene that loaded last, how it was checked and the changes it had: while
     // the text has an error, moves and settings go on with that text and the new changes.
     let mut good: Option<(String, Check, Vec<Override>)> = None;
+    let mut sliders = Sliders::default();
     loop {
         let work = {
             let mut inputs = lock(&shared.inputs);
@@ -432,7 +444,24 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                         let mut inputs = lock(&shared.inputs);
                         (inputs.exposure, inputs.transfer) = (s.exposure, s.png_transfer);
                     }
-                    let state = state(shared, &preview, &text, &overrides, generation);
+                    let mut state = state(shared, &preview, &text, &overrides, generation);
+                    let valid = |key: &str, x: f64, integer: bool| {
+                        let value = if integer {
+                            format!("{}", x as i64)
+                        } else {
+                            format!("{x:?}")
+                        };
+                        let Ok(probe) = format!("{key}={value}").parse::<Override>() else {
+                            return false;
+                        };
+                        let mut changes = changes.to_vec();
+                        changes.push(probe.clone());
+                        let mut all = overrides.clone();
+                        all.push(probe);
+                        let confined = confinement(shared, check, &changes);
+                        preview.describe(&text, &all, confined.as_ref()).is_ok()
+                    };
+                    probe_sliders(&mut sliders, &text, &mut state.parameters, &valid);
                     let state: Arc<str> = ToPage::Scene(state).text().into();
                     {
                         let mut latest = lock(&shared.latest);
@@ -870,6 +899,34 @@ fn watch(shared: &Shared, mut known: String) {
             shared.stop.store(true, Ordering::Relaxed);
             shared.wake.notify_all();
         }
+    }
+}
+
+/// Gives each number of `parameters` its slider, narrowed to its key's valid domain as `valid`
+/// (key, value, whole) says, within [`PROBE_BUDGET`]; remembered for the same `text`.
+fn probe_sliders(
+    sliders: &mut Sliders,
+    text: &str,
+    parameters: &mut [Parameter],
+    valid: &dyn Fn(&str, f64, bool) -> bool,
+) {
+    if sliders.text != text {
+        sliders.text = text.to_string();
+        sliders.found.clear();
+    }
+    let started = Instant::now();
+    for p in parameters {
+        let Some(v) = p.number() else { continue };
+        let known = (p.key.clone(), v.to_bits());
+        p.slider = Some(match sliders.found.get(&known) {
+            Some(s) => *s,
+            None if started.elapsed() < PROBE_BUDGET => {
+                let s = Slider::around(v, p.integer, &mut |x| valid(&p.key, x, p.integer));
+                sliders.found.insert(known, s);
+                s
+            }
+            None => Slider::around(v, p.integer, &mut |_| true),
+        });
     }
 }
 

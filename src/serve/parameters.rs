@@ -15,6 +15,77 @@ pub struct Parameter {
     pub value: serde_json::Value,
     /// Whether the value is a whole number (or an array of them), which `--set` keeps whole.
     pub integer: bool,
+    /// The slider of a number ([`Slider::around`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slider: Option<Slider>,
+}
+
+impl Parameter {
+    /// The number this parameter is, if it is one (not a switch or an array).
+    pub fn number(&self) -> Option<f64> {
+        self.value.as_number().and_then(|n| n.as_f64())
+    }
+}
+
+/// A slider's range and step for one number.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Slider {
+    pub min: f64,
+    pub max: f64,
+    pub step: f64,
+}
+
+impl Slider {
+    /// The slider of the number `v` (`integer`: a whole number, which `--set` keeps whole): a
+    /// span of twice its magnitude (1 for 0) either side, a round step (1 for whole numbers,
+    /// else the power of ten about a hundredth of the span, so that round values such as 1 are
+    /// on it), ends on the step's grid; each end then narrowed to the key's valid domain, as
+    /// `valid` says (the scene checked with that value, as a `--set` of it would be): where an
+    /// end is not valid, the valid end nearest it is found by bisection on the grid, between it
+    /// and `v` (the valid values round `v` being an interval, as every key's are).
+    pub fn around(v: f64, integer: bool, valid: &mut dyn FnMut(f64) -> bool) -> Slider {
+        let span = if v == 0.0 { 1.0 } else { 2.0 * v.abs() };
+        let digits = if integer {
+            0
+        } else {
+            (2 - span.log10().floor() as i32).max(0)
+        };
+        // Grid point k, k / 10^digits: the decimal it stands for, as near as f64 has it.
+        let scale = 10f64.powi(digits);
+        let at = |k: f64| k / scale;
+        // The grid point nearest the end `end` (an index) that is valid, searched towards `v`
+        // (`up`: from below), or `v` itself if none is.
+        let mut narrow = |end: f64, up: bool| -> f64 {
+            if valid(at(end)) {
+                return at(end);
+            }
+            let beside_v = if up {
+                (v * scale).ceil()
+            } else {
+                (v * scale).floor()
+            };
+            let (mut bad, mut good) = (end, beside_v);
+            if !valid(at(good)) {
+                return v;
+            }
+            while (good - bad).abs() > 1.0 {
+                let mid = ((bad + good) / 2.0).floor();
+                if valid(at(mid)) {
+                    good = mid;
+                } else {
+                    bad = mid;
+                }
+            }
+            at(good)
+        };
+        let min = narrow(((v - span) * scale).floor(), true);
+        let max = narrow(((v + span) * scale).ceil(), false);
+        Slider {
+            min,
+            max,
+            step: at(1.0),
+        }
+    }
 }
 
 /// The parameters of a scene file's TOML `table`, in the file's order of keys, at most
@@ -64,6 +135,7 @@ fn visit(found: &mut Vec<Parameter>, key: String, value: &Value) -> bool {
                 key,
                 value,
                 integer,
+                slider: None,
             });
             true
         }
@@ -95,6 +167,50 @@ fn leaf(value: &Value) -> Option<(serde_json::Value, bool)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The slider of `v` for a key whose valid values are those `valid` accepts.
+    fn slider(v: f64, integer: bool, valid: impl Fn(f64) -> bool) -> (f64, f64, f64) {
+        let mut probes = 0;
+        let s = Slider::around(v, integer, &mut |x| {
+            probes += 1;
+            valid(x)
+        });
+        // A bisection at the step's resolution, not a scan of the grid.
+        assert!(probes <= 24, "{probes} probes");
+        (s.min, s.max, s.step)
+    }
+
+    #[test]
+    fn sliders_keep_to_each_keys_valid_domain_on_a_round_grid() {
+        // An index ratio (> 0) of 1: the slider starts one step above 0, and 1 is on its grid.
+        assert_eq!(slider(1.0, false, |x| x > 0.0), (0.01, 3.0, 0.01));
+        // A coefficient of Dr TIM's default 0.96, from 0 to 1.
+        assert_eq!(
+            slider(0.96, false, |x| (0.0..=1.0).contains(&x)),
+            (0.0, 1.0, 0.01)
+        );
+        // A view angle of 20° (0 < angle < 180); and of 170°, near the top.
+        assert_eq!(
+            slider(20.0, false, |x| x > 0.0 && x < 180.0),
+            (0.1, 60.0, 0.1)
+        );
+        assert_eq!(
+            slider(170.0, false, |x| x > 0.0 && x < 180.0),
+            (1.0, 179.0, 1.0)
+        );
+        // Samples per pixel, whole and at least 1.
+        assert_eq!(slider(4.0, true, |x| x >= 1.0), (1.0, 12.0, 1.0));
+        // A camera's speed |β| < 1 given by one component of 0.9.
+        assert_eq!(
+            slider(0.9, false, |x: f64| x.abs() < 1.0),
+            (-0.9, 0.99, 0.01)
+        );
+        // No bounds: twice the magnitude either side.
+        assert_eq!(slider(-3.0, false, |_| true), (-9.0, 3.0, 0.01));
+        assert_eq!(slider(0.0, false, |_| true), (-1.0, 1.0, 0.01));
+        // A value valid on its own only: the slider is that value.
+        assert_eq!(slider(0.123, false, |x| x == 0.123), (0.123, 0.123, 0.001));
+    }
 
     fn listed(text: &str) -> Vec<(String, String, bool)> {
         let (found, _) = parameters(&text.parse().unwrap());

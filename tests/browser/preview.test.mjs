@@ -306,13 +306,15 @@ test('dragging the picture turns the camera and restarts the accumulation', { ti
   });
 });
 
-test('a slider reaches round values exactly', { timeout: 2 * WAIT }, async () => {
+test('a slider reaches round values exactly, within its key\'s valid domain', { timeout: 2 * WAIT }, async () => {
   await withPage(async (page) => {
     const s0 = await converged(page);
     // index_ratio is 1.5: its slider must give 1 itself (not 1.002, off a grid of span/500).
     const slider = page.locator(`div.param[data-key="${INDEX_KEY}"] input[type=range]`);
     const step = Number(await slider.getAttribute('step'));
     const min = Number(await slider.getAttribute('min'));
+    // An index ratio must be positive: the slider starts one step above 0 (not at -1.5).
+    assert.equal(min, step, `the slider's least index ratio (step ${step})`);
     assert.ok(Number.isInteger(Math.round((1 - min) / step)) && Math.abs((1 - min) / step - Math.round((1 - min) / step)) < 1e-9,
       `1 is on the slider's grid (min ${min}, step ${step})`);
     await slider.evaluate((r) => { r.value = '1'; r.dispatchEvent(new Event('input', { bubbles: true })); });
