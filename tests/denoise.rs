@@ -4,8 +4,6 @@
 
 mod common;
 
-use std::path::Path;
-
 use tempfile::TempDir;
 
 use common::cli::{timbre, write};
@@ -22,6 +20,8 @@ focus_distance = 8
 #[cfg(feature = "denoise")]
 mod with_oidn {
     use super::*;
+    use std::path::Path;
+
     use exr::prelude::{FlatSamples, read_all_flat_layers_from_file};
 
     /// The named f32 channels of an OpenEXR file, in the order asked.
