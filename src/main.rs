@@ -283,8 +283,13 @@ fn run_serve(args: ServeArgs) -> Result<(), Failure> {
         overrides: args.set,
         preview: timbre::serve::PreviewOptions {
             settings: args.settings.0,
-            threads: args.threads,
+            // A public server's visitors share the cores: one thread each unless told.
+            threads: args.threads.or(args.public.then_some(1)),
+            public: args.public,
         },
+        public: args.public.then_some(timbre::serve::Public {
+            visitors: args.visitors as usize,
+        }),
     };
     timbre::serve::serve(options).map_err(|e| match e {
         timbre::serve::ServeError::Internal(_) => internal(e),

@@ -962,3 +962,114 @@ async fn what_the_users_own_include_reaches_stays_usable_when_the_page_edits_the
     assert_eq!(state["type"], "scene", "{state}");
     assert_eq!(state["text"], edited.as_str());
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_public_server_gives_each_visitor_their_own_view_and_says_when_it_is_busy() {
+    let server = Server::start(&["--public", "--visitors", "2"]);
+    let mut a = server.connect().await;
+    let mut b = server.connect().await;
+    let state = a.json("scene").await;
+    // A visitor sees the scene file's name, not where it is on the server.
+    assert_eq!(state["path"], "scene.toml");
+    assert_eq!(state["public"], true);
+    b.json("scene").await;
+    let set = "object.0.surface.index_ratio=1.2";
+    a.send(serde_json::json!({"type": "set", "set": [set]}))
+        .await;
+    let changed = a.json("scene").await;
+    assert_eq!(changed["overrides"], serde_json::json!([set]));
+    // Each converges to the CLI's render of their own changes: A's with the --set, B's without.
+    let a_frame = a
+        .converged(changed["generation"].as_u64().unwrap() as u32 - 1)
+        .await;
+    assert_eq!(a_frame.differences(&server.reference(&[set])), 0);
+    let b_frame = b.converged(0).await;
+    assert_eq!(b_frame.differences(&server.reference(&[])), 0);
+
+    // A third visitor is told the server is busy, and the connection closes.
+    let mut c = server.connect().await;
+    let busy = c.json("busy").await;
+    assert!(
+        busy["message"]
+            .as_str()
+            .unwrap()
+            .contains("2 visitors at once"),
+        "{busy}"
+    );
+    assert_eq!(c.closed().await, Some(CloseCode::Again));
+    // Once a visitor leaves, another is served.
+    drop(a);
+    let deadline = std::time::Instant::now() + HANG;
+    loop {
+        let mut d = server.connect().await;
+        match d.next().await {
+            Some(Received::Json(v)) if v["type"] == "scene" => break,
+            Some(Received::Json(v)) if v["type"] == "busy" => {}
+            other => panic!("a scene or busy, got {:?}", other.is_some()),
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the visitor's place is freed"
+        );
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_public_server_reads_and_writes_no_file_for_its_pages() {
+    let server = Server::start(&["--public"]);
+    write(
+        server.path(),
+        "part.toml",
+        "[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 8], radius = 0.3 }\nsurface = { type = \"coloured\", diffuse = [1, 0, 0] }\n",
+    );
+    write(
+        server.path(),
+        "part.obj",
+        "v 0 0 8\nv 1 0 8\nv 0 1 8\nf 1 2 3\n",
+    );
+    let before = std::fs::read_dir(server.path()).unwrap().count();
+    let mut page = server.connect().await;
+    page.json("scene").await;
+    // No saving, no writing the scene file.
+    page.send(serde_json::json!({"type": "save", "file": "render.png"}))
+        .await;
+    page.notice(true, "a public server writes no files").await;
+    page.send(serde_json::json!({"type": "write_scene"})).await;
+    page.notice(true, "a public server writes no files").await;
+    // No file that the page names, even beside the scene file, by text or by --set.
+    for name in ["part.toml", "/etc/hostname"] {
+        let text = format!("{SCENE}\n[[include]]\nfile = \"{name}\"\n");
+        page.send(serde_json::json!({"type": "text", "text": text}))
+            .await;
+        page.error("a public server reads no file that its pages name")
+            .await;
+    }
+    page.send(serde_json::json!({"type": "text", "text": SCENE}))
+        .await;
+    page.json("scene").await;
+    let mesh = "object.0.shape={ type = \"mesh\", file = \"part.obj\" }";
+    page.send(serde_json::json!({"type": "set", "set": [mesh]}))
+        .await;
+    page.error("a public server reads no file that its pages name")
+        .await;
+    page.send(serde_json::json!({"type": "unset", "keys": []}))
+        .await;
+    page.json("scene").await;
+    // A preview larger than a visitor's share is refused.
+    page.send(
+        serde_json::json!({"type": "set", "set": ["render.width=2048", "render.height=1024"]}),
+    )
+    .await;
+    page.error("public server's limit").await;
+    // Hostile messages close the page's own connection, and the server goes on.
+    page.send(serde_json::json!({"type": "format_disk"})).await;
+    assert_eq!(page.closed().await, Some(CloseCode::Policy));
+    let mut again = server.connect().await;
+    again.json("scene").await;
+    assert_eq!(std::fs::read_dir(server.path()).unwrap().count(), before);
+    // Any host name, and any site may embed the page.
+    let (status, response) = server.get("/", "timbre.example.org");
+    assert_eq!(status, 200, "{response}");
+    assert!(response.contains("frame-ancestors *"), "{response}");
+}

@@ -152,6 +152,14 @@ pub struct ServeArgs {
     /// Override a scene-file value, e.g. --set camera.position=[0,0,-2] (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<Override>,
+    /// Serve anonymous visitors (with --bind 0.0.0.0, the world): each has a view and changes
+    /// of their own on the scene, no file is read or written for a page, and each preview
+    /// renders on --threads threads (default 1); the page may be embedded in an <iframe>.
+    #[arg(long)]
+    pub public: bool,
+    /// With --public: most visitors at once (more are told the server is busy).
+    #[arg(long, value_parser = whole::<u32>(1, timbre::serve::MAX_VISITORS as u64), default_value_t = 8, requires = "public")]
+    pub visitors: u32,
 }
 
 #[derive(Parser)]

@@ -144,6 +144,11 @@ struct Shared {
     on_disk: Mutex<Vec<String>>,
     /// The text the page last wrote into the scene file (the watcher need not reload it).
     written: Mutex<Option<String>>,
+    /// A public server's visitor's engine: no file is read for its page but the scene's own,
+    /// none written.
+    public: bool,
+    /// Set when the engine is closed (its visitor left): its threads end.
+    closed: AtomicBool,
 }
 
 /// The handle the server's connections use.
@@ -194,6 +199,8 @@ impl Engine {
             given: override_names(&options.overrides),
             on_disk: Mutex::new(text_names(&text).unwrap_or_default()),
             written: Mutex::new(None),
+            public: options.public.is_some(),
+            closed: AtomicBool::new(false),
         });
         let engine = shared.clone();
         std::thread::Builder::new()
@@ -206,6 +213,15 @@ impl Engine {
             .spawn(move || watch(&watched, text))
             .map_err(|e| ServeError::Internal(e.to_string()))?;
         Ok(Engine { shared })
+    }
+
+    /// Ends the engine's threads (a public server's visitor has left): the pass in progress
+    /// stops, and so does the watcher at its next look.
+    pub fn close(&self) {
+        self.shared.closed.store(true, Ordering::Relaxed);
+        self.shared.stop.store(true, Ordering::Relaxed);
+        let _inputs = lock(&self.shared.inputs);
+        self.shared.wake.notify_all();
     }
 
     /// The last state (and error), the messages from now on, and the frames.
@@ -294,6 +310,9 @@ impl Engine {
     /// Queues a request; a newer inspection replaces one still waiting. Refused while
     /// [`MAX_REQUESTS`] wait.
     pub fn request(&self, request: Request) -> Result<(), String> {
+        if self.shared.public && matches!(request, Request::Save { .. } | Request::WriteScene) {
+            return Err("a public server writes no files: save a picture from the browser".into());
+        }
         let mut inputs = lock(&self.shared.inputs);
         if request.is_inspect() {
             inputs.requests.retain(|r| !r.is_inspect());
@@ -365,6 +384,9 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
         let work = {
             let mut inputs = lock(&shared.inputs);
             loop {
+                if shared.closed.load(Ordering::Relaxed) {
+                    return;
+                }
                 // Changes first: a request answers for the scene as the page has it now.
                 if inputs.generation != generation {
                     generation = inputs.generation;
@@ -517,6 +539,7 @@ fn confinement<'a>(shared: &'a Shared, check: Check, page: &[Override]) -> Optio
             let among = |names: &[String]| names.iter().any(|n| n == name);
             among(&shared.given) || among(&own) || page.as_ref().is_some_and(|p| !among(p))
         }),
+        only_trusted: shared.public,
     })
 }
 
@@ -869,6 +892,9 @@ fn watch(shared: &Shared, mut known: String) {
     let mut last = None;
     loop {
         std::thread::sleep(WATCH_INTERVAL);
+        if shared.closed.load(Ordering::Relaxed) {
+            return;
+        }
         let now = stamp(&shared.scene);
         // A file written twice within the clock's resolution keeps its stamp (the same size,
         // too, for an edited number): while the stamp is that recent its text is compared
@@ -1000,7 +1026,16 @@ fn state<'a>(
     };
     SceneState {
         generation,
-        path: shared.scene.display().to_string(),
+        // A public server's visitors see the file's name, not where it is.
+        path: match shared.public {
+            true => shared
+                .scene
+                .file_name()
+                .unwrap_or_default()
+                .display()
+                .to_string(),
+            false => shared.scene.display().to_string(),
+        },
         text: shown_text(text),
         overrides: overrides.iter().map(|o| o.to_string()).collect(),
         parameters,
@@ -1019,5 +1054,6 @@ fn state<'a>(
         spp: settings.spp,
         exposure: settings.exposure,
         warnings: description.warnings(),
+        public: shared.public,
     }
 }

@@ -36,6 +36,9 @@ pub enum ToPage<'a> {
     },
     /// How much of a render to a file is done.
     Saving { fraction: f64 },
+    /// A public server has as many visitors as it takes: this page is not served (the
+    /// connection closes after this message).
+    Busy { message: String },
 }
 
 impl ToPage<'_> {
@@ -79,6 +82,8 @@ pub struct SceneState<'a> {
     /// The scene's exposure setting, in stops: where the page's slider starts.
     pub exposure: f64,
     pub warnings: Vec<String>,
+    /// A public server's page: nothing is saved or written (the page hides those controls).
+    pub public: bool,
 }
 
 /// The camera as the page moves it.

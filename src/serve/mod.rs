@@ -31,6 +31,17 @@ pub const MAX_MESSAGE_BYTES: usize = 4 << 20;
 /// Most pages connected at once.
 pub const MAX_CONNECTIONS: usize = 16;
 
+/// Most visitors of a public server at once (`--visitors`).
+pub const MAX_VISITORS: usize = 64;
+
+/// A public server ([`ServeOptions::public`]): each visitor has an engine and a view of their
+/// own, on the same scene, and no files are read or written for a page.
+#[derive(Debug, Clone, Copy)]
+pub struct Public {
+    /// Most visitors at once; more are told the server is busy.
+    pub visitors: usize,
+}
+
 /// What `timbre serve` was asked for.
 #[derive(Debug, Clone)]
 pub struct ServeOptions {
@@ -40,6 +51,8 @@ pub struct ServeOptions {
     /// `--set` overrides from the command line, under the page's own.
     pub overrides: Vec<Override>,
     pub preview: PreviewOptions,
+    /// Serve anonymous visitors (`--public`), each with their own view and changes.
+    pub public: Option<Public>,
 }
 
 /// Why the server could not start or stopped.
@@ -70,6 +83,15 @@ pub struct Access {
 impl Access {
     /// The access rule for listening on `bind`: a fresh random token unless it is a loopback
     /// address.
+    /// The access rule of a public server: anyone, from anywhere, under any host name (it reads
+    /// and writes no file for its pages).
+    pub fn public() -> Access {
+        Access {
+            token: None,
+            loopback: false,
+        }
+    }
+
     pub fn for_address(bind: IpAddr) -> std::io::Result<Access> {
         let loopback = bind.is_loopback();
         let token = if loopback {
@@ -93,8 +115,11 @@ fn random_token() -> std::io::Result<String> {
 /// address (with the token, if one is needed) on standard output and serves.
 pub fn serve(options: ServeOptions) -> Result<(), ServeError> {
     let text = engine::read_scene(&options.scene).map_err(ServeError::Scene)?;
-    let access = Access::for_address(options.bind)
-        .map_err(|e| ServeError::Internal(format!("cannot make an access token: {e}")))?;
+    let access = match options.public {
+        Some(_) => Access::public(),
+        None => Access::for_address(options.bind)
+            .map_err(|e| ServeError::Internal(format!("cannot make an access token: {e}")))?,
+    };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -108,8 +133,18 @@ pub fn serve(options: ServeOptions) -> Result<(), ServeError> {
         let address = listener
             .local_addr()
             .map_err(|e| ServeError::Internal(e.to_string()))?;
-        let engine = engine::Engine::start(&options, text)?;
-        let app = protocol::router(Arc::new(protocol::AppState::new(engine, access.clone())));
+        let engines = match options.public {
+            // Each visitor's engine starts when they connect.
+            Some(public) => {
+                protocol::Engines::PerVisitor {
+                    options: Box::new(options.clone()),
+                    text,
+                    most: public.visitors,
+                }
+            }
+            None => protocol::Engines::Shared(engine::Engine::start(&options, text)?),
+        };
+        let app = protocol::router(Arc::new(protocol::AppState::new(engines, access.clone())));
         {
             use std::io::Write as _;
             let host = match address {
@@ -126,7 +161,14 @@ pub fn serve(options: ServeOptions) -> Result<(), ServeError> {
                 "timbre serve: {} on http://{host}/{query}",
                 options.scene.display()
             );
-            if access.token.is_some() {
+            if let Some(public) = options.public {
+                let _ = writeln!(
+                    out,
+                    "timbre serve: public: at most {} visitors at once, each on {} thread(s); no files read or written for a page",
+                    public.visitors,
+                    options.preview.threads.unwrap_or(1)
+                );
+            } else if access.token.is_some() {
                 let _ = writeln!(
                     out,
                     "timbre serve: listening beyond this machine: the page needs the token above"

@@ -77,7 +77,17 @@ pub struct PreviewOptions {
     /// accumulates, by default the scene's, at least [`DEFAULT_SPP`].
     pub settings: SettingValues,
     pub threads: Option<u32>,
+    /// A public server's visitor's preview: at most [`PUBLIC_MAX_PIXELS`] pixels and a scene
+    /// of at most [`PUBLIC_MAX_SCENE_BYTES`].
+    pub public: bool,
 }
+
+/// Most pixels of a public server's previews (1024×1024), each visitor's own.
+pub const PUBLIC_MAX_PIXELS: u64 = 1 << 20;
+
+/// Most memory the scene of a public server's visitor's preview may take (its BVH and
+/// objects, as `timbre check` estimates them): 256 MiB.
+pub const PUBLIC_MAX_SCENE_BYTES: u64 = 256 << 20;
 
 /// Samples per pixel the preview accumulates when neither `--spp` nor the scene asks for more.
 pub const DEFAULT_SPP: u32 = 64;
@@ -172,6 +182,12 @@ impl Preview {
                 s.width, s.height
             )));
         }
+        if o.public && s.width as u64 * s.height as u64 > PUBLIC_MAX_PIXELS {
+            return Err(LoadError::plain(format!(
+                "a preview of {}x{} pixels is larger than a public server's limit of {PUBLIC_MAX_PIXELS} pixels (1024x1024) a visitor",
+                s.width, s.height
+            )));
+        }
         Ok((description, s))
     }
 
@@ -203,6 +219,13 @@ impl Preview {
             },
         };
         let scene_bytes = if keep { 0 } else { parsed.build_memory() };
+        if self.options.public && parsed.build_memory() > PUBLIC_MAX_SCENE_BYTES {
+            return Err(LoadError::plain(format!(
+                "the scene needs {} MiB, more than a public server's {} MiB a visitor",
+                parsed.build_memory() >> 20,
+                PUBLIC_MAX_SCENE_BYTES >> 20
+            )));
+        }
         prepare::check_memory(&needs, scene_bytes).map_err(LoadError::plain)?;
         let built = if keep {
             None

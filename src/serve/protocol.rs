@@ -17,7 +17,7 @@ use tokio::sync::broadcast::error::RecvError;
 
 use super::engine::{Engine, MAX_PAGE_OVERRIDES, Request as EngineRequest, saveable};
 use super::messages::ToPage;
-use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, page};
+use super::{Access, MAX_CONNECTIONS, MAX_MESSAGE_BYTES, ServeOptions, page};
 use crate::scene::file::Override;
 
 /// Largest HTTP request body read (the server reads none: pages talk over the WebSocket).
@@ -29,20 +29,38 @@ const SEND_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(30);
 /// WebSocket close codes (RFC 6455, 7.4.1).
 const CLOSE_UNSUPPORTED: u16 = 1003;
 const CLOSE_POLICY: u16 = 1008;
+const CLOSE_TRY_AGAIN: u16 = 1013;
 
 pub struct AppState {
-    engine: Engine,
+    engines: Engines,
     access: Access,
     connections: AtomicUsize,
 }
 
+/// Whose engine a page talks to.
+pub enum Engines {
+    /// One engine: every page sees and changes the same preview.
+    Shared(Engine),
+    /// A public server: each visitor's page has an engine of its own, started when it connects
+    /// and closed when it goes, at most `most` at once.
+    PerVisitor {
+        options: Box<ServeOptions>,
+        text: String,
+        most: usize,
+    },
+}
+
 impl AppState {
-    pub fn new(engine: Engine, access: Access) -> AppState {
+    pub fn new(engines: Engines, access: Access) -> AppState {
         AppState {
-            engine,
+            engines,
             access,
             connections: AtomicUsize::new(0),
         }
+    }
+
+    fn public(&self) -> bool {
+        matches!(self.engines, Engines::PerVisitor { .. })
     }
 }
 
@@ -146,7 +164,7 @@ async fn guard(State(state): State<Arc<AppState>>, request: Request, next: Next)
     next.run(request).await
 }
 
-async fn index() -> Response {
+async fn index(State(state): State<Arc<AppState>>) -> Response {
     let mut response = page::PAGE.into_response();
     let headers = response.headers_mut();
     for (name, value) in [
@@ -156,14 +174,31 @@ async fn index() -> Response {
         (header::REFERRER_POLICY, "no-referrer"),
         (
             header::CONTENT_SECURITY_POLICY,
-            "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
-             img-src 'self' blob: data:; connect-src 'self'; frame-ancestors 'none'",
+            // A public server's page may be embedded in any site's page (an <iframe>).
+            if state.public() {
+                "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
+                 img-src 'self' blob: data:; connect-src 'self'; frame-ancestors *"
+            } else {
+                "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
+                 img-src 'self' blob: data:; connect-src 'self'; frame-ancestors 'none'"
+            },
         ),
         (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
     ] {
         headers.insert(name, HeaderValue::from_static(value));
     }
     response
+}
+
+/// Closes a visitor's engine when their connection ends, however it ends.
+struct Closing(Option<Engine>);
+
+impl Drop for Closing {
+    fn drop(&mut self) {
+        if let Some(engine) = &self.0 {
+            engine.close();
+        }
+    }
 }
 
 /// Counts a connection for as long as it lives.
@@ -194,8 +229,22 @@ async fn socket(
             return (StatusCode::FORBIDDEN, "forbidden: another site's page").into_response();
         }
     }
-    if state.connections.fetch_add(1, Ordering::Relaxed) >= MAX_CONNECTIONS {
+    let most = match &state.engines {
+        Engines::Shared(_) => MAX_CONNECTIONS,
+        Engines::PerVisitor { most, .. } => *most,
+    };
+    if state.connections.fetch_add(1, Ordering::Relaxed) >= most {
         state.connections.fetch_sub(1, Ordering::Relaxed);
+        if state.public() {
+            // The page is told so, and says so.
+            return upgrade.on_upgrade(move |mut socket| async move {
+                let message = format!(
+                    "busy: this server shows the scene to {most} visitors at once; try again in a while"
+                );
+                let _ = deliver(&mut socket, json(&ToPage::Busy { message }.text())).await;
+                close(&mut socket, CLOSE_TRY_AGAIN, "busy").await;
+            });
+        }
         return (
             StatusCode::SERVICE_UNAVAILABLE,
             format!("at most {MAX_CONNECTIONS} pages at once"),
@@ -238,7 +287,16 @@ async fn close(socket: &mut WebSocket, code: u16, reason: &str) {
 /// One page: the latest state and frame, then every message both ways until it goes.
 async fn connection(counted: Counted, mut socket: WebSocket) {
     let state = counted.0.clone();
-    let mut subscription = state.engine.subscribe();
+    let engine = match &state.engines {
+        Engines::Shared(engine) => engine.clone(),
+        Engines::PerVisitor { options, text, .. } => match Engine::start(options, text.clone()) {
+            Ok(engine) => engine,
+            Err(e) => return close(&mut socket, CLOSE_TRY_AGAIN, &e.to_string()).await,
+        },
+    };
+    // A visitor's engine ends with their page.
+    let _closing = Closing(state.public().then(|| engine.clone()));
+    let mut subscription = engine.subscribe();
     // The newest frame now, then whenever there is a newer one and the page has taken the last
     // (with the first of each scene, if it was passed over).
     let now = subscription.frames.borrow_and_update().clone();
@@ -259,7 +317,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                 Some(Ok(Message::Text(text))) => {
                     match serde_json::from_str::<ClientMessage>(text.as_str()) {
                         Ok(message) => {
-                            if let Some(reply) = handle(&state.engine, message)
+                            if let Some(reply) = handle(&engine, message)
                                 && !deliver(&mut socket, json(&reply)).await
                             {
                                 return;
@@ -285,7 +343,7 @@ async fn connection(counted: Counted, mut socket: WebSocket) {
                 }
                 // Too far behind: it gets the latest state (and error) again.
                 Err(RecvError::Lagged(_)) => {
-                    let fresh = state.engine.subscribe();
+                    let fresh = engine.subscribe();
                     subscription.json = fresh.json;
                     for text in fresh.now {
                         if !deliver(&mut socket, json(&text)).await {

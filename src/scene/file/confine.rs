@@ -9,6 +9,9 @@ pub struct Confinement<'a> {
     /// Whether a file name in the scene text itself (not in a file it includes) is the user's
     /// own: that file, and every file it reaches, is read wherever it is.
     pub trusted: Box<dyn Fn(&str) -> bool + 'a>,
+    /// Whether a name not trusted is refused even in the scene file's directory (a public
+    /// server reads no file its pages name).
+    pub only_trusted: bool,
 }
 
 /// A confinement at work: the scene file's directory, with symbolic links resolved.
@@ -38,6 +41,11 @@ impl<'a> Within<'a> {
     /// Refuses `path` (named `name`) unless it is in the scene file's directory, symbolic links
     /// followed; a file that does not exist is placed where it would be.
     pub(super) fn check(&self, name: &str, path: &Path) -> Result<(), String> {
+        if self.rule.only_trusted {
+            return Err(format!(
+                "'{name}': a public server reads no file that its pages name"
+            ));
+        }
         let root = self.root.as_ref().map_err(String::clone)?;
         match resolve(path) {
             Some(p) if p.starts_with(root) => Ok(()),
