@@ -451,7 +451,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 let (loaded, error) = match load(&mut preview, &text, check) {
                     Ok(()) => (Some((text.clone(), check)), None),
                     Err(e) => {
-                        let message: Arc<str> = error(&e, &text, generation).text().into();
+                        let message: Arc<str> = error(shared, &e, &text, generation).text().into();
                         // Only for new changes: without them the last good scene is loaded.
                         let fallback = good
                             .as_ref()
@@ -615,13 +615,31 @@ fn shown_text(text: &str) -> Option<&str> {
 
 /// A failed load: the message, its line and column in `text` if it has them, and the text
 /// itself (the page shows it with the error, and keeps the last good picture).
-fn error<'a>(e: &LoadError, text: &'a str, generation: u64) -> ToPage<'a> {
+fn error<'a>(shared: &Shared, e: &LoadError, text: &'a str, generation: u64) -> ToPage<'a> {
     ToPage::Error {
         generation: Some(generation),
-        message: e.message.clone(),
+        message: shown(shared, &e.message),
         line: e.line,
         column: e.column,
         text: shown_text(text),
+    }
+}
+
+/// A message as a page is shown it: on a public server, without where the scene file is
+/// (the path of its directory is left out, as in the state's `path`).
+fn shown(shared: &Shared, message: &str) -> String {
+    let dir = shared.scene.parent().filter(|d| !d.as_os_str().is_empty());
+    match dir {
+        Some(dir) if shared.public => {
+            let mut prefixes = vec![format!("{}/", dir.display())];
+            if let Ok(full) = dir.canonicalize() {
+                prefixes.push(format!("{}/", full.display()));
+            }
+            prefixes
+                .iter()
+                .fold(message.to_string(), |m, p| m.replace(p.as_str(), ""))
+        }
+        _ => message.to_string(),
     }
 }
 
@@ -1053,7 +1071,11 @@ fn state<'a>(
         height: settings.height,
         spp: settings.spp,
         exposure: settings.exposure,
-        warnings: description.warnings(),
+        warnings: description
+            .warnings()
+            .iter()
+            .map(|w| shown(shared, w))
+            .collect(),
         public: shared.public,
     }
 }

@@ -441,3 +441,56 @@ test('a click without moving inspects the pixel and leaves the picture alone', {
     assert.ok(changed(old, await canvasRGB(page)) > 0, 'the exposure frame arrived');
   });
 });
+
+test('a public server serves several pages at once, each its own view, refuses files and says when busy',
+  { timeout: 4 * WAIT }, async () => {
+    const server = serve(['--public', '--visitors', '2']);
+    const contexts = [];
+    const visit = async () => {
+      const context = await browser.newContext({ viewport: { width: 1100, height: 800 } });
+      contexts.push(context);
+      const page = await context.newPage();
+      await page.goto(await server.url, { timeout: WAIT });
+      return page;
+    };
+    try {
+      const [a, b] = [await visit(), await visit()];
+      const [sa] = [await converged(a), await converged(b)];
+      // Nothing to save or write on a public server's page.
+      assert.ok(await a.isHidden('#saving') && await a.isHidden('#write'), 'save and write hidden');
+      // A's change is A's alone: each page converges to the CLI's render of its own changes.
+      const field = a.locator(`div.param[data-key="${INDEX_KEY}"] input.param-value[type=number]`);
+      await field.fill('1.2');
+      await field.dispatchEvent('change');
+      await converged(a, sa.generation);
+      assertSame('visitor A with its change', await canvasRGB(a), reference([`${INDEX_KEY}=1.2`]));
+      assertSame('visitor B without it', await canvasRGB(b), reference());
+      assert.deepEqual((await grab(b)).state.overrides, [], "B's changes");
+      // Hostile messages from a page: writing files is refused with a notice; page text naming
+      // a file is refused with an error; the other visitor goes on.
+      await a.evaluate(() => send({ type: 'save', file: 'x.png' }));
+      await until(a, 'a refusal to save', () => window.timbre.notice?.bad &&
+        window.timbre.notice.text.includes('writes no files'));
+      await a.evaluate(() => send({ type: 'text',
+        text: document.getElementById('editor').value + '\n[[include]]\nfile = "/etc/hostname"\n' }));
+      await until(a, 'a refusal to read a file', () => (window.timbre.error?.message ?? '').includes('reads no file'));
+      // The page is not told where the scene file is.
+      const message = (await a.evaluate(() => window.timbre.error.message));
+      assert.ok(!message.includes(dirname(SCENE)) && message.startsWith('glass-ball.toml'), message);
+      // A third visitor is told the server is busy, on the page.
+      const c = await visit();
+      // (The connection closes after the message: waited for without `until`.)
+      await c.waitForFunction(() => window.timbre.busy !== null && window.timbre.closed !== null,
+        null, { timeout: WAIT, polling: 20 });
+      assert.match(await c.textContent('#error'), /^busy: this server shows the scene to 2 visitors at once/);
+      // A malformed message closes A's own connection only.
+      await a.evaluate(() => ws.send('not json'));
+      await a.waitForFunction(() => window.timbre.closed !== null, null, { timeout: WAIT, polling: 20 });
+      assert.equal((await a.evaluate(() => window.timbre.closed)).code, 1008, "A's close code");
+      assert.equal(await b.evaluate(() => window.timbre.closed), null, 'B still connected');
+      assertSame('visitor B after all that', await canvasRGB(b), reference());
+    } finally {
+      for (const c of contexts) await c.close().catch(() => {});
+      await server.stop();
+    }
+  });
