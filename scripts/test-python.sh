@@ -10,6 +10,11 @@ venv="$(scripts/setup-python.sh)"
 [ -x target/release/timbre ] || { echo "test-python: target/release/timbre not found; run cargo build --release" >&2; exit 1; }
 # The native module is built for this environment's Python.
 export PYO3_PYTHON="$venv/bin/python"
+# The package was once installed as the distribution `timbre` (now `timbre-optics`): an install
+# of that name is removed, or its native module for this Python would shadow the new abi3 one.
+if "$venv/bin/python" -m pip show --quiet timbre >/dev/null 2>&1; then
+    "$venv/bin/python" -m pip uninstall --quiet --yes timbre
+fi
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps .
 # From the tests' folder, so that `import timbre` finds the installed package, not python/timbre.
 (cd python/tests && TIMBRE="$PWD/../../target/release/timbre" "$venv/bin/python" -m pytest -q -p no:cacheprovider)
