@@ -283,9 +283,8 @@ fn run_serve(args: ServeArgs) -> Result<(), Failure> {
         overrides: args.set,
         preview: timbre::serve::PreviewOptions {
             settings: args.settings.0,
-            // A public server's visitors share the cores: one thread each unless told.
-            threads: args.threads.or(args.public.then_some(1)),
-            public: args.public,
+            threads: args.threads,
+            public: false,
         },
         public: args.public.then_some(timbre::serve::Public {
             visitors: args.visitors as usize,

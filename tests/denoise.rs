@@ -123,6 +123,8 @@ fn without_the_feature_denoising_is_refused_with_how_to_build_it() {
         "scene.toml",
         "--width",
         "16",
+        "--spp",
+        "2",
         "-o",
         "out.exr",
         "--denoise",

@@ -86,6 +86,17 @@ impl Server {
         }
     }
 
+    /// The preview engines running in the server: their file watchers (threads named
+    /// `timbre-watch`; the engine's own thread names the render threads it starts after it).
+    fn engines(&self) -> usize {
+        let tasks = format!("/proc/{}/task", self.child.id());
+        std::fs::read_dir(tasks)
+            .unwrap()
+            .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("comm")).ok())
+            .filter(|name| name.trim() == "timbre-watch")
+            .count()
+    }
+
     /// The scene file's directory.
     fn path(&self) -> &Path {
         &self.home
@@ -986,6 +997,8 @@ async fn a_public_server_gives_each_visitor_their_own_view_and_says_when_it_is_b
     let b_frame = b.converged(0).await;
     assert_eq!(b_frame.differences(&server.reference(&[])), 0);
 
+    // Each visitor has an engine of their own.
+    assert_eq!(server.engines(), 2);
     // A third visitor is told the server is busy, and the connection closes.
     let mut c = server.connect().await;
     let busy = c.json("busy").await;
@@ -997,9 +1010,17 @@ async fn a_public_server_gives_each_visitor_their_own_view_and_says_when_it_is_b
         "{busy}"
     );
     assert_eq!(c.closed().await, Some(CloseCode::Again));
-    // Once a visitor leaves, another is served.
+    // Once a visitor leaves, their engine ends, and another visitor is served (in the place
+    // that the engine's thread frees as it ends).
     drop(a);
     let deadline = std::time::Instant::now() + HANG;
+    while server.engines() != 1 {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the visitor's engine ends"
+        );
+        tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+    }
     loop {
         let mut d = server.connect().await;
         match d.next().await {

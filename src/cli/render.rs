@@ -81,7 +81,6 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
         shown.bar.finish_and_clear();
         let rays = written(&args, done, &stopping)?;
         let seconds = start.elapsed().as_secs_f64();
-
         if let Some(viewer) = viewer {
             viewer.finish();
         }

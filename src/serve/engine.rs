@@ -34,9 +34,12 @@ const RACY_STAMP: Duration = Duration::from_secs(2);
 /// Scene texts longer than this get no parameter list (it would be enormous).
 const MAX_PARAMETER_TEXT: usize = 8 << 20;
 
-/// The longest the sliders of one scene state are probed for their keys' domains (a check of
-/// the scene a probe); the sliders left then keep their unnarrowed ranges, for this state.
-const PROBE_BUDGET: Duration = Duration::from_millis(250);
+/// Most checks of the scene one state's sliders are narrowed with ([`Slider::PROBES`] a
+/// slider at most); the sliders left then keep their unnarrowed ranges, for this state.
+const PROBE_BUDGET: usize = 400;
+
+/// Largest scene text whose sliders are narrowed (each probe checks the whole text).
+const MAX_PROBED_TEXT: usize = 256 << 10;
 
 /// The sliders found for a scene text, by key and value (the bits of the f64).
 #[derive(Default)]
@@ -169,8 +172,13 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl Engine {
-    /// Starts the engine and the file watcher on threads of their own.
-    pub fn start(options: &ServeOptions, text: String) -> Result<Engine, ServeError> {
+    /// Starts the engine and the file watcher on threads of their own; `held` is kept until
+    /// the engine's thread ends (a public server's visitor's place).
+    pub fn start(
+        options: &ServeOptions,
+        text: String,
+        held: impl Send + 'static,
+    ) -> Result<Engine, ServeError> {
         let preview = Preview::new(options.scene.clone(), options.preview.clone())
             .map_err(ServeError::Internal)?;
         let (out, _) = broadcast::channel(BACKLOG);
@@ -205,14 +213,21 @@ impl Engine {
         let engine = shared.clone();
         std::thread::Builder::new()
             .name("timbre-preview".into())
-            .spawn(move || run(engine, preview))
+            .spawn(move || {
+                run(engine, preview);
+                drop(held);
+            })
             .map_err(|e| ServeError::Internal(e.to_string()))?;
-        let watched = shared.clone();
+        let engine = Engine { shared };
+        let watched = engine.shared.clone();
         std::thread::Builder::new()
             .name("timbre-watch".into())
             .spawn(move || watch(&watched, text))
-            .map_err(|e| ServeError::Internal(e.to_string()))?;
-        Ok(Engine { shared })
+            .map_err(|e| {
+                engine.close();
+                ServeError::Internal(e.to_string())
+            })?;
+        Ok(engine)
     }
 
     /// Ends the engine's threads (a public server's visitor has left): the pass in progress
@@ -468,6 +483,10 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     }
                     let mut state = state(shared, &preview, &text, &overrides, generation);
                     let valid = |key: &str, x: f64, integer: bool| {
+                        // A closed engine's state is not shown: its probes end at once.
+                        if shared.closed.load(Ordering::Relaxed) {
+                            return true;
+                        }
                         let value = if integer {
                             format!("{}", x as i64)
                         } else {
@@ -496,7 +515,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     match preview.coarse() {
                         Ok(Some(image)) => show(&image, shown, preview.progress()),
                         Ok(None) => {}
-                        Err(e) => send(shared, pass_failed(e)),
+                        Err(e) => send(shared, pass_failed(for_page(shared, &e))),
                     }
                 }
                 if let Some(message) = error {
@@ -514,7 +533,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     show(&image, shown, progress)
                 }) {
                     failed = shown;
-                    send(shared, pass_failed(e));
+                    send(shared, pass_failed(for_page(shared, &e)));
                 }
             }
             Work::Request(r) => answer(shared, &preview, r),
@@ -618,7 +637,7 @@ fn shown_text(text: &str) -> Option<&str> {
 fn error<'a>(shared: &Shared, e: &LoadError, text: &'a str, generation: u64) -> ToPage<'a> {
     ToPage::Error {
         generation: Some(generation),
-        message: shown(shared, &e.message),
+        message: for_page(shared, &e.message),
         line: e.line,
         column: e.column,
         text: shown_text(text),
@@ -627,7 +646,7 @@ fn error<'a>(shared: &Shared, e: &LoadError, text: &'a str, generation: u64) -> 
 
 /// A message as a page is shown it: on a public server, without where the scene file is
 /// (the path of its directory is left out, as in the state's `path`).
-fn shown(shared: &Shared, message: &str) -> String {
+fn for_page(shared: &Shared, message: &str) -> String {
     let dir = shared.scene.parent().filter(|d| !d.as_os_str().is_empty());
     match dir {
         Some(dir) if shared.public => {
@@ -689,7 +708,8 @@ fn encode(
 
 /// Sends a notice (a message, or an error) to every page.
 fn notice(shared: &Shared, result: Result<String, String>) {
-    send(shared, ToPage::notice(result))
+    let shown = |m: String| for_page(shared, &m);
+    send(shared, ToPage::notice(result.map(shown).map_err(shown)))
 }
 
 /// Answers a page's request (to every page: they show the same scene).
@@ -713,6 +733,13 @@ fn answer(shared: &Arc<Shared>, preview: &Preview, request: Request) {
                 ray.direction.to_array()
             );
             let mut inputs = lock(&shared.inputs);
+            if inputs.text.len() + table.len() > super::MAX_MESSAGE_BYTES {
+                drop(inputs);
+                return notice(
+                    shared,
+                    Err("the scene text is at its size limit: no more trajectories".into()),
+                );
+            }
             inputs.text.push_str(&table);
             inputs.generation += 1;
             shared.stop.store(true, Ordering::Relaxed);
@@ -947,7 +974,9 @@ fn watch(shared: &Shared, mut known: String) {
 }
 
 /// Gives each number of `parameters` its slider, narrowed to its key's valid domain as `valid`
-/// (key, value, whole) says, within [`PROBE_BUDGET`]; remembered for the same `text`.
+/// (key, value, whole) says, within [`PROBE_BUDGET`] checks; remembered for the same `text`.
+/// The sliders of a text that names files (meshes, pictures, includes: each check would read
+/// them) or is larger than [`MAX_PROBED_TEXT`] are not narrowed.
 fn probe_sliders(
     sliders: &mut Sliders,
     text: &str,
@@ -958,14 +987,20 @@ fn probe_sliders(
         sliders.text = text.to_string();
         sliders.found.clear();
     }
-    let started = Instant::now();
+    let probed = text.len() <= MAX_PROBED_TEXT && text_names(text).is_some_and(|n| n.is_empty());
+    let mut left = if probed { PROBE_BUDGET } else { 0 };
     for p in parameters {
         let Some(v) = p.number() else { continue };
         let known = (p.key.clone(), v.to_bits());
         p.slider = Some(match sliders.found.get(&known) {
             Some(s) => *s,
-            None if started.elapsed() < PROBE_BUDGET => {
-                let s = Slider::around(v, p.integer, &mut |x| valid(&p.key, x, p.integer));
+            None if left >= Slider::PROBES => {
+                let mut checks = 0;
+                let s = Slider::around(v, p.integer, &mut |x| {
+                    checks += 1;
+                    valid(&p.key, x, p.integer)
+                });
+                left -= checks;
                 sliders.found.insert(known, s);
                 s
             }
@@ -1074,7 +1109,7 @@ fn state<'a>(
         warnings: description
             .warnings()
             .iter()
-            .map(|w| shown(shared, w))
+            .map(|w| for_page(shared, w))
             .collect(),
         public: shared.public,
     }

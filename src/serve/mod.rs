@@ -81,8 +81,6 @@ pub struct Access {
 }
 
 impl Access {
-    /// The access rule for listening on `bind`: a fresh random token unless it is a loopback
-    /// address.
     /// The access rule of a public server: anyone, from anywhere, under any host name (it reads
     /// and writes no file for its pages).
     pub fn public() -> Access {
@@ -92,6 +90,8 @@ impl Access {
         }
     }
 
+    /// The access rule for listening on `bind`: a fresh random token unless it is a loopback
+    /// address.
     pub fn for_address(bind: IpAddr) -> std::io::Result<Access> {
         let loopback = bind.is_loopback();
         let token = if loopback {
@@ -113,7 +113,12 @@ fn random_token() -> std::io::Result<String> {
 
 /// Runs the server until the process is stopped: reads the scene, listens, prints the page's
 /// address (with the token, if one is needed) on standard output and serves.
-pub fn serve(options: ServeOptions) -> Result<(), ServeError> {
+pub fn serve(mut options: ServeOptions) -> Result<(), ServeError> {
+    // A public server's previews are each a visitor's: bounded, on one thread unless told.
+    if options.public.is_some() {
+        options.preview.public = true;
+        options.preview.threads.get_or_insert(1);
+    }
     let text = engine::read_scene(&options.scene).map_err(ServeError::Scene)?;
     let access = match options.public {
         Some(_) => Access::public(),
@@ -135,14 +140,13 @@ pub fn serve(options: ServeOptions) -> Result<(), ServeError> {
             .map_err(|e| ServeError::Internal(e.to_string()))?;
         let engines = match options.public {
             // Each visitor's engine starts when they connect.
-            Some(public) => {
-                protocol::Engines::PerVisitor {
-                    options: Box::new(options.clone()),
-                    text,
-                    most: public.visitors,
-                }
-            }
-            None => protocol::Engines::Shared(engine::Engine::start(&options, text)?),
+            Some(public) => protocol::Engines::PerVisitor {
+                options: Box::new(options.clone()),
+                text,
+                most: public.visitors,
+                visitors: Arc::new(std::sync::atomic::AtomicUsize::new(0)),
+            },
+            None => protocol::Engines::Shared(engine::Engine::start(&options, text, ())?),
         };
         let app = protocol::router(Arc::new(protocol::AppState::new(engines, access.clone())));
         {

@@ -36,6 +36,10 @@ pub struct Slider {
 }
 
 impl Slider {
+    /// Most checks [`Slider::around`] makes: two ends, each checked, then v's grid point, then
+    /// at most 64 halvings.
+    pub const PROBES: usize = 2 * (2 + 64);
+
     /// The slider of the number `v` (`integer`: a whole number, which `--set` keeps whole): a
     /// span of twice its magnitude (1 for 0) either side, a round step (1 for whole numbers,
     /// else the power of ten about a hundredth of the span, so that round values such as 1 are
@@ -56,7 +60,7 @@ impl Slider {
         // The grid point nearest the end `end` (an index) that is valid, searched towards `v`
         // (`up`: from below), or `v` itself if none is.
         let mut narrow = |end: f64, up: bool| -> f64 {
-            if valid(at(end)) {
+            if end.is_finite() && valid(at(end)) {
                 return at(end);
             }
             let beside_v = if up {
@@ -65,11 +69,15 @@ impl Slider {
                 (v * scale).floor()
             };
             let (mut bad, mut good) = (end, beside_v);
-            if !valid(at(good)) {
+            if !end.is_finite() || !valid(at(good)) {
                 return v;
             }
-            while (good - bad).abs() > 1.0 {
+            for _ in 0..64 {
                 let mid = ((bad + good) / 2.0).floor();
+                // Adjacent grid points (or as near as f64 tells them apart).
+                if (good - bad).abs() <= 1.0 || mid == bad || mid == good {
+                    break;
+                }
                 if valid(at(mid)) {
                     good = mid;
                 } else {

@@ -182,6 +182,11 @@ impl Preview {
                 s.width, s.height
             )));
         }
+        if o.public && matches!(description.stereo, Stereo::Autostereogram { .. }) {
+            return Err(LoadError::plain(
+                "a public server previews no autostereograms (they render on every core)",
+            ));
+        }
         if o.public && s.width as u64 * s.height as u64 > PUBLIC_MAX_PIXELS {
             return Err(LoadError::plain(format!(
                 "a preview of {}x{} pixels is larger than a public server's limit of {PUBLIC_MAX_PIXELS} pixels (1024x1024) a visitor",

@@ -47,7 +47,28 @@ pub enum Engines {
         options: Box<ServeOptions>,
         text: String,
         most: usize,
+        /// Visitors' engines running: a place is freed when its engine's thread has ended,
+        /// not when the page goes.
+        visitors: Arc<AtomicUsize>,
     },
+}
+
+/// A visitor's place on a public server, held by their engine's thread.
+struct Place(Arc<AtomicUsize>);
+
+impl Place {
+    /// A place, if fewer than `most` are taken.
+    fn take(visitors: &Arc<AtomicUsize>, most: usize) -> Option<Place> {
+        let taken = visitors.fetch_add(1, Ordering::Relaxed);
+        let place = Place(visitors.clone());
+        (taken < most).then_some(place)
+    }
+}
+
+impl Drop for Place {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::Relaxed);
+    }
 }
 
 impl AppState {
@@ -229,13 +250,23 @@ async fn socket(
             return (StatusCode::FORBIDDEN, "forbidden: another site's page").into_response();
         }
     }
+    // Pages connected at once: a public server's visitors and the pages being told it is busy.
     let most = match &state.engines {
         Engines::Shared(_) => MAX_CONNECTIONS,
-        Engines::PerVisitor { most, .. } => *most,
+        Engines::PerVisitor { most, .. } => most + MAX_CONNECTIONS,
     };
     if state.connections.fetch_add(1, Ordering::Relaxed) >= most {
         state.connections.fetch_sub(1, Ordering::Relaxed);
-        if state.public() {
+        return (
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("at most {most} pages at once"),
+        )
+            .into_response();
+    }
+    let counted = Counted(state.clone());
+    if let Engines::PerVisitor { most, visitors, .. } = &state.engines {
+        let most = *most;
+        let Some(place) = Place::take(visitors, most) else {
             // The page is told so, and says so.
             return upgrade.on_upgrade(move |mut socket| async move {
                 let message = format!(
@@ -243,19 +274,18 @@ async fn socket(
                 );
                 let _ = deliver(&mut socket, json(&ToPage::Busy { message }.text())).await;
                 close(&mut socket, CLOSE_TRY_AGAIN, "busy").await;
+                drop(counted);
             });
-        }
-        return (
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!("at most {MAX_CONNECTIONS} pages at once"),
-        )
-            .into_response();
+        };
+        return upgrade
+            .max_message_size(MAX_MESSAGE_BYTES)
+            .max_frame_size(MAX_MESSAGE_BYTES)
+            .on_upgrade(move |socket| connection(counted, Some(place), socket));
     }
-    let counted = Counted(state);
     upgrade
         .max_message_size(MAX_MESSAGE_BYTES)
         .max_frame_size(MAX_MESSAGE_BYTES)
-        .on_upgrade(move |socket| connection(counted, socket))
+        .on_upgrade(move |socket| connection(counted, None, socket))
 }
 
 /// Sends `message`; false if the page is gone or does not take it in time.
@@ -284,15 +314,19 @@ async fn close(socket: &mut WebSocket, code: u16, reason: &str) {
         .await;
 }
 
-/// One page: the latest state and frame, then every message both ways until it goes.
-async fn connection(counted: Counted, mut socket: WebSocket) {
+/// One page: the latest state and frame, then every message both ways until it goes. A
+/// public server's visitor (with their `place`) gets an engine of their own.
+async fn connection(counted: Counted, place: Option<Place>, mut socket: WebSocket) {
     let state = counted.0.clone();
-    let engine = match &state.engines {
-        Engines::Shared(engine) => engine.clone(),
-        Engines::PerVisitor { options, text, .. } => match Engine::start(options, text.clone()) {
-            Ok(engine) => engine,
-            Err(e) => return close(&mut socket, CLOSE_TRY_AGAIN, &e.to_string()).await,
-        },
+    let engine = match (&state.engines, place) {
+        (Engines::PerVisitor { options, text, .. }, Some(place)) => {
+            match Engine::start(options, text.clone(), place) {
+                Ok(engine) => engine,
+                Err(e) => return close(&mut socket, CLOSE_TRY_AGAIN, &e.to_string()).await,
+            }
+        }
+        (Engines::Shared(engine), _) => engine.clone(),
+        (Engines::PerVisitor { .. }, None) => unreachable!("a visitor connects with a place"),
     };
     // A visitor's engine ends with their page.
     let _closing = Closing(state.public().then(|| engine.clone()));
