@@ -200,6 +200,13 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         (rr.transmission_coefficient, rr.reflection_coefficient),
         (t, 1.0)
     );
+    // ROTATING_IN_PLANE_OF_INCIDENCE: the rotation-angle field's 0°, the default coefficient.
+    let Surface::RayRotatingInPlaneOfIncidence(rp) =
+        surface("{ type = \"ray-rotating-in-plane-of-incidence\" }")
+    else {
+        panic!()
+    };
+    assert_eq!((rp.angle, rp.transmission_coefficient), (0.0, t));
     let Surface::RayFlipping(rf) = surface("{ type = \"ray-flipping\" }") else {
         panic!()
     };

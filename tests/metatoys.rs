@@ -27,7 +27,7 @@ use timbre::math::Frame;
 use timbre::surfaces::metatoys::{
     Basis, LinearPhase, MetricInterface, Phase, QuadraticPhase, Refraction, Teleportation,
     Teleporting, Telescopelets, flipped, hologram_direction, metric_reflected_direction,
-    metric_refracted_direction, rotated,
+    metric_refracted_direction, rotated, rotated_in_plane_of_incidence,
 };
 
 /// Rays per test (per case, where a test has several).
@@ -832,6 +832,37 @@ fn ray_rotation_is_undone_by_the_opposite_angle_and_turns_about_the_normal() {
         assert!(
             wrap(turned - alpha).abs() < 1e-9,
             "turned {turned}, α {alpha}"
+        );
+    }
+}
+
+#[test]
+fn rotation_in_the_plane_of_incidence_adds_the_angle_to_the_angle_of_incidence() {
+    // Dr TIM's RayRotatingInPlaneOfIncidence: the direction stays in the plane of d and n, on
+    // the same side of the normal, at the angle of incidence plus θ from the normal it
+    // crosses along (for α + θ from 0 to 180°).
+    let mut rng = Rng(17);
+    for _ in 0..RAYS {
+        let n = rng.unit();
+        let d = rng.sign() * rng.cone(n, 1f64.to_radians(), 89f64.to_radians());
+        let crossing = d.dot(n).signum() * n;
+        let alpha = d.angle_between(crossing);
+        let theta = rng.range(-alpha + 1e-3, PI - alpha - 1e-3);
+        let out = rotated_in_plane_of_incidence(d, n, theta).expect("not normal incidence");
+        let what = format!("d {d}, n {n}, θ {theta}");
+        assert!((out.length() - 1.0).abs() < 1e-12, "{what}");
+        assert!(
+            out.dot(d.cross(n).normalize()).abs() < 1e-12,
+            "in the plane: {what}"
+        );
+        assert!(
+            (out.angle_between(crossing) - (alpha + theta)).abs() < 1e-9,
+            "{what}"
+        );
+        let side = |v: DVec3| v - v.dot(n) * n;
+        assert!(
+            side(out).dot(side(d)) >= -1e-12,
+            "the same side of the normal: {what}"
         );
     }
 }

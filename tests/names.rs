@@ -40,6 +40,11 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
             vec!["confocal_lenslet_arrays".into(), "gcla".into()],
         ),
         (surface(""), "ray-rotating", snake("ray-rotating")),
+        (
+            surface(""),
+            "ray-rotating-in-plane-of-incidence",
+            snake("ray-rotating-in-plane-of-incidence"),
+        ),
         (surface(""), "ray-flipping", snake("ray-flipping")),
         (
             "[[object]]\nshape = { type = \"disc\", centre = [0, 0, 9], normal = [0, 0, 1], radius = 1 }\nsurface = { type = \"@\", phase = { type = \"linear\", gradient = [0.1, 0] } }\n".to_string(),

@@ -42,8 +42,9 @@ pub use metatoys::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
     LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
     PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating, RayRotatingKeys,
-    Teleporting, TeleportingKeys,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
+    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys, Teleporting,
+    TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -88,6 +89,8 @@ kinds! {
         ConfocalLensletArrays(ConfocalLensletArraysKeys),
         #[serde(alias = "ray_rotating")]
         RayRotating(RayRotatingKeys),
+        #[serde(alias = "ray_rotating_in_plane_of_incidence")]
+        RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidenceKeys),
         #[serde(alias = "ray_flipping")]
         RayFlipping(RayFlippingKeys),
         #[serde(alias = "phase_hologram")]
@@ -224,6 +227,7 @@ pub enum Surface {
     /// §5: generalised confocal lenslet arrays.
     ConfocalLensletArrays(ConfocalLensletArrays),
     RayRotating(RayRotating),
+    RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidence),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
@@ -286,6 +290,7 @@ impl Surface {
             Surface::MetricInterface(_) => "metric-interface",
             Surface::ConfocalLensletArrays(_) => "confocal-lenslet-arrays",
             Surface::RayRotating(_) => "ray-rotating",
+            Surface::RayRotatingInPlaneOfIncidence(_) => "ray-rotating-in-plane-of-incidence",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
@@ -379,6 +384,7 @@ impl Surface {
             Surface::MetricInterface(s) => s.redirect(at),
             Surface::ConfocalLensletArrays(s) => s.redirect(at),
             Surface::RayRotating(s) => s.redirect(at),
+            Surface::RayRotatingInPlaneOfIncidence(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
@@ -490,6 +496,7 @@ impl Surface {
             | Surface::MetricInterface(_)
             | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
+            | Surface::RayRotatingInPlaneOfIncidence(_)
             | Surface::RayFlipping(_)
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)

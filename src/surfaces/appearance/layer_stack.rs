@@ -129,6 +129,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::MetricInterface(_)
         | Surface::ConfocalLensletArrays(_)
         | Surface::RayRotating(_)
+        | Surface::RayRotatingInPlaneOfIncidence(_)
         | Surface::RayFlipping(_)
         | Surface::PhaseHologram(_)
         | Surface::PointToPointImagingHologram(_)

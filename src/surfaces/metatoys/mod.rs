@@ -25,6 +25,7 @@ mod phase_hologram;
 mod point_to_point_imaging_hologram;
 mod ray_flipping;
 mod ray_rotating;
+mod ray_rotating_in_plane_of_incidence;
 mod teleporting;
 
 pub use confocal_lenslet_arrays::{
@@ -48,6 +49,9 @@ pub use point_to_point_imaging_hologram::{
 };
 pub use ray_flipping::{RayFlipping, RayFlippingKeys, flipped};
 pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
+pub use ray_rotating_in_plane_of_incidence::{
+    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, rotated_in_plane_of_incidence,
+};
 pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
 
 use glam::{DMat3, DVec3};
