@@ -20,7 +20,8 @@ pub struct RenderSettings {
     pub shadows: bool,
     /// Also record depth, normal and object id of the surface seen through each pixel centre.
     pub aovs: bool,
-    /// With `aovs`, also the albedo of each pixel ([`crate::render::ALBEDO_SAMPLES`]).
+    /// With `aovs`, also the albedo of each pixel (a mean of its first samples: the renderer's
+    /// `ALBEDO_SAMPLES`).
     pub albedo: bool,
     /// Worker threads; `None` for as many as the machine has cores.
     pub threads: Option<usize>,
