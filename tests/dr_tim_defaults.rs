@@ -11,6 +11,7 @@ use glam::{DVec2, DVec3};
 use timbre::geometry::Shape;
 use timbre::surfaces::ideal_lenses::Focus;
 use timbre::surfaces::lenses::LensLaw;
+use timbre::surfaces::metatoys::{Apertures, Blur, Pixels, Transmission};
 use timbre::surfaces::{Coloured, Surface};
 
 /// `SurfacePropertyPrimitive.DEFAULT_TRANSMISSION_COEFFICIENT`.
@@ -190,8 +191,47 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
     };
     assert_eq!(g.eta, DVec2::ONE);
     assert_eq!(
-        (g.transmission_coefficient, g.reflection_coefficient),
-        (t, 1.0)
+        (g.transmission, g.reflection_coefficient, g.pixels),
+        (Transmission::Constant(t), 1.0, None)
+    );
+    // GCLAsWithApertures's imperfections: apertures as wide as f₁ and centred, square pixels
+    // of 2 mm, 564 nm light.
+    let Surface::ConfocalLensletArrays(g) = surface(
+        "{ type = \"gcla\", a = [0, 0, 1], u = [1, 0, 0], transmission_coefficient_method = \
+         \"geometric\", simulate_diffractive_blur = true, simulate_ray_offset = true }",
+    ) else {
+        panic!()
+    };
+    assert_eq!(
+        g.transmission,
+        Transmission::Geometric(Apertures {
+            sigma1: DVec2::ONE,
+            sigma2: DVec2::ONE,
+            alpha1: DVec2::ZERO,
+            alpha2: DVec2::ZERO,
+        })
+    );
+    assert_eq!(
+        g.pixels,
+        Some(Pixels {
+            size: DVec2::splat(2e-3),
+            lambda: 564e-9,
+            blur: Some(Blur::Uniform),
+            ray_offset: true,
+        })
+    );
+    // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.
+    let Surface::Pixellation(p) = surface("{ type = \"pixellation\" }") else {
+        panic!()
+    };
+    assert_eq!(
+        p.pixels,
+        Pixels {
+            size: DVec2::splat(1e-4),
+            lambda: 632.8e-9,
+            blur: Some(Blur::SingleSlit),
+            ray_offset: true,
+        }
     );
     let Surface::RayRotating(rr) = surface("{ type = \"ray-rotating\" }") else {
         panic!()

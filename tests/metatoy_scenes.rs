@@ -16,9 +16,9 @@ use timbre::scene::{SceneDescription, file};
 use timbre::surfaces::metatoys::{
     AzimuthalPixelatedFresnelWedgePhase, AzimuthalRadial, Basis, Conjugation, CylindricalPhase,
     LensPhase, Phase, PointToPointImagingHologram, PolynomialPhase, Refraction, RotationAxis,
-    RotationallySymmetricPhase, Sectors, Teleportation,
+    RotationallySymmetricPhase, Sectors, Teleportation, Transmission,
 };
-use timbre::surfaces::{PhaseConjugating, Redirection, Surface};
+use timbre::surfaces::{ConfocalLensletArrays, PhaseConjugating, Redirection, Surface};
 
 use common::images::{differing, differing_by_more_than, parse, render_description, render_text};
 
@@ -205,9 +205,11 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
                 Surface::MetricInterface(s) => {
                     (s.transmission_coefficient, s.reflection_coefficient)
                 }
-                Surface::ConfocalLensletArrays(s) => {
-                    (s.transmission_coefficient, s.reflection_coefficient)
-                }
+                Surface::ConfocalLensletArrays(ConfocalLensletArrays {
+                    transmission: Transmission::Constant(t),
+                    reflection_coefficient,
+                    ..
+                }) => (t, reflection_coefficient),
                 Surface::RayRotating(s) => (s.transmission_coefficient, s.reflection_coefficient),
                 Surface::PhaseHologram(s) => (s.transmission_coefficient, s.reflection_coefficient),
                 other => panic!("{other:?}"),

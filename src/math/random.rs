@@ -24,6 +24,12 @@ pub fn uniform_keyed(key: &[u64], dim: u32) -> f64 {
     unit(dim as u64, key)
 }
 
+/// The key of a ray's random choices at a surface: the bits of its hit point and direction,
+/// which differ from sample to sample (each has its own pixel position and pupil point).
+pub fn ray_key(p: glam::DVec3, d: glam::DVec3) -> [u64; 6] {
+    [p.x, p.y, p.z, d.x, d.y, d.z].map(f64::to_bits)
+}
+
 /// `seed` and `key` hashed to [0, 1).
 fn unit(seed: u64, key: &[u64]) -> f64 {
     let h = key

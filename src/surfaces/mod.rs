@@ -41,10 +41,10 @@ pub use lenses::{
 pub use metatoys::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
     LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
-    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
-    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys, Teleporting,
-    TeleportingKeys,
+    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation, PixellationKeys,
+    PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys,
+    RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
+    Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -99,6 +99,7 @@ kinds! {
         LensHologram(LensHologramKeys),
         #[serde(alias = "phase_conjugating")]
         PhaseConjugating(PhaseConjugatingKeys),
+        Pixellation(PixellationKeys),
         #[serde(alias = "lorentz_window")]
         LorentzWindow(LorentzWindowKeys),
         IdealThinLens(IdealThinLensKeys),
@@ -228,6 +229,7 @@ pub enum Surface {
     ConfocalLensletArrays(ConfocalLensletArrays),
     RayRotating(RayRotating),
     RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidence),
+    Pixellation(Pixellation),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
@@ -291,6 +293,7 @@ impl Surface {
             Surface::ConfocalLensletArrays(_) => "confocal-lenslet-arrays",
             Surface::RayRotating(_) => "ray-rotating",
             Surface::RayRotatingInPlaneOfIncidence(_) => "ray-rotating-in-plane-of-incidence",
+            Surface::Pixellation(_) => "pixellation",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
@@ -385,6 +388,7 @@ impl Surface {
             Surface::ConfocalLensletArrays(s) => s.redirect(at),
             Surface::RayRotating(s) => s.redirect(at),
             Surface::RayRotatingInPlaneOfIncidence(s) => s.redirect(at),
+            Surface::Pixellation(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
@@ -497,6 +501,7 @@ impl Surface {
             | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
             | Surface::RayRotatingInPlaneOfIncidence(_)
+            | Surface::Pixellation(_)
             | Surface::RayFlipping(_)
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)

@@ -7,7 +7,10 @@ use super::{EitherOr, SnellenChart, Striped, SurfaceTiling, UsafChart, part};
 use crate::geometry::{Hit, Interaction};
 use crate::math::Colour;
 use crate::picture::PictureFile;
-use crate::surfaces::{Coloured, Redirection, Surface, SurfaceKeys, Text};
+use crate::surfaces::metatoys::Pixels;
+use crate::surfaces::{
+    Coloured, ConfocalLensletArrays, Pixellation, Redirection, Surface, SurfaceKeys, Text,
+};
 
 /// Most passes through the layers of one stack at one point; a ray still inside after them
 /// (bouncing between two mirror layers) is lost.
@@ -93,8 +96,8 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
     let refuse = || {
         Err(format!(
             "a {} surface cannot be a layer of a layer stack (a layer must colour the ray or \
-             send it on from the same point in one direction; a tinted solid may be the last \
-             layer)",
+             send it on from the same point in one direction, without a ray offset; a tinted \
+             solid may be the last layer)",
             layer.kind()
         ))
     };
@@ -107,6 +110,18 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Average(_)
         | Surface::Rainbow(_)
         | Surface::Dissolved(_) => refuse(),
+        // A ray offset moves the ray off the point.
+        Surface::ConfocalLensletArrays(ConfocalLensletArrays {
+            pixels: Some(Pixels {
+                ray_offset: true, ..
+            }),
+            ..
+        })
+        | Surface::Pixellation(Pixellation {
+            pixels: Pixels {
+                ray_offset: true, ..
+            },
+        }) => refuse(),
         Surface::Chequerboard(c) => c.surfaces.iter().try_for_each(check_layer),
         Surface::TwoSided(t) => t.sides.iter().try_for_each(check_layer),
         Surface::LayerStack(s) => s.layers.iter().try_for_each(check_layer),
@@ -130,6 +145,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::ConfocalLensletArrays(_)
         | Surface::RayRotating(_)
         | Surface::RayRotatingInPlaneOfIncidence(_)
+        | Surface::Pixellation(_)
         | Surface::RayFlipping(_)
         | Surface::PhaseHologram(_)
         | Surface::PointToPointImagingHologram(_)

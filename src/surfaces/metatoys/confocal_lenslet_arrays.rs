@@ -18,14 +18,24 @@
 //! axis (d·â ≤ 0 for the array it meets first), or whose Eq 39 direction does not leave
 //! through the far side of the sheet, cannot pass through a telescopelet and is reflected,
 //! losslessly unless a reflection coefficient is given. (Dr TIM applies Eq 39 to every ray.)
+//!
+//! As Dr TIM's `GCLAsWithApertures` (its GUI's gCLAs), the sheet may be realistic: the light
+//! passed on computed from the lenslets' apertures ([`Transmission`], see
+//! `gcla_transmission`), and its telescopelets' pixellation simulated (a uniform diffractive
+//! blur and a ray offset, [`Pixels`]). An optional v direction picks the sign of v̂ (Dr TIM
+//! takes the part of v perpendicular to â and û); by default v̂ = â × û.
 
 use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
+use super::gcla_transmission::{
+    Apertures, Transmission, best_case, projection_transmission, reversed,
+};
+use super::pixellation::{Blur, GCLA_LAMBDA, GCLA_PIXEL_SIDE_LENGTH, Pixels};
 use super::{Basis, Outgoing, crosses};
 use crate::geometry::Interaction;
-use crate::keys::{Coefficient, Direction, Finite, NonZero, coefficient, throughput};
-use crate::surfaces::{Redirection, Surface};
+use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, coefficient, throughput};
+use crate::surfaces::{Redirection, Surface, reflect};
 
 /// The gCLA surface: the telescopes' parameters, with a and u in either basis.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,15 +44,19 @@ pub struct ConfocalLensletArrays {
     pub a: DVec3,
     /// The u direction (projected perpendicular to a).
     pub u: DVec3,
+    /// The v direction: only the side of the (a, u) plane it points to counts.
+    pub v: DVec3,
     pub basis: Basis,
     /// (η_u, η_v), non-zero.
     pub eta: DVec2,
     /// (δ_u, δ_v).
     pub delta: DVec2,
-    /// Fraction of the light transmitted, in [0, 1].
-    pub transmission_coefficient: f64,
+    /// The fraction of the light transmitted.
+    pub transmission: Transmission,
     /// Fraction of the light reflected where no ray gets through, in [0, 1].
     pub reflection_coefficient: f64,
+    /// The telescopelets' pixellation, if simulated.
+    pub pixels: Option<Pixels>,
 }
 
 /// The telescopelets' orthonormal basis and parameters at one point, in global coordinates.
@@ -69,15 +83,36 @@ impl Telescopelets {
         })
     }
 
+    /// The same telescopelets with v̂ turned to the side of the (â, û) plane that `v` points
+    /// to; `None` if `v` lies in that plane.
+    pub fn towards(self, v: DVec3) -> Option<Telescopelets> {
+        let side = v.dot(self.v_hat);
+        (side != 0.0).then(|| Telescopelets {
+            v_hat: self.v_hat * side.signum(),
+            ..self
+        })
+    }
+
+    /// Whether a ray with direction `d` meeting the sheet with unit normal `n` meets array 1
+    /// first.
+    fn array_1_first(&self, d: DVec3, n: DVec3) -> bool {
+        self.a_hat.dot(n) * d.dot(n) > 0.0
+    }
+
+    /// â, η and δ as the ray meets them (§5.2's order rule).
+    fn as_met(&self, d: DVec3, n: DVec3) -> (DVec3, DVec2, DVec2) {
+        if self.array_1_first(d, n) {
+            (self.a_hat, self.eta, self.delta)
+        } else {
+            (-self.a_hat, 1.0 / self.eta, self.delta / self.eta)
+        }
+    }
+
     /// Eq 39 with the order rule of §5.2, for a ray with direction `d` meeting the sheet with
     /// unit normal `n`, normalised (Eq 39 fixes the component along â at 1, not the length);
     /// `None` where no ray gets through (see the module notes).
     pub fn refract(&self, d: DVec3, n: DVec3) -> Option<DVec3> {
-        let (a_hat, eta, delta) = if self.a_hat.dot(n) * d.dot(n) > 0.0 {
-            (self.a_hat, self.eta, self.delta)
-        } else {
-            (-self.a_hat, 1.0 / self.eta, self.delta / self.eta)
-        };
+        let (a_hat, eta, delta) = self.as_met(d, n);
         let da = d.dot(a_hat);
         if da <= 0.0 || da.is_nan() {
             return None;
@@ -86,31 +121,80 @@ impl Telescopelets {
         let out = slopes.x * self.u_hat + slopes.y * self.v_hat + a_hat;
         (out.is_finite() && crosses(d, out, n)).then(|| out.normalize())
     }
+
+    /// The fraction of the light passed on to a ray with direction `d` that gets through
+    /// (see `gcla_transmission`).
+    pub fn transmission(&self, transmission: &Transmission, d: DVec3, n: DVec3) -> f64 {
+        let (a_hat, eta, delta) = self.as_met(d, n);
+        match transmission {
+            Transmission::Constant(t) => *t,
+            Transmission::GeometricBest => best_case(eta.x) * best_case(eta.y),
+            Transmission::Geometric(apertures) => {
+                let apertures = if self.array_1_first(d, n) {
+                    *apertures
+                } else {
+                    reversed(apertures, self.eta)
+                };
+                let slopes = DVec2::new(d.dot(self.u_hat), d.dot(self.v_hat)) / d.dot(a_hat);
+                (0..2)
+                    .map(|i| {
+                        projection_transmission(
+                            eta[i],
+                            delta[i],
+                            (apertures.alpha1[i], apertures.alpha2[i]),
+                            (apertures.sigma1[i], apertures.sigma2[i]),
+                            slopes[i],
+                        )
+                    })
+                    .product()
+            }
+        }
+    }
 }
 
 impl ConfocalLensletArrays {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let frame = at.frame();
         let d = at.ray.direction;
-        let out = Telescopelets::new(
+        let telescopelets = Telescopelets::new(
             self.basis.to_global(self.a, &frame),
             self.basis.to_global(self.u, &frame),
             self.eta,
             self.delta,
         )
-        .and_then(|t| t.refract(d, frame.w));
-        Outgoing::or_mirrored(out, d, frame.w)
-            .leaves(self.transmission_coefficient, self.reflection_coefficient)
+        .and_then(|t| t.towards(self.basis.to_global(self.v, &frame)));
+        let Some((t, out)) = telescopelets.and_then(|t| Some((t, t.refract(d, frame.w)?))) else {
+            return Outgoing::Reflected(reflect(d, frame.w))
+                .leaves(0.0, self.reflection_coefficient);
+        };
+        let factor = t.transmission(&self.transmission, d, frame.w);
+        match self.pixels {
+            Some(pixels) => pixels.spread(at, out, factor, self.reflection_coefficient),
+            None => Outgoing::Transmitted(out).leaves(factor, self.reflection_coefficient),
+        }
     }
 }
 
+/// Dr TIM's `GCLAsTransmissionCoefficientCalculationMethodType`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum TransmissionCoefficientMethod {
+    Constant,
+    Geometric,
+    GeometricBest,
+}
+
 /// `type = "confocal-lenslet-arrays"` (or `gcla`): â, û, η and δ of Eq 39; û must not be
-/// along â.
+/// along â, nor v in their plane. The realistic sheet's keys, with Dr TIM's GUI defaults:
+/// `transmission_coefficient_method` ("constant", "geometric" or "geometric-best"; constant),
+/// the apertures for "geometric" (`sigma1_u`… 1, `alpha1_u`… 0), `simulate_diffractive_blur`
+/// and `simulate_ray_offset` (false), `pixel_side_length` (2e-3) and `lambda` (564e-9).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ConfocalLensletArraysKeys {
     a: Direction,
     u: Direction,
+    v: Option<Direction>,
     basis: Option<Basis>,
     eta_u: Option<NonZero>,
     eta_v: Option<NonZero>,
@@ -120,6 +204,19 @@ pub struct ConfocalLensletArraysKeys {
     transmission_coefficient: Option<Coefficient>,
     #[serde(alias = "reflection")]
     reflection_coefficient: Option<Coefficient>,
+    transmission_coefficient_method: Option<TransmissionCoefficientMethod>,
+    sigma1_u: Option<Positive>,
+    sigma1_v: Option<Positive>,
+    sigma2_u: Option<Positive>,
+    sigma2_v: Option<Positive>,
+    alpha1_u: Option<Finite>,
+    alpha1_v: Option<Finite>,
+    alpha2_u: Option<Finite>,
+    alpha2_v: Option<Finite>,
+    simulate_diffractive_blur: Option<bool>,
+    simulate_ray_offset: Option<bool>,
+    pixel_side_length: Option<Positive>,
+    lambda: Option<Positive>,
 }
 
 impl ConfocalLensletArraysKeys {
@@ -131,19 +228,97 @@ impl ConfocalLensletArraysKeys {
                 "confocal-lenslet-arrays: u = {u} must not be parallel to a = {a}"
             ));
         }
-        let delta = |d: Option<Finite>| d.map_or(0.0, |d| d.0);
+        let v = self.v.map_or(a.cross(u), |v| v.0);
+        if v.dot(a.cross(u).normalize()).abs() < 1e-9 {
+            return Err(format!(
+                "confocal-lenslet-arrays: v = {v} must not lie in the plane of a = {a} and u = {u}"
+            ));
+        }
+        let transmission = self.transmission()?;
+        let pixels = self.pixels()?;
+        let finite = |d: Option<Finite>| d.map_or(0.0, |d| d.0);
         Ok(Surface::ConfocalLensletArrays(ConfocalLensletArrays {
             a,
             u,
+            v,
             basis: self.basis.unwrap_or_default(),
             // Dr TIM's GUI's (η_u, η_v) = (1, 1).
             eta: DVec2::new(
                 self.eta_u.map_or(1.0, |e| e.0),
                 self.eta_v.map_or(1.0, |e| e.0),
             ),
-            delta: DVec2::new(delta(self.delta_u), delta(self.delta_v)),
-            transmission_coefficient: throughput(self.transmission_coefficient),
+            delta: DVec2::new(finite(self.delta_u), finite(self.delta_v)),
+            transmission,
             reflection_coefficient: coefficient(self.reflection_coefficient),
+            pixels,
+        }))
+    }
+
+    /// The transmission, refusing keys the method does not use.
+    fn transmission(&self) -> Result<Transmission, String> {
+        let method = self
+            .transmission_coefficient_method
+            .unwrap_or(TransmissionCoefficientMethod::Constant);
+        let apertures = [self.sigma1_u, self.sigma1_v, self.sigma2_u, self.sigma2_v];
+        let offsets = [self.alpha1_u, self.alpha1_v, self.alpha2_u, self.alpha2_v];
+        let given = apertures.iter().any(Option::is_some) || offsets.iter().any(Option::is_some);
+        if method != TransmissionCoefficientMethod::Geometric && given {
+            return Err(
+                "confocal-lenslet-arrays: the apertures (`sigma1_u`…, `alpha1_u`…) are \
+                        only used with transmission_coefficient_method = \"geometric\""
+                    .into(),
+            );
+        }
+        if method != TransmissionCoefficientMethod::Constant
+            && self.transmission_coefficient.is_some()
+        {
+            return Err(
+                "confocal-lenslet-arrays: `transmission_coefficient` is only used with \
+                        transmission_coefficient_method = \"constant\" (the others compute it)"
+                    .into(),
+            );
+        }
+        let side = |s: Option<Positive>| s.map_or(1.0, |s| s.0);
+        let offset = |a: Option<Finite>| a.map_or(0.0, |a| a.0);
+        let pair = |x: f64, y: f64| DVec2::new(x, y);
+        Ok(match method {
+            TransmissionCoefficientMethod::Constant => {
+                Transmission::Constant(throughput(self.transmission_coefficient))
+            }
+            TransmissionCoefficientMethod::GeometricBest => Transmission::GeometricBest,
+            TransmissionCoefficientMethod::Geometric => Transmission::Geometric(Apertures {
+                sigma1: pair(side(self.sigma1_u), side(self.sigma1_v)),
+                sigma2: pair(side(self.sigma2_u), side(self.sigma2_v)),
+                alpha1: pair(offset(self.alpha1_u), offset(self.alpha1_v)),
+                alpha2: pair(offset(self.alpha2_u), offset(self.alpha2_v)),
+            }),
+        })
+    }
+
+    /// The pixellation, refusing a pixel side or wavelength nothing uses.
+    fn pixels(&self) -> Result<Option<Pixels>, String> {
+        let blur = self.simulate_diffractive_blur.unwrap_or(false);
+        let ray_offset = self.simulate_ray_offset.unwrap_or(false);
+        if !blur && self.lambda.is_some() {
+            return Err("confocal-lenslet-arrays: `lambda` is only used with \
+                        simulate_diffractive_blur = true"
+                .into());
+        }
+        if !blur && !ray_offset && self.pixel_side_length.is_some() {
+            return Err(
+                "confocal-lenslet-arrays: `pixel_side_length` is only used with \
+                        simulate_diffractive_blur or simulate_ray_offset = true"
+                    .into(),
+            );
+        }
+        Ok((blur || ray_offset).then(|| Pixels {
+            size: DVec2::splat(
+                self.pixel_side_length
+                    .map_or(GCLA_PIXEL_SIDE_LENGTH, |s| s.0),
+            ),
+            lambda: self.lambda.map_or(GCLA_LAMBDA, |l| l.0),
+            blur: blur.then_some(Blur::Uniform),
+            ray_offset,
         }))
     }
 }
@@ -198,11 +373,13 @@ mod tests {
         ConfocalLensletArrays {
             a,
             u,
+            v: a.cross(u),
             basis,
             eta,
             delta,
-            transmission_coefficient: 0.9,
+            transmission: Transmission::Constant(0.9),
             reflection_coefficient: 0.5,
+            pixels: None,
         }
     }
 

@@ -18,10 +18,12 @@
 //! transmission coefficient applies to transmitted rays only.
 
 mod confocal_lenslet_arrays;
+mod gcla_transmission;
 mod lorentz_window;
 mod metric_interface;
 mod phase_conjugating;
 mod phase_hologram;
+mod pixellation;
 mod point_to_point_imaging_hologram;
 mod ray_flipping;
 mod ray_rotating;
@@ -31,6 +33,7 @@ mod teleporting;
 pub use confocal_lenslet_arrays::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
 };
+pub use gcla_transmission::{Apertures, Transmission};
 pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};
 pub use metric_interface::{
     MetricInterface, MetricInterfaceKeys, Refraction, metric_reflected_direction,
@@ -44,6 +47,7 @@ pub use phase_hologram::{
     Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, PolynomialPhase, QuadraticPhase,
     RotationallySymmetricPhase, Sectors, hologram_direction,
 };
+pub use pixellation::{Blur, Pixellation, PixellationKeys, Pixels, single_slit_x};
 pub use point_to_point_imaging_hologram::{
     LensHologramKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys,
 };

@@ -34,7 +34,7 @@ use crate::geometry::{Exit, Interaction, Shape};
 use crate::keys::{Coefficient, NonNegative, coefficient, throughput};
 use crate::math::Colour;
 use crate::math::Frame;
-use crate::math::random::uniform_keyed;
+use crate::math::random::{ray_key, uniform_keyed};
 use crate::surfaces::{Redirection, Surface, reflect};
 
 /// How a teleporting surface sends rays to its destination.
@@ -153,14 +153,7 @@ impl Teleporting {
         if self.teleportation == Teleportation::Holographic {
             return self.holographic(p, at.coordinates(), d, &at.frame());
         }
-        let key = [
-            p.x.to_bits(),
-            p.y.to_bits(),
-            p.z.to_bits(),
-            d.x.to_bits(),
-            d.y.to_bits(),
-            d.z.to_bits(),
-        ];
+        let key = ray_key(p, d);
         let Some((point, direction)) =
             self.teleport(at.coordinates(), d, &at.frame(), |i| uniform_keyed(&key, i))
         else {
