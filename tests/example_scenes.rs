@@ -4514,3 +4514,79 @@ fn research_wedge_explorer_shows_the_backdrop_where_snell_sends_each_ray() {
     }
     assert!(checked > 50, "{checked} pixels");
 }
+
+/// scenes/research/TransmissionCoefficientVisualiser.toml (Dr TIM's FOVSteering program): the
+/// window's light is vignetted by the lenslets' apertures, worked out here from the telescope
+/// in the (u, a) projection. A ray from the camera of slope s = x/2 (it meets the window 2
+/// ahead) crosses lenslet 1 (aperture [−½, ½] in units of f₁) at h and lenslet 2's plane at
+/// s − η(s − h) = 1.2 s − 0.2 h (η = −0.2), within [1.2 s − 0.1, 1.2 s + 0.1]; lenslet 2's
+/// aperture is [δ − ½, δ + ½] = [0.1, 1.1]. So nothing passes for s ≤ 0 (the window's left half
+/// is black) and everything in u for 1/6 ≤ s ≤ 5/6; along v (η = −0.1, δ = 0.1) everything
+/// for −0.318 ≤ s_v ≤ 0.5. Where all passes, the camera sees the sky or the floor.
+#[test]
+fn research_transmission_coefficient_visualiser_vignettes_by_the_apertures() {
+    let (w, h) = (64, 48);
+    let p = render("research/TransmissionCoefficientVisualiser", w, h);
+    // Slopes of pixel centres: the view angle spans the outermost centres.
+    let span = 2.0 * (82.76886f64 / 2.0).to_radians().tan() / (w - 1) as f64;
+    let (mut black, mut bright) = (0, 0);
+    for (x, y) in p.pixels() {
+        let su = (x as f64 - (w - 1) as f64 / 2.0) * span;
+        let sv = ((h - 1) as f64 / 2.0 - y as f64) * span;
+        // On the window, clear of the frame and of the aperture's blur (0.025/2 in slope).
+        if su.abs() > 0.48 || sv.abs() > 0.48 {
+            continue;
+        }
+        let c = p.rgb(x, y);
+        if su < -0.02 {
+            assert_eq!(c, DVec3::ZERO, "({x}, {y}) at slopes ({su}, {sv})");
+            black += 1;
+        } else if (0.19..0.8).contains(&su) && (-0.29..0.48).contains(&sv) {
+            assert!(
+                c.min_element() > 0.1,
+                "({x}, {y}) at slopes ({su}, {sv}): {c}"
+            );
+            bright += 1;
+        }
+    }
+    assert!(
+        black > 400 && bright > 250,
+        "{black} black, {bright} bright"
+    );
+}
+
+/// scenes/research/PixellationEffectsExplorer.toml (Dr TIM's pixellation explorer, blur only):
+/// the pixel-channeling lens has the chart in its focal plane, and an ideal lens focuses all
+/// parallel rays to one point of it, so the rays a pixellated plane merely offsets (keeping
+/// their directions) see the same chart points as without it; the diffractive blur, which
+/// turns them, washes out the fine bars.
+#[test]
+fn research_pixellation_channeling_lens_removes_the_ray_offset_blur_but_not_diffraction() {
+    let name = "research/PixellationEffectsExplorer";
+    let set = |blur: bool, offset: bool| {
+        let p = scene(name);
+        let blur = format!("object.1.surface.simulate_diffractive_blur={blur}");
+        let offset = format!("object.1.surface.simulate_ray_offset={offset}");
+        let args = ["--width", "160", "--height", "120", "--spp", "4"];
+        let args = [&args[..], &["--set", &blur, "--set", &offset]].concat();
+        render_file(&p, &args)
+    };
+    let differing = |a: &Picture, b: &Picture| {
+        a.pixels()
+            .filter(|&(x, y)| (a.rgb(x, y) - b.rgb(x, y)).abs().max_element() > 1e-3)
+            .count()
+    };
+    let offset_only = set(false, true);
+    let clear = set(false, false);
+    let blurred = set(true, true);
+    assert!(
+        differing(&offset_only, &clear) <= 20,
+        "{}",
+        differing(&offset_only, &clear)
+    );
+    assert!(
+        differing(&blurred, &clear) > 1500,
+        "{}",
+        differing(&blurred, &clear)
+    );
+}

@@ -355,6 +355,34 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "non-zero",
         ),
         (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], v = [1, 0, 1] }"#,
+            "must not lie in the plane of a",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], sigma1_u = 0.5 }"#,
+            "only used with transmission_coefficient_method = \"geometric\"",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], transmission_coefficient_method = "geometric-best", transmission = 0.5 }"#,
+            "only used with transmission_coefficient_method = \"constant\"",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], transmission_coefficient_method = "geometric", sigma2_v = 0 }"#,
+            "expected a positive number",
+        ),
+        (
+            r#"{ type = "gcla", a = [0, 0, 1], u = [1, 0, 0], transmission_coefficient_method = "sometimes" }"#,
+            "unknown variant `sometimes`",
+        ),
+        (
+            r#"{ type = "pixellation", pixel_side_length_u = -1 }"#,
+            "expected a positive number",
+        ),
+        (
+            r#"{ type = "layer-stack", layers = [{ type = "pixellation" }, { type = "matt", colour = [1, 1, 1] }] }"#,
+            "without a ray offset",
+        ),
+        (
             r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
             "expected a direction, got the zero vector",
         ),

@@ -235,7 +235,7 @@ impl ConfocalLensletArraysKeys {
             ));
         }
         let transmission = self.transmission()?;
-        let pixels = self.pixels()?;
+        let pixels = self.pixels();
         let finite = |d: Option<Finite>| d.map_or(0.0, |d| d.0);
         Ok(Surface::ConfocalLensletArrays(ConfocalLensletArrays {
             a,
@@ -295,23 +295,12 @@ impl ConfocalLensletArraysKeys {
         })
     }
 
-    /// The pixellation, refusing a pixel side or wavelength nothing uses.
-    fn pixels(&self) -> Result<Option<Pixels>, String> {
+    /// The pixellation, if any is simulated (the pixel side and wavelength are the sheet's
+    /// and may be given either way).
+    fn pixels(&self) -> Option<Pixels> {
         let blur = self.simulate_diffractive_blur.unwrap_or(false);
         let ray_offset = self.simulate_ray_offset.unwrap_or(false);
-        if !blur && self.lambda.is_some() {
-            return Err("confocal-lenslet-arrays: `lambda` is only used with \
-                        simulate_diffractive_blur = true"
-                .into());
-        }
-        if !blur && !ray_offset && self.pixel_side_length.is_some() {
-            return Err(
-                "confocal-lenslet-arrays: `pixel_side_length` is only used with \
-                        simulate_diffractive_blur or simulate_ray_offset = true"
-                    .into(),
-            );
-        }
-        Ok((blur || ray_offset).then(|| Pixels {
+        (blur || ray_offset).then(|| Pixels {
             size: DVec2::splat(
                 self.pixel_side_length
                     .map_or(GCLA_PIXEL_SIDE_LENGTH, |s| s.0),
@@ -319,7 +308,7 @@ impl ConfocalLensletArraysKeys {
             lambda: self.lambda.map_or(GCLA_LAMBDA, |l| l.0),
             blur: blur.then_some(Blur::Uniform),
             ray_offset,
-        }))
+        })
     }
 }
 

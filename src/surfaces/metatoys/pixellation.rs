@@ -169,11 +169,6 @@ impl PixellationKeys {
     pub fn build(self) -> Result<Surface, String> {
         let side = |s: Option<Positive>| s.map_or(1e-4, |s| s.0);
         let blur = self.simulate_diffractive_blur.unwrap_or(true);
-        if !blur && self.lambda.is_some() {
-            return Err(
-                "pixellation: `lambda` is only used with simulate_diffractive_blur = true".into(),
-            );
-        }
         Ok(Surface::Pixellation(Pixellation {
             pixels: Pixels {
                 size: DVec2::new(
