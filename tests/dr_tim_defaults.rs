@@ -220,6 +220,20 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             ray_offset: true,
         })
     );
+    // IDEALISED_DOVE_PRISM_ARRAY: prism 0 at the origin, inverting x, period 0.1.
+    let Surface::IdealisedDovePrismArray(a) = surface("{ type = \"idealised-dove-prism-array\" }")
+    else {
+        panic!()
+    };
+    assert_eq!(
+        (
+            a.centre,
+            a.inversion_direction,
+            a.period,
+            a.transmission_coefficient
+        ),
+        (DVec3::ZERO, DVec3::X, 0.1, t)
+    );
     // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.
     let Surface::Pixellation(p) = surface("{ type = \"pixellation\" }") else {
         panic!()

@@ -4590,3 +4590,43 @@ fn research_pixellation_channeling_lens_removes_the_ray_offset_blur_but_not_diff
         differing(&blurred, &clear)
     );
 }
+
+/// scenes/research/ViewRotationExplorer.toml (Dr TIM's ray-rotation sheet of two idealised
+/// Dove-prism arrays): each array mirrors the direction in a plane perpendicular to its
+/// inversion direction, and two mirrors whose normals make the angle θ (here −5°, from x to
+/// (cos 5°, −sin 5°, 0)) compose to a rotation by 2θ about their common line (z): every line of
+/// sight through the disc leaves turned by −10° about z.
+#[test]
+fn research_view_rotation_dove_prism_arrays_rotate_the_view_by_twice_their_angle() {
+    let start = DVec3::new(0.0, 0.0, -10.0);
+    let targets: Vec<DVec3> = (0..25)
+        .map(|k| {
+            DVec3::new(
+                -0.6 + 0.3 * (k % 5) as f64,
+                -0.6 + 0.3 * (k / 5) as f64,
+                0.0,
+            )
+        })
+        .collect();
+    let rays: Vec<String> = targets
+        .iter()
+        .enumerate()
+        .map(|(k, t)| ray(k, start, *t - start))
+        .collect();
+    let traced = trace("research/ViewRotationExplorer", &rays);
+    assert_eq!(traced.len(), targets.len());
+    let turn = glam::DQuat::from_rotation_z(-10f64.to_radians());
+    for (ray, target) in traced.iter().zip(&targets) {
+        let second = ray
+            .points
+            .iter()
+            .position(|p| p.object.as_deref() == Some("Dove-prism array 2"))
+            .unwrap_or_else(|| panic!("{ray:?}"));
+        assert_eq!(
+            ray.points[second - 2].object.as_deref(),
+            Some("Dove-prism array 1")
+        );
+        let d = (*target - start).normalize();
+        assert_near("after the sheet", leaving(ray, second + 1), turn * d, 1e-9);
+    }
+}

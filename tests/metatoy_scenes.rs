@@ -383,6 +383,18 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "without a ray offset",
         ),
         (
+            r#"{ type = "layer-stack", layers = [{ type = "idealised-dove-prism-array" }, { type = "matt", colour = [1, 1, 1] }] }"#,
+            "a idealised-dove-prism-array surface cannot be a layer",
+        ),
+        (
+            r#"{ type = "idealised-dove-prism-array", period = 0 }"#,
+            "expected a positive number",
+        ),
+        (
+            r#"{ type = "idealised-dove-prism-array", inversion_direction = [0, 0, 0] }"#,
+            "expected a direction, got the zero vector",
+        ),
+        (
             r#"{ type = "ray-rotating", axis = [0, 0, 0] }"#,
             "expected a direction, got the zero vector",
         ),
@@ -868,4 +880,35 @@ fn the_hologram_phases_and_imaging_holograms_are_read_with_dr_tims_defaults() {
             reflection_coefficient: 0.25,
         })
     );
+}
+
+/// An idealised Dove-prism array's positions are the object's own: a rotation by 90° about z
+/// and a shift by (1, 0, 0) take prism 0's centre (0.05, 0, 0) to (1, 0.05, 0) and the
+/// inversion direction x to y, keeping the period; a uniform scaling by 2 doubles the period.
+/// A non-uniform scaling would not keep the prisms' mirrors mirrors.
+#[test]
+fn dove_prism_arrays_move_with_their_objects() {
+    let text = |transform: &str| {
+        format!(
+            "studio = \"none\"\n[[object]]\nname = \"d\"\nshape = {{ type = \"disc\", centre = [0, 0, 0], normal = [0, 0, 1], radius = 1 }}\nsurface = {{ type = \"idealised-dove-prism-array\", centre = [0.05, 0, 0], period = 0.2 }}\ntransform = {transform}\n"
+        )
+    };
+    let parsed = file::parse(
+        &text("{ rotate = { axis = [0, 0, 1], angle_deg = 90 }, translate = [1, 0, 0] }"),
+        "s.toml",
+    )
+    .unwrap();
+    let Surface::IdealisedDovePrismArray(a) = &object(&parsed, "d").surface else {
+        panic!()
+    };
+    assert!((a.centre - DVec3::new(1.0, 0.05, 0.0)).length() < 1e-15);
+    assert!((a.inversion_direction - DVec3::Y).length() < 1e-15);
+    assert!((a.period - 0.2).abs() < 1e-15);
+    let parsed = file::parse(&text("{ scale = [2, 2, 2] }"), "s.toml").unwrap();
+    let Surface::IdealisedDovePrismArray(a) = &object(&parsed, "d").surface else {
+        panic!()
+    };
+    assert!((a.period - 0.4).abs() < 1e-15 && (a.centre.x - 0.1).abs() < 1e-15);
+    let e = error(&text("{ scale = [1, 2, 1] }"));
+    assert!(e.contains("cannot be scaled non-uniformly"), "{e}");
 }

@@ -39,12 +39,13 @@ pub use lenses::{
     MaxwellFisheyeLensKeys,
 };
 pub use metatoys::{
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
-    LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
-    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation, PixellationKeys,
-    PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys,
-    RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
-    Teleporting, TeleportingKeys,
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, IdealisedDovePrismArray,
+    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
+    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
+    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
+    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys, Teleporting,
+    TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -93,6 +94,7 @@ kinds! {
         RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidenceKeys),
         #[serde(alias = "ray_flipping")]
         RayFlipping(RayFlippingKeys),
+        IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
         #[serde(alias = "phase_hologram")]
         PhaseHologram(PhaseHologramKeys),
         PointToPointImagingHologram(PointToPointImagingHologramKeys),
@@ -230,6 +232,7 @@ pub enum Surface {
     RayRotating(RayRotating),
     RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidence),
     Pixellation(Pixellation),
+    IdealisedDovePrismArray(IdealisedDovePrismArray),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
@@ -294,6 +297,7 @@ impl Surface {
             Surface::RayRotating(_) => "ray-rotating",
             Surface::RayRotatingInPlaneOfIncidence(_) => "ray-rotating-in-plane-of-incidence",
             Surface::Pixellation(_) => "pixellation",
+            Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
@@ -389,6 +393,7 @@ impl Surface {
             Surface::RayRotating(s) => s.redirect(at),
             Surface::RayRotatingInPlaneOfIncidence(s) => s.redirect(at),
             Surface::Pixellation(s) => s.redirect(at),
+            Surface::IdealisedDovePrismArray(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
@@ -441,6 +446,9 @@ impl Surface {
             Surface::Glens(g) => Surface::Glens(g.transformed(t)?),
             Surface::PointToPointImagingHologram(h) => {
                 Surface::PointToPointImagingHologram(h.transformed(t))
+            }
+            Surface::IdealisedDovePrismArray(a) => {
+                Surface::IdealisedDovePrismArray(a.transformed(t)?)
             }
             Surface::Chequerboard(c) => Surface::Chequerboard(Chequerboard {
                 tile_width: c.tile_width,

@@ -19,6 +19,7 @@
 
 mod confocal_lenslet_arrays;
 mod gcla_transmission;
+mod idealised_dove_prism_array;
 mod lorentz_window;
 mod metric_interface;
 mod phase_conjugating;
@@ -34,6 +35,7 @@ pub use confocal_lenslet_arrays::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
 };
 pub use gcla_transmission::{Apertures, Transmission};
+pub use idealised_dove_prism_array::{IdealisedDovePrismArray, IdealisedDovePrismArrayKeys};
 pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};
 pub use metric_interface::{
     MetricInterface, MetricInterfaceKeys, Refraction, metric_reflected_direction,
