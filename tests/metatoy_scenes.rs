@@ -391,6 +391,30 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "expected a positive number",
         ),
         (
+            r#"{ type = "complex-metarefraction", function = { type = "multiplication", inwards_factor = [0, 0] } }"#,
+            "`inwards_factor` must not be 0",
+        ),
+        (
+            r#"{ type = "complex-metarefraction", function = { type = "julia-set", constant = [0, 0], iterations = 100000 } }"#,
+            "is more than 1000",
+        ),
+        (
+            r#"{ type = "complex-metarefraction", function = { type = "tan" } }"#,
+            "unknown variant `tan`",
+        ),
+        (
+            r#"{ type = "complex-metarefraction", function = { type = "exp", factor = 2 } }"#,
+            "unknown field `factor`",
+        ),
+        (
+            r#"{ type = "refractive-complex", index_ratio = [0, 0] }"#,
+            "`index_ratio` must not be 0",
+        ),
+        (
+            r#"{ type = "complex-metarefraction" }"#,
+            "missing field `function`",
+        ),
+        (
             r#"{ type = "idealised-dove-prism-array", inversion_direction = [0, 0, 0] }"#,
             "expected a direction, got the zero vector",
         ),

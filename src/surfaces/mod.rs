@@ -39,13 +39,13 @@ pub use lenses::{
     MaxwellFisheyeLensKeys,
 };
 pub use metatoys::{
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, IdealisedDovePrismArray,
-    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
-    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
-    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
-    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys, Teleporting,
-    TeleportingKeys,
+    ComplexMetarefraction, ComplexMetarefractionKeys, ConfocalLensletArrays,
+    ConfocalLensletArraysKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
+    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
+    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
+    PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
+    RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
+    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -95,6 +95,8 @@ kinds! {
         #[serde(alias = "ray_flipping")]
         RayFlipping(RayFlippingKeys),
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
+        ComplexMetarefraction(ComplexMetarefractionKeys),
+        RefractiveComplex(RefractiveComplexKeys),
         #[serde(alias = "phase_hologram")]
         PhaseHologram(PhaseHologramKeys),
         PointToPointImagingHologram(PointToPointImagingHologramKeys),
@@ -233,6 +235,7 @@ pub enum Surface {
     RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidence),
     Pixellation(Pixellation),
     IdealisedDovePrismArray(IdealisedDovePrismArray),
+    ComplexMetarefraction(ComplexMetarefraction),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
     PhaseHologram(PhaseHologram),
@@ -298,6 +301,7 @@ impl Surface {
             Surface::RayRotatingInPlaneOfIncidence(_) => "ray-rotating-in-plane-of-incidence",
             Surface::Pixellation(_) => "pixellation",
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
+            Surface::ComplexMetarefraction(_) => "complex-metarefraction",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
@@ -394,6 +398,7 @@ impl Surface {
             Surface::RayRotatingInPlaneOfIncidence(s) => s.redirect(at),
             Surface::Pixellation(s) => s.redirect(at),
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
+            Surface::ComplexMetarefraction(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
@@ -510,6 +515,7 @@ impl Surface {
             | Surface::RayRotating(_)
             | Surface::RayRotatingInPlaneOfIncidence(_)
             | Surface::Pixellation(_)
+            | Surface::ComplexMetarefraction(_)
             | Surface::RayFlipping(_)
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)

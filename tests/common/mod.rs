@@ -8,6 +8,7 @@ pub mod cli;
 pub mod images;
 pub mod rays;
 pub mod rng;
+pub mod sheets;
 pub mod verdict;
 
 use std::f64::consts::TAU;

@@ -147,6 +147,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::RayRotating(_)
         | Surface::RayRotatingInPlaneOfIncidence(_)
         | Surface::Pixellation(_)
+        | Surface::ComplexMetarefraction(_)
         | Surface::RayFlipping(_)
         | Surface::PhaseHologram(_)
         | Surface::PointToPointImagingHologram(_)

@@ -17,6 +17,7 @@
 //! is TIR"), that reflection is lossless unless the law is given a reflection coefficient; the
 //! transmission coefficient applies to transmitted rays only.
 
+mod complex_metarefraction;
 mod confocal_lenslet_arrays;
 mod gcla_transmission;
 mod idealised_dove_prism_array;
@@ -31,6 +32,9 @@ mod ray_rotating;
 mod ray_rotating_in_plane_of_incidence;
 mod teleporting;
 
+pub use complex_metarefraction::{
+    ComplexFunction, ComplexMetarefraction, ComplexMetarefractionKeys, RefractiveComplexKeys,
+};
 pub use confocal_lenslet_arrays::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
 };
