@@ -12,7 +12,7 @@ use timbre::geometry::Shape;
 use timbre::surfaces::ideal_lenses::Focus;
 use timbre::surfaces::lenses::LensLaw;
 use timbre::surfaces::metatoys::{Apertures, Blur, Pixels, Transmission};
-use timbre::surfaces::{Coloured, Surface};
+use timbre::surfaces::{Coloured, Field, Surface};
 
 /// `SurfacePropertyPrimitive.DEFAULT_TRANSMISSION_COEFFICIENT`.
 const DEFAULT_TRANSMISSION_COEFFICIENT: f64 = 0.96;
@@ -233,6 +233,14 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             a.transmission_coefficient
         ),
         (DVec3::ZERO, DVec3::X, 0.1, t)
+    );
+    // PHASE_FRONT (a light-ray field): red, 1° of fuzziness, one way.
+    let Surface::LightRayField(f) = surface("{ type = \"light-ray-field\" }") else {
+        panic!()
+    };
+    assert_eq!(
+        (f.field, f.colour, f.angular_fuzziness, f.bidirectional),
+        (Field::PhaseFront, DVec3::X, 1f64.to_radians(), false)
     );
     // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.
     let Surface::Pixellation(p) = surface("{ type = \"pixellation\" }") else {

@@ -4630,3 +4630,43 @@ fn research_view_rotation_dove_prism_arrays_rotate_the_view_by_twice_their_angle
         assert_near("after the sheet", leaving(ray, second + 1), turn * d, 1e-9);
     }
 }
+
+/// scenes/research/CurlVisualiser.toml (Dr TIM's curl visualiser with an optical vortex): the
+/// vortex's light at distance r from its line travels along −z tilted azimuthally by
+/// |m/k|/r = 0.1/r; the ray-rotation sheet turns that by 90° into a radial tilt, and the
+/// camera 5 in front sees light leaving the window at r towards it, tilted by r/5. So the field
+/// lights up only near the ring 0.1/r = r/5, r = √0.5: there (within 0.004 in r, where the
+/// tilts differ by under a tenth of the 1° fuzziness) the glow is nearly the field's full red,
+/// and beyond 0.03 (where they differ by more than half the fuzziness) there is none.
+#[test]
+fn research_curl_visualiser_shows_the_vortex_ring_where_the_turned_rays_meet_the_eye() {
+    let (w, h) = (160, 120);
+    let name = "research/CurlVisualiser";
+    let args = ["--width", "160", "--height", "120", "--spp", "1"];
+    let lit = render_file(&scene(name), &args);
+    let dark = render_file(
+        &scene(name),
+        &[&args[..], &["--set", "object.2.surface.colour=[0,0,0]"]].concat(),
+    );
+    let pitch = 2.0 * 16f64.to_radians().tan() / (w - 1) as f64;
+    let ring = 0.5f64.sqrt();
+    let (mut on, mut off) = (0, 0);
+    for (x, y) in lit.pixels() {
+        // Where the pixel centre's ray meets the window, 5 ahead.
+        let r = 5.0
+            * pitch
+            * ((x as f64 - (w - 1) as f64 / 2.0).hypot(y as f64 - (h - 1) as f64 / 2.0));
+        let glow = lit.rgb(x, y) - dark.rgb(x, y);
+        if (r - ring).abs() < 0.004 {
+            assert!(
+                glow.x > 0.8 && glow.y.abs() < 1e-6,
+                "({x}, {y}) at r = {r}: {glow}"
+            );
+            on += 1;
+        } else if (r - ring).abs() > 0.03 && r < 0.95 {
+            assert_eq!(glow, DVec3::ZERO, "({x}, {y}) at r = {r}");
+            off += 1;
+        }
+    }
+    assert!(on >= 8 && off > 5000, "{on} on the ring, {off} off it");
+}

@@ -415,6 +415,18 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "missing field `function`",
         ),
         (
+            r#"{ type = "light-ray-field", field = { type = "collimated" } }"#,
+            "missing field `direction`",
+        ),
+        (
+            r#"{ type = "light-ray-field", angular_fuzziness_deg = 0 }"#,
+            "expected a positive number",
+        ),
+        (
+            r#"{ type = "layer-stack", layers = [{ type = "light-ray-field" }, { type = "matt", colour = [1, 1, 1] }] }"#,
+            "a light-ray-field surface cannot be a layer",
+        ),
+        (
             r#"{ type = "idealised-dove-prism-array", inversion_direction = [0, 0, 0] }"#,
             "expected a direction, got the zero vector",
         ),

@@ -9,6 +9,7 @@ mod coloured;
 mod constant_colour;
 pub mod ideal_lenses;
 pub mod lenses;
+mod light_ray_field;
 pub mod mesh_materials;
 pub mod metatoys;
 mod mirror;
@@ -38,6 +39,7 @@ pub use lenses::{
     EatonLensKeys, GgrinLensKeys, GradientIndexLensKeys, Lens, LuneburgLensKeys,
     MaxwellFisheyeLensKeys,
 };
+pub use light_ray_field::{Field, LightRayField, LightRayFieldKeys};
 pub use metatoys::{
     ComplexMetarefraction, ComplexMetarefractionKeys, ConfocalLensletArrays,
     ConfocalLensletArraysKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
@@ -120,6 +122,7 @@ kinds! {
         TwoSided(TwoSidedKeys),
         LayerStack(LayerStackKeys),
         GlowingCloud(GlowingCloudKeys),
+        LightRayField(LightRayFieldKeys),
         // Patterns and colour fields (appearance).
         Striped(StripedKeys),
         SurfaceTiling(SurfaceTilingKeys),
@@ -257,6 +260,7 @@ pub enum Surface {
     TwoSided(TwoSided),
     LayerStack(LayerStack),
     GlowingCloud(GlowingCloud),
+    LightRayField(LightRayField),
     /// Patterns and colour fields (appearance); the patterns need surface coordinates.
     Striped(Striped),
     SurfaceTiling(SurfaceTiling),
@@ -319,6 +323,7 @@ impl Surface {
             Surface::TwoSided(_) => "two-sided",
             Surface::LayerStack(_) => "layer-stack",
             Surface::GlowingCloud(_) => "glowing-cloud",
+            Surface::LightRayField(_) => "light-ray-field",
             Surface::Striped(_) => "striped",
             Surface::SurfaceTiling(_) => "surface-tiling",
             Surface::TimeDependentColour(_) => "time-dependent-colour",
@@ -414,6 +419,7 @@ impl Surface {
             Surface::TintedSolid(s) => s.redirect(at),
             Surface::LayerStack(s) => s.redirect(at),
             Surface::GlowingCloud(s) => s.redirect(at),
+            Surface::LightRayField(s) => s.redirect(at),
             Surface::Picture(s) => s.redirect(at),
             Surface::ImageSky(s) => s.redirect(at),
             Surface::Textured(s) => s.redirect(at),
@@ -452,6 +458,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(h) => {
                 Surface::PointToPointImagingHologram(h.transformed(t))
             }
+            Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)),
             Surface::IdealisedDovePrismArray(a) => {
                 Surface::IdealisedDovePrismArray(a.transformed(t)?)
             }

@@ -107,6 +107,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::IdealisedDovePrismArray(_)
         | Surface::TintedSolid(_)
         | Surface::GlowingCloud(_)
+        | Surface::LightRayField(_)
         | Surface::SemiTransparent(_)
         | Surface::Average(_)
         | Surface::Rainbow(_)
