@@ -64,9 +64,19 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
             ],
         ),
     ];
-    for shutter in ["detector-plane", "entrance-pupil", "focus-surface"] {
+    for shutter in [
+        "detector-plane",
+        "entrance-pupil",
+        "focus-surface",
+        "arbitrary-plane",
+        "fixed-point-surface",
+    ] {
         let text = "[camera]\nbeta = [0, 0, 0.5]\nshutter = \"@\"\n".to_string();
         table.push((text, shutter, snake(shutter)));
+    }
+    for lens_type in ["ideal-lens", "lens-hologram"] {
+        let text = "[camera]\nshutter = \"detector-plane\"\nlens_type = \"@\"\n".to_string();
+        table.push((text, lens_type, snake(lens_type)));
     }
     for stereo in [
         "side-by-side",
