@@ -53,6 +53,7 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
         ),
         (surface(""), "phase-conjugating", snake("phase-conjugating")),
         (surface(", beta = [0, 0, 0.5]"), "lorentz-window", snake("lorentz-window")),
+        (surface(", beta = [0, 0, 0.5]"), "galileo-window", snake("galileo-window")),
         // A device's lens type, by Dr TIM's names of it in its several enums.
         (
             "[[device]]\nlenses = { type = \"ideal-lens-cloak\", lens_element_type = \"@\" }\n"

@@ -39,12 +39,12 @@ pub use lenses::{
     MaxwellFisheyeLensKeys,
 };
 pub use metatoys::{
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, LensHologramKeys, LorentzWindow,
-    LorentzWindowKeys, MetricInterface, MetricInterfaceKeys, PhaseConjugating,
-    PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
-    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys, Teleporting,
-    TeleportingKeys,
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys,
+    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
+    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys,
+    PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys,
+    RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
+    Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -101,6 +101,8 @@ kinds! {
         PhaseConjugating(PhaseConjugatingKeys),
         #[serde(alias = "lorentz_window")]
         LorentzWindow(LorentzWindowKeys),
+        #[serde(alias = "galileo_window")]
+        GalileoWindow(GalileoWindowKeys),
         IdealThinLens(IdealThinLensKeys),
         IdealThinCylindricalLens(IdealThinCylindricalLensKeys),
         IdealThinMirror(IdealThinMirrorKeys),
@@ -235,6 +237,7 @@ pub enum Surface {
     PointToPointImagingHologram(PointToPointImagingHologram),
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
+    GalileoWindow(GalileoWindow),
     Teleporting(Teleporting),
     /// Ideal thin lenses, spherical and cylindrical, on any shape.
     IdealThinLens(ThinLens),
@@ -296,6 +299,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
             Surface::PhaseConjugating(_) => "phase-conjugating",
             Surface::LorentzWindow(_) => "lorentz-window",
+            Surface::GalileoWindow(_) => "galileo-window",
             Surface::Teleporting(_) => "teleporting",
             Surface::IdealThinLens(_) => "ideal-thin-lens",
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
@@ -390,6 +394,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
             Surface::PhaseConjugating(s) => s.redirect(at),
             Surface::LorentzWindow(s) => s.redirect(at),
+            Surface::GalileoWindow(s) => s.redirect(at),
             Surface::Teleporting(s) => s.redirect(at),
             Surface::IdealThinLens(s) => s.redirect(at),
             Surface::IdealThinMirror(s) => s.redirect(at),
@@ -501,6 +506,7 @@ impl Surface {
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
+            | Surface::GalileoWindow(_)
             | Surface::Teleporting(_)
             | Surface::Picture(_)
             | Surface::ImageSky(_)
