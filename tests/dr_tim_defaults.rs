@@ -281,6 +281,12 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         panic!()
     };
     assert_eq!((lw.boost.gamma(), lw.transmission_coefficient), (1.0, t));
+    // GALILEO_TRANSFORM_INTERFACE: beta (0, 0, 0), DEFAULT_TRANSMISSION_COEFFICIENT (its basis,
+    // NORMALSED_LOCAL_OBJECT_BASIS in the GUI, stays global as for every law, see SCENE_FORMAT).
+    let Surface::GalileoWindow(gw) = surface("{ type = \"galileo-window\" }") else {
+        panic!()
+    };
+    assert_eq!((gw.beta, gw.transmission_coefficient), (DVec3::ZERO, t));
     // THIN_LENS: EditableThinLens, centre (0, 0, 10), optical axis (0, 0, −1), focal length 1,
     // DEFAULT_TRANSMISSION_COEFFICIENT.
     let Surface::IdealThinLens(l) = surface("{ type = \"ideal-thin-lens\" }") else {

@@ -1066,3 +1066,30 @@ fn imperfect_teleporting_spreads_exit_points_within_the_positional_error() {
         );
     }
 }
+
+/// The Lorentz and Galileo windows in the local basis: β = (0, 0, b) along the window's outward
+/// normal w is the global β = b w, here on the METATOY window, whose normal is +z (seen from
+/// the inside), so the pictures agree.
+#[test]
+fn transform_windows_read_beta_in_the_local_basis() {
+    use common::images::render_text;
+    for kind in ["lorentz-window", "galileo-window"] {
+        let scene = |keys: &str| {
+            render_text(&format!(
+                "studio = \"metatoy-window\"\n[render]\nwidth = 48\nheight = 36\n[window]\nsurface = {{ type = \"{kind}\", {keys} }}\n"
+            ))
+        };
+        let global = scene("beta = [0, 0, 0.6]");
+        let local = scene("beta = [0, 0, 0.6], basis = \"local\"");
+        let sideways = scene("beta = [0.6, 0, 0]");
+        let diff = |a: &timbre::render::Image, b: &timbre::render::Image| {
+            a.pixels
+                .iter()
+                .zip(&b.pixels)
+                .map(|(p, q)| (*p - *q).abs().max_element())
+                .fold(0.0, f64::max)
+        };
+        assert!(diff(&global, &local) < 1e-9, "{kind}");
+        assert!(diff(&global, &sideways) > 0.1, "{kind}: β matters");
+    }
+}

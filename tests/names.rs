@@ -53,6 +53,7 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
         ),
         (surface(""), "phase-conjugating", snake("phase-conjugating")),
         (surface(", beta = [0, 0, 0.5]"), "lorentz-window", snake("lorentz-window")),
+        (surface(", beta = [0, 0, 0.5]"), "galileo-window", snake("galileo-window")),
         // A device's lens type, by Dr TIM's names of it in its several enums.
         (
             "[[device]]\nlenses = { type = \"ideal-lens-cloak\", lens_element_type = \"@\" }\n"
@@ -64,9 +65,19 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
             ],
         ),
     ];
-    for shutter in ["detector-plane", "entrance-pupil", "focus-surface"] {
+    for shutter in [
+        "detector-plane",
+        "entrance-pupil",
+        "focus-surface",
+        "arbitrary-plane",
+        "fixed-point-surface",
+    ] {
         let text = "[camera]\nbeta = [0, 0, 0.5]\nshutter = \"@\"\n".to_string();
         table.push((text, shutter, snake(shutter)));
+    }
+    for lens_type in ["ideal-lens", "lens-hologram"] {
+        let text = "[camera]\nshutter = \"detector-plane\"\nlens_type = \"@\"\n".to_string();
+        table.push((text, lens_type, snake(lens_type)));
     }
     for stereo in [
         "side-by-side",

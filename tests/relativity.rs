@@ -5,7 +5,7 @@
 mod common;
 
 use glam::DVec3;
-use timbre::cameras::{Camera, Focus, Shutter};
+use timbre::cameras::{Camera, Focus, LensType, Shutter};
 use timbre::io::to_rgb8;
 use timbre::math::LorentzTransform;
 use timbre::render::Image;
@@ -154,7 +154,7 @@ fn ray_start_times_follow_the_three_shutter_models() {
             let times: Vec<f64> = [
                 Shutter::EntrancePupil,
                 Shutter::FocusSurface,
-                Shutter::DetectorPlane,
+                Shutter::DetectorPlane(LensType::IdealLens),
             ]
             .into_iter()
             .map(|s| {

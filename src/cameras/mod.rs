@@ -2,19 +2,34 @@
 //!
 //! One camera type covers TIM's pinhole, finite-aperture ("any focus surface") and orthographic
 //! cameras, each optionally moving at relativistic speed (§2). Rays are generated in the camera
-//! frame; [`Camera::to_scene_frame`] Lorentz-transforms them into the scene frame. The two
-//! frames' coordinates coincide at time 0, and the boost is taken about the camera position
-//! (the pupil centre): at t = 0 the camera is where `position` says, in both frames.
+//! frame; [`Camera::to_scene_frame`] Lorentz-transforms them (or, as an option, Galileo-
+//! transforms them) into the scene frame. The two frames' coordinates coincide at time 0, and
+//! the boost is taken about the camera position (the pupil centre): at t = 0 the camera is
+//! where `position` says, in both frames. As an option beyond Dr TIM, the colour seen along a
+//! ray is Doppler-shifted ([`doppler`]).
 
+pub mod doppler;
 mod shutter;
 
-pub use shutter::{Shutter, ShutterGeometry};
+pub use shutter::{LensType, Shutter, ShutterGeometry};
 
 use std::fmt;
 
 use glam::DVec3;
 
-use crate::math::{LorentzTransform, Ray};
+use crate::math::{Colour, LorentzTransform, Ray, galilean_backwards_direction, galilean_event};
+
+/// How events and ray directions go from the camera frame into the scene frame (Dr TIM's
+/// `SpaceTimeTransformationType`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Transformation {
+    /// Eqs 1 and 4 (Dr TIM's GUI's default).
+    #[default]
+    Lorentz,
+    /// The Galilean transformation, light travelling at c in the scene frame
+    /// ([`galilean_event`], [`galilean_backwards_direction`]).
+    Galileo,
+}
 
 /// How detector positions map to chief rays.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,6 +80,9 @@ pub struct Camera {
     detector_distance: f64,
     /// Camera velocity.
     boost: LorentzTransform,
+    transformation: Transformation,
+    /// Whether colours are Doppler-shifted and brightened (Lorentz only).
+    doppler: bool,
     /// Offset of this eye's pupil from `position` (stereo views); zero for a single camera.
     eye: DVec3,
 }
@@ -105,6 +123,8 @@ impl Camera {
             shutter_time: 0.0,
             detector_distance: 1.0,
             boost: LorentzTransform::new(DVec3::ZERO).expect("zero velocity"),
+            transformation: Transformation::Lorentz,
+            doppler: false,
             eye: DVec3::ZERO,
         })
     }
@@ -150,6 +170,20 @@ impl Camera {
         Camera { boost, ..self }
     }
 
+    /// The transformation into the scene frame (Lorentz by default).
+    pub fn with_transformation(self, transformation: Transformation) -> Camera {
+        Camera {
+            transformation,
+            ..self
+        }
+    }
+
+    /// Whether colours are Doppler-shifted and brightened by the camera's motion
+    /// ([`doppler`]; with the Lorentz transformation, off by default).
+    pub fn with_doppler(self, doppler: bool) -> Camera {
+        Camera { doppler, ..self }
+    }
+
     /// The view of an eye whose pupil is `offset` from this camera's, imaging each pixel onto
     /// the same point of the focus surface (both eyes converge there). The eyes lie in the
     /// pupil plane: the offset's component along the view direction is dropped.
@@ -192,6 +226,15 @@ impl Camera {
 
     pub fn boost(&self) -> &LorentzTransform {
         &self.boost
+    }
+
+    pub fn transformation(&self) -> Transformation {
+        self.transformation
+    }
+
+    /// Whether the colours are Doppler-shifted.
+    pub fn doppler(&self) -> bool {
+        self.doppler && !self.boost.is_identity()
     }
 
     /// The undeviated chief ray of continuous detector position (x, y) in pixel units, (0, 0)
@@ -276,6 +319,10 @@ impl Camera {
                 Some(i) if self.eye != DVec3::ZERO => (i - eye_centre).normalize(),
                 _ => chief,
             };
+            let fixed_time = match (self.shutter, image) {
+                (Shutter::FixedPointSurface, Some(i)) => self.fixed_time(i),
+                _ => 0.0,
+            };
             let geometry = ShutterGeometry {
                 pupil_point,
                 pupil_centre: eye_centre,
@@ -283,25 +330,68 @@ impl Camera {
                     - self.detector_distance / eye_chief.dot(self.view_direction) * eye_chief,
                 image,
                 chief: eye_chief,
+                fixed_time,
             };
             self.shutter.start_time(self.shutter_time, &geometry)
         };
         Ray::new(pupil_point, direction, time)
     }
 
+    /// The camera-frame time at which the Lorentz transformation leaves the point `x` where
+    /// it is (Dr TIM's `FixedPointSurfaceShutterModel.getTimeWhenPositionIsStationary`): with
+    /// x − position = r, Eq 1's x′ = x needs (γ − 1)(β̂·r)β̂ + γtβ = 0, so
+    /// t = −(γ − 1)(β·r)/(γβ²); 0 at rest. (The scene file refuses this shutter with the
+    /// Galilean transformation, under which light does not travel at c in the camera frame.)
+    fn fixed_time(&self, x: DVec3) -> f64 {
+        let b = self.boost.beta();
+        if b == DVec3::ZERO {
+            return 0.0;
+        }
+        let gamma = self.boost.gamma();
+        -(gamma - 1.0) * b.dot(x - self.position) / (gamma * b.length_squared())
+    }
+
     /// The scene-frame ray of a camera-frame ray: its origin event (Eq 1, about the camera
-    /// position) and its backwards-traced direction (Eq 4). Exactly `ray` at rest.
+    /// position) and its backwards-traced direction (Eq 4), or their Galilean counterparts.
+    /// Exactly `ray` at rest.
     #[inline]
     pub fn to_scene_frame(&self, ray: &Ray) -> Ray {
         if self.boost.is_identity() {
             return *ray;
         }
-        let (x, t) = self.boost.event(ray.origin - self.position, ray.time);
-        Ray::new(
-            self.position + x,
-            self.boost.backwards_direction(ray.direction),
-            t,
-        )
+        let r = ray.origin - self.position;
+        let ((x, t), direction) = match self.transformation {
+            Transformation::Lorentz => (
+                self.boost.event(r, ray.time),
+                self.boost.backwards_direction(ray.direction),
+            ),
+            Transformation::Galileo => {
+                let beta = self.boost.beta();
+                (
+                    galilean_event(beta, r, ray.time),
+                    galilean_backwards_direction(beta, ray.direction),
+                )
+            }
+        };
+        Ray::new(self.position + x, direction, t)
+    }
+
+    /// The Doppler factor D = ν_camera/ν_scene = γ(1 + β·d̂′) of light arriving along a ray
+    /// whose unit scene-frame (backwards-traced) direction is `scene_direction`.
+    pub fn doppler_factor(&self, scene_direction: DVec3) -> f64 {
+        self.boost.gamma() * (1.0 + self.boost.beta().dot(scene_direction))
+    }
+
+    /// The colour the camera sees of light of scene-frame colour `colour` arriving along the
+    /// unit scene-frame direction `scene_direction`: Doppler-shifted and brightened if the
+    /// camera is asked to ([`Self::with_doppler`]), else `colour` itself.
+    #[inline]
+    pub fn seen(&self, colour: Colour, scene_direction: DVec3) -> Colour {
+        if self.doppler() {
+            doppler::doppler_shifted(colour, self.doppler_factor(scene_direction))
+        } else {
+            colour
+        }
     }
 }
 
@@ -357,13 +447,22 @@ impl fmt::Display for Description<'_> {
             let b = boost.beta();
             write!(
                 f,
-                "; moving at beta = ({}, {}, {}) (gamma = {:.4}), {} shutter at t = {time}",
+                "; moving at beta = ({}, {}, {}) (gamma = {:.4}), {} shutter",
                 b.x,
                 b.y,
                 b.z,
                 boost.gamma(),
                 shutter.name()
             )?;
+            if shutter != Shutter::FixedPointSurface {
+                write!(f, " at t = {time}")?;
+            }
+            if camera.transformation() == Transformation::Galileo {
+                write!(f, "; Galilean transformation")?;
+            }
+            if camera.doppler() {
+                write!(f, "; Doppler-shifted")?;
+            }
         }
         Ok(())
     }

@@ -1,12 +1,14 @@
 //! f64 geometry shared by the whole renderer: rays, surface frames, colours, quadratic roots,
-//! Lorentz transformations and reference frames, keyed random numbers, and the ODE integrator
+//! Lorentz and Galilean transformations and reference frames, keyed random numbers, and the ODE integrator
 //! of the gradient-index lenses. The bottom layer: it imports nothing else of timbre.
 
 mod dop853;
+mod galileo;
 mod lorentz;
 pub mod random;
 
 pub use dop853::{Dop853, ErrorEstimate, Phase};
+pub use galileo::{galilean_backwards_direction, galilean_event};
 pub use lorentz::{LorentzTransform, ReferenceFrame};
 
 use glam::DVec3;

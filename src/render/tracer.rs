@@ -71,7 +71,19 @@ impl<'a> Tracer<'a> {
             return Colour::ZERO;
         }
         self.first(ray, t_min, frame)
-            .map_or(Colour::ZERO, |found| self.shade(&found, level))
+            .map_or(Colour::ZERO, |found| self.seen(&found, level, frame))
+    }
+
+    /// [`Self::shade`] of a surface found by a ray that started in `from`: as the camera sees
+    /// it (Doppler-shifted, if asked for) where the ray crossed from the camera frame into the
+    /// scene frame. The albedo is not shifted.
+    fn seen(&self, found: &Found, level: u32, from: ReferenceFrame) -> Colour {
+        let colour = self.shade(found, level);
+        if from == ReferenceFrame::Camera && found.frame == ReferenceFrame::Scene && !self.albedo {
+            self.camera.seen(colour, found.ray.direction)
+        } else {
+            colour
+        }
     }
 
     /// The first surface along `ray`, which starts in `frame`.
@@ -126,11 +138,12 @@ impl<'a> Tracer<'a> {
             }
             &transformed[..rays.len()]
         };
-        if self.scene.camera_frame.is_some() {
+        // Doppler-shifted colours are shaded one ray at a time, each as the camera sees it.
+        if self.scene.camera_frame.is_some() || self.camera.doppler() {
             for (i, r) in rays.iter().enumerate() {
                 let found = self.first(r, 0.0, ReferenceFrame::Camera);
                 if let Some(f) = &found {
-                    colours[i] += self.shade(f, level);
+                    colours[i] += self.seen(f, level, ReferenceFrame::Camera);
                 }
                 record(i, &|| found);
             }
@@ -266,7 +279,7 @@ impl<'a> Tracer<'a> {
         let Some(found) = self.first(&ray, margin, frame) else {
             return Colour::ZERO;
         };
-        let colour = self.shade(&found, level - 1);
+        let colour = self.seen(&found, level - 1, frame);
         if found.frame == frame && found.hit.object == at.hit.object {
             colour
         } else {

@@ -42,12 +42,13 @@ pub use lenses::{
 pub use light_ray_field::{Field, LightRayField, LightRayFieldKeys};
 pub use metatoys::{
     ComplexMetarefraction, ComplexMetarefractionKeys, ConfocalLensletArrays,
-    ConfocalLensletArraysKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
-    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
-    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
-    PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
-    RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
-    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
+    ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys, IdealisedDovePrismArray,
+    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
+    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
+    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
+    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
+    RefractiveComplexKeys, Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -108,6 +109,8 @@ kinds! {
         Pixellation(PixellationKeys),
         #[serde(alias = "lorentz_window")]
         LorentzWindow(LorentzWindowKeys),
+        #[serde(alias = "galileo_window")]
+        GalileoWindow(GalileoWindowKeys),
         IdealThinLens(IdealThinLensKeys),
         IdealThinCylindricalLens(IdealThinCylindricalLensKeys),
         IdealThinMirror(IdealThinMirrorKeys),
@@ -246,6 +249,7 @@ pub enum Surface {
     PointToPointImagingHologram(PointToPointImagingHologram),
     PhaseConjugating(PhaseConjugating),
     LorentzWindow(LorentzWindow),
+    GalileoWindow(GalileoWindow),
     Teleporting(Teleporting),
     /// Ideal thin lenses, spherical and cylindrical, on any shape.
     IdealThinLens(ThinLens),
@@ -311,6 +315,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(_) => "point-to-point-imaging-hologram",
             Surface::PhaseConjugating(_) => "phase-conjugating",
             Surface::LorentzWindow(_) => "lorentz-window",
+            Surface::GalileoWindow(_) => "galileo-window",
             Surface::Teleporting(_) => "teleporting",
             Surface::IdealThinLens(_) => "ideal-thin-lens",
             Surface::IdealThinMirror(_) => "ideal-thin-mirror",
@@ -409,6 +414,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(s) => s.redirect(at),
             Surface::PhaseConjugating(s) => s.redirect(at),
             Surface::LorentzWindow(s) => s.redirect(at),
+            Surface::GalileoWindow(s) => s.redirect(at),
             Surface::Teleporting(s) => s.redirect(at),
             Surface::IdealThinLens(s) => s.redirect(at),
             Surface::IdealThinMirror(s) => s.redirect(at),
@@ -527,6 +533,7 @@ impl Surface {
             | Surface::PhaseHologram(_)
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
+            | Surface::GalileoWindow(_)
             | Surface::Teleporting(_)
             | Surface::Picture(_)
             | Surface::ImageSky(_)

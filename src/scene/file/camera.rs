@@ -8,10 +8,12 @@ use serde::Deserialize;
 
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
-use crate::cameras::{Camera, DEFAULT_FOCUS_DISTANCE, Focus, Projection, Shutter};
+use crate::cameras::{
+    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, Projection, Shutter, Transformation,
+};
 use crate::geometry::Shape;
 use crate::geometry::ShapeKeys;
-use crate::keys::{Finite, NonNegative, Positive, Vector};
+use crate::keys::{Direction, Finite, NonNegative, Positive, Vector};
 use crate::math::LorentzTransform;
 use crate::scene::{Packing, Stereo, studio};
 
@@ -32,9 +34,14 @@ pub(super) struct CameraSection {
     focus_distance: Option<Spanned<Positive>>,
     focus_surface: Option<Spanned<Vec<Spanned<ShapeKeys>>>>,
     beta: Option<Spanned<Vector>>,
+    transformation: Option<TransformationName>,
+    doppler: Option<Spanned<bool>>,
     shutter: Option<ShutterName>,
-    shutter_time: Option<Finite>,
+    shutter_time: Option<Spanned<Finite>>,
     detector_distance: Option<Positive>,
+    lens_type: Option<Spanned<LensTypeName>>,
+    shutter_plane_point: Option<Spanned<Vector>>,
+    shutter_plane_normal: Option<Spanned<Direction>>,
     stereo: Option<StereoName>,
     eye_separation: Option<Spanned<Vector>>,
     autostereogram: Option<Spanned<AutostereogramSection>>,
@@ -49,7 +56,7 @@ enum CameraKind {
     Orthographic,
 }
 
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 enum ShutterName {
     #[serde(alias = "detector_plane")]
@@ -58,6 +65,26 @@ enum ShutterName {
     EntrancePupil,
     #[serde(alias = "focus_surface")]
     FocusSurface,
+    #[serde(alias = "arbitrary_plane")]
+    ArbitraryPlane,
+    #[serde(alias = "fixed_point_surface")]
+    FixedPointSurface,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum TransformationName {
+    Lorentz,
+    Galileo,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum LensTypeName {
+    #[serde(alias = "ideal_lens")]
+    IdealLens,
+    #[serde(alias = "lens_hologram")]
+    LensHologram,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -146,6 +173,7 @@ impl CameraSection {
             })?;
         let radius = aperture_radius(kind, aperture, &at)?;
         let focus = self.focus(&at)?;
+        let shutter = self.shutter(focus, &at)?;
         let focus_surface = focus_surface(self.focus_surface, source, &at)?;
         let boost = match &self.beta {
             Some(b) => LorentzTransform::new(b.get_ref().0).ok_or_else(|| {
@@ -159,19 +187,27 @@ impl CameraSection {
             })?,
             None => *camera.boost(),
         };
-        let shutter = match self.shutter {
-            None | Some(ShutterName::EntrancePupil) => Shutter::EntrancePupil,
-            Some(ShutterName::DetectorPlane) => Shutter::DetectorPlane,
-            Some(ShutterName::FocusSurface) => Shutter::FocusSurface,
+        let transformation = match self.transformation {
+            None | Some(TransformationName::Lorentz) => Transformation::Lorentz,
+            Some(TransformationName::Galileo) => Transformation::Galileo,
         };
+        let doppler = self.doppler.as_ref().is_some_and(|d| *d.get_ref());
+        if doppler && transformation == Transformation::Galileo {
+            return Err(at(
+                self.doppler.as_ref().map(Spanned::span),
+                "doppler = true needs the Lorentz transformation (the headlight law is relativistic)",
+            ));
+        }
         let camera = camera
             .with_aperture(radius, focus)
             .with_shutter(
                 shutter,
-                self.shutter_time.map_or(0.0, |t| t.0),
+                self.shutter_time.as_ref().map_or(0.0, |t| t.get_ref().0),
                 self.detector_distance.map_or(1.0, |d| d.0),
             )
-            .with_velocity(boost);
+            .with_velocity(boost)
+            .with_transformation(transformation)
+            .with_doppler(doppler);
         let stereo = stereo(
             &camera,
             self.stereo.unwrap_or(StereoName::None),
@@ -219,6 +255,72 @@ impl CameraSection {
         }
         Ok(Projection::Perspective {
             horizontal_view_angle: angle.to_radians(),
+        })
+    }
+
+    /// The shutter model and its keys: a lens type for the detector plane only, a plane for
+    /// the arbitrary-plane shutter only (Dr TIM's GUI's point (0, 0, 0), normal (0, 0, 1)),
+    /// and no opening time for the fixed-point-surface shutter, which needs a focus plane and
+    /// the Lorentz transformation.
+    fn shutter(&self, focus: Focus, at: At) -> Result<Shutter, SceneFileError> {
+        let name = self.shutter.unwrap_or(ShutterName::EntrancePupil);
+        let only = |span: Option<Range<usize>>, key: &str, shutter: &str| {
+            Err(at(
+                span,
+                &format!("{key} is for the {shutter} shutter (shutter = \"{shutter}\")"),
+            ))
+        };
+        if let Some(l) = &self.lens_type
+            && name != ShutterName::DetectorPlane
+        {
+            return only(Some(l.span()), "lens_type", "detector-plane");
+        }
+        if name != ShutterName::ArbitraryPlane {
+            if let Some(p) = &self.shutter_plane_point {
+                return only(Some(p.span()), "shutter_plane_point", "arbitrary-plane");
+            }
+            if let Some(n) = &self.shutter_plane_normal {
+                return only(Some(n.span()), "shutter_plane_normal", "arbitrary-plane");
+            }
+        }
+        Ok(match name {
+            ShutterName::EntrancePupil => Shutter::EntrancePupil,
+            ShutterName::DetectorPlane => Shutter::DetectorPlane(match &self.lens_type {
+                Some(l) if *l.get_ref() == LensTypeName::LensHologram => LensType::LensHologram,
+                _ => LensType::IdealLens,
+            }),
+            ShutterName::FocusSurface => Shutter::FocusSurface,
+            ShutterName::ArbitraryPlane => Shutter::ArbitraryPlane {
+                point: self
+                    .shutter_plane_point
+                    .as_ref()
+                    .map_or(DVec3::ZERO, |p| p.get_ref().0),
+                normal: self
+                    .shutter_plane_normal
+                    .as_ref()
+                    .map_or(DVec3::Z, |n| n.get_ref().0),
+            },
+            ShutterName::FixedPointSurface => {
+                if let Some(t) = &self.shutter_time {
+                    return Err(at(
+                        Some(t.span()),
+                        "the fixed-point-surface shutter has no shutter_time: it times each ray so that the focus surface stays in place",
+                    ));
+                }
+                if self.transformation == Some(TransformationName::Galileo) {
+                    return Err(at(
+                        None,
+                        "the fixed-point-surface shutter needs the Lorentz transformation (under Galileo's, light does not travel at c in the camera frame, where the shutter times its rays)",
+                    ));
+                }
+                if focus == Focus::Surface {
+                    return Err(at(
+                        self.focus_surface.as_ref().map(Spanned::span),
+                        "the fixed-point-surface shutter needs a focus plane (focus_distance): where a chief ray misses a focus_surface there is no point to keep fixed",
+                    ));
+                }
+                Shutter::FixedPointSurface
+            }
         })
     }
 

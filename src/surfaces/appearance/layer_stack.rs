@@ -154,6 +154,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::PointToPointImagingHologram(_)
         | Surface::PhaseConjugating(_)
         | Surface::LorentzWindow(_)
+        | Surface::GalileoWindow(_)
         | Surface::IdealThinLens(_)
         | Surface::IdealThinMirror(_)
         | Surface::IdealThinLensletArray(_)

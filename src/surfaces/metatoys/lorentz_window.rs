@@ -9,7 +9,8 @@
 //! it is applied to rays arriving from either side, and the ray continues in the new direction
 //! whichever side of the window that points to.
 //!
-//! β here is the velocity of the virtual camera. Dr TIM's `LorentzTransformInterface` takes
+//! β here is the velocity of the virtual camera, in the global basis or in the surface's local
+//! (u, v, w) basis at each point (`basis`, as Dr TIM's class allows). Dr TIM's `LorentzTransformInterface` takes
 //! the apparent velocity of the world seen through the surface, which is −β: its
 //! d′ ∝ d⊥/γ + d∥ + β_DrTIM (for unit d, parts along and across β) is the same direction with
 //! β_DrTIM = −β.
@@ -17,6 +18,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
+use super::{Basis, jacobian};
 use crate::geometry::Interaction;
 use crate::keys::{Coefficient, Vector, throughput};
 use crate::math::Colour;
@@ -27,30 +29,44 @@ use crate::surfaces::{Redirection, Surface};
 pub struct LorentzWindow {
     /// The boost of the virtual camera, velocity β (|β| < 1; Dr TIM's β is −β).
     pub boost: LorentzTransform,
+    /// The basis β is given in.
+    pub basis: Basis,
     /// Fraction of the light transmitted, in [0, 1].
     pub transmission_coefficient: f64,
 }
 
 impl LorentzWindow {
-    /// The unit direction a traced ray with direction `d` leaves in.
+    /// The unit direction a traced ray with direction `d` leaves in (β global).
     pub fn direction(&self, d: DVec3) -> DVec3 {
         self.boost.backwards_direction(d).normalize()
     }
 
+    /// The direction a ray leaves in at `at`: in the local basis, the boost is applied to the
+    /// ray's local components (the frame is orthonormal, so that is the boost by the global
+    /// β = Λβ_local, Eq 38).
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
+        let d = at.ray.direction;
+        let direction = match self.basis {
+            Basis::Global => self.direction(d),
+            Basis::Local => {
+                let l = jacobian(&at.frame());
+                l * self.direction(l.transpose() * d)
+            }
+        };
         Redirection::Leaves {
-            direction: self.direction(at.ray.direction),
+            direction,
             factor: Colour::splat(self.transmission_coefficient),
         }
     }
 }
 
 /// `type = "lorentz-window"`: the window's velocity `beta` (in units of c, magnitude below 1;
-/// Dr TIM's GUI's 0 where not given).
+/// Dr TIM's GUI's 0 where not given), in the global (default) or local `basis`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LorentzWindowKeys {
     beta: Option<Vector>,
+    basis: Option<Basis>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
 }
@@ -64,6 +80,7 @@ impl LorentzWindowKeys {
                     "lorentz-window: beta = {beta} must have magnitude below 1 (the speed of light)"
                 )
             })?,
+            basis: self.basis.unwrap_or_default(),
             transmission_coefficient: throughput(self.transmission_coefficient),
         }))
     }
@@ -82,6 +99,7 @@ mod tests {
         let beta = 0.8;
         let window = LorentzWindow {
             boost: LorentzTransform::new(DVec3::new(0.0, 0.0, beta)).unwrap(),
+            basis: Basis::Global,
             transmission_coefficient: 1.0,
         };
         for k in 0..50 {
@@ -110,6 +128,7 @@ mod tests {
         let beta = DVec3::new(0.3, -0.5, 0.4);
         let window = LorentzWindow {
             boost: LorentzTransform::new(beta).unwrap(),
+            basis: Basis::Global,
             transmission_coefficient: 1.0,
         };
         let gamma = 1.0 / (1.0 - beta.length_squared()).sqrt();

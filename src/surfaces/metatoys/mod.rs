@@ -1,7 +1,7 @@
 //! METATOY surfaces (§4–6): thin sheets that change the direction of light rays in ways that
 //! ordinary refraction cannot: interfaces between spaces with different optical metrics,
 //! generalised confocal lenslet arrays, ray rotation and flipping, phase holograms, phase
-//! conjugation, Lorentz-transform windows and teleportation. One law per file, each with a pure
+//! conjugation, Lorentz- and Galileo-transform windows and teleportation. One law per file, each with a pure
 //! direction-change function that works in the surface's local frame or on global vectors.
 //!
 //! The tracer follows rays backwards from the camera and applies each law to the traced ray.
@@ -9,7 +9,8 @@
 //! reverse-order rule, rotation about the direction of crossing, flipping, phase holograms,
 //! phase conjugation) this is exactly what light does, since a law that maps d to d′ then maps
 //! −d′ to −d; the mirror fallback below is not reciprocal in general. The non-reciprocal
-//! Lorentz window and teleporter are defined by what the camera sees through them.
+//! Lorentz and Galileo windows and the teleporter are defined by what the camera sees through
+//! them.
 //!
 //! Where a law has no transmitted ray (the "impossible" or evanescent cases), the ray is
 //! reflected, as TIM does when refraction fails (total internal reflection, §4.1). As in Dr TIM
@@ -19,6 +20,7 @@
 
 mod complex_metarefraction;
 mod confocal_lenslet_arrays;
+mod galileo_window;
 mod gcla_transmission;
 mod idealised_dove_prism_array;
 mod lorentz_window;
@@ -38,6 +40,7 @@ pub use complex_metarefraction::{
 pub use confocal_lenslet_arrays::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
 };
+pub use galileo_window::{GalileoWindow, GalileoWindowKeys, galileo_direction};
 pub use gcla_transmission::{Apertures, Transmission};
 pub use idealised_dove_prism_array::{IdealisedDovePrismArray, IdealisedDovePrismArrayKeys};
 pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};
