@@ -96,7 +96,7 @@ pub struct ComplexMetarefraction {
 impl ComplexMetarefraction {
     /// The local direction leaving for the unit local direction `d` (w along the outward
     /// normal); `Err(())` where the wave is evanescent, `Ok(None)` where no ray leaves.
-    pub fn refract(&self, d: DVec3) -> Result<Option<DVec3>, ()> {
+    fn refract(&self, d: DVec3) -> Result<Option<DVec3>, ()> {
         let outwards = d.z > 0.0;
         let Some(c) = self.function.map(Complex64::new(d.x, d.y), !outwards) else {
             return Ok(None);
