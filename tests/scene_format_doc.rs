@@ -186,8 +186,10 @@ fn examples() -> Vec<(String, String, PathBuf)> {
             (at, completed(&b.text), in_scenes.clone())
         })
         .collect();
-    let mut scenes: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
+    // The example scenes, the research programs' figures among them.
+    let mut scenes: Vec<PathBuf> = ["scenes", "scenes/research"]
+        .iter()
+        .flat_map(|dir| std::fs::read_dir(root().join(dir)).unwrap())
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
