@@ -407,6 +407,18 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "unknown field `factor`",
         ),
         (
+            r#"{ type = "ideal-thin-space-plate", centre = [0, 0, 0], distance_vector = [0, 0, 0] }"#,
+            "`distance_vector` must not be zero",
+        ),
+        (
+            r#"{ type = "ideal-thin-space-plate", distance_vector = [0, 0, 1] }"#,
+            "missing field `centre`",
+        ),
+        (
+            r#"{ type = "layer-stack", layers = [{ type = "ideal-thin-space-plate", centre = [0, 0, 0], distance_vector = [0, 0, 1] }, { type = "matt", colour = [1, 1, 1] }] }"#,
+            "a ideal-thin-space-plate surface cannot be a layer",
+        ),
+        (
             r#"{ type = "refractive-complex", index_ratio = [0, 0] }"#,
             "`index_ratio` must not be 0",
         ),
@@ -947,4 +959,33 @@ fn dove_prism_arrays_move_with_their_objects() {
     assert!((a.period - 0.4).abs() < 1e-15 && (a.centre.x - 0.1).abs() < 1e-15);
     let e = error(&text("{ scale = [1, 2, 1] }"));
     assert!(e.contains("cannot be scaled non-uniformly"), "{e}");
+}
+
+/// An ideal thin space plate adds |D| of free space to every ray crossing it, whichever way:
+/// through a plate 2 in front of the camera with |D| = 3, a self-luminous chequerboard 5 away
+/// looks exactly as one 8 away seen without the plate (each line of sight shifts sideways by
+/// 3 tan θ at the plate, as 3 more of travel would move it), from either side of the plate.
+#[test]
+fn a_space_plate_looks_like_the_space_it_adds() {
+    let scene = |camera_z: f64, view: f64, pattern_z: f64, plate: bool| {
+        let plate = if plate {
+            format!(
+                "[[object]]\nname = \"plate\"\nshadow_throwing = false\nshape = {{ type = \"parallelogram\", corner = [-20, -20, {z}], span_u = [40, 0, 0], span_v = [0, 40, 0] }}\nsurface = {{ type = \"ideal-thin-space-plate\", centre = [0, 0, {z}], distance_vector = [0, 0, 3], transmission_coefficient = 1 }}\n",
+                z = camera_z + 2.0 * view
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "studio = \"none\"\n[render]\nwidth = 96\nheight = 72\n[camera]\nposition = [0.3, 0.2, {camera_z}]\nview_direction = [0.1, 0.05, {view}]\nhorizontal_view_angle_deg = 60\n{plate}[[object]]\nname = \"pattern\"\nshape = {{ type = \"plane\", point = [0, 0, {pattern_z}], normal = [0, 0, 1], u_direction = [1, 0, 0] }}\nsurface = {{ type = \"chequerboard\", tile_width = 0.4, surfaces = [{{ type = \"constant-colour\", colour = [1, 0.5, 0] }}, {{ type = \"constant-colour\", colour = [0, 0.2, 1] }}] }}\n"
+        )
+    };
+    for (camera_z, view) in [(0.0, 1.0), (10.0, -1.0)] {
+        let with_plate = render_text(&scene(camera_z, view, camera_z + 5.0 * view, true));
+        let farther = render_text(&scene(camera_z, view, camera_z + 8.0 * view, false));
+        let nearer = render_text(&scene(camera_z, view, camera_z + 5.0 * view, false));
+        // Rounding can flip a pixel centre lying on a tile edge.
+        assert!(differing(&with_plate, &farther) <= 3, "{}", differing(&with_plate, &farther));
+        assert!(differing(&with_plate, &nearer) > 1000);
+    }
 }

@@ -42,13 +42,13 @@ pub use lenses::{
 pub use light_ray_field::{Field, LightRayField, LightRayFieldKeys};
 pub use metatoys::{
     ComplexMetarefraction, ComplexMetarefractionKeys, ConfocalLensletArrays,
-    ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys, IdealisedDovePrismArray,
-    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
-    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
-    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
-    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
-    RefractiveComplexKeys, Teleporting, TeleportingKeys,
+    ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys, IdealThinSpacePlate,
+    IdealThinSpacePlateKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
+    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
+    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
+    PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
+    RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
+    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -98,6 +98,7 @@ kinds! {
         #[serde(alias = "ray_flipping")]
         RayFlipping(RayFlippingKeys),
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
+        IdealThinSpacePlate(IdealThinSpacePlateKeys),
         ComplexMetarefraction(ComplexMetarefractionKeys),
         RefractiveComplex(RefractiveComplexKeys),
         #[serde(alias = "phase_hologram")]
@@ -241,6 +242,7 @@ pub enum Surface {
     RayRotatingInPlaneOfIncidence(RayRotatingInPlaneOfIncidence),
     Pixellation(Pixellation),
     IdealisedDovePrismArray(IdealisedDovePrismArray),
+    IdealThinSpacePlate(IdealThinSpacePlate),
     ComplexMetarefraction(ComplexMetarefraction),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
@@ -309,6 +311,7 @@ impl Surface {
             Surface::RayRotatingInPlaneOfIncidence(_) => "ray-rotating-in-plane-of-incidence",
             Surface::Pixellation(_) => "pixellation",
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
+            Surface::IdealThinSpacePlate(_) => "ideal-thin-space-plate",
             Surface::ComplexMetarefraction(_) => "complex-metarefraction",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
@@ -408,6 +411,7 @@ impl Surface {
             Surface::RayRotatingInPlaneOfIncidence(s) => s.redirect(at),
             Surface::Pixellation(s) => s.redirect(at),
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
+            Surface::IdealThinSpacePlate(s) => s.redirect(at),
             Surface::ComplexMetarefraction(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
@@ -465,6 +469,7 @@ impl Surface {
                 Surface::PointToPointImagingHologram(h.transformed(t))
             }
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)),
+            Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
             Surface::IdealisedDovePrismArray(a) => {
                 Surface::IdealisedDovePrismArray(a.transformed(t)?)
             }

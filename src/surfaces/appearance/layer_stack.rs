@@ -105,6 +105,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         Surface::Lens(_)
         | Surface::Teleporting(_)
         | Surface::IdealisedDovePrismArray(_)
+        | Surface::IdealThinSpacePlate(_)
         | Surface::TintedSolid(_)
         | Surface::GlowingCloud(_)
         | Surface::LightRayField(_)

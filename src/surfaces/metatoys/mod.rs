@@ -22,6 +22,7 @@ mod complex_metarefraction;
 mod confocal_lenslet_arrays;
 mod galileo_window;
 mod gcla_transmission;
+mod ideal_thin_space_plate;
 mod idealised_dove_prism_array;
 mod lorentz_window;
 mod metric_interface;
@@ -42,6 +43,7 @@ pub use confocal_lenslet_arrays::{
 };
 pub use galileo_window::{GalileoWindow, GalileoWindowKeys, galileo_direction};
 pub use gcla_transmission::{Apertures, Transmission};
+pub use ideal_thin_space_plate::{IdealThinSpacePlate, IdealThinSpacePlateKeys};
 pub use idealised_dove_prism_array::{IdealisedDovePrismArray, IdealisedDovePrismArrayKeys};
 pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};
 pub use metric_interface::{
