@@ -7,7 +7,8 @@
 #
 # Usage: scripts/same-renders.sh OLD NEW [--full] [SCENE...]
 #   --full   at each scene's own size and samples (default: 96x72, 2 samples per pixel)
-# Prints one line per scene and exits non-zero if any differs.
+# Prints one line per scene and exits non-zero if any differs. OpenEXR files are compared byte
+# for byte but for the scene fingerprint in their header (timbre.scene).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ $# -ge 2 ] || { echo "usage: scripts/same-renders.sh OLD NEW [--full] [SCENE...]" >&2; exit 2; }
@@ -37,6 +38,21 @@ while at < len(data):
 open(sys.argv[1], "wb").write(kept)
 PY
 }
+# Blanks the value of an OpenEXR file's timbre.scene attribute: a fingerprint of the scene as
+# read, which changes when a build reads scenes into other structures, not with the picture.
+provenance() {
+    python3 - "$1" <<'PY'
+import struct, sys
+data = bytearray(open(sys.argv[1], "rb").read())
+name = b"timbre.scene\0string\0"
+at = data.find(name)
+if at >= 0:
+    at += len(name)
+    (n,) = struct.unpack("<i", data[at:at + 4])
+    data[at + 4:at + 4 + n] = b"0" * n
+open(sys.argv[1], "wb").write(data)
+PY
+}
 for scene in "${scenes[@]}"; do
     [ -f "$scene" ] || continue
     outcome=same
@@ -58,6 +74,9 @@ for scene in "${scenes[@]}"; do
     # (provenance, colour chunks).
     for png in "$work"/old/*.png "$work"/new/*.png; do
         [ -f "$png" ] && pixels "$png"
+    done
+    for exr in "$work"/old/*.exr "$work"/new/*.exr; do
+        [ -f "$exr" ] && provenance "$exr"
     done
     if [ "$outcome" = same ] && ! diff -r -q "$work/old" "$work/new" >/dev/null; then
         outcome="DIFFERS: $(diff -r -q "$work/old" "$work/new" | head -n 3 | tr '\n' ' ' || true)"
