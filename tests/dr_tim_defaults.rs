@@ -242,6 +242,16 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         (f.field, f.colour, f.angular_fuzziness, f.bidirectional),
         (Field::PhaseFront, DVec3::X, 1f64.to_radians(), false)
     );
+    // VARIABLE_ETA_CLAS: η = 1 at the origin, ∇η = (1, 0, 0).
+    let Surface::VariableEtaConfocalLensletArrays(v) =
+        surface("{ type = \"variable-eta-confocal-lenslet-arrays\" }")
+    else {
+        panic!()
+    };
+    assert_eq!(
+        (v.inwards_eta_at_p, v.point_p, v.grad_eta, v.transmission_coefficient),
+        (1.0, DVec3::ZERO, DVec3::X, t)
+    );
     // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.
     let Surface::Pixellation(p) = surface("{ type = \"pixellation\" }") else {
         panic!()

@@ -985,7 +985,11 @@ fn a_space_plate_looks_like_the_space_it_adds() {
         let farther = render_text(&scene(camera_z, view, camera_z + 8.0 * view, false));
         let nearer = render_text(&scene(camera_z, view, camera_z + 5.0 * view, false));
         // Rounding can flip a pixel centre lying on a tile edge.
-        assert!(differing(&with_plate, &farther) <= 3, "{}", differing(&with_plate, &farther));
+        assert!(
+            differing(&with_plate, &farther) <= 3,
+            "{}",
+            differing(&with_plate, &farther)
+        );
         assert!(differing(&with_plate, &nearer) > 1000);
     }
 }

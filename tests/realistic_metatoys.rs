@@ -1,7 +1,7 @@
-//! Realistic METATOYs (Dr TIM's `GCLAsWithApertures` and `Pixellation`), read from scene text
-//! and applied through `Surface::redirect`, checked against independent facts: the vignetting
-//! of telescopes of known lenses, the symmetry of the v direction, and the distributions of the
-//! diffractive blur and of the ray offset.
+//! Realistic METATOYs (Dr TIM's `GCLAsWithApertures` and `Pixellation`) and variable-η CLAs,
+//! read from scene text and applied through `Surface::redirect`, checked against independent
+//! facts: the vignetting of telescopes of known lenses, the symmetry of the v direction, the
+//! distributions of the diffractive blur and of the ray offset, and Eq 39 at each point.
 
 mod common;
 
@@ -180,4 +180,26 @@ fn the_ray_offset_is_uniform_within_a_pixel_side() {
     let expected = 0.01 * 0.01 / 3.0;
     assert!((sum_u2 / n as f64 - expected).abs() < 0.03 * expected);
     assert!(largest > 0.0099);
+}
+
+/// Variable-η CLAs at a point where η = η_P + (Q − P)·∇η are Eq 39's gCLAs with telescopes
+/// along the inward normal, η_u = η_v = η and no offset, in both directions of crossing.
+#[test]
+fn variable_eta_clas_are_local_gclas_along_the_normal() {
+    let variable = sheet(
+        "{ type = \"variable-eta-confocal-lenslet-arrays\", inwards_eta_at_p = 0.5, \
+         point_p = [0.2, 0, 0], grad_eta = [0.5, -0.25, 0] }",
+    );
+    for (x, y) in [(0.2, 0.0), (1.0, 0.4), (-1.3, -0.7), (3.0, 1.0)] {
+        let eta = 0.5 + 0.5 * (x - 0.2) - 0.25 * y;
+        let gcla = sheet(&format!(
+            "{{ type = \"gcla\", a = [0, 0, -1], u = [1, 0, 0], eta_u = {eta}, eta_v = {eta} }}"
+        ));
+        for d in [slopes(0.3, -0.2), -slopes(-0.1, 0.4), slopes(0.0, 0.5)] {
+            let (a, t) = leaves(redirect(&variable, x, y, d));
+            let (b, _) = leaves(redirect(&gcla, x, y, d));
+            assert!((a - b).length() < 1e-14, "({x}, {y}), {d}: {a} vs {b}");
+            assert_eq!(t, 0.96);
+        }
+    }
 }

@@ -49,6 +49,7 @@ pub use metatoys::{
     PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
     RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
     RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
+    VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -99,6 +100,7 @@ kinds! {
         RayFlipping(RayFlippingKeys),
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
         IdealThinSpacePlate(IdealThinSpacePlateKeys),
+        VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArraysKeys),
         ComplexMetarefraction(ComplexMetarefractionKeys),
         RefractiveComplex(RefractiveComplexKeys),
         #[serde(alias = "phase_hologram")]
@@ -243,6 +245,7 @@ pub enum Surface {
     Pixellation(Pixellation),
     IdealisedDovePrismArray(IdealisedDovePrismArray),
     IdealThinSpacePlate(IdealThinSpacePlate),
+    VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArrays),
     ComplexMetarefraction(ComplexMetarefraction),
     RayFlipping(RayFlipping),
     /// Charted shapes only (plane coordinates or coordinate axes on every part).
@@ -312,6 +315,7 @@ impl Surface {
             Surface::Pixellation(_) => "pixellation",
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
             Surface::IdealThinSpacePlate(_) => "ideal-thin-space-plate",
+            Surface::VariableEtaConfocalLensletArrays(_) => "variable-eta-confocal-lenslet-arrays",
             Surface::ComplexMetarefraction(_) => "complex-metarefraction",
             Surface::RayFlipping(_) => "ray-flipping",
             Surface::PhaseHologram(_) => "phase-hologram",
@@ -412,6 +416,7 @@ impl Surface {
             Surface::Pixellation(s) => s.redirect(at),
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
             Surface::IdealThinSpacePlate(s) => s.redirect(at),
+            Surface::VariableEtaConfocalLensletArrays(s) => s.redirect(at),
             Surface::ComplexMetarefraction(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
             Surface::PhaseHologram(s) => s.redirect(at),
@@ -470,6 +475,9 @@ impl Surface {
             }
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
+            Surface::VariableEtaConfocalLensletArrays(a) => {
+                Surface::VariableEtaConfocalLensletArrays(a.transformed(t)?)
+            }
             Surface::IdealisedDovePrismArray(a) => {
                 Surface::IdealisedDovePrismArray(a.transformed(t)?)
             }

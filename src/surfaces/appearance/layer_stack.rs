@@ -150,6 +150,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::RayRotatingInPlaneOfIncidence(_)
         | Surface::Pixellation(_)
         | Surface::ComplexMetarefraction(_)
+        | Surface::VariableEtaConfocalLensletArrays(_)
         | Surface::RayFlipping(_)
         | Surface::PhaseHologram(_)
         | Surface::PointToPointImagingHologram(_)

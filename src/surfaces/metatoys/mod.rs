@@ -34,6 +34,7 @@ mod ray_flipping;
 mod ray_rotating;
 mod ray_rotating_in_plane_of_incidence;
 mod teleporting;
+mod variable_eta_confocal_lenslet_arrays;
 
 pub use complex_metarefraction::{
     ComplexFunction, ComplexMetarefraction, ComplexMetarefractionKeys, RefractiveComplexKeys,
@@ -68,6 +69,9 @@ pub use ray_rotating_in_plane_of_incidence::{
     RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, rotated_in_plane_of_incidence,
 };
 pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
+pub use variable_eta_confocal_lenslet_arrays::{
+    VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
+};
 
 use glam::{DMat3, DVec3};
 
