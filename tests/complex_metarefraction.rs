@@ -1,7 +1,8 @@
-//! Complex-function metarefraction (Dr TIM's `Metarefractive` and `RefractiveComplex`), read
-//! from scene text and applied through `Surface::redirect`, against independent facts: Snell's
-//! law, rotation about the normal, the flip of one component, the complex power and
-//! exponential evaluated by hand, and total internal reflection.
+//! Complex-function metarefraction (Dr TIM's `Metarefractive` and `RefractiveComplex`) and
+//! collineation surfaces (`CollineationSurface`), read from scene text and applied through
+//! `Surface::redirect`, against independent facts: Snell's law, rotation about the normal, the
+//! flip of one component, the complex power and exponential evaluated by hand, total internal
+//! reflection, and the ideal thin lens as a collineation.
 
 mod common;
 
@@ -164,4 +165,51 @@ fn add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 }
 fn mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
+}
+
+/// A collineation surface (Dr TIM's `CollineationSurface`) with the identity changes nothing;
+/// with a translation along the sheet it moves rays along it, keeping their direction; with
+/// the thin-lens collineation f (x, y, z) / (z + f) it bends rays traced along +z exactly as
+/// an ideal thin lens of focal length f at the origin does (the lens is reciprocal, so the
+/// traced ray bends as the light does), leaving from where they met it.
+#[test]
+fn collineation_surfaces_image_lines() {
+    let identity = sheet(
+        "{ type = \"collineation-surface\", collineation = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]] }",
+    );
+    let shift = sheet(
+        "{ type = \"collineation-surface\", collineation = [[1, 0, 0, 0.5], [0, 1, 0, -0.25], [0, 0, 1, 0], [0, 0, 0, 1]] }",
+    );
+    let lens = sheet(
+        "{ type = \"collineation-surface\", collineation = [[2, 0, 0, 0], [0, 2, 0, 0], [0, 0, 2, 0], [0, 0, 1, 2]] }",
+    );
+    let ideal = sheet(
+        "{ type = \"ideal-thin-lens\", focal_length = 2, principal_point = [0, 0, 0], optical_axis = [0, 0, 1] }",
+    );
+    let jumps = |r: Redirection| match r {
+        Redirection::Jumps { exit, factor } => (exit.point, exit.direction, factor.x),
+        other => panic!("expected a jump, got {other:?}"),
+    };
+    for (x, y) in [(0.0, 0.0), (0.4, -0.3), (-1.2, 0.7)] {
+        for d in [
+            DVec3::new(0.1, 0.2, 1.0),
+            DVec3::new(-0.3, 0.0, 0.8),
+            DVec3::new(0.2, -0.1, -1.0),
+        ] {
+            let d = d.normalize();
+            let (p, e, t) = jumps(redirect(&identity, x, y, d));
+            assert_close(p, DVec3::new(x, y, 0.0), "identity: where");
+            assert_close(e, d, "identity: direction");
+            assert_eq!(t, 0.96);
+            let (p, e, _) = jumps(redirect(&shift, x, y, d));
+            assert_close(p, DVec3::new(x + 0.5, y - 0.25, 0.0), "shift: where");
+            assert_close(e, d, "shift: direction");
+            if d.z > 0.0 {
+                let (p, e, _) = jumps(redirect(&lens, x, y, d));
+                let (lensed, _) = leaves(redirect(&ideal, x, y, d));
+                assert_close(p, DVec3::new(x, y, 0.0), "lens: where");
+                assert_close(e, lensed, "lens: direction");
+            }
+        }
+    }
 }

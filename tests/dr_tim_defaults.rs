@@ -249,7 +249,12 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         panic!()
     };
     assert_eq!(
-        (v.inwards_eta_at_p, v.point_p, v.grad_eta, v.transmission_coefficient),
+        (
+            v.inwards_eta_at_p,
+            v.point_p,
+            v.grad_eta,
+            v.transmission_coefficient
+        ),
         (1.0, DVec3::ZERO, DVec3::X, t)
     );
     // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.

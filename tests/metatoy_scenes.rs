@@ -419,6 +419,14 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "a ideal-thin-space-plate surface cannot be a layer",
         ),
         (
+            r#"{ type = "collineation-surface", collineation = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 2, 0]] }"#,
+            "must be a non-singular matrix",
+        ),
+        (
+            r#"{ type = "collineation-surface", collineation = [[1, 0, 0], [0, 1, 0], [0, 0, 1]] }"#,
+            "expected an array of 4 values, got 3",
+        ),
+        (
             r#"{ type = "refractive-complex", index_ratio = [0, 0] }"#,
             "`index_ratio` must not be 0",
         ),
@@ -991,5 +999,29 @@ fn a_space_plate_looks_like_the_space_it_adds() {
             differing(&with_plate, &farther)
         );
         assert!(differing(&with_plate, &nearer) > 1000);
+    }
+}
+
+/// A collineation surface moves with its object: the thin-lens collineation of the plane z = 0
+/// placed 10 along z is T C T⁻¹, worked out by hand for f = 5 as x′ = 5x/(z − 5),
+/// z′ = (15z − 100)/(z − 5) (scenes/collineation-surface.toml's matrix).
+#[test]
+fn collineation_surfaces_move_with_their_objects() {
+    let text = "studio = \"none\"\n[[object]]\nname = \"c\"\nshape = { type = \"plane\", point = [0, 0, 0], normal = [0, 0, 1], u_direction = [1, 0, 0] }\nsurface = { type = \"collineation-surface\", collineation = [[5, 0, 0, 0], [0, 5, 0, 0], [0, 0, 5, 0], [0, 0, 1, 5]] }\ntransform = { translate = [0, 0, 10] }\n";
+    let parsed = file::parse(text, "s.toml").unwrap();
+    let Surface::CollineationSurface(c) = &object(&parsed, "c").surface else {
+        panic!()
+    };
+    for p in [
+        DVec3::new(1.0, 2.0, 3.0),
+        DVec3::new(-0.5, 0.2, 12.0),
+        DVec3::new(0.3, 0.0, 10.0),
+    ] {
+        let by_hand = DVec3::new(5.0 * p.x, 5.0 * p.y, 15.0 * p.z - 100.0) / (p.z - 5.0);
+        assert!(
+            (c.image(p) - by_hand).length() < 1e-12,
+            "{p}: {}",
+            c.image(p)
+        );
     }
 }

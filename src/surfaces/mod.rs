@@ -41,15 +41,16 @@ pub use lenses::{
 };
 pub use light_ray_field::{Field, LightRayField, LightRayFieldKeys};
 pub use metatoys::{
-    ComplexMetarefraction, ComplexMetarefractionKeys, ConfocalLensletArrays,
-    ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys, IdealThinSpacePlate,
-    IdealThinSpacePlateKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
-    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
-    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
-    PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
-    RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
-    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
-    VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
+    CollineationSurface, CollineationSurfaceKeys, ComplexMetarefraction, ComplexMetarefractionKeys,
+    ConfocalLensletArrays, ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys,
+    IdealThinSpacePlate, IdealThinSpacePlateKeys, IdealisedDovePrismArray,
+    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
+    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
+    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
+    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
+    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
+    RefractiveComplexKeys, Teleporting, TeleportingKeys, VariableEtaConfocalLensletArrays,
+    VariableEtaConfocalLensletArraysKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -100,6 +101,7 @@ kinds! {
         RayFlipping(RayFlippingKeys),
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
         IdealThinSpacePlate(IdealThinSpacePlateKeys),
+        CollineationSurface(CollineationSurfaceKeys),
         VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArraysKeys),
         ComplexMetarefraction(ComplexMetarefractionKeys),
         RefractiveComplex(RefractiveComplexKeys),
@@ -245,6 +247,7 @@ pub enum Surface {
     Pixellation(Pixellation),
     IdealisedDovePrismArray(IdealisedDovePrismArray),
     IdealThinSpacePlate(IdealThinSpacePlate),
+    CollineationSurface(CollineationSurface),
     VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArrays),
     ComplexMetarefraction(ComplexMetarefraction),
     RayFlipping(RayFlipping),
@@ -315,6 +318,7 @@ impl Surface {
             Surface::Pixellation(_) => "pixellation",
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
             Surface::IdealThinSpacePlate(_) => "ideal-thin-space-plate",
+            Surface::CollineationSurface(_) => "collineation-surface",
             Surface::VariableEtaConfocalLensletArrays(_) => "variable-eta-confocal-lenslet-arrays",
             Surface::ComplexMetarefraction(_) => "complex-metarefraction",
             Surface::RayFlipping(_) => "ray-flipping",
@@ -416,6 +420,7 @@ impl Surface {
             Surface::Pixellation(s) => s.redirect(at),
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
             Surface::IdealThinSpacePlate(s) => s.redirect(at),
+            Surface::CollineationSurface(s) => s.redirect(at),
             Surface::VariableEtaConfocalLensletArrays(s) => s.redirect(at),
             Surface::ComplexMetarefraction(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
@@ -475,6 +480,7 @@ impl Surface {
             }
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
+            Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
             Surface::VariableEtaConfocalLensletArrays(a) => {
                 Surface::VariableEtaConfocalLensletArrays(a.transformed(t)?)
             }

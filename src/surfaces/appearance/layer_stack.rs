@@ -106,6 +106,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Teleporting(_)
         | Surface::IdealisedDovePrismArray(_)
         | Surface::IdealThinSpacePlate(_)
+        | Surface::CollineationSurface(_)
         | Surface::TintedSolid(_)
         | Surface::GlowingCloud(_)
         | Surface::LightRayField(_)

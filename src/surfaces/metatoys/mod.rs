@@ -18,6 +18,7 @@
 //! is TIR"), that reflection is lossless unless the law is given a reflection coefficient; the
 //! transmission coefficient applies to transmitted rays only.
 
+mod collineation_surface;
 mod complex_metarefraction;
 mod confocal_lenslet_arrays;
 mod galileo_window;
@@ -36,6 +37,7 @@ mod ray_rotating_in_plane_of_incidence;
 mod teleporting;
 mod variable_eta_confocal_lenslet_arrays;
 
+pub use collineation_surface::{CollineationSurface, CollineationSurfaceKeys};
 pub use complex_metarefraction::{
     ComplexFunction, ComplexMetarefraction, ComplexMetarefractionKeys, RefractiveComplexKeys,
 };
