@@ -45,7 +45,7 @@ pub enum Transmission {
     /// The overlap of the apertures for this ray (Dr TIM's `GEOMETRIC`).
     Geometric(Apertures),
     /// The best case over all directions, with apertures of equal widths: min(1, 1/|η|) in each
-    /// projection (Dr TIM's `GEOMETRIC_BEST`; see [`best_case`]).
+    /// projection (Dr TIM's `GEOMETRIC_BEST`; see `best_case`).
     GeometricBest,
 }
 
