@@ -135,6 +135,10 @@ fn evanescent_rays_are_reflected_and_julia_sets_have_no_inverse() {
         DVec3::new(-0.3, 0.0, -0.91f64.sqrt()),
     ));
     assert_close(out, DVec3::new(0.5, 0.0, -0.75f64.sqrt()), "−0.3 + 0.8");
+    // ln 0 is infinite: a ray crossing an exp sheet inwards along the normal is reflected.
+    let exp = sheet("{ type = \"complex-metarefraction\", function = { type = \"exp\" } }");
+    let (out, _) = leaves(redirect(&exp, 0.0, 0.0, -DVec3::Z));
+    assert_close(out, DVec3::Z, "ln 0");
     let julia = sheet(
         "{ type = \"complex-metarefraction\", function = { type = \"julia-set\", \
          constant = [-0.1, 0.2], iterations = 3 } }",

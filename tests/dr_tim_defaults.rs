@@ -8,10 +8,11 @@
 mod common;
 
 use glam::{DVec2, DVec3};
+use num_complex::Complex64;
 use timbre::geometry::Shape;
 use timbre::surfaces::ideal_lenses::Focus;
 use timbre::surfaces::lenses::LensLaw;
-use timbre::surfaces::metatoys::{Apertures, Blur, Pixels, Transmission};
+use timbre::surfaces::metatoys::{Apertures, Blur, ComplexFunction, Pixels, Transmission};
 use timbre::surfaces::{Coloured, Field, Surface};
 
 /// `SurfacePropertyPrimitive.DEFAULT_TRANSMISSION_COEFFICIENT`.
@@ -256,6 +257,14 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             v.transmission_coefficient
         ),
         (1.0, DVec3::ZERO, DVec3::X, t)
+    );
+    // COMPLEX_REFRACTIVE (Dr TIM's RefractiveComplex): the index ratio 1, no change.
+    let Surface::ComplexMetarefraction(c) = surface("{ type = \"refractive-complex\" }") else {
+        panic!()
+    };
+    assert_eq!(
+        (c.function, c.transmission_coefficient),
+        (ComplexFunction::Multiplication(Complex64::new(1.0, 0.0)), t)
     );
     // PIXELLATION: 1e-4 × 1e-4 pixels, 632.8 nm, blur and ray offset both simulated.
     let Surface::Pixellation(p) = surface("{ type = \"pixellation\" }") else {

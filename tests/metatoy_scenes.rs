@@ -18,7 +18,7 @@ use timbre::surfaces::metatoys::{
     LensPhase, Phase, PointToPointImagingHologram, PolynomialPhase, Refraction, RotationAxis,
     RotationallySymmetricPhase, Sectors, Teleportation, Transmission,
 };
-use timbre::surfaces::{ConfocalLensletArrays, PhaseConjugating, Redirection, Surface};
+use timbre::surfaces::{ConfocalLensletArrays, Field, PhaseConjugating, Redirection, Surface};
 
 use common::images::{differing, differing_by_more_than, parse, render_description, render_text};
 
@@ -1024,4 +1024,36 @@ fn collineation_surfaces_move_with_their_objects() {
             c.image(p)
         );
     }
+}
+
+/// A light-ray field's vortex moves with its object: its m/k is a length (the tilt is
+/// (m/k)/r), so a uniform scaling by 2 doubles it, and a mirror turns its sense.
+#[test]
+fn optical_vortices_scale_and_mirror_with_their_objects() {
+    let text = |transform: &str| {
+        format!(
+            "studio = \"none\"\n[[object]]\nname = \"v\"\nshape = {{ type = \"plane\", point = [0, 0, 0], normal = [0, 0, 1], u_direction = [1, 0, 0] }}\nsurface = {{ type = \"light-ray-field\", field = {{ type = \"optical-vortex\", point = [1, 0, 0], direction = [0, 0, 1], m_over_k = 0.3 }} }}\ntransform = {transform}\n"
+        )
+    };
+    let vortex = |transform: &str| {
+        let parsed = file::parse(&text(transform), "s.toml").unwrap();
+        let Surface::LightRayField(f) = &object(&parsed, "v").surface else {
+            panic!()
+        };
+        f.field
+    };
+    assert_eq!(
+        vortex("{ scale = [2, 2, 2] }"),
+        Field::OpticalVortex {
+            point: DVec3::new(2.0, 0.0, 0.0),
+            direction: DVec3::Z,
+            m_over_k: 0.6
+        }
+    );
+    let Field::OpticalVortex { m_over_k, .. } = vortex("{ scale = [-1, 1, 1] }") else {
+        panic!()
+    };
+    assert_eq!(m_over_k, -0.3);
+    let e = error(&text("{ scale = [1, 2, 1] }"));
+    assert!(e.contains("cannot be scaled non-uniformly"), "{e}");
 }

@@ -111,6 +111,29 @@ fn the_light_crosses_an_arbitrary_shutter_plane_at_the_opening_time() {
     }
 }
 
+/// An arbitrary shutter plane through the entrance pupil, perpendicular to the view, is the
+/// entrance-pupil shutter: every ray leaves the pupil at the opening time, t_s = 0.5.
+#[test]
+fn an_arbitrary_shutter_plane_in_the_pupil_is_the_entrance_pupil_shutter() {
+    let pupil = camera(Shutter::EntrancePupil, DVec3::Z * 0.8);
+    let plane = camera(
+        Shutter::ArbitraryPlane {
+            point: DVec3::new(0.2, -0.1, -1.0),
+            normal: DVec3::Z,
+        },
+        DVec3::Z * 0.8,
+    );
+    for (pixel, sample) in SAMPLES {
+        let (a, b) = (
+            pupil.ray(64, 48, pixel, sample, NO_SURFACE),
+            plane.ray(64, 48, pixel, sample, NO_SURFACE),
+        );
+        assert_eq!(a.time, 0.5);
+        assert!((b.time - 0.5).abs() < 1e-15, "{pixel:?}: {}", b.time);
+        assert_eq!((a.origin, a.direction), (b.origin, b.direction));
+    }
+}
+
 #[test]
 fn the_detector_planes_lens_hologram_times_rays_from_the_pixel() {
     let c = camera(

@@ -99,8 +99,11 @@ impl LightRayField {
         }
     }
 
-    /// The field of an object placed by `t`: its points and directions move with it.
-    pub fn transformed(&self, t: &Transform) -> LightRayField {
+    /// The field of an object placed by `t`: its points and directions move with it. A
+    /// vortex's m/k is a length (its tilt is (m/k)/r), scaled with the object, and its sense
+    /// turns in a mirror; so a vortex needs a rotation, uniform scaling and translation (or
+    /// their mirror images).
+    pub fn transformed(&self, t: &Transform) -> Result<LightRayField, String> {
         let direction = |d: DVec3| t.vector(d).normalize();
         let field = match self.field {
             Field::Collimated { direction: d } => Field::Collimated {
@@ -115,16 +118,26 @@ impl LightRayField {
                 point,
                 direction: d,
                 m_over_k,
-            } => Field::OpticalVortex {
-                point: t.point(point),
-                direction: direction(d),
-                m_over_k,
-            },
+            } => {
+                let scale = t.uniform_scale().ok_or(
+                    "an optical vortex's m/k is a length, defined only under rotations, \
+                     uniform scaling and translations, so it cannot be scaled non-uniformly",
+                )?;
+                let handedness = t
+                    .vector(DVec3::X)
+                    .cross(t.vector(DVec3::Y))
+                    .dot(t.vector(DVec3::Z));
+                Field::OpticalVortex {
+                    point: t.point(point),
+                    direction: direction(d),
+                    m_over_k: m_over_k * scale * handedness.signum(),
+                }
+            }
         };
-        LightRayField {
+        Ok(LightRayField {
             field,
             ..self.clone()
-        }
+        })
     }
 }
 

@@ -459,11 +459,12 @@ impl Surface {
         }
     }
 
-    /// The surface of an object placed by `t`: the positions and directions of the ideal
-    /// lenses' laws move with the shape, and their focal lengths scale with it (which needs a
-    /// similarity map); a point-to-point imaging hologram's two points move with it. The other
-    /// laws have no positions; the vectors and tensors of a law in the global basis are read
-    /// in x, y and z, wherever the object is.
+    /// The surface of an object placed by `t`: the positions and directions of the laws that
+    /// have them move with the shape (ideal lenses, point-to-point holograms, light-ray fields,
+    /// Dove-prism arrays, space plates, variable-η CLAs, collineations), and their lengths scale
+    /// with it where that needs a similarity map. The other laws have no positions; the vectors
+    /// and tensors of a law in the global basis are read in x, y and z, and pixel sizes and
+    /// wavelengths stay as given, wherever the object is.
     pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
         if t.is_identity() {
             return Ok(self.clone());
@@ -478,7 +479,7 @@ impl Surface {
             Surface::PointToPointImagingHologram(h) => {
                 Surface::PointToPointImagingHologram(h.transformed(t))
             }
-            Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)),
+            Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)?),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
             Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
             Surface::VariableEtaConfocalLensletArrays(a) => {

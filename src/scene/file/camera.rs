@@ -34,7 +34,7 @@ pub(super) struct CameraSection {
     focus_distance: Option<Spanned<Positive>>,
     focus_surface: Option<Spanned<Vec<Spanned<ShapeKeys>>>>,
     beta: Option<Spanned<Vector>>,
-    transformation: Option<TransformationName>,
+    transformation: Option<Spanned<TransformationName>>,
     doppler: Option<Spanned<bool>>,
     shutter: Option<ShutterName>,
     shutter_time: Option<Spanned<Finite>>,
@@ -187,7 +187,7 @@ impl CameraSection {
             })?,
             None => *camera.boost(),
         };
-        let transformation = match self.transformation {
+        let transformation = match self.transformation.as_ref().map(|t| *t.get_ref()) {
             None | Some(TransformationName::Lorentz) => Transformation::Lorentz,
             Some(TransformationName::Galileo) => Transformation::Galileo,
         };
@@ -307,9 +307,13 @@ impl CameraSection {
                         "the fixed-point-surface shutter has no shutter_time: it times each ray so that the focus surface stays in place",
                     ));
                 }
-                if self.transformation == Some(TransformationName::Galileo) {
+                if let Some(t) = self
+                    .transformation
+                    .as_ref()
+                    .filter(|t| *t.get_ref() == TransformationName::Galileo)
+                {
                     return Err(at(
-                        None,
+                        Some(t.span()),
                         "the fixed-point-surface shutter needs the Lorentz transformation (under Galileo's, light does not travel at c in the camera frame, where the shutter times its rays)",
                     ));
                 }

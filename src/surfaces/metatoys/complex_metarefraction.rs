@@ -4,8 +4,9 @@
 //! direction, in the surface's local (u, v) basis, is the complex number c = d_u + i d_v; the
 //! sheet maps it by a complex function, c′ = f(c) for rays crossing inwards (against the outward
 //! normal) and c′ = g(c) for rays crossing outwards, and the ray leaves on the far side with
-//! direction (Re c′, Im c′, ±√(1 − |c′|²)). Where |c′| > 1 the wave is evanescent and the ray is
-//! reflected (losslessly unless a reflection coefficient is given).
+//! direction (Re c′, Im c′, ±√(1 − |c′|²)). Where |c′| > 1 (infinite too: ln 0, a negative
+//! power of 0) the wave is evanescent and the ray is reflected (losslessly unless a reflection
+//! coefficient is given); where c′ is not a number no light passes.
 //!
 //! The functions (f inwards, g outwards; principal branches):
 //! - `multiplication`: f(c) = k c, g(c) = c / k. A real k is Snell's law for the index ratio
@@ -101,9 +102,10 @@ impl ComplexMetarefraction {
         let Some(c) = self.function.map(Complex64::new(d.x, d.y), !outwards) else {
             return Ok(None);
         };
-        if !c.is_finite() {
+        if c.is_nan() {
             return Ok(None);
         }
+        // An infinite c′ (ln 0, a negative power of 0) is evanescent, as in Dr TIM.
         let normal2 = 1.0 - c.norm_sqr();
         if normal2 < 0.0 {
             return Err(());
@@ -215,12 +217,12 @@ impl ComplexMetarefractionKeys {
 }
 
 /// `type = "refractive-complex"` (Dr TIM's `RefractiveComplex`): `index_ratio = [re, im]`,
-/// the complex ratio n_inside / n_outside (required, non-zero), and the coefficients; a
-/// multiplication by its inverse.
+/// the complex ratio n_inside / n_outside (non-zero; Dr TIM's GUI default 1), and the
+/// coefficients; a multiplication by its inverse.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RefractiveComplexKeys {
-    index_ratio: Vector2,
+    index_ratio: Option<Vector2>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
     #[serde(alias = "reflection")]
@@ -229,7 +231,7 @@ pub struct RefractiveComplexKeys {
 
 impl RefractiveComplexKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let n = complex(self.index_ratio);
+        let n = self.index_ratio.map_or(Complex64::new(1.0, 0.0), complex);
         if n == Complex64::new(0.0, 0.0) {
             return Err("refractive-complex: `index_ratio` must not be 0".into());
         }

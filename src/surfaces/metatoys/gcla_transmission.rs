@@ -87,10 +87,12 @@ pub fn best_case(eta: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// The telescope traced ray by ray with thin-lens optics, independently of the overlap
-    /// formula: `n` rays of slope `s` spread evenly over lenslet 1's aperture (lens at a = 0,
+    /// The telescope traced ray by ray with thin-lens optics: `n` rays of slope `s` spread
+    /// evenly over lenslet 1's aperture, each carried through the lenses in turn (lens at a = 0,
     /// focal length 1, axis at 0), refracted (slope′ = slope − h/f), carried to lenslet 2 at
-    /// a = 1 + f₂ (f₂ = −η), kept if they land inside aperture 2; the fraction kept.
+    /// a = 1 + f₂ (f₂ = −η), kept if they land inside aperture 2; the fraction kept. The
+    /// landing height is the formula's image of h; what this checks independently is the
+    /// overlap and its normalisation (the vignetting), for apertures of every order.
     fn traced(eta: f64, delta: f64, alpha: (f64, f64), sigma: (f64, f64), s: f64) -> f64 {
         let n = 100_000;
         let f2 = -eta;

@@ -9,8 +9,9 @@
 //! reverse-order rule, rotation about the direction of crossing, flipping, phase holograms,
 //! phase conjugation) this is exactly what light does, since a law that maps d to d′ then maps
 //! −d′ to −d; the mirror fallback below is not reciprocal in general. The non-reciprocal
-//! Lorentz and Galileo windows and the teleporter are defined by what the camera sees through
-//! them.
+//! Lorentz and Galileo windows, the teleporter, ray rotation in the plane of incidence,
+//! collineation surfaces and complex metarefraction (but by odd functions) are defined, as in
+//! Dr TIM, by what the camera sees through them.
 //!
 //! Where a law has no transmitted ray (the "impossible" or evanescent cases), the ray is
 //! reflected, as TIM does when refraction fails (total internal reflection, §4.1). As in Dr TIM
