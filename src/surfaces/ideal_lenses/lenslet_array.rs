@@ -9,14 +9,19 @@
 //! centres are at u_c = p_u ⌊α/p_u + ½⌋ (likewise v), and the lenslet's principal point is
 //! C + u_c û + v_c v̂. Where û and v̂ become parallel on a curved surface there is no lenslet
 //! (the ray is lost).
+//!
+//! Optionally (Dr TIM's `RectangularIdealThinLensletArray`), each lenslet's aperture diffracts:
+//! the outgoing direction is blurred by single-slit diffraction at the wavelength `lambda` for
+//! slits as wide as the periods, along the surface's u and v (`metatoys::Pixels`).
 
 use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::ThinLens;
 use crate::geometry::{Interaction, Transform};
-use crate::keys::{Coefficient, Direction, NonZero, Vector, throughput};
+use crate::keys::{Coefficient, Direction, NonZero, Positive, Vector, throughput};
 use crate::math::Colour;
+use crate::surfaces::metatoys::{Blur, Pixels};
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -31,6 +36,8 @@ pub struct LensletArray {
     /// The lenslets' focal length, finite and non-zero.
     pub focal_length: f64,
     pub transmission_coefficient: f64,
+    /// The wavelength for which diffractive blur is simulated, if it is.
+    pub lambda: Option<f64>,
 }
 
 impl LensletArray {
@@ -44,7 +51,7 @@ impl LensletArray {
             v: super::direction(t, self.v),
             period: self.period * s,
             focal_length: self.focal_length * s,
-            transmission_coefficient: self.transmission_coefficient,
+            ..*self
         })
     }
 
@@ -73,15 +80,28 @@ impl LensletArray {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let s = at.local_point();
         let lens = self.lenslet(s, at.normal());
-        Redirection::Leaves {
-            direction: lens.direction(at.ray.direction, s).normalize(),
-            factor: Colour::splat(self.transmission_coefficient),
+        let direction = lens.direction(at.ray.direction, s).normalize();
+        match self.lambda {
+            None => Redirection::Leaves {
+                direction,
+                factor: Colour::splat(self.transmission_coefficient),
+            },
+            // An evanescent result is reflected without loss, as in Dr TIM.
+            Some(lambda) => Pixels {
+                size: self.period,
+                lambda,
+                blur: Some(Blur::SingleSlit),
+                ray_offset: false,
+            }
+            .spread(at, direction, self.transmission_coefficient, 1.0),
         }
     }
 }
 
 /// `type = "ideal-thin-lenslet-array"`: lenslets of `focal_length` on the lattice of `period`
-/// along `u_direction` and `v_direction` (not parallel) about `centre`.
+/// along `u_direction` and `v_direction` (not parallel) about `centre`; with
+/// `simulate_diffractive_blur` (false, the behaviour of Dr TIM's `…Simple` array) blurred for
+/// the wavelength `lambda` (632.8e-9, Dr TIM's GUI's).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IdealThinLensletArrayKeys {
@@ -92,6 +112,8 @@ pub struct IdealThinLensletArrayKeys {
     period: Option<[NonZero; 2]>,
     #[serde(alias = "transmission")]
     transmission_coefficient: Option<Coefficient>,
+    simulate_diffractive_blur: Option<bool>,
+    lambda: Option<Positive>,
 }
 
 impl IdealThinLensletArrayKeys {
@@ -118,6 +140,10 @@ impl IdealThinLensletArrayKeys {
             period: DVec2::new(pu, pv),
             focal_length: self.focal_length.map_or(1.0, |f| f.0),
             transmission_coefficient: throughput(self.transmission_coefficient),
+            lambda: self
+                .simulate_diffractive_blur
+                .unwrap_or(false)
+                .then(|| self.lambda.map_or(632.8e-9, |l| l.0)),
         }))
     }
 }
@@ -137,6 +163,7 @@ mod tests {
             period: DVec2::new(1.0, 0.5),
             focal_length: 0.4,
             transmission_coefficient: 1.0,
+            lambda: None,
         };
         for (s, cell) in [
             (DVec3::new(1.2, -0.3, 2.0), DVec3::new(1.25, -0.5, 2.0)),
@@ -171,6 +198,7 @@ mod tests {
             period: DVec2::ONE,
             focal_length: 1.0,
             transmission_coefficient: 1.0,
+            lambda: None,
         };
         let lens = array.lenslet(DVec3::new(1.0, -1.0, 0.0), DVec3::Z);
         let expected = 2.0 * DVec3::X - v;
