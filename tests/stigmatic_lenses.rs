@@ -23,36 +23,14 @@ use glam::DVec3;
 use tempfile::TempDir;
 use timbre::geometry::{Shape, lens_surface};
 use timbre::scene::file;
-use timbre::surfaces::Surface;
 
 use common::cli::{path_str, timbre, write};
+use common::glass::{across, follow, snell};
 use common::rng::Rng;
-
-/// Snell's law for the unit direction `d` meeting a surface of unit normal `normal` with index
-/// `n_inside` behind it (against the normal) and 1 in front, or `None` for total internal
-/// reflection: the tangential part of n d is kept, the normal part fills the unit vector.
-fn snell(d: DVec3, normal: DVec3, n_inside: f64) -> Option<DVec3> {
-    let cos = d.dot(normal);
-    // From the front (cos < 0) into the glass, or from the glass out.
-    let (n1, n2) = if cos < 0.0 {
-        (1.0, n_inside)
-    } else {
-        (n_inside, 1.0)
-    };
-    let tangential = n1 / n2 * (d - cos * normal);
-    let along = 1.0 - tangential.length_squared();
-    (along >= 0.0).then(|| tangential + along.sqrt() * cos.signum() * normal)
-}
 
 /// How far the line through `p` along the unit vector `e` passes from `q`.
 fn miss(p: DVec3, e: DVec3, q: DVec3) -> f64 {
     (q - p).cross(e).length()
-}
-
-/// A unit vector across `axis`.
-fn across(axis: DVec3) -> (DVec3, DVec3) {
-    let u = axis.any_orthonormal_vector();
-    (u, axis.cross(u))
 }
 
 /// Dr TIM's lens surface, described here by its explicit form: focal point F, outward axis ŵ,
@@ -225,36 +203,6 @@ fn lens_surface_sends_axial_rays_in_the_glass_through_its_focal_point() {
             }
         }
     }
-}
-
-/// A ray followed through the objects of `description` with [`snell`] at refractive surfaces:
-/// the objects met, and the last point and direction; `None` if it ends on another surface.
-fn follow(
-    description: &timbre::scene::SceneDescription,
-    mut o: DVec3,
-    mut d: DVec3,
-) -> Option<(Vec<String>, DVec3, DVec3)> {
-    let mut met = Vec::new();
-    for _ in 0..20 {
-        let nearest = description
-            .objects
-            .iter()
-            .filter_map(|obj| {
-                let (t, part) = obj.shape.intersect(o, d, 1e-9, 1e6)?;
-                Some((t, part, obj))
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let Some((t, part, obj)) = nearest else {
-            return Some((met, o, d));
-        };
-        let Surface::Refractive(r) = &obj.surface else {
-            return None;
-        };
-        o += t * d;
-        d = snell(d, obj.shape.normal(o, part), r.index_ratio)?;
-        met.push(obj.name.clone());
-    }
-    None
 }
 
 /// Rays from `from` in every direction within `cone` radians of `towards`, on rings of 24.

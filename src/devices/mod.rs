@@ -17,6 +17,7 @@ mod lens_type;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod refractive_lens_surfaces;
+mod refractive_lenslet_array;
 mod tim_head;
 mod triangular_thick_lens;
 
@@ -31,6 +32,7 @@ pub use lens_type::{Face, LensType};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
+pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
@@ -89,6 +91,7 @@ kinds! {
         FresnelLensSurface(FresnelLensSurfaceKeys),
         RefractiveLensSurfaces(RefractiveLensSurfacesKeys),
         TriangularThickLens(TriangularThickLensKeys),
+        RefractiveLensletArray(RefractiveLensletArrayKeys),
     }
 }
 

@@ -18,6 +18,7 @@ mod elliptic_cylinder;
 mod interaction;
 mod lens_surface;
 mod lenses;
+mod lenslet_array;
 mod masked;
 mod paraboloid;
 mod parallelepiped;
@@ -53,6 +54,7 @@ pub use lens_surface::{
     Ellipse, LensSurface, LensSurfaceKeys, PlaneSection, RefractiveIndex, lens_surface,
 };
 pub use lenses::{FresnelLens, FresnelLensKeys, SphericalLens, SphericalLensKeys};
+pub use lenslet_array::{LensletArray, LensletArraySpec};
 pub use masked::{Masked, MaskedKeys};
 pub use paraboloid::{Paraboloid, ParaboloidKeys};
 pub use parallelepiped::{Parallelepiped, ParallelepipedKeys};
@@ -343,6 +345,7 @@ macro_rules! dispatch {
             Shape::SphericalCap($s) => $analytic,
             Shape::EllipticCylinder($s) => $analytic,
             Shape::LensSurface($s) => $analytic,
+            Shape::LensletArray($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::Masked($s) => $analytic,
@@ -374,6 +377,8 @@ pub enum Shape {
     EllipticCylinder(EllipticCylinder),
     /// Dr TIM's lens surface (the convex solid of one of positive focal length).
     LensSurface(LensSurface),
+    /// A sheet of glass shaped into spherical lenslets (Dr TIM's `RefractiveLensletArray`).
+    LensletArray(LensletArray),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -542,6 +547,7 @@ impl Shape {
             Shape::SphericalCap(_) => "spherical-cap",
             Shape::EllipticCylinder(e) => e.kind(),
             Shape::LensSurface(_) => "lens-surface",
+            Shape::LensletArray(_) => "refractive-lenslet-array",
             Shape::Transformed(t) => t.inner().kind(),
             Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",

@@ -5,6 +5,7 @@
 #![allow(dead_code)] // each test crate uses its own subset
 
 pub mod cli;
+pub mod glass;
 pub mod images;
 pub mod rays;
 pub mod rng;
