@@ -293,6 +293,21 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
         panic!()
     };
     assert_eq!((rp.angle, rp.transmission_coefficient), (0.0, t));
+    // DerivativeControlSurface(): D_i0 = D_o0 = the normal, J = 1, not pixellated.
+    let Surface::DerivativeControl(dc) = surface("{ type = \"derivative-control\" }") else {
+        panic!()
+    };
+    assert_eq!(
+        (dc.jacobian, dc.pixels, dc.transmission_coefficient),
+        (glam::DMat2::IDENTITY, None, t)
+    );
+    assert_eq!(
+        dc.directions,
+        timbre::surfaces::CentralDirections::Given {
+            inside: None,
+            outside: None
+        }
+    );
     let Surface::RayFlipping(rf) = surface("{ type = \"ray-flipping\" }") else {
         panic!()
     };

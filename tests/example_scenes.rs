@@ -4631,6 +4631,52 @@ fn research_view_rotation_dove_prism_arrays_rotate_the_view_by_twice_their_angle
     }
 }
 
+/// scenes/research/DerivativeControlSurfaceExplorer.toml (Dr TIM's pixellated view rotator):
+/// a line of sight from the eye (0, 0, −5) through the centre of a 0.1 × 0.1 pixel of the plane
+/// z = 0 leaves towards the point where it would have met the plane z = 10, turned by 20° about
+/// the z axis (the line through the eye along the plane's normal), worked out here; a line of
+/// sight through another point of the same pixel leaves parallel to it.
+#[test]
+fn research_derivative_control_surface_explorer_turns_the_view_by_20_degrees() {
+    let eye = DVec3::new(0.0, 0.0, -5.0);
+    let centres = [(0.3, 0.1), (-0.2, 0.4), (0.0, -0.5), (0.6, 0.6)];
+    let mut rays: Vec<String> = Vec::new();
+    for (k, &(x, y)) in centres.iter().enumerate() {
+        rays.push(ray(2 * k, eye, DVec3::new(x, y, 5.0)));
+        // Through the same pixel, 0.03 off its centre: parallel to the pixel centre's own
+        // outgoing ray, which starts 0.03 away.
+        rays.push(ray(2 * k + 1, eye, DVec3::new(x + 0.03, y - 0.02, 5.0)));
+    }
+    let traced = trace("research/DerivativeControlSurfaceExplorer", &rays);
+    let turn = glam::DQuat::from_rotation_z(20f64.to_radians());
+    for (k, &(x, y)) in centres.iter().enumerate() {
+        let p = DVec3::new(x, y, 0.0);
+        // The apparent point: the line of sight meets z = 10 at E + 3 (P − E).
+        let apparent = eye + 3.0 * (p - eye);
+        let expected = (turn * apparent - p).normalize();
+        let ray = &traced[2 * k];
+        assert_eq!(
+            ray.points[1].object.as_deref(),
+            Some("derivative-control surface"),
+            "{ray:?}"
+        );
+        assert_near("through a pixel centre", leaving(ray, 2), expected, 1e-9);
+        let ray = &traced[2 * k + 1];
+        let d = DVec3::new(0.03, -0.02, 0.0) / 5.0;
+        let off = leaving(ray, 2);
+        // The tangential change is the same as at the centre (J = 1 about the pixel's own
+        // central directions): the outgoing direction differs from the centre's by the
+        // incident one's change, d, in x and y.
+        let centre = leaving(&traced[2 * k], 2);
+        let incident = |v: DVec3| v.normalize();
+        let change = incident(DVec3::new(x, y, 5.0) + 5.0 * d) - incident(DVec3::new(x, y, 5.0));
+        assert!(
+            ((off - centre).truncate() - change.truncate()).length() < 1e-9,
+            "pixel {k}: {off} vs {centre}"
+        );
+    }
+}
+
 /// scenes/research/CurlVisualiser.toml (Dr TIM's curl visualiser with an optical vortex): the
 /// vortex's light at distance r from its line travels along −z tilted azimuthally by
 /// |m/k|/r = 0.1/r; the ray-rotation sheet turns that by 90° into a radial tilt, and the

@@ -427,6 +427,26 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "expected an array of 4 values, got 3",
         ),
         (
+            r#"{ type = "derivative-control", jacobian = [[1, 2], [2, 4]] }"#,
+            "must be an invertible 2 × 2 matrix",
+        ),
+        (
+            r#"{ type = "derivative-control", jacobian = [[1, 0], [0, 1]], view_rotation = { eye_position = [0, 0, -5], point_on_plane = [0, 0, 10], plane_normal = [0, 0, 1], rotation_angle_deg = 20 } }"#,
+            "give it alone",
+        ),
+        (
+            r#"{ type = "derivative-control", view_rotation = { eye_position = [0, 0, -5], point_on_plane = [0, 0, 10], plane_normal = [0, 0, 1] } }"#,
+            "missing field `rotation_angle_deg`",
+        ),
+        (
+            r#"{ type = "derivative-control", pixel_period_u = 0.1 }"#,
+            "need pixellated = true",
+        ),
+        (
+            r#"{ type = "derivative-control", inside_direction = [0, 0, 0] }"#,
+            "expected a direction, got the zero vector",
+        ),
+        (
             r#"{ type = "refractive-complex", index_ratio = [0, 0] }"#,
             "`index_ratio` must not be 0",
         ),
@@ -548,6 +568,13 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
         e.starts_with("s.toml:4:")
             && e.contains("needs surface coordinates on every part")
             && e.contains("open = true"),
+        "{e}"
+    );
+    let e = error(
+        "studio = \"lattice\"\n[[object]]\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\nsurface = { type = \"derivative-control\", pixellated = true }\n",
+    );
+    assert!(
+        e.starts_with("s.toml:4:") && e.contains("needs a flat shape"),
         "{e}"
     );
     let e = error("studio = \"lattice\"\n[window]\nsurface = { type = \"mirror\" }\n");

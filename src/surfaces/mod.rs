@@ -41,16 +41,16 @@ pub use lenses::{
 };
 pub use light_ray_field::{Field, LightRayField, LightRayFieldKeys};
 pub use metatoys::{
-    CollineationSurface, CollineationSurfaceKeys, ComplexMetarefraction, ComplexMetarefractionKeys,
-    ConfocalLensletArrays, ConfocalLensletArraysKeys, GalileoWindow, GalileoWindowKeys,
-    IdealThinSpacePlate, IdealThinSpacePlateKeys, IdealisedDovePrismArray,
-    IdealisedDovePrismArrayKeys, LensHologramKeys, LorentzWindow, LorentzWindowKeys,
-    MetricInterface, MetricInterfaceKeys, PhaseConjugating, PhaseConjugatingKeys, PhaseHologram,
-    PhaseHologramKeys, Pixellation, PixellationKeys, PointToPointImagingHologram,
-    PointToPointImagingHologramKeys, RayFlipping, RayFlippingKeys, RayRotating,
-    RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, RayRotatingKeys,
-    RefractiveComplexKeys, Teleporting, TeleportingKeys, VariableEtaConfocalLensletArrays,
-    VariableEtaConfocalLensletArraysKeys,
+    CentralDirections, CollineationSurface, CollineationSurfaceKeys, ComplexMetarefraction,
+    ComplexMetarefractionKeys, ConfocalLensletArrays, ConfocalLensletArraysKeys, DerivativeControl,
+    DerivativeControlKeys, GalileoWindow, GalileoWindowKeys, IdealThinSpacePlate,
+    IdealThinSpacePlateKeys, IdealisedDovePrismArray, IdealisedDovePrismArrayKeys,
+    LensHologramKeys, LorentzWindow, LorentzWindowKeys, MetricInterface, MetricInterfaceKeys,
+    PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
+    PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
+    RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
+    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
+    VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -102,6 +102,7 @@ kinds! {
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
         IdealThinSpacePlate(IdealThinSpacePlateKeys),
         CollineationSurface(CollineationSurfaceKeys),
+        DerivativeControl(DerivativeControlKeys),
         VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArraysKeys),
         ComplexMetarefraction(ComplexMetarefractionKeys),
         RefractiveComplex(RefractiveComplexKeys),
@@ -248,6 +249,7 @@ pub enum Surface {
     IdealisedDovePrismArray(IdealisedDovePrismArray),
     IdealThinSpacePlate(IdealThinSpacePlate),
     CollineationSurface(CollineationSurface),
+    DerivativeControl(DerivativeControl),
     VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArrays),
     ComplexMetarefraction(ComplexMetarefraction),
     RayFlipping(RayFlipping),
@@ -319,6 +321,7 @@ impl Surface {
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
             Surface::IdealThinSpacePlate(_) => "ideal-thin-space-plate",
             Surface::CollineationSurface(_) => "collineation-surface",
+            Surface::DerivativeControl(_) => "derivative-control",
             Surface::VariableEtaConfocalLensletArrays(_) => "variable-eta-confocal-lenslet-arrays",
             Surface::ComplexMetarefraction(_) => "complex-metarefraction",
             Surface::RayFlipping(_) => "ray-flipping",
@@ -421,6 +424,7 @@ impl Surface {
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
             Surface::IdealThinSpacePlate(s) => s.redirect(at),
             Surface::CollineationSurface(s) => s.redirect(at),
+            Surface::DerivativeControl(s) => s.redirect(at),
             Surface::VariableEtaConfocalLensletArrays(s) => s.redirect(at),
             Surface::ComplexMetarefraction(s) => s.redirect(at),
             Surface::RayFlipping(s) => s.redirect(at),
@@ -482,6 +486,7 @@ impl Surface {
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)?),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
             Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
+            Surface::DerivativeControl(d) => Surface::DerivativeControl(d.transformed(t)?),
             Surface::VariableEtaConfocalLensletArrays(a) => {
                 Surface::VariableEtaConfocalLensletArrays(a.transformed(t)?)
             }
@@ -617,6 +622,11 @@ impl Surface {
                         .to_string(),
                 )
             }
+            Surface::DerivativeControl(d) if d.pixels.is_some() && !shape.is_flat() => Err(
+                "a pixellated derivative-control surface needs a flat shape (its pixels are \
+                 cells of the plane coordinates)"
+                    .to_string(),
+            ),
             _ if self.needs_coordinates() && !shape.is_charted() => Err(format!(
                 "a {} surface needs surface coordinates on every part of its shape (a flat \
                  shape, a polyhedron, a sphere, ellipsoid, paraboloid, spherical cap, bilinear \

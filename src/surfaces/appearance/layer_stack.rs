@@ -149,6 +149,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::ConfocalLensletArrays(_)
         | Surface::RayRotating(_)
         | Surface::RayRotatingInPlaneOfIncidence(_)
+        | Surface::DerivativeControl(_)
         | Surface::Pixellation(_)
         | Surface::ComplexMetarefraction(_)
         | Surface::VariableEtaConfocalLensletArrays(_)

@@ -22,6 +22,7 @@
 mod collineation_surface;
 mod complex_metarefraction;
 mod confocal_lenslet_arrays;
+mod derivative_control;
 mod galileo_window;
 mod gcla_transmission;
 mod ideal_thin_space_plate;
@@ -44,6 +45,9 @@ pub use complex_metarefraction::{
 };
 pub use confocal_lenslet_arrays::{
     ConfocalLensletArrays, ConfocalLensletArraysKeys, Telescopelets,
+};
+pub use derivative_control::{
+    CentralDirections, DerivativeControl, DerivativeControlKeys, ViewRotation,
 };
 pub use galileo_window::{GalileoWindow, GalileoWindowKeys, galileo_direction};
 pub use gcla_transmission::{Apertures, Transmission};
