@@ -3320,6 +3320,63 @@ fn platonic_lens_refracts_at_the_triangles_of_a_cubes_edges() {
     assert!(crossings >= 10, "{crossings} lens crossings");
 }
 
+/// scenes/clas.toml: two of Dr TIM's default CLAs (f₁ = f₂ = 0.1, periods 0.1, arrays at
+/// z = 4.9 and 5.1, centred on x = ∓0.6), the left one without baffles. A line of sight from
+/// the camera (slope t = x/4.9 across u) meets array 2 first, r from a lenslet centre, and
+/// array 1 at 2ft − r from it: within the same telescope if |2ft − r| ≤ 0.05 (it then leaves
+/// with its slope reversed, η = −1), in the neighbour's otherwise, which on the right means
+/// the baffle at x = 0.65 between them (the sixth, from x = 0.15).
+#[test]
+fn clas_baffles_absorb_the_light_that_crosses_into_the_neighbouring_telescope() {
+    let targets = [
+        // r = 0.04, 2ft − r ≈ −0.014: stays.
+        DVec3::new(0.64, 0.003, 4.9),
+        // r = −0.04, 2ft − r ≈ 0.063: crosses x = 0.65.
+        DVec3::new(0.56, 0.003, 4.9),
+        // The same on the left, without baffles: crosses into the neighbour and goes on.
+        DVec3::new(-0.56, 0.003, 4.9),
+    ];
+    let rays = trace_towards("clas", DVec3::ZERO, &targets);
+    let names = |ray: &Traced| -> Vec<String> {
+        ray.points.iter().filter_map(|p| p.object.clone()).collect()
+    };
+    let passes = &rays[0];
+    let met = names(passes);
+    assert_eq!(
+        met[..2],
+        ["CLAs/lenslet array 2", "CLAs/lenslet array 1"],
+        "{met:?}"
+    );
+    // Leaves lenslet 1 with the slope reversed.
+    let t = DVec3::new(0.64, 0.003, 0.0) / 4.9;
+    let expected = (DVec3::new(-t.x, -t.y, 1.0)).normalize();
+    assert_near("leaving the telescope", leaving(passes, 2), expected, 1e-9);
+    let absorbed = &rays[1];
+    assert_eq!(
+        names(absorbed),
+        ["CLAs/lenslet array 2", "CLAs/baffle u 6"],
+        "{absorbed:?}"
+    );
+    assert_eq!(absorbed.end, "absorbed");
+    assert!(
+        (absorbed.last().x - 0.65).abs() < 1e-9,
+        "{}",
+        absorbed.last()
+    );
+    let stray = &rays[2];
+    let met = names(stray);
+    assert_eq!(
+        met[..2],
+        [
+            "CLAs without baffles/lenslet array 2",
+            "CLAs without baffles/lenslet array 1"
+        ],
+        "{met:?}"
+    );
+    // It meets array 1 in the neighbouring lenslet (centred on x = −0.7), beyond x = −0.65.
+    assert!(stray.points[2].position.x < -0.65, "{stray:?}");
+}
+
 // ------------------------------------------------------------------------------------------
 // Shapes
 // ------------------------------------------------------------------------------------------

@@ -64,6 +64,11 @@ fn aliases() -> Vec<(String, &'static str, Vec<String>)> {
                 "quadratic-lens-phase-hologram".into(),
             ],
         ),
+        (
+            "[[device]]\nlenses = { type = \"clas\", lenslet_array_type = \"@\" }\n".to_string(),
+            "semitransparent-plane",
+            vec!["semi-transparent-plane".into()],
+        ),
     ];
     for shutter in [
         "detector-plane",

@@ -1,7 +1,8 @@
-//! What each lens of a device is made of: Dr TIM's `ThinLensType` (the lens star),
+//! What each lens of a device is made of: Dr TIM's `ThinLensType` (the lens star, the CLAs),
 //! `LensElementType` (the ideal-lens cloaks), `Editable4PiLens.LensType` and the lens simplicial
-//! complex's `LensType`, one key each (`thin_lens_type`, `lens_element_type`, `lens_type`,
-//! `lens_type_representing_face`), all read as [`LensType`]. A device works out each lens as
+//! complex's `LensType`, one key each (`thin_lens_type`, `lenslet_array_type` and
+//! `channeling_lenses_type`, `lens_element_type`, `lens_type`, `lens_type_representing_face`),
+//! all read as [`LensType`]. A device works out each lens as
 //! an ideal thin lens (its principal point, optical axis, focal length and transmission
 //! coefficient) and [`LensType::part`] makes the face from it.
 //!
@@ -18,8 +19,9 @@ use serde::Deserialize;
 
 use super::Part;
 use crate::geometry::{ConvexPolygon, Parallelogram, Shape, TriangleMesh};
+use crate::math::Colour;
 use crate::surfaces::metatoys::{Phase, QuadraticPhase};
-use crate::surfaces::{PhaseHologram, Surface, ThinLens, Transparent};
+use crate::surfaces::{Coloured, Mix, PhaseHologram, Surface, ThinLens, Transparent, Weighted};
 
 /// The kind of each lens of a device; Dr TIM's names of the same kind are aliases.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
@@ -43,6 +45,34 @@ pub enum LensType {
     /// No face at all, only the edges (the lens simplicial complex's `NONE`).
     #[serde(rename = "none")]
     NoLens,
+    /// Not a lens but a placeholder plane that shows where the lens is (Dr TIM's
+    /// `SEMITRANSPARENT_PLANE`, `SemiTransparent.BLUE_SHINY_SEMITRANSPARENT`): 75 % of the light
+    /// passes undeviated, 25 % is shiny blue ([`semitransparent_plane`]).
+    #[serde(alias = "semi-transparent-plane")]
+    SemitransparentPlane,
+}
+
+/// Dr TIM's `SemiTransparent.BLUE_SHINY_SEMITRANSPARENT`, what its `SEMITRANSPARENT_PLANE`
+/// lens type puts in a lens's place, as timbre's `semi-transparent` surface makes it: of the
+/// light, 0.75 passes undeviated and 0.25 is shiny blue (`SurfaceColour.BLUE_SHINY`: diffuse
+/// blue, white specular). (Dr TIM adds all of the blue surface's light to 0.75 times the light
+/// behind; timbre's fractions add up to 1, as its `semi-transparent` surface's do.)
+pub fn semitransparent_plane() -> Surface {
+    const T: f64 = 0.75;
+    Surface::SemiTransparent(Mix {
+        parts: Box::new([
+            Weighted {
+                weight: Colour::splat(1.0 - T),
+                surface: Surface::Coloured(Coloured::shiny(Colour::new(0.0, 0.0, 1.0))),
+            },
+            Weighted {
+                weight: Colour::splat(T),
+                surface: Surface::Transparent(Transparent {
+                    transmission_coefficient: 1.0,
+                }),
+            },
+        ]),
+    })
 }
 
 /// The flat face a lens of a device fills.
@@ -95,6 +125,10 @@ impl LensType {
                 Surface::Transparent(Transparent {
                     transmission_coefficient: lens.transmission_coefficient,
                 }),
+            ),
+            LensType::SemitransparentPlane => (
+                face.shape(false).map_err(with_name)?,
+                semitransparent_plane(),
             ),
             LensType::LensHologram => {
                 let shape = face.shape(true).map_err(with_name)?;
@@ -175,6 +209,34 @@ mod tests {
                 (out.truncate() - expected.truncate()).length() < 1e-15,
                 "{out} {expected}"
             );
+        }
+    }
+
+    /// Dr TIM's `SemiTransparent.BLUE_SHINY_SEMITRANSPARENT` (`SurfaceColour.BLUE_SHINY`, 0.75
+    /// of the light through) is timbre's `semi-transparent` surface of a shiny blue surface with
+    /// its default transmission 0.75, whatever the lens.
+    #[test]
+    fn a_semitransparent_plane_is_a_shiny_blue_semi_transparent_surface() {
+        let keys: crate::surfaces::SemiTransparentKeys =
+            toml::from_str(r#"surface = { type = "shiny", colour = [0, 0, 1] }"#).unwrap();
+        let expected = keys.build().unwrap();
+        let Surface::SemiTransparent(mix) = &expected else {
+            panic!("{expected:?}")
+        };
+        assert_eq!(mix.parts[1].weight, Colour::splat(0.75));
+        for name in ["semitransparent-plane", "semi-transparent-plane"] {
+            #[derive(Deserialize)]
+            struct Keys {
+                t: LensType,
+            }
+            let keys: Keys = toml::from_str(&format!("t = \"{name}\"")).unwrap();
+            let part = keys
+                .t
+                .part("l".into(), TRIANGLE, lens(-3.0))
+                .unwrap()
+                .unwrap();
+            assert_eq!(part.surface, expected);
+            assert!(matches!(part.shape, Shape::TriangleMesh(_)));
         }
     }
 

@@ -6,6 +6,7 @@
 //! has the same default here, so that a device named by its type alone is Dr TIM's default
 //! object.
 
+mod clas;
 mod coordinate_system;
 mod four_pi_lens;
 mod fresnel_lens;
@@ -21,6 +22,7 @@ mod refractive_lenslet_array;
 mod tim_head;
 mod triangular_thick_lens;
 
+pub use clas::{Clas, ClasKeys};
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
 pub use fresnel_lens::{FresnelLens, FresnelLensKeys};
@@ -28,7 +30,7 @@ pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Secti
 pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
-pub use lens_type::{Face, LensType};
+pub use lens_type::{Face, LensType, semitransparent_plane};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
@@ -92,6 +94,7 @@ kinds! {
         RefractiveLensSurfaces(RefractiveLensSurfacesKeys),
         TriangularThickLens(TriangularThickLensKeys),
         RefractiveLensletArray(RefractiveLensletArrayKeys),
+        Clas(ClasKeys),
     }
 }
 

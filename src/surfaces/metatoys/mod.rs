@@ -64,7 +64,7 @@ pub use phase_conjugating::{
 pub use phase_hologram::{
     AzimuthalPixelatedFresnelWedgePhase, AzimuthalRadial, CylindricalPhase, LensPhase, LinearPhase,
     Phase, PhaseHologram, PhaseHologramKeys, PhaseKeys, PolynomialPhase, QuadraticPhase,
-    RotationallySymmetricPhase, Sectors, hologram_direction,
+    RectangularLensletArrayPhase, RotationallySymmetricPhase, Sectors, hologram_direction,
 };
 pub use pixellation::{Blur, Pixellation, PixellationKeys, Pixels, single_slit_x};
 pub use point_to_point_imaging_hologram::{
