@@ -15,6 +15,7 @@ mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod lens_type;
+mod ninky_nonk_silhouette;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod refractive_lens_surfaces;
@@ -31,6 +32,7 @@ pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
 pub use lens_type::{Face, LensType, semitransparent_plane};
+pub use ninky_nonk_silhouette::{NinkyNonkSilhouette, NinkyNonkSilhouetteKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
@@ -103,6 +105,7 @@ kinds! {
     pub enum AidKeys -> Result<Vec<Part>, String> {
         TimHead(TimHeadKeys),
         CoordinateSystem(CoordinateSystemKeys),
+        NinkyNonkSilhouette(NinkyNonkSilhouetteKeys),
     }
 }
 
