@@ -6,8 +6,10 @@
 //! transforms them) into the scene frame. The two frames' coordinates coincide at time 0, and
 //! the boost is taken about the camera position (the pupil centre): at t = 0 the camera is
 //! where `position` says, in both frames. As an option beyond Dr TIM, the colour seen along a
-//! ray is Doppler-shifted ([`doppler`]).
+//! ray is Doppler-shifted ([`doppler`]). A finite aperture may diffract its rays
+//! ([`aperture_diffraction`], Dr TIM's `CircularApertureDiffraction`).
 
+pub mod aperture_diffraction;
 pub mod doppler;
 mod shutter;
 
@@ -18,6 +20,10 @@ use std::fmt;
 use glam::DVec3;
 
 use crate::math::{Colour, LorentzTransform, Ray, galilean_backwards_direction, galilean_event};
+
+/// Dr TIM's wavelength for a diffractive aperture (HeNe, 632.8 nm, in metres), as its research
+/// programs use it: lengths are then in metres.
+pub const DEFAULT_LAMBDA: f64 = 632.8e-9;
 
 /// How events and ray directions go from the camera frame into the scene frame (Dr TIM's
 /// `SpaceTimeTransformationType`).
@@ -85,6 +91,8 @@ pub struct Camera {
     doppler: bool,
     /// Offset of this eye's pupil from `position` (stereo views); zero for a single camera.
     eye: DVec3,
+    /// The wavelength with which the aperture diffracts, if it does.
+    diffraction: Option<f64>,
 }
 
 impl Camera {
@@ -126,6 +134,7 @@ impl Camera {
             transformation: Transformation::Lorentz,
             doppler: false,
             eye: DVec3::ZERO,
+            diffraction: None,
         })
     }
 
@@ -184,6 +193,16 @@ impl Camera {
         Camera { doppler, ..self }
     }
 
+    /// An aperture that diffracts light of wavelength `lambda` (in the scene's units of length;
+    /// `None`: none), as Dr TIM's `AnyFocusSurfaceCamera` with `diffractiveAperture`
+    /// ([`Self::diffracted`]). Meant for a finite aperture: a pinhole's would lose every ray.
+    pub fn with_diffraction(self, lambda: Option<f64>) -> Camera {
+        Camera {
+            diffraction: lambda,
+            ..self
+        }
+    }
+
     /// The view of an eye whose pupil is `offset` from this camera's, imaging each pixel onto
     /// the same point of the focus surface (both eyes converge there). The eyes lie in the
     /// pupil plane: the offset's component along the view direction is dropped.
@@ -218,6 +237,11 @@ impl Camera {
 
     pub fn focus(&self) -> Focus {
         self.focus
+    }
+
+    /// The wavelength with which the aperture diffracts, if it does.
+    pub fn diffraction(&self) -> Option<f64> {
+        self.diffraction
     }
 
     pub fn shutter(&self) -> (Shutter, f64) {
@@ -337,6 +361,36 @@ impl Camera {
         Ray::new(pupil_point, direction, time)
     }
 
+    /// A camera-frame ray of [`Self::ray`] diffracted by the aperture (Dr TIM's
+    /// `CircularApertureDiffraction.getDiffractedLightRayDirection`), or `None` where the
+    /// diffracted light is evanescent (the sample sees black, as in Dr TIM). Its direction's
+    /// component perpendicular to the view direction (the pupil's normal) changes by
+    /// sin θ = x λ / (2π r) in the azimuth `random[1]` (turns from the camera's right towards
+    /// its up), x drawn by `random[0]` from the Airy pattern
+    /// ([`aperture_diffraction::airy_x`]); its normal component is what keeps it a unit vector,
+    /// as a phase hologram's. Origin and time are the undiffracted ray's (Dr TIM's shutter
+    /// models time the ray before diffraction too). Without diffraction, `ray` itself.
+    pub fn diffracted(&self, ray: Ray, random: [f64; 2]) -> Option<Ray> {
+        let Some(lambda) = self.diffraction else {
+            return Some(ray);
+        };
+        let n = self.view_direction;
+        let along = ray.direction.dot(n);
+        let across = ray.direction - along * n;
+        // sin θ per unit x; the ray stays non-evanescent only while the change is below
+        // 1 + |across| (the new tangential component's length being below 1).
+        let scale = lambda / (std::f64::consts::TAU * self.aperture_radius);
+        let x_max = (1.0 + across.length()) / scale;
+        let x = aperture_diffraction::airy_x(random[0], x_max)?;
+        let (s, c) = (std::f64::consts::TAU * random[1]).sin_cos();
+        let across = across + x * scale * (c * self.right + s * self.up);
+        let normal = 1.0 - across.length_squared();
+        (normal > 0.0).then(|| {
+            let direction = across + along.signum() * normal.sqrt() * n;
+            Ray::new(ray.origin, direction, ray.time)
+        })
+    }
+
     /// The camera-frame time at which the Lorentz transformation leaves the point `x` where
     /// it is (Dr TIM's `FixedPointSurfaceShutterModel.getTimeWhenPositionIsStationary`): with
     /// x − position = r, Eq 1's x′ = x needs (γ − 1)(β̂·r)β̂ + γtβ = 0, so
@@ -435,6 +489,9 @@ impl fmt::Display for Description<'_> {
                 r,
             ) => write!(f, "finite aperture (radius {r}), {}°", degrees(a))?,
         }
+        if let Some(lambda) = camera.diffraction() {
+            write!(f, "; diffracting (lambda = {lambda:e})")?;
+        }
         let boost = camera.boost();
         if camera.aperture_radius() > 0.0 || !boost.is_identity() {
             match camera.focus() {
@@ -465,5 +522,92 @@ impl fmt::Display for Description<'_> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::random::uniform;
+
+    /// A finite aperture of radius 1e-4 looking along +z, diffracting light of wavelength λ.
+    fn diffracting(lambda: f64) -> Camera {
+        Camera::pinhole(DVec3::ZERO, DVec3::Z, DVec3::Y, 0.3)
+            .unwrap()
+            .with_aperture(1e-4, Focus::Plane { distance: 1.0 })
+            .with_diffraction(Some(lambda))
+    }
+
+    /// The direction change is sin θ = x λ / (2π r) in the azimuth drawn, measured from the
+    /// camera's right towards its up: the median x (P = ½) is 1.68022474619420 (mpmath).
+    #[test]
+    fn diffraction_turns_the_ray_by_the_airy_angle_in_the_drawn_azimuth() {
+        let lambda = 632.8e-9;
+        let camera = diffracting(lambda);
+        let ray = Ray::new(DVec3::new(5e-5, 0.0, 0.0), DVec3::new(0.01, 0.0, 1.0), 0.25);
+        let sin_theta = 1.680_224_746_194_2 * lambda / (std::f64::consts::TAU * 1e-4);
+        for (azimuth, along) in [(0.0, DVec3::X), (0.25, DVec3::Y), (0.5, -DVec3::X)] {
+            let out = camera.diffracted(ray, [0.5, azimuth]).unwrap();
+            let change = out.direction - ray.direction;
+            let across = change - change.dot(DVec3::Z) * DVec3::Z;
+            assert!((across - sin_theta * along).length() < 1e-15, "{across}");
+            assert!((out.direction.length() - 1.0).abs() < 1e-15);
+            assert!(out.direction.z > 0.0);
+            assert_eq!((out.origin, out.time), (ray.origin, ray.time));
+        }
+        // Without diffraction, the ray itself.
+        let plain = camera.clone().with_diffraction(None);
+        assert_eq!(plain.diffracted(ray, [0.5, 0.1]), Some(ray));
+    }
+
+    /// The azimuths are uniform: the mean change vanishes, and each quadrant gets a quarter.
+    #[test]
+    fn diffraction_azimuths_are_uniform() {
+        let camera = diffracting(632.8e-9);
+        let ray = Ray::new(DVec3::ZERO, DVec3::Z, 0.0);
+        // (A few, 2/(π x_max) ≈ 0.06 %, are evanescent.)
+        let directions: Vec<DVec3> = (0..40_000)
+            .filter_map(|s| {
+                let random = [uniform(9, 0, 0, s, 4), uniform(9, 0, 0, s, 5)];
+                camera.diffracted(ray, random).map(|r| r.direction)
+            })
+            .collect();
+        let n = directions.len();
+        assert!(n > 39_900, "{n}");
+        let mut quadrants = [0u32; 4];
+        let mut mean = DVec3::ZERO;
+        for d in directions {
+            mean += DVec3::new(d.x, d.y, 0.0).normalize_or_zero() / n as f64;
+            quadrants[usize::from(d.x < 0.0) + 2 * usize::from(d.y < 0.0)] += 1;
+        }
+        let sigma = (0.5 / n as f64).sqrt();
+        assert!(mean.length() < 4.0 * sigma, "{mean}");
+        for q in quadrants {
+            let share = q as f64 / n as f64;
+            assert!(
+                (share - 0.25).abs() < 4.0 * (0.1875 / n as f64).sqrt(),
+                "{share}"
+            );
+        }
+    }
+
+    /// Light whose direction change would leave no normal component is evanescent: no ray.
+    #[test]
+    fn evanescent_diffraction_loses_the_ray() {
+        // x λ / (2π r) = 1.68 λ / (2π 10⁻⁴) > 2 for λ > 7.5e-4: beyond any tangential part.
+        let camera = diffracting(1e-3);
+        let ray = Ray::new(DVec3::ZERO, DVec3::new(0.3, 0.0, 1.0), 0.0);
+        assert_eq!(camera.diffracted(ray, [0.5, 0.3]), None);
+        // Turned back towards the view direction, a large change can still leave light.
+        let camera = diffracting(1.2 * std::f64::consts::TAU * 1e-4 / 1.680_224_746_194_2);
+        let (s, c) = (0.3f64.sin(), 0.3f64.cos());
+        let tilted = Ray::new(DVec3::ZERO, DVec3::new(s, 0.0, c), 0.0);
+        // sin θ = 1.2 along −x from sin 0.3 = 0.296 along +x: 0.904 along −x.
+        let out = camera.diffracted(tilted, [0.5, 0.5]).unwrap();
+        assert!(
+            (out.direction.x + (1.2 - s)).abs() < 1e-12,
+            "{}",
+            out.direction
+        );
     }
 }

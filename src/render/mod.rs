@@ -314,9 +314,19 @@ fn render_tile(
             &focus,
         )
     };
-    // A single sample is recorded as it is traced for the AOVs; with more, the pixel centre is
-    // traced once more for them.
-    let record_first = aovs && s.spp == 1 && samples.start == 0;
+    // The same diffracted by the aperture, if it diffracts (from the sample's next random
+    // numbers); none where that makes it evanescent (the sample is black).
+    let diffracts = camera.diffraction().is_some();
+    let diffracted_ray = |x: u32, y: u32, sample: u32| {
+        let random = [
+            uniform(s.seed, x, y, sample, 4),
+            uniform(s.seed, x, y, sample, 5),
+        ];
+        camera.diffracted(sample_ray(x, y, sample), random)
+    };
+    // A single sample is recorded as it is traced for the AOVs; with more, or with a diffracting
+    // aperture (which may lose the sample), the pixel centre is traced once more for them.
+    let record_first = aovs && s.spp == 1 && samples.start == 0 && !diffracts;
     for by in (tile.y0..tile.y1).step_by(BLOCK_H as usize) {
         for bx in (tile.x0..tile.x1).step_by(BLOCK_W as usize) {
             let mut block = [(0u32, 0u32); 8];
@@ -335,13 +345,32 @@ fn render_tile(
                 // Written field by field: rays built by a closure, or copied whole, went through
                 // the stack and stalled on store forwarding.
                 let mut rays = [Ray::new(DVec3::ZERO, DVec3::Z, 0.0); 8];
-                for (ray, &(x, y)) in rays.iter_mut().zip(block) {
-                    let r = sample_ray(x, y, sample);
-                    (ray.origin, ray.direction, ray.time) = (r.origin, r.direction, r.time);
-                }
-                let record = (record_first && sample == 0).then_some(&mut firsts[..]);
                 let mut colours = [Colour::ZERO; 8];
-                tracer.trace_packet(&rays[..n], s.max_trace_level, &mut colours, record);
+                if !diffracts {
+                    for (ray, &(x, y)) in rays.iter_mut().zip(block) {
+                        let r = sample_ray(x, y, sample);
+                        (ray.origin, ray.direction, ray.time) = (r.origin, r.direction, r.time);
+                    }
+                    let record = (record_first && sample == 0).then_some(&mut firsts[..]);
+                    tracer.trace_packet(&rays[..n], s.max_trace_level, &mut colours, record);
+                } else {
+                    // The block's pixel of each ray traced: samples lost to diffraction are not
+                    // (nor recorded: record_first is false).
+                    let mut lanes = [0; 8];
+                    let mut traced = 0;
+                    for (i, &(x, y)) in block.iter().enumerate() {
+                        if let Some(r) = diffracted_ray(x, y, sample) {
+                            rays[traced] = r;
+                            lanes[traced] = i;
+                            traced += 1;
+                        }
+                    }
+                    let mut found = [Colour::ZERO; 8];
+                    tracer.trace_packet(&rays[..traced], s.max_trace_level, &mut found, None);
+                    for (&lane, colour) in lanes[..traced].iter().zip(found) {
+                        colours[lane] = colour;
+                    }
+                }
                 if one && !sums {
                     last = colours;
                 } else {
@@ -380,8 +409,8 @@ fn render_tile(
                     if let Some(albedo_tracer) = &albedo_tracer {
                         let n = s.spp.min(ALBEDO_SAMPLES);
                         let sum: Colour = (0..n)
-                            .map(|sample| {
-                                let ray = sample_ray(x, y, sample);
+                            .filter_map(|sample| diffracted_ray(x, y, sample))
+                            .map(|ray| {
                                 albedo_tracer.trace(
                                     &ray,
                                     0.0,

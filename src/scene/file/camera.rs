@@ -9,7 +9,8 @@ use serde::Deserialize;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::cameras::{
-    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, Projection, Shutter, Transformation,
+    Camera, DEFAULT_FOCUS_DISTANCE, DEFAULT_LAMBDA, Focus, LensType, Projection, Shutter,
+    Transformation,
 };
 use crate::geometry::Shape;
 use crate::geometry::ShapeKeys;
@@ -31,6 +32,8 @@ pub(super) struct CameraSection {
     horizontal_view_angle_deg: Option<Spanned<Positive>>,
     view_width: Option<Spanned<Positive>>,
     aperture_radius: Option<Spanned<NonNegative>>,
+    diffractive_aperture: Option<Spanned<bool>>,
+    lambda: Option<Spanned<Positive>>,
     focus_distance: Option<Spanned<Positive>>,
     focus_surface: Option<Spanned<Vec<Spanned<ShapeKeys>>>>,
     beta: Option<Spanned<Vector>>,
@@ -172,6 +175,7 @@ impl CameraSection {
                 )
             })?;
         let radius = aperture_radius(kind, aperture, &at)?;
+        let diffraction = self.diffraction(kind, &at)?;
         let focus = self.focus(&at)?;
         let shutter = self.shutter(focus, &at)?;
         let focus_surface = focus_surface(self.focus_surface, source, &at)?;
@@ -207,7 +211,8 @@ impl CameraSection {
             )
             .with_velocity(boost)
             .with_transformation(transformation)
-            .with_doppler(doppler);
+            .with_doppler(doppler)
+            .with_diffraction(diffraction);
         let stereo = stereo(
             &camera,
             self.stereo.unwrap_or(StereoName::None),
@@ -326,6 +331,29 @@ impl CameraSection {
                 Shutter::FixedPointSurface
             }
         })
+    }
+
+    /// The wavelength with which a finite aperture diffracts (`diffractive_aperture`, Dr TIM's
+    /// `diffractiveAperture`; `lambda`, by default Dr TIM's HeNe wavelength in metres), if it
+    /// does: only a finite aperture can, and a `lambda` without diffraction would do nothing.
+    fn diffraction(&self, kind: CameraKind, at: At) -> Result<Option<f64>, SceneFileError> {
+        let diffracts = self.diffractive_aperture.as_ref().filter(|d| *d.get_ref());
+        if let Some(d) = diffracts
+            && kind != CameraKind::FiniteAperture
+        {
+            return Err(at(
+                Some(d.span()),
+                "diffractive_aperture is for the finite-aperture camera (type = \"finite-aperture\"): a pinhole or orthographic camera has no aperture to diffract",
+            ));
+        }
+        match (diffracts, &self.lambda) {
+            (None, Some(l)) => Err(at(
+                Some(l.span()),
+                "lambda is the wavelength with which the aperture diffracts: it needs diffractive_aperture = true",
+            )),
+            (None, None) => Ok(None),
+            (Some(_), l) => Ok(Some(l.as_ref().map_or(DEFAULT_LAMBDA, |l| l.get_ref().0))),
+        }
     }
 
     /// A focus plane at a distance, or the focus surface's shapes.
