@@ -269,11 +269,6 @@ fn bad_diffraction_keys_are_reported_where_they_are() {
         4,
     );
     check(
-        &format!("{finite}lambda = 5e-7\ndiffractive_aperture = false\n"),
-        &["needs diffractive_aperture = true"],
-        4,
-    );
-    check(
         &format!("{finite}diffractive_aperture = true\nlambda = 0\n"),
         &["got 0"],
         5,
@@ -295,8 +290,15 @@ fn bad_diffraction_keys_are_reported_where_they_are() {
         ],
     )
     .assert_bad_input(&["diffractive_aperture is for the finite-aperture camera"]);
-    // Off, on any camera, is what every camera does: accepted.
+    // Off, on any camera, is what every camera does: accepted; switched off explicitly, a
+    // wavelength is kept for switching it on again.
     let path = write(&dir, "off.toml", "[camera]\ndiffractive_aperture = false\n");
+    timbre(dir.path(), &["check", path_str(&path)]).assert_success();
+    let path = write(
+        &dir,
+        "off-lambda.toml",
+        &format!("{finite}lambda = 5e-7\ndiffractive_aperture = false\n"),
+    );
     timbre(dir.path(), &["check", path_str(&path)]).assert_success();
 }
 

@@ -335,7 +335,8 @@ impl CameraSection {
 
     /// The wavelength with which a finite aperture diffracts (`diffractive_aperture`, Dr TIM's
     /// `diffractiveAperture`; `lambda`, by default Dr TIM's HeNe wavelength in metres), if it
-    /// does: only a finite aperture can, and a `lambda` without diffraction would do nothing.
+    /// does: only a finite aperture can, and a `lambda` without `diffractive_aperture` would do
+    /// nothing.
     fn diffraction(&self, kind: CameraKind, at: At) -> Result<Option<f64>, SceneFileError> {
         let diffracts = self.diffractive_aperture.as_ref().filter(|d| *d.get_ref());
         if let Some(d) = diffracts
@@ -347,11 +348,14 @@ impl CameraSection {
             ));
         }
         match (diffracts, &self.lambda) {
-            (None, Some(l)) => Err(at(
+            // A wavelength with the diffraction switched off explicitly is kept for when it is
+            // switched on (`--set`, the preview's toggle); without that switch it would do
+            // nothing.
+            (None, Some(l)) if self.diffractive_aperture.is_none() => Err(at(
                 Some(l.span()),
                 "lambda is the wavelength with which the aperture diffracts: it needs diffractive_aperture = true",
             )),
-            (None, None) => Ok(None),
+            (None, _) => Ok(None),
             (Some(_), l) => Ok(Some(l.as_ref().map_or(DEFAULT_LAMBDA, |l| l.get_ref().0))),
         }
     }
