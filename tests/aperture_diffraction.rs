@@ -297,7 +297,7 @@ fn bad_diffraction_keys_are_reported_where_they_are() {
     let path = write(
         &dir,
         "off-lambda.toml",
-        &format!("{finite}lambda = 5e-7\ndiffractive_aperture = false\n"),
+        format!("{finite}lambda = 5e-7\ndiffractive_aperture = false\n"),
     );
     timbre(dir.path(), &["check", path_str(&path)]).assert_success();
 }
