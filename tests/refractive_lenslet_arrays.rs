@@ -98,13 +98,47 @@ impl Case {
             assert!(c > 0.0);
             vec![ball(c), ball(-c), prism(4.0 * r)]
         } else {
-            // The axis passes through every aperture here: thinnest (d) on the axis, the balls'
-            // centres ±(R + d/2), the glass between the planes through them.
-            let c = r + 0.5 * self.d;
+            // Thinnest (d) at the aperture's point nearest the axis, at distance b (0 where the
+            // axis passes through the aperture): the balls' centres ±(√(R² − b²) + d/2), the
+            // glass between the planes through them.
+            let b = nearest(&corners, a - p);
+            let c = (r * r - b * b).sqrt() + 0.5 * self.d;
             vec![inverse(ball(c)), inverse(ball(-c)), prism(2.0 * c)]
         };
         Shape::Csg(Csg::new(CsgOperation::Intersection, members).unwrap())
     }
+}
+
+/// The distance from the z axis through the origin to the parallelogram with `corners` (about
+/// its centre `centre`, both relative to the axis): 0 if the axis passes through it, else the
+/// least distance to its edges, found by ternary search along each (the distance along an edge
+/// is convex).
+fn nearest(corners: &[DVec3; 4], centre: DVec3) -> f64 {
+    let flat = |x: DVec3| DVec3::new(x.x, x.y, 0.0);
+    let crosses = (0..4).all(|k| {
+        let (a, b) = (flat(corners[k]), flat(corners[(k + 1) % 4]));
+        // The origin is on the centre's side of every edge.
+        (b - a).cross(-a).z * (b - a).cross(flat(centre) - a).z >= 0.0
+    });
+    if crosses {
+        return 0.0;
+    }
+    (0..4)
+        .map(|k| {
+            let (a, b) = (flat(corners[k]), flat(corners[(k + 1) % 4]));
+            let at = |s: f64| (a + s * (b - a)).length();
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..200 {
+                let (m1, m2) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+                if at(m1) <= at(m2) {
+                    hi = m2;
+                } else {
+                    lo = m1;
+                }
+            }
+            at(0.5 * (lo + hi))
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 fn cases() -> Vec<Case> {
@@ -132,6 +166,13 @@ fn cases() -> Vec<Case> {
             du: DVec3::new(0.02, 0.0, 0.0),
             dv: DVec3::new(0.0, -0.03, 0.0),
             ..centred(-0.5, 0.01)
+        },
+        // Diverging lenslets whose axes miss their apertures (but the middle one's): thinnest
+        // at the aperture's nearest point.
+        Case {
+            du: DVec3::new(0.2, 0.0, 0.0),
+            dv: DVec3::new(0.0, -0.17, 0.0),
+            ..centred(-0.6, 0.01)
         },
     ]
 }
@@ -323,6 +364,13 @@ fn impossible_lenslet_arrays_are_refused_where_they_are_written() {
         (
             device(
                 "v_period_clear_aperture = [0, 0.1, 0], focal_length = 1, \
+                 clear_aperture_centre = [0, 0, 5.1], principal_point_centre = [0, 0, 5]",
+            ),
+            vec![":3:10:", "clear_aperture_centre must lie in the plane"],
+        ),
+        (
+            device(
+                "v_period_clear_aperture = [0, 0.1, 0], focal_length = 1, \
                  thickness_at_thinnest_point = -1",
             ),
             vec![":3:10:", "got -1"],
@@ -333,4 +381,26 @@ fn impossible_lenslet_arrays_are_refused_where_they_are_written() {
         let path = write(&dir, "bad.toml", &text);
         timbre(dir.path(), &["check", path_str(&path)]).assert_bad_input(&needles);
     }
+}
+
+#[test]
+fn an_edge_on_a_cell_boundary_adds_no_lenslet_beyond_it() {
+    // Three lenslets 0.25 wide (s from −1.5 to 1.5) whose principal points drift 0.08 a
+    // lenslet: the outer ones' apertures reach √(0.205² + 0.125²) ≈ 0.240 from their axes,
+    // within R = 2 f (n − 1) = 0.25; a fourth, beyond the edge, would reach 0.311.
+    let text = "[[device]]\nname = \"array\"\nlenses = { type = \"refractive-lenslet-array\", \
+                centre = [0, 0, 5], width = 0.75, height = 0.25, \
+                u_period_clear_aperture = [0.25, 0, 0], v_period_clear_aperture = [0, 0.25, 0], \
+                u_period_principal_point = [0.33, 0, 0], focal_length = 0.25, \
+                refractive_index = 1.5 }\n";
+    let dir = TempDir::new().unwrap();
+    let path = write(&dir, "edge.toml", text);
+    timbre(dir.path(), &["check", path_str(&path)]).assert_success();
+    let wider = text.replace("width = 0.75", "width = 0.8");
+    let path = write(&dir, "wider.toml", &wider);
+    timbre(dir.path(), &["check", path_str(&path)]).assert_bad_input(&[
+        ":3:10:",
+        "lenslet (-2, 0)",
+        "beyond the radius of curvature",
+    ]);
 }

@@ -1124,8 +1124,7 @@ fn check_backward_accuracy(case: &Case) -> Result<(), String> {
             Some((_, flat)) => flat.extent.condition(),
             None => 1.0,
         };
-        let residual =
-            case.shape.residual(p, prim) / (case.shape.scale() + t.abs()) / condition;
+        let residual = case.shape.residual(p, prim) / (case.shape.scale() + t.abs()) / condition;
         if residual > 1e-14 {
             return Err(format!(
                 "hit point {residual:e} (scale + t) off the surface"

@@ -10,7 +10,7 @@ use serde::Deserialize;
 
 use super::{Edges, LensDevice, Part};
 use crate::geometry::{LensletArray, LensletArraySpec, RefractiveIndex, Shape};
-use crate::keys::{Coefficient, NonNegative, NonZero, Positive, Vector, throughput};
+use crate::keys::{Coefficient, NonNegative, NonZero, Positive, Vector};
 use crate::surfaces::{Refractive, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -86,7 +86,8 @@ impl RefractiveLensletArrayKeys {
         LensletArray::new(&spec).map_err(|e| e.to_string())?;
         Ok(Box::new(RefractiveLensletArray {
             spec,
-            transmission_coefficient: throughput(self.transmission_coefficient),
+            // Dr TIM's lenslets are `Refractive(n, 1, …)`.
+            transmission_coefficient: self.transmission_coefficient.map_or(1.0, |c| c.0),
         }))
     }
 }

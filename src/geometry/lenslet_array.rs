@@ -128,6 +128,22 @@ impl LensletArray {
         if normal.length() < 1e-9 * u.length() * v.length() {
             return bad("the clear-aperture periods u and v are (nearly) parallel".into());
         }
+        // The glass lies about the principal points; the centres place the lattice across
+        // the sheet and must lie in its plane.
+        let p00 = spec.principal_point_centre;
+        let tolerance = 1e-9 * (u.length() + v.length() + (p00 - spec.centre).length());
+        for (what, point) in [
+            ("centre", spec.centre),
+            ("clear_aperture_centre", spec.clear_aperture_centre),
+        ] {
+            if (point - p00).dot(axis).abs() > tolerance {
+                return bad(format!(
+                    "{what} must lie in the plane of the principal point principal_point_centre \
+                     across the optical axis u × v (it is {} off it along the axis)",
+                    (point - p00).dot(axis)
+                ));
+            }
+        }
         let (f, n) = (spec.focal_length, spec.refractive_index);
         let u_star = v.cross(axis) / u.dot(v.cross(axis));
         let v_star = axis.cross(u) / v.dot(axis.cross(u));
@@ -138,12 +154,17 @@ impl LensletArray {
             0.5 * spec.height / v.length(),
         );
         let (s_range, t_range) = ([sc - hs, sc + hs], [tc - ht, tc + ht]);
-        let cell = |x: f64| (x + 0.5).floor() as i64;
+        // The first and last lenslets the ranges reach into (an edge on a cell boundary adds
+        // no lenslet beyond it).
+        let (first, last) = (
+            |x: f64| (x + 0.5).floor() as i64,
+            |x: f64| (x - 0.5).ceil() as i64,
+        );
         let (i0, i1, j0, j1) = (
-            cell(s_range[0]),
-            cell(s_range[1]),
-            cell(t_range[0]),
-            cell(t_range[1]),
+            first(s_range[0]),
+            last(s_range[1]),
+            first(t_range[0]),
+            last(t_range[1]),
         );
         let (ni, nj) = (
             i1.saturating_sub(i0).saturating_add(1),
@@ -336,10 +357,17 @@ impl AnalyticShape for LensletArray {
         }
         let [(s0, ds, _), (t0, dt, _)] = [slabs[0], slabs[1]];
         let at = |l: f64| origin + l * direction;
-        let cell = |x: f64| ((x + 0.5).floor() as i64).clamp(i64::MIN / 2, i64::MAX / 2);
-        // The cell at the start, and where the line crosses the next wall across s and t.
-        let mid = lo + 0.5 * (hi - lo).min(1e-9 * (1.0 + lo.abs()));
-        let (mut i, mut j) = (cell(s0 + mid * ds), cell(t0 + mid * dt));
+        // The cell the line enters at the start (on a wall, the one it moves into), and where
+        // it crosses the next wall across s and t.
+        let cell = |p: f64, dp: f64| {
+            let c = if dp >= 0.0 {
+                (p + 0.5).floor()
+            } else {
+                (p - 0.5).ceil()
+            };
+            (c as i64).clamp(i64::MIN / 2, i64::MAX / 2)
+        };
+        let (mut i, mut j) = (cell(s0 + lo * ds, ds), cell(t0 + lo * dt, dt));
         let next = |c: i64, p: f64, dp: f64| match dp {
             dp if dp > 0.0 => (c as f64 + 0.5 - p) / dp,
             dp if dp < 0.0 => (c as f64 - 0.5 - p) / dp,
@@ -347,7 +375,8 @@ impl AnalyticShape for LensletArray {
         };
         let mut inside = false;
         let mut from = (lo, enter);
-        let mut events: Vec<(f64, Bound)> = Vec::with_capacity(6);
+        // The stretch's start, up to four sphere crossings and its end.
+        let mut events = [(0.0, Bound::None); 6];
         loop {
             let (ls, lt) = (next(i, s0, ds), next(j, t0, dt));
             let (end, wall) = if ls.min(lt) < hi {
@@ -360,23 +389,27 @@ impl AnalyticShape for LensletArray {
                 (hi, leave)
             };
             let lenslet = self.lenslet_at(i, j);
-            events.clear();
-            events.push(from);
+            events[0] = from;
+            let mut count = 1;
             for (kind, sign) in [(FRONT, 1.0), (BACK, -1.0)] {
                 let centre = lenslet.p + sign * lenslet.c * self.axis;
                 if let Some((r0, r1)) = circle_crossings(origin - centre, direction, self.radius) {
-                    events.extend(
-                        [r0, r1]
-                            .into_iter()
-                            .filter(|&r| r > from.0 && r < end)
-                            .map(|r| (r, Bound::Sphere(kind))),
-                    );
+                    for r in [r0, r1] {
+                        if r > from.0 && r < end {
+                            events[count] = (r, Bound::Sphere(kind));
+                            count += 1;
+                        }
+                    }
                 }
             }
-            events[1..].sort_by(|a, b| a.0.total_cmp(&b.0));
-            events.push((end, wall));
-            for pair in events.windows(2) {
+            events[1..count].sort_by(|a, b| a.0.total_cmp(&b.0));
+            events[count] = (end, wall);
+            for pair in events[..=count].windows(2) {
                 let ((l, bound), (l_next, _)) = (pair[0], pair[1]);
+                // A stretch of no length (through a corner, a crossing on a wall) has no side.
+                if l_next <= l {
+                    continue;
+                }
                 let now = self.inside(&lenslet, at(0.5 * (l + l_next)));
                 if now != inside && l > t_min {
                     return Some((l, self.hit_part(i, j, bound, inside, ds, dt)));

@@ -24,7 +24,8 @@
 //! shrunk by the magnification factor M about the point C where that line meets the plane.
 //! At the surface point P: D_i0 = P − E, and D_o0 = R − P, where R is the apparent position A
 //! (the line from E through P meets the plane) rotated by θ about the axis through E and scaled
-//! about C by 1/M; both oriented outwards; and J = (1/m) [[cos φ, −sin φ], [sin φ, cos φ]] for
+//! about C by 1/M (the normal where that line runs along the plane, as in Dr TIM); both
+//! oriented outwards; and J = (1/m) [[cos φ, −sin φ], [sin φ, cos φ]] for
 //! the pixel rotation angle φ and magnification m (Dr TIM's matrix for −φ).
 //!
 //! Pixellated (Dr TIM's `pixellated`), every point of a pixel (a cell of the plane coordinates,
@@ -36,7 +37,7 @@ use serde::Deserialize;
 
 use super::Outgoing;
 use crate::geometry::{Interaction, Transform};
-use crate::keys::{Array, Coefficient, Direction, Finite, Positive, Vector, throughput};
+use crate::keys::{Array, Coefficient, Direction, Finite, NonZero, Positive, Vector, throughput};
 use crate::surfaces::{Redirection, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -78,9 +79,9 @@ pub struct ViewRotation {
 }
 
 impl ViewRotation {
-    /// (D_i0, D_o0) at P, not yet oriented; `None` where the line of sight from E through P
-    /// runs along the plane.
-    fn directions(&self, p: DVec3) -> Option<(DVec3, DVec3)> {
+    /// (D_i0, D_o0) at P, not yet oriented; D_o0 `None` where the line of sight from E
+    /// through P runs along the plane (Dr TIM then takes the normal).
+    fn directions(&self, p: DVec3) -> (DVec3, Option<DVec3>) {
         let (e, a) = (self.eye_position, self.plane_normal);
         let along = p - e;
         let t = (self.point_on_plane - p).dot(a) / along.dot(a);
@@ -88,7 +89,10 @@ impl ViewRotation {
         let rotated = e + DQuat::from_axis_angle(a, self.rotation_angle) * (apparent - e);
         let centre = e + (self.point_on_plane - e).dot(a) * a;
         let image = centre + (rotated - centre) / self.magnification_factor;
-        (t.is_finite() && image.is_finite()).then_some((along, image - p))
+        (
+            along,
+            (t.is_finite() && image.is_finite()).then_some(image - p),
+        )
     }
 }
 
@@ -108,10 +112,10 @@ impl DerivativeControl {
             CentralDirections::Given { inside, outside } => {
                 (inside.unwrap_or(n), outside.unwrap_or(n))
             }
-            CentralDirections::ViewRotation(r) => match r.directions(p) {
-                Some((i, o)) => (outward(i), outward(o)),
-                None => return Redirection::Lost,
-            },
+            CentralDirections::ViewRotation(r) => {
+                let (i, o) = r.directions(p);
+                (outward(i), o.map_or(n, outward))
+            }
         };
         let tangential = |x: DVec3| {
             let x = x.normalize();
@@ -178,9 +182,9 @@ struct ViewRotationKeys {
     point_on_plane: Vector,
     plane_normal: Direction,
     rotation_angle_deg: Finite,
-    magnification_factor: Option<Positive>,
+    magnification_factor: Option<NonZero>,
     pixel_rotation_angle_deg: Option<Finite>,
-    pixel_magnification_factor: Option<Positive>,
+    pixel_magnification_factor: Option<NonZero>,
 }
 
 /// `type = "derivative-control"`: Dr TIM's default `DerivativeControlSurface()`: D_i0 and D_o0
