@@ -9,7 +9,7 @@ mod common;
 
 use std::f64::consts::{PI, TAU};
 
-use common::cli::{location, path_str, timbre, write};
+use common::cli::{assert_refused_at_line, path_str, timbre, write};
 use common::images::{parse, render_description, render_text};
 use tempfile::TempDir;
 use timbre::cameras::aperture_diffraction::{bessel_j0_j1, encircled_energy};
@@ -247,10 +247,7 @@ fn an_edge_blurs_by_the_airy_pattern() {
 fn bad_diffraction_keys_are_reported_where_they_are() {
     let dir = TempDir::new().unwrap();
     let check = |text: &str, needles: &[&str], line: usize| {
-        let path = write(&dir, "bad.toml", text);
-        let run = timbre(dir.path(), &["check", path_str(&path)]);
-        run.assert_bad_input(needles);
-        assert_eq!(location(&run.stderr, &path).0, line, "{}", run.stderr);
+        assert_refused_at_line(dir.path(), text, needles, line)
     };
     let finite = "[camera]\ntype = \"finite-aperture\"\naperture_radius = 1e-4\n";
     check(

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::cli::{decode_png, location, path_str, timbre, write};
+use common::cli::{assert_refused_at_line, decode_png, path_str, timbre, write};
 use glam::DVec3;
 use tempfile::TempDir;
 use timbre::embree::Device;
@@ -430,10 +430,7 @@ fn the_command_line_writes_packed_frames() {
 fn bad_camera_keys_are_reported_where_they_are() {
     let dir = TempDir::new().unwrap();
     let check = |text: &str, needles: &[&str], line: usize| {
-        let path = write(&dir, "bad.toml", text);
-        let run = timbre(dir.path(), &["check", path_str(&path)]);
-        run.assert_bad_input(needles);
-        assert_eq!(location(&run.stderr, &path).0, line, "{}", run.stderr);
+        assert_refused_at_line(dir.path(), text, needles, line)
     };
     check(
         "[camera]\nbeta = [0, 0.6, 0.8]\n",

@@ -18,6 +18,8 @@
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 use std::sync::OnceLock;
 
+use crate::math::hermite_root;
+
 /// Below this argument J₀ and J₁ come from Bessel's integral, above it from Hankel's
 /// asymptotic expansion (whose smallest term, about e^{−2x}, is far below rounding there).
 const ASYMPTOTIC_FROM: f64 = 25.0;
@@ -172,39 +174,8 @@ pub fn airy_x(u: f64, x_max: f64) -> Option<f64> {
         // P(lo) ≤ u < P(hi): the root of the cubic Hermite interpolant of P between them.
         let ((p0, d0), (p1, d1)) = (table[k - 1], table[k]);
         let (d0, d1) = (d0 * TABLE_STEP, d1 * TABLE_STEP);
-        // H(t) and H′(t) on t ∈ [0, 1], solved by Newton's method kept inside [a, b].
-        let cubic = |t: f64| {
-            let (t2, t3) = (t * t, t * t * t);
-            let value = (2.0 * t3 - 3.0 * t2 + 1.0) * p0
-                + (t3 - 2.0 * t2 + t) * d0
-                + (3.0 * t2 - 2.0 * t3) * p1
-                + (t3 - t2) * d1;
-            let slope = (6.0 * t2 - 6.0 * t) * (p0 - p1)
-                + (3.0 * t2 - 4.0 * t + 1.0) * d0
-                + (3.0 * t2 - 2.0 * t) * d1;
-            (value - u, slope)
-        };
-        let (mut a, mut b) = (0.0, 1.0);
-        let mut t = ((u - p0) / (p1 - p0)).clamp(0.0, 1.0);
-        for _ in 0..64 {
-            let (value, slope) = cubic(t);
-            if value <= 0.0 {
-                a = t;
-            } else {
-                b = t;
-            }
-            let newton = t - value / slope;
-            let next = if newton > a && newton < b {
-                newton
-            } else {
-                0.5 * (a + b)
-            };
-            let done = (next - t).abs() < 1e-10;
-            t = next;
-            if done {
-                break;
-            }
-        }
+        // The root t ∈ [0, 1] of H(t) − u.
+        let t = hermite_root(p0 - u, d0, p1 - u, d1);
         lo = (k - 1) as f64 * TABLE_STEP;
         hi = k as f64 * TABLE_STEP;
         x = lo + t * TABLE_STEP;

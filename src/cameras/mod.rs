@@ -21,10 +21,6 @@ use glam::DVec3;
 
 use crate::math::{Colour, LorentzTransform, Ray, galilean_backwards_direction, galilean_event};
 
-/// Dr TIM's wavelength for a diffractive aperture (HeNe, 632.8 nm, in metres), as its research
-/// programs use it: lengths are then in metres.
-pub const DEFAULT_LAMBDA: f64 = 632.8e-9;
-
 /// How events and ray directions go from the camera frame into the scene frame (Dr TIM's
 /// `SpaceTimeTransformationType`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

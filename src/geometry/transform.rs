@@ -216,7 +216,7 @@ impl Transform {
                     self.vector(p.span_u()),
                     self.vector(p.span_v()),
                 );
-                Shape::Parallelogram(if self.linear().determinant() < 0.0 {
+                Shape::Parallelogram(if self.reflects() {
                     Parallelogram::new(corner + u, -u, v)?
                 } else {
                     Parallelogram::new(corner, u, v)?
@@ -230,7 +230,7 @@ impl Transform {
     }
 
     /// Whether the map reverses orientation (a reflection).
-    pub(super) fn reflects(&self) -> bool {
+    pub fn reflects(&self) -> bool {
         self.linear().determinant() < 0.0
     }
 }

@@ -18,6 +18,8 @@
 //! stage positions are Xᵢ = x + cᵢ h v + h² Σₗ (a²)ᵢₗ Fₗ, so the stages need only positions and
 //! the results are the same as the first-order form's to rounding.
 
+use super::hermite_root;
+
 /// The nonzero entries (i, j, aᵢⱼ) of the tableau's matrix a, stages counted from 0. The nodes
 /// cᵢ = Σⱼ aᵢⱼ are 0, (2/3)c₂, (2/3)c₃, (6 − √6)/30, (6 + √6)/30, 1/3, 1/4, 4/13, 127/195, 3/5,
 /// 6/7, 1.
@@ -452,40 +454,6 @@ fn sum_slice<const D: usize>(terms: &[(usize, f64)], k: &[[f64; D]; 12]) -> [f64
     total
 }
 
-/// The root in (0, 1) of the cubic Hermite interpolant with values `g0` < 0 ≤ `g1` and
-/// derivatives `m0`, `m1` (with respect to the unit interval) at its ends, by Newton's method
-/// kept inside the bracket by bisection.
-fn hermite_root(g0: f64, m0: f64, g1: f64, m1: f64) -> f64 {
-    let cubic = |t: f64| {
-        let u = 1.0 - t;
-        let value =
-            u * u * ((1.0 + 2.0 * t) * g0 + t * m0) + t * t * ((3.0 - 2.0 * t) * g1 - u * m1);
-        let slope = 6.0 * t * u * (g1 - g0) + u * (1.0 - 3.0 * t) * m0 + t * (3.0 * t - 2.0) * m1;
-        (value, slope)
-    };
-    let (mut lo, mut hi) = (0.0, 1.0);
-    let mut t = if g1 > g0 { g0 / (g0 - g1) } else { 0.5 };
-    for _ in 0..50 {
-        let (p, dp) = cubic(t);
-        if p < 0.0 {
-            lo = t;
-        } else {
-            hi = t;
-        }
-        let newton = t - p / dp;
-        let next = if newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if (next - t).abs() <= 1e-3 * f64::EPSILON.sqrt() {
-            return next;
-        }
-        t = next;
-    }
-    t
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -697,12 +665,5 @@ mod tests {
             solver.integrate_until(|_: &[f64; 1]| ([0.0], 0.0), start, 1e-3, never, |_| {}),
             None
         );
-    }
-
-    #[test]
-    fn the_hermite_root_of_a_cubic_is_its_root() {
-        // g = t³ + t − 1/2 (g′ = 3t² + 1) is its own interpolant.
-        let t = hermite_root(-0.5, 1.0, 1.5, 4.0);
-        assert!((t * t * t + t - 0.5).abs() < 1e-15, "{t}");
     }
 }

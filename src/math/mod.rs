@@ -115,6 +115,45 @@ pub fn quadratic_roots(a: f64, b: f64, c: f64, disc: f64) -> (f64, f64) {
     (r0.min(r1), r0.max(r1))
 }
 
+/// The helium–neon laser's wavelength, 632.8 nm, in metres: Dr TIM's wavelength for
+/// diffraction (its GUI's `Pixellation` and lenslet arrays, its research programs' cameras),
+/// timbre's default wherever something diffracts.
+pub const HE_NE_WAVELENGTH: f64 = 632.8e-9;
+
+/// The root in [0, 1] of the cubic Hermite interpolant with values `g0` ≤ 0 ≤ `g1` and
+/// derivatives `m0`, `m1` (with respect to the unit interval) at its ends, by Newton's method
+/// kept inside the bracket by bisection.
+pub fn hermite_root(g0: f64, m0: f64, g1: f64, m1: f64) -> f64 {
+    let cubic = |t: f64| {
+        let u = 1.0 - t;
+        let value =
+            u * u * ((1.0 + 2.0 * t) * g0 + t * m0) + t * t * ((3.0 - 2.0 * t) * g1 - u * m1);
+        let slope = 6.0 * t * u * (g1 - g0) + u * (1.0 - 3.0 * t) * m0 + t * (3.0 * t - 2.0) * m1;
+        (value, slope)
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut t = if g1 > g0 { g0 / (g0 - g1) } else { 0.5 };
+    for _ in 0..50 {
+        let (p, dp) = cubic(t);
+        if p < 0.0 {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let newton = t - p / dp;
+        let next = if newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - t).abs() <= 1e-3 * f64::EPSILON.sqrt() {
+            return next;
+        }
+        t = next;
+    }
+    t
+}
+
 /// The smallest of the candidate distances inside the open interval (t_min, t_max).
 #[inline]
 pub fn nearest_in(
@@ -131,6 +170,13 @@ pub fn nearest_in(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hermite_root_of_a_cubic_is_its_root() {
+        // g = t³ + t − 1/2 (g′ = 3t² + 1) is its own interpolant.
+        let t = hermite_root(-0.5, 1.0, 1.5, 4.0);
+        assert!((t * t * t + t - 0.5).abs() < 1e-15, "{t}");
+    }
 
     #[test]
     fn circle_crossings_keep_precision_far_from_a_small_circle() {

@@ -123,14 +123,11 @@ impl LightRayField {
                     "an optical vortex's m/k is a length, defined only under rotations, \
                      uniform scaling and translations, so it cannot be scaled non-uniformly",
                 )?;
-                let handedness = t
-                    .vector(DVec3::X)
-                    .cross(t.vector(DVec3::Y))
-                    .dot(t.vector(DVec3::Z));
+                let handedness = if t.reflects() { -1.0 } else { 1.0 };
                 Field::OpticalVortex {
                     point: t.point(point),
                     direction: direction(d),
-                    m_over_k: m_over_k * scale * handedness.signum(),
+                    m_over_k: m_over_k * scale * handedness,
                 }
             }
         };

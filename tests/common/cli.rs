@@ -149,6 +149,16 @@ pub fn decode_png(path: &Path) -> image::RgbImage {
         .to_rgb8()
 }
 
+/// `timbre check` refuses the scene `text` (written to `dir` as `bad.toml`): exit code 2, a
+/// message with every one of `needles`, located at line `line` of the file.
+#[track_caller]
+pub fn assert_refused_at_line(dir: &Path, text: &str, needles: &[&str], line: usize) {
+    let path = write(dir, "bad.toml", text);
+    let run = timbre(dir, &["check", path_str(&path)]);
+    run.assert_bad_input(needles);
+    assert_eq!(location(&run.stderr, &path).0, line, "{}", run.stderr);
+}
+
 /// The (line, column) of an error message `PATH:LINE:COLUMN: ...` about `path`.
 #[track_caller]
 pub fn location(message: &str, path: impl AsRef<Path>) -> (usize, usize) {

@@ -9,13 +9,12 @@ use serde::Deserialize;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::cameras::{
-    Camera, DEFAULT_FOCUS_DISTANCE, DEFAULT_LAMBDA, Focus, LensType, Projection, Shutter,
-    Transformation,
+    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, Projection, Shutter, Transformation,
 };
 use crate::geometry::Shape;
 use crate::geometry::ShapeKeys;
 use crate::keys::{Direction, Finite, NonNegative, Positive, Vector};
-use crate::math::LorentzTransform;
+use crate::math::{HE_NE_WAVELENGTH, LorentzTransform};
 use crate::scene::{Packing, Stereo, studio};
 
 /// Keys left out take the standard camera's values (so `--set camera.position=...` works on a
@@ -356,7 +355,7 @@ impl CameraSection {
                 "lambda is the wavelength with which the aperture diffracts: it needs diffractive_aperture = true",
             )),
             (None, _) => Ok(None),
-            (Some(_), l) => Ok(Some(l.as_ref().map_or(DEFAULT_LAMBDA, |l| l.get_ref().0))),
+            (Some(_), l) => Ok(Some(l.as_ref().map_or(HE_NE_WAVELENGTH, |l| l.get_ref().0))),
         }
     }
 

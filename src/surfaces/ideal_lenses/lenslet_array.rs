@@ -20,7 +20,7 @@ use serde::Deserialize;
 use super::ThinLens;
 use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, NonZero, Positive, Vector, throughput};
-use crate::math::Colour;
+use crate::math::{Colour, HE_NE_WAVELENGTH};
 use crate::surfaces::metatoys::{Blur, Pixels};
 use crate::surfaces::{Redirection, Surface};
 
@@ -143,7 +143,7 @@ impl IdealThinLensletArrayKeys {
             lambda: self
                 .simulate_diffractive_blur
                 .unwrap_or(false)
-                .then(|| self.lambda.map_or(632.8e-9, |l| l.0)),
+                .then(|| self.lambda.map_or(HE_NE_WAVELENGTH, |l| l.0)),
         }))
     }
 }

@@ -138,19 +138,11 @@ impl DerivativeControl {
     /// the directions, the view rotator's points and the pixel periods move with it; J is read
     /// in the surface's own frame, which turns with it.
     pub fn transformed(&self, t: &Transform) -> Result<DerivativeControl, String> {
-        let scale = t
-            .uniform_scale()
-            .filter(|_| {
-                t.vector(DVec3::X)
-                    .cross(t.vector(DVec3::Y))
-                    .dot(t.vector(DVec3::Z))
-                    > 0.0
-            })
-            .ok_or(
-                "a derivative-control surface's Jacobian is read in the surface's frame, which \
+        let scale = t.uniform_scale().filter(|_| !t.reflects()).ok_or(
+            "a derivative-control surface's Jacobian is read in the surface's frame, which \
                  only rotations, uniform scaling and translations keep: it cannot be scaled \
                  non-uniformly or mirrored",
-            )?;
+        )?;
         let direction = |x: DVec3| t.vector(x).normalize();
         Ok(DerivativeControl {
             directions: match self.directions {

@@ -24,8 +24,8 @@ use serde::Deserialize;
 use super::{hologram_direction, jacobian};
 use crate::geometry::{Exit, Interaction};
 use crate::keys::Positive;
-use crate::math::Colour;
 use crate::math::random::{ray_key, uniform_keyed};
+use crate::math::{Colour, HE_NE_WAVELENGTH};
 use crate::surfaces::{Redirection, Surface, reflect};
 
 /// How a pixel's diffraction spreads a ray's direction.
@@ -175,7 +175,7 @@ impl PixellationKeys {
                     side(self.pixel_side_length_u),
                     side(self.pixel_side_length_v),
                 ),
-                lambda: self.lambda.map_or(632.8e-9, |l| l.0),
+                lambda: self.lambda.map_or(HE_NE_WAVELENGTH, |l| l.0),
                 blur: blur.then_some(Blur::SingleSlit),
                 ray_offset: self.simulate_ray_offset.unwrap_or(true),
             },
