@@ -20,6 +20,7 @@ mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
+mod refractive_view_rotator;
 mod tim_head;
 mod triangular_thick_lens;
 
@@ -37,6 +38,7 @@ pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
+pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
@@ -96,6 +98,7 @@ kinds! {
         RefractiveLensSurfaces(RefractiveLensSurfacesKeys),
         TriangularThickLens(TriangularThickLensKeys),
         RefractiveLensletArray(RefractiveLensletArrayKeys),
+        RefractiveViewRotator(RefractiveViewRotatorKeys),
         Clas(ClasKeys),
     }
 }

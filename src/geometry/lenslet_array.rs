@@ -27,13 +27,13 @@
 //! (`width` × `height` about its centre). Where neighbouring lenslets are both glass at their
 //! common edge there is no surface (the sheet is one piece of glass); where one is glass and
 //! the other not, a step of the cell wall bounds it (as in a Gabor superlens, where lenslets
-//! are off-centre); the array's edges are walls too. A ray is followed through the cells its
-//! path crosses inside the sheet's slab, and within a cell between the crossings of the cell's
-//! two spheres; each stretch is classified inside or outside at its midpoint, and the first
-//! change of side after t_min is the hit, so an origin on the surface is never misjudged.
+//! are off-centre); the array's edges are walls too. A ray walks the cells its path crosses
+//! inside the sheet's slab ([`super::cell_walk`]; s and t are linear along it), meeting the
+//! cell's two spheres in each.
 
 use glam::{DVec2, DVec3};
 
+use super::cell_walk::{Bound, CellSolid, LineCoordinate, clip, walk};
 use super::{AnalyticShape, GeometryError, check_direction, check_point, point_bounds};
 use crate::math::{Frame, circle_crossings};
 
@@ -101,7 +101,7 @@ pub struct LensletArray {
 }
 
 /// Lenslet (i, j): its principal point and the offset c of its spheres' centres.
-struct Lenslet {
+pub(super) struct Lenslet {
     p: DVec3,
     c: f64,
 }
@@ -269,20 +269,6 @@ impl LensletArray {
         self.lenslet(i, j, near, far)
     }
 
-    /// Whether `x` (in lenslet (i, j)'s cell) is in the glass: |ζ| ≤ g(ρ).
-    fn inside(&self, lenslet: &Lenslet, x: DVec3) -> bool {
-        let rel = x - lenslet.p;
-        let zeta = rel.dot(self.axis);
-        let rho2 = (rel - zeta * self.axis).length_squared();
-        let h = (self.radius * self.radius - rho2).max(0.0).sqrt();
-        let g = if self.converging {
-            h - lenslet.c
-        } else {
-            lenslet.c - h
-        };
-        zeta.abs() <= g
-    }
-
     /// The part number of `kind` in lenslet (i, j) (an index off the array by rounding taken
     /// as the nearest lenslet's).
     fn part(&self, i: i64, j: i64, kind: u32) -> u32 {
@@ -306,14 +292,66 @@ fn segment_distance(a: DVec3, b: DVec3) -> f64 {
     (a + k * e).length()
 }
 
-/// What bounds a stretch of the ray: a sphere of the cell, a wall across s or t, or nothing
-/// (the slab's faces, the end of the search).
-#[derive(Clone, Copy)]
-enum Bound {
-    Sphere(u32),
-    WallS,
-    WallT,
-    None,
+impl CellSolid for LensletArray {
+    type Cell = Lenslet;
+
+    fn cell(&self, i: i64, j: i64) -> Lenslet {
+        self.lenslet_at(i, j)
+    }
+
+    /// The crossings of the lenslet's two spheres.
+    fn crossings(
+        &self,
+        lenslet: &Lenslet,
+        origin: DVec3,
+        direction: DVec3,
+        mut crossing: impl FnMut(f64, u32),
+    ) {
+        for (kind, sign) in [(FRONT, 1.0), (BACK, -1.0)] {
+            let centre = lenslet.p + sign * lenslet.c * self.axis;
+            if let Some((r0, r1)) = circle_crossings(origin - centre, direction, self.radius) {
+                crossing(r0, kind);
+                crossing(r1, kind);
+            }
+        }
+    }
+
+    /// |ζ| ≤ g(ρ).
+    fn inside(&self, lenslet: &Lenslet, x: DVec3) -> bool {
+        let rel = x - lenslet.p;
+        let zeta = rel.dot(self.axis);
+        let rho2 = (rel - zeta * self.axis).length_squared();
+        let h = (self.radius * self.radius - rho2).max(0.0).sqrt();
+        let g = if self.converging {
+            h - lenslet.c
+        } else {
+            lenslet.c - h
+        };
+        zeta.abs() <= g
+    }
+
+    /// A wall's outward normal points along the line when it leaves the glass, against it
+    /// when it enters.
+    fn hit_part(
+        &self,
+        i: i64,
+        j: i64,
+        bound: Bound,
+        leaving: bool,
+        _direction: DVec3,
+        [ds, dt]: [f64; 2],
+    ) -> u32 {
+        let wall = |base: u32, d: f64| base | u32::from((d > 0.0) != leaving);
+        let kind = match bound {
+            Bound::Surface(kind) => kind,
+            Bound::Wall(0) => wall(WALL_S, ds),
+            Bound::Wall(_) => wall(WALL_T, dt),
+            // The slab's faces across the axis never touch the glass; keep the nearest
+            // sphere's part.
+            Bound::Face(_) | Bound::None => FRONT,
+        };
+        self.part(i, j, kind)
+    }
 }
 
 impl AnalyticShape for LensletArray {
@@ -325,109 +363,20 @@ impl AnalyticShape for LensletArray {
         t_max: f64,
     ) -> Option<(f64, u32)> {
         let o = origin - self.a00;
-        let slabs = [
-            (o.dot(self.u_star), direction.dot(self.u_star), self.s_range),
-            (o.dot(self.v_star), direction.dot(self.v_star), self.t_range),
-            (o.dot(self.axis), direction.dot(self.axis), self.z_range),
-        ];
-        // The stretch of the line inside the array's box, and the faces it enters and leaves by.
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        let (mut enter, mut leave) = (Bound::None, Bound::None);
-        for (k, (p, dp, [a, b])) in slabs.into_iter().enumerate() {
-            let wall = [Bound::WallS, Bound::WallT, Bound::None][k];
-            if dp == 0.0 {
-                if p < a || p > b {
-                    return None;
-                }
-                continue;
-            }
-            let (l1, l2) = ((a - p) / dp, (b - p) / dp);
-            if l1.min(l2) > lo {
-                (lo, enter) = (l1.min(l2), wall);
-            }
-            if l1.max(l2) < hi {
-                (hi, leave) = (l1.max(l2), wall);
-            }
-        }
-        if lo.is_nan() || hi.is_nan() || lo >= hi || hi <= t_min || lo >= t_max {
-            return None;
-        }
-        if hi > t_max {
-            (hi, leave) = (t_max, Bound::None);
-        }
-        let [(s0, ds, _), (t0, dt, _)] = [slabs[0], slabs[1]];
-        let at = |l: f64| origin + l * direction;
-        // The cell the line enters at the start (on a wall, the one it moves into), and where
-        // it crosses the next wall across s and t.
-        let cell = |p: f64, dp: f64| {
-            let c = if dp >= 0.0 {
-                (p + 0.5).floor()
-            } else {
-                (p - 0.5).ceil()
-            };
-            (c as i64).clamp(i64::MIN / 2, i64::MAX / 2)
-        };
-        let (mut i, mut j) = (cell(s0 + lo * ds, ds), cell(t0 + lo * dt, dt));
-        let next = |c: i64, p: f64, dp: f64| match dp {
-            dp if dp > 0.0 => (c as f64 + 0.5 - p) / dp,
-            dp if dp < 0.0 => (c as f64 - 0.5 - p) / dp,
-            _ => f64::INFINITY,
-        };
-        let mut inside = false;
-        let mut from = (lo, enter);
-        // The stretch's start, up to four sphere crossings and its end.
-        let mut events = [(0.0, Bound::None); 6];
-        loop {
-            let (ls, lt) = (next(i, s0, ds), next(j, t0, dt));
-            let (end, wall) = if ls.min(lt) < hi {
-                if ls <= lt {
-                    (ls, Bound::WallS)
-                } else {
-                    (lt, Bound::WallT)
-                }
-            } else {
-                (hi, leave)
-            };
-            let lenslet = self.lenslet_at(i, j);
-            events[0] = from;
-            let mut count = 1;
-            for (kind, sign) in [(FRONT, 1.0), (BACK, -1.0)] {
-                let centre = lenslet.p + sign * lenslet.c * self.axis;
-                if let Some((r0, r1)) = circle_crossings(origin - centre, direction, self.radius) {
-                    for r in [r0, r1] {
-                        if r > from.0 && r < end {
-                            events[count] = (r, Bound::Sphere(kind));
-                            count += 1;
-                        }
-                    }
-                }
-            }
-            events[1..count].sort_by(|a, b| a.0.total_cmp(&b.0));
-            events[count] = (end, wall);
-            for pair in events[..=count].windows(2) {
-                let ((l, bound), (l_next, _)) = (pair[0], pair[1]);
-                // A stretch of no length (through a corner, a crossing on a wall) has no side.
-                if l_next <= l {
-                    continue;
-                }
-                let now = self.inside(&lenslet, at(0.5 * (l + l_next)));
-                if now != inside && l > t_min {
-                    return Some((l, self.hit_part(i, j, bound, inside, ds, dt)));
-                }
-                inside = now;
-            }
-            if end >= hi {
-                // Leaving the box: through a wall if the glass reaches it.
-                let exit = matches!(leave, Bound::WallS | Bound::WallT);
-                return (inside && exit && hi > t_min)
-                    .then(|| (hi, self.hit_part(i, j, leave, true, ds, dt)));
-            }
-            match wall {
-                Bound::WallS => i += ds.signum() as i64,
-                _ => j += dt.signum() as i64,
-            }
-            from = (end, wall);
-        }
+        let (s, t) = (
+            LineCoordinate::linear(o.dot(self.u_star), direction.dot(self.u_star)),
+            LineCoordinate::linear(o.dot(self.v_star), direction.dot(self.v_star)),
+        );
+        let stretch = clip(
+            [
+                (o.dot(self.u_star), direction.dot(self.u_star), self.s_range, Bound::Wall(0)),
+                (o.dot(self.v_star), direction.dot(self.v_star), self.t_range, Bound::Wall(1)),
+                (o.dot(self.axis), direction.dot(self.axis), self.z_range, Bound::None),
+            ],
+            t_min,
+            t_max,
+        )?;
+        walk(self, origin, direction, t_min, stretch, [s, t])
     }
 
     fn frame(&self, p: DVec3, part: u32) -> Frame {
@@ -470,23 +419,5 @@ impl AnalyticShape for LensletArray {
             }
         }
         Some(point_bounds(&corners))
-    }
-}
-
-impl LensletArray {
-    /// The part hit at a change of side bounded by `bound` in cell (i, j), `leaving` the glass
-    /// or entering it, the line's direction having components `ds`, `dt` along u*, v*: a wall's
-    /// outward normal points along the line when it leaves the glass, against it when it
-    /// enters.
-    fn hit_part(&self, i: i64, j: i64, bound: Bound, leaving: bool, ds: f64, dt: f64) -> u32 {
-        let wall = |base: u32, d: f64| base | u32::from((d > 0.0) != leaving);
-        let kind = match bound {
-            Bound::Sphere(kind) => kind,
-            Bound::WallS => wall(WALL_S, ds),
-            Bound::WallT => wall(WALL_T, dt),
-            // The slab's faces never touch the glass; keep the nearest sphere's part.
-            Bound::None => FRONT,
-        };
-        self.part(i, j, kind)
     }
 }

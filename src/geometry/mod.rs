@@ -18,6 +18,7 @@ mod elliptic_cylinder;
 mod interaction;
 mod lens_surface;
 mod lenses;
+mod cell_walk;
 mod lenslet_array;
 mod masked;
 mod paraboloid;
@@ -34,6 +35,7 @@ mod transform;
 mod transformed;
 mod triangle_mesh;
 mod triangular_prism;
+mod view_rotator;
 mod wedge;
 
 use glam::{DMat3, DVec2, DVec3};
@@ -70,6 +72,7 @@ pub use transform::{Transform, TransformKeys};
 pub use transformed::{Transformed, TransformedKeys};
 pub use triangle_mesh::{MeshKeys, TriangleMesh, TriangleMeshKeys};
 pub use triangular_prism::{TriangularPrism, TriangularPrismKeys};
+pub use view_rotator::{ViewRotator, ViewRotatorSpec};
 pub use wedge::{Wedge, WedgeKeys};
 
 use std::path::Path;
@@ -346,6 +349,7 @@ macro_rules! dispatch {
             Shape::EllipticCylinder($s) => $analytic,
             Shape::LensSurface($s) => $analytic,
             Shape::LensletArray($s) => $analytic,
+            Shape::ViewRotator($s) => $analytic,
             Shape::Csg($s) => $analytic,
             Shape::Transformed($s) => $analytic,
             Shape::Masked($s) => $analytic,
@@ -379,6 +383,8 @@ pub enum Shape {
     LensSurface(LensSurface),
     /// A sheet of glass shaped into spherical lenslets (Dr TIM's `RefractiveLensletArray`).
     LensletArray(LensletArray),
+    /// The glass of a refractive view rotator (Dr TIM's `RefractiveViewRotator`).
+    ViewRotator(ViewRotator),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.
@@ -548,6 +554,7 @@ impl Shape {
             Shape::EllipticCylinder(e) => e.kind(),
             Shape::LensSurface(_) => "lens-surface",
             Shape::LensletArray(_) => "refractive-lenslet-array",
+            Shape::ViewRotator(_) => "refractive-view-rotator",
             Shape::Transformed(t) => t.inner().kind(),
             Shape::Masked(_) => "masked",
             Shape::TriangleMesh(_) => "triangle mesh",

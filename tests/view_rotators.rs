@@ -1,0 +1,404 @@
+//! Issue 40 item 3, view rotators: Dr TIM's `RefractiveViewRotator` (the
+//! `refractive-view-rotator` device), traced as one solid of glass, checked against facts
+//! worked out here:
+//!
+//! * its surface against the same wedges built another way, each pixel on its own by
+//!   constructive solid geometry from half-spaces (the wedge's two faces as Dr TIM's
+//!   `SurfaceOfRefractiveViewRotator` places them, the four walls of the pixel's voxel through
+//!   the eye, Dr TIM's two `FanOfPlanes`) and the bounding box: first hits from outside agree
+//!   in distance and normal, with the research program's parameters and with a skew one
+//!   (magnification 2, a tilted rotation axis, skew periods, the eye off the axis);
+//! * optics, with Snell's law and Rodrigues' rotation written here: the ray from the eye
+//!   through a pixel's centre leaves its wedge towards the point of the view plane that the eye
+//!   sees, undeviated, in the rotated (and magnified) direction, so the view is rotated;
+//! * without rotation or magnification every wedge is a plane-parallel plate, which leaves the
+//!   direction of every ray from the eye as it was;
+//! * impossible parameters refused by `timbre check` where they are written.
+
+mod common;
+
+use glam::DVec3;
+use tempfile::TempDir;
+use timbre::geometry::{Csg, CsgOperation, Parallelepiped, Plane, Shape};
+use timbre::scene::{SceneDescription, file};
+
+use common::cli::{path_str, timbre, write};
+use common::glass::{follow, snell};
+use common::rng::Rng;
+
+const MM: f64 = 1e-3;
+
+/// A view rotator's parameters, as Dr TIM's `RefractiveViewRotator` takes them.
+struct Rotator {
+    box_centre: DVec3,
+    spans: [DVec3; 3],
+    eye: DVec3,
+    origin: DVec3,
+    p1: DVec3,
+    p2: DVec3,
+    angle_deg: f64,
+    axis: DVec3,
+    magnification: f64,
+    view_point: DVec3,
+    view_normal: DVec3,
+    n: f64,
+    thickness: f64,
+}
+
+/// ViewRotationExplorerWithUnitsSpacePlateTest's rotator, its box cut to `spans` about
+/// `box_centre`.
+fn research(box_centre: DVec3, spans: [DVec3; 3]) -> Rotator {
+    Rotator {
+        box_centre,
+        spans,
+        eye: DVec3::new(0.0, 0.0, -15.0 * MM),
+        origin: DVec3::ZERO,
+        p1: DVec3::new(0.5 * MM, 0.0, 0.0),
+        p2: DVec3::new(0.0, 0.5 * MM, 0.0),
+        angle_deg: 10.0,
+        axis: DVec3::new(0.0, 0.0, -1.0),
+        magnification: 1.0,
+        view_point: DVec3::new(0.0, 0.0, 2.0),
+        view_normal: DVec3::Z,
+        n: 1.5,
+        thickness: 1.0 * MM,
+    }
+}
+
+/// A skew rotator: magnification 2, a tilted axis, skew periods, the eye off the axis, a
+/// tilted view plane.
+fn skew() -> Rotator {
+    Rotator {
+        box_centre: DVec3::new(4.0 * MM, 2.0 * MM, 1.2 * MM),
+        spans: [
+            DVec3::new(2.0 * MM, 0.2 * MM, 0.0),
+            DVec3::new(0.0, 2.5 * MM, 0.3 * MM),
+            DVec3::new(0.0, 0.0, 3.0 * MM),
+        ],
+        eye: DVec3::new(1.0 * MM, -2.0 * MM, -12.0 * MM),
+        origin: DVec3::new(0.1 * MM, 0.2 * MM, 0.0),
+        p1: DVec3::new(0.5 * MM, 0.1 * MM, 0.0),
+        p2: DVec3::new(-0.1 * MM, 0.4 * MM, 0.0),
+        angle_deg: -25.0,
+        axis: DVec3::new(0.2, 0.1, -1.0),
+        magnification: 2.0,
+        view_point: DVec3::new(0.0, 0.0, 1.5),
+        view_normal: DVec3::new(0.1, 0.0, 1.0),
+        n: 1.7,
+        thickness: 0.8 * MM,
+    }
+}
+
+impl Rotator {
+    fn lenses(&self) -> String {
+        let v = |x: DVec3| format!("[{:e}, {:e}, {:e}]", x.x, x.y, x.z);
+        format!(
+            "{{ type = \"refractive-view-rotator\", bounding_box_centre = {}, \
+             bounding_box_span_vector_1 = {}, bounding_box_span_vector_2 = {}, \
+             bounding_box_span_vector_3 = {}, eye_position = {}, ocular_plane_centre = {}, \
+             period_vector_1 = {}, period_vector_2 = {}, rotation_angle_deg = {}, \
+             rotation_axis_direction = {}, magnification_factor = {}, view_plane_point = {}, \
+             view_plane_normal = {}, refractive_index = {}, wedge_thickness = {:e} }}",
+            v(self.box_centre),
+            v(self.spans[0]),
+            v(self.spans[1]),
+            v(self.spans[2]),
+            v(self.eye),
+            v(self.origin),
+            v(self.p1),
+            v(self.p2),
+            self.angle_deg,
+            v(self.axis),
+            self.magnification,
+            v(self.view_point),
+            v(self.view_normal),
+            self.n,
+            self.thickness
+        )
+    }
+
+    fn scene(&self) -> SceneDescription {
+        let text = format!(
+            "studio = \"none\"\n[[device]]\nname = \"rotator\"\nlenses = {}\n",
+            self.lenses()
+        );
+        file::parse(&text, "rotator.toml").unwrap()
+    }
+
+    /// Pixel (i, j)'s centre C, the direction d_O from the eye through it, and the point X of
+    /// the view plane the eye is to see in that direction: on the ray from the eye along d_O
+    /// rotated by Rodrigues' formula, its part across the axis divided by the magnification.
+    fn design(&self, i: i64, j: i64) -> (DVec3, DVec3, DVec3) {
+        let c = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
+        let d_o = (c - self.eye).normalize();
+        let (a, theta) = (self.axis.normalize(), self.angle_deg.to_radians());
+        let rotated = d_o * theta.cos()
+            + a.cross(d_o) * theta.sin()
+            + a * a.dot(d_o) * (1.0 - theta.cos());
+        let along = a * a.dot(rotated);
+        let d_r = along + (rotated - along) / self.magnification;
+        let mu = (self.view_point - self.eye).dot(self.view_normal) / d_r.dot(self.view_normal);
+        (c, d_o, self.eye + mu * d_r)
+    }
+
+    /// Pixel (i, j)'s glass by CSG: the wedge between its ocular face (through C, normal to
+    /// d_O) and its objective face (through Q = C + T d_O, normal to n d_O − d_obj, which
+    /// refracts d_O into d_obj towards X), inside the pixel's voxel and the box.
+    fn pixel(&self, i: i64, j: i64) -> Shape {
+        let (c, d_o, x) = self.design(i, j);
+        let q = c + self.thickness * d_o;
+        let d_obj = (x - q).normalize();
+        let mut n_obj = self.n * d_o - d_obj;
+        if n_obj.dot(d_obj) < 0.0 {
+            n_obj = -n_obj;
+        }
+        let half_space = |point: DVec3, outward: DVec3| {
+            Shape::Plane(Plane::new(point, outward, outward.any_orthonormal_vector()).unwrap())
+        };
+        let mut members = vec![
+            half_space(c, -d_o),
+            half_space(q, n_obj),
+            Shape::Parallelepiped(Parallelepiped::new(self.box_centre, self.spans).unwrap()),
+        ];
+        // The voxel: the planes through the eye and the lines through C ± p₁/2 along p₂ and
+        // through C ± p₂/2 along p₁, each with C on its inner side.
+        for (edge, along) in [
+            (0.5 * self.p1, self.p2),
+            (-0.5 * self.p1, self.p2),
+            (0.5 * self.p2, self.p1),
+            (-0.5 * self.p2, self.p1),
+        ] {
+            let mut normal = (c + edge - self.eye).cross(along);
+            if normal.dot(c - self.eye) > 0.0 {
+                normal = -normal;
+            }
+            members.push(half_space(self.eye, normal));
+        }
+        Shape::Csg(Csg::new(CsgOperation::Intersection, members).unwrap())
+    }
+}
+
+#[test]
+fn first_hits_match_the_wedges_built_one_by_one() {
+    let mut rng = Rng(41);
+    let cases = [
+        // The research program's rotator, off the axis where the wedges lean, its box's front
+        // face 0.1 µm in front of the ocular plane as in the program (it cuts the ocular faces
+        // that lean forwards).
+        research(
+            DVec3::new(6.0 * MM, 3.5 * MM, 1.4999 * MM),
+            [
+                DVec3::new(2.0 * MM, 0.0, 0.0),
+                DVec3::new(0.0, 2.0 * MM, 0.0),
+                DVec3::new(0.0, 0.0, 3.0 * MM),
+            ],
+        ),
+        skew(),
+    ];
+    for (k, case) in cases.iter().enumerate() {
+        let description = case.scene();
+        let glass = &description.objects[0].shape;
+        let pixels: Vec<Shape> = (-6..=22)
+            .flat_map(|i| (-6..=22).map(move |j| (i, j)))
+            .map(|(i, j)| case.pixel(i, j))
+            .collect();
+        let (mut hits, mut walls) = (0, 0);
+        let half = 0.5 * (case.spans[0].abs() + case.spans[1].abs() + case.spans[2].abs());
+        for _ in 0..3000 {
+            let o = case.box_centre + 6.0 * MM * rng.unit();
+            let target = rng.point_in_box(case.box_centre - half, case.box_centre + half);
+            let d = (target - o).normalize();
+            let expected = pixels
+                .iter()
+                .filter_map(|p| p.intersect(o, d, 1e-12, 1.0).map(|(t, part)| (t, part, p)))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let got = glass.intersect(o, d, 1e-12, 1.0);
+            match (expected, got) {
+                (None, None) => {}
+                (Some((t, part, p)), Some((t2, part2))) => {
+                    assert!((t - t2).abs() < 1e-12, "case {k}: {o} along {d}: t {t} vs {t2}");
+                    let x = o + t * d;
+                    let (n1, n2) = (p.normal(x, part), glass.normal(x, part2));
+                    assert!((n1 - n2).length() < 1e-9, "case {k} at {x}: {n1} vs {n2}");
+                    hits += 1;
+                    // A wall is a plane through the eye.
+                    walls += usize::from(n1.dot(x - case.eye).abs() < 1e-9 * (x - case.eye).length());
+                }
+                (e, g) => panic!("case {k}: {o} along {d}: expected {e:?}, got {g:?}"),
+            }
+        }
+        assert!(hits > 1000, "case {k}: {hits} hits");
+        assert!(walls > 10, "case {k}: {walls} walls met");
+    }
+}
+
+/// Where the ray from `o` along `d` meets the plane through `point` normal to `normal`.
+fn on_plane(o: DVec3, d: DVec3, point: DVec3, normal: DVec3) -> DVec3 {
+    o + (point - o).dot(normal) / d.dot(normal) * d
+}
+
+#[test]
+fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
+    // The whole research rotator, 5 cm square; and the skew one.
+    let whole = research(
+        DVec3::new(0.0, 0.0, 1.4999 * MM),
+        [
+            DVec3::new(50.0 * MM, 0.0, 0.0),
+            DVec3::new(0.0, 50.0 * MM, 0.0),
+            DVec3::new(0.0, 0.0, 3.0 * MM),
+        ],
+    );
+    for case in [whole, skew()] {
+        // Pixels whose wedge's centre line, C to Q, lies inside the box.
+        let spans = case.spans;
+        let volume = spans[0].dot(spans[1].cross(spans[2]));
+        let stars = [
+            spans[1].cross(spans[2]) / volume,
+            spans[2].cross(spans[0]) / volume,
+            spans[0].cross(spans[1]) / volume,
+        ];
+        let in_box = |x: DVec3| stars.iter().all(|s| (x - case.box_centre).dot(*s).abs() < 0.5);
+        let pixels: Vec<(i64, i64)> = (-60..=60)
+            .flat_map(|i| (-60..=60).map(move |j| (i, j)))
+            .filter(|&(i, j)| {
+                let (c, d_o, _) = case.design(i, j);
+                in_box(c) && in_box(c + case.thickness * d_o)
+            })
+            .collect();
+        assert!(pixels.len() > 5, "{} pixels", pixels.len());
+        let pixels: Vec<_> = pixels.iter().step_by(pixels.len() / 30 + 1).collect();
+        let description = case.scene();
+        let glass = &description.objects[0].shape;
+        let mut clear = 0;
+        for &&(i, j) in &pixels {
+            let (c, d_o, x) = case.design(i, j);
+            // Into the ocular face at C at normal incidence (undeviated) ...
+            let (t, part) = glass.intersect(case.eye, d_o, 1e-12, 1.0).unwrap();
+            let at = case.eye + t * d_o;
+            assert!((at - c).length() < 1e-12, "pixel ({i}, {j}): entered at {at}, C = {c}");
+            let inside = snell(d_o, glass.normal(at, part), case.n).unwrap();
+            assert!((inside - d_o).length() < 1e-12, "pixel ({i}, {j}): bent to {inside}");
+            // ... and out of the objective face at Q, towards X.
+            let (t, part) = glass.intersect(at, inside, 1e-12, 1.0).unwrap();
+            let out = at + t * inside;
+            let q = c + case.thickness * d_o;
+            assert!((out - q).length() < 1e-12, "pixel ({i}, {j}): left at {out}, Q = {q}");
+            let d = snell(inside, glass.normal(out, part), case.n).unwrap();
+            let seen = on_plane(out, d, case.view_point, case.view_normal);
+            assert!(
+                (seen - x).length() < 1e-9 * (x - case.eye).length(),
+                "pixel ({i}, {j}): sees {seen}, should see {x}"
+            );
+            // Unless the ray goes on through a neighbouring pixel's wedge (which the design
+            // does not prevent, far off the axis), that is what the eye sees.
+            let (met, last, d) = follow(&description, case.eye, d_o).unwrap();
+            if met.len() == 2 {
+                let seen = on_plane(last, d, case.view_point, case.view_normal);
+                assert!((seen - x).length() < 1e-9 * (x - case.eye).length());
+                clear += 1;
+            }
+        }
+        assert!(2 * clear > pixels.len(), "{clear} of {} pixels clear", pixels.len());
+    }
+    // The rotation is what the eye sees: by the program's 10° about −z, the point straight
+    // ahead of pixel (40, 0) (d_O in the x-z plane) appears at azimuth −10°.
+    let (_, d_o, x) = research(DVec3::ZERO, [DVec3::X; 3]).design(40, 0);
+    let (azimuth_in, azimuth_seen) = (d_o.y.atan2(d_o.x), x.y.atan2(x.x));
+    assert!(((azimuth_seen - azimuth_in).to_degrees() + 10.0).abs() < 1e-9);
+}
+
+#[test]
+fn without_rotation_every_wedge_is_a_plate_that_keeps_directions() {
+    // The box's front face well before the ocular faces, so every ray from the eye enters its
+    // wedge through the ocular face.
+    let mut plate = research(
+        DVec3::ZERO,
+        [
+            DVec3::new(20.0 * MM, 0.0, 0.0),
+            DVec3::new(0.0, 20.0 * MM, 0.0),
+            DVec3::new(0.0, 0.0, 6.0 * MM),
+        ],
+    );
+    plate.angle_deg = 0.0;
+    let description = plate.scene();
+    let mut rng = Rng(7);
+    for _ in 0..500 {
+        let target = DVec3::new(rng.range(-9.0, 9.0) * MM, rng.range(-9.0, 9.0) * MM, 0.0);
+        let d = (target - plate.eye).normalize();
+        let (met, _, out) = follow(&description, plate.eye, d).unwrap();
+        assert_eq!(met.len(), 2, "{d}: {met:?}");
+        assert!((out - d).length() < 1e-12, "{d} left as {out}");
+    }
+}
+
+#[test]
+fn impossible_view_rotators_are_refused_where_they_are_written() {
+    let device = |keys: &str| {
+        format!(
+            "[[device]]\nname = \"rotator\"\nlenses = {{ type = \"refractive-view-rotator\", \
+             bounding_box_centre = [0, 0, 0.0015], bounding_box_span_vector_1 = [0.05, 0, 0], \
+             bounding_box_span_vector_2 = [0, 0.05, 0], ocular_plane_centre = [0, 0, 0], \
+             rotation_angle_deg = 10, rotation_axis_direction = [0, 0, -1], \
+             view_plane_point = [0, 0, 2], view_plane_normal = [0, 0, 1], \
+             refractive_index = 1.5, {keys} }}\n"
+        )
+    };
+    let good = "period_vector_1 = [0.0005, 0, 0], period_vector_2 = [0, 0.0005, 0], \
+                wedge_thickness = 0.001";
+    let cases = [
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], eye_position = [0, 0, 0.001]"
+            )),
+            vec![":3:10:", "device 'rotator'", "behind the plane through the eye"],
+        ),
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], eye_position = [0.1, 0, 0]"
+            )),
+            vec![":3:10:", "the eye lies in the ocular plane"],
+        ),
+        (
+            device(
+                "period_vector_1 = [0.0005, 0, 0], period_vector_2 = [0.001, 0, 0], \
+                 wedge_thickness = 0.001, bounding_box_span_vector_3 = [0, 0, 0.003], eye_position = [0, 0, -0.015]",
+            ),
+            vec![":3:10:", "period vectors are (nearly) parallel"],
+        ),
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0.05, 0.05, 0], \
+                 eye_position = [0, 0, -0.015]"
+            )),
+            vec![":3:10:", "span vectors are (nearly) coplanar"],
+        ),
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+                 eye_position = [0, 0, -0.015], magnification_factor = 0"
+            )),
+            vec![":3:10:", "non-zero number, got 0"],
+        ),
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+                 eye_position = [0, 0, -0.015]"
+            )
+            .replace("wedge_thickness = 0.001", "wedge_thickness = -1")),
+            vec![":3:10:", "got -1"],
+        ),
+        (
+            // 1 nm pixels across a 5 cm box: far more than 2^28.
+            device(
+                "period_vector_1 = [1e-9, 0, 0], period_vector_2 = [0, 1e-9, 0], \
+                 wedge_thickness = 0.001, bounding_box_span_vector_3 = [0, 0, 0.003], eye_position = [0, 0, -0.015]",
+            ),
+            vec![":3:10:", "pixels", "more than"],
+        ),
+    ];
+    let dir = TempDir::new().unwrap();
+    for (text, needles) in cases {
+        let path = write(&dir, "bad.toml", &text);
+        timbre(dir.path(), &["check", path_str(&path)]).assert_bad_input(&needles);
+    }
+}
