@@ -132,9 +132,8 @@ impl Rotator {
         let c = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
         let d_o = (c - self.eye).normalize();
         let (a, theta) = (self.axis.normalize(), self.angle_deg.to_radians());
-        let rotated = d_o * theta.cos()
-            + a.cross(d_o) * theta.sin()
-            + a * a.dot(d_o) * (1.0 - theta.cos());
+        let rotated =
+            d_o * theta.cos() + a.cross(d_o) * theta.sin() + a * a.dot(d_o) * (1.0 - theta.cos());
         let along = a * a.dot(rotated);
         let d_r = along + (rotated - along) / self.magnification;
         let mu = (self.view_point - self.eye).dot(self.view_normal) / d_r.dot(self.view_normal);
@@ -216,13 +215,17 @@ fn first_hits_match_the_wedges_built_one_by_one() {
             match (expected, got) {
                 (None, None) => {}
                 (Some((t, part, p)), Some((t2, part2))) => {
-                    assert!((t - t2).abs() < 1e-12, "case {k}: {o} along {d}: t {t} vs {t2}");
+                    assert!(
+                        (t - t2).abs() < 1e-12,
+                        "case {k}: {o} along {d}: t {t} vs {t2}"
+                    );
                     let x = o + t * d;
                     let (n1, n2) = (p.normal(x, part), glass.normal(x, part2));
                     assert!((n1 - n2).length() < 1e-9, "case {k} at {x}: {n1} vs {n2}");
                     hits += 1;
                     // A wall is a plane through the eye.
-                    walls += usize::from(n1.dot(x - case.eye).abs() < 1e-9 * (x - case.eye).length());
+                    walls +=
+                        usize::from(n1.dot(x - case.eye).abs() < 1e-9 * (x - case.eye).length());
                 }
                 (e, g) => panic!("case {k}: {o} along {d}: expected {e:?}, got {g:?}"),
             }
@@ -257,7 +260,11 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
             spans[2].cross(spans[0]) / volume,
             spans[0].cross(spans[1]) / volume,
         ];
-        let in_box = |x: DVec3| stars.iter().all(|s| (x - case.box_centre).dot(*s).abs() < 0.5);
+        let in_box = |x: DVec3| {
+            stars
+                .iter()
+                .all(|s| (x - case.box_centre).dot(*s).abs() < 0.5)
+        };
         let pixels: Vec<(i64, i64)> = (-60..=60)
             .flat_map(|i| (-60..=60).map(move |j| (i, j)))
             .filter(|&(i, j)| {
@@ -275,14 +282,23 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
             // Into the ocular face at C at normal incidence (undeviated) ...
             let (t, part) = glass.intersect(case.eye, d_o, 1e-12, 1.0).unwrap();
             let at = case.eye + t * d_o;
-            assert!((at - c).length() < 1e-12, "pixel ({i}, {j}): entered at {at}, C = {c}");
+            assert!(
+                (at - c).length() < 1e-12,
+                "pixel ({i}, {j}): entered at {at}, C = {c}"
+            );
             let inside = snell(d_o, glass.normal(at, part), case.n).unwrap();
-            assert!((inside - d_o).length() < 1e-12, "pixel ({i}, {j}): bent to {inside}");
+            assert!(
+                (inside - d_o).length() < 1e-12,
+                "pixel ({i}, {j}): bent to {inside}"
+            );
             // ... and out of the objective face at Q, towards X.
             let (t, part) = glass.intersect(at, inside, 1e-12, 1.0).unwrap();
             let out = at + t * inside;
             let q = c + case.thickness * d_o;
-            assert!((out - q).length() < 1e-12, "pixel ({i}, {j}): left at {out}, Q = {q}");
+            assert!(
+                (out - q).length() < 1e-12,
+                "pixel ({i}, {j}): left at {out}, Q = {q}"
+            );
             let d = snell(inside, glass.normal(out, part), case.n).unwrap();
             let seen = on_plane(out, d, case.view_point, case.view_normal);
             assert!(
@@ -298,7 +314,11 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
                 clear += 1;
             }
         }
-        assert!(2 * clear > pixels.len(), "{clear} of {} pixels clear", pixels.len());
+        assert!(
+            2 * clear > pixels.len(),
+            "{clear} of {} pixels clear",
+            pixels.len()
+        );
     }
     // The rotation is what the eye sees: by the program's 10° about −z, the point straight
     // ahead of pixel (40, 0) (d_O in the x-z plane) appears at azimuth −10°.
@@ -350,7 +370,11 @@ fn impossible_view_rotators_are_refused_where_they_are_written() {
             device(&format!(
                 "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], eye_position = [0, 0, 0.001]"
             )),
-            vec![":3:10:", "device 'rotator'", "behind the plane through the eye"],
+            vec![
+                ":3:10:",
+                "device 'rotator'",
+                "behind the plane through the eye",
+            ],
         ),
         (
             device(&format!(
@@ -380,11 +404,13 @@ fn impossible_view_rotators_are_refused_where_they_are_written() {
             vec![":3:10:", "non-zero number, got 0"],
         ),
         (
-            device(&format!(
-                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+            device(
+                &format!(
+                    "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
                  eye_position = [0, 0, -0.015]"
-            )
-            .replace("wedge_thickness = 0.001", "wedge_thickness = -1")),
+                )
+                .replace("wedge_thickness = 0.001", "wedge_thickness = -1"),
+            ),
             vec![":3:10:", "got -1"],
         ),
         (

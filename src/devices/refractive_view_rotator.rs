@@ -29,7 +29,7 @@ impl LensDevice for RefractiveViewRotator {
         let shape = ViewRotator::new(&self.spec).map_err(|e| e.to_string())?;
         Ok(vec![Part {
             name: "wedges".into(),
-            shape: Shape::ViewRotator(shape),
+            shape: Shape::ViewRotator(Box::new(shape)),
             surface: Surface::Refractive(Refractive {
                 index_ratio: self.spec.refractive_index,
                 transmission_coefficient: self.transmission_coefficient,

@@ -133,7 +133,11 @@ pub(super) trait CellSolid {
 
 /// The stretch of the line in the box given by three slabs (p + λ dp ∈ [a, b], entered and
 /// left by the slab's bound), cut to (t_min, t_max); `None` if it is empty.
-pub(super) fn clip(slabs: [(f64, f64, [f64; 2], Bound); 3], t_min: f64, t_max: f64) -> Option<Stretch> {
+pub(super) fn clip(
+    slabs: [(f64, f64, [f64; 2], Bound); 3],
+    t_min: f64,
+    t_max: f64,
+) -> Option<Stretch> {
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
     let (mut enter, mut leave) = (Bound::None, Bound::None);
     for (p, dp, [a, b], bound) in slabs {
@@ -203,10 +207,7 @@ pub(super) fn walk<S: CellSolid>(
     // The stretch's start, the crossings of the cell's surfaces and its end.
     let mut events = [(0.0, Bound::None); MAX_CROSSINGS + 2];
     loop {
-        let (ls, lt) = (
-            next(i, &s, signs[0], from.0),
-            next(j, &t, signs[1], from.0),
-        );
+        let (ls, lt) = (next(i, &s, signs[0], from.0), next(j, &t, signs[1], from.0));
         let (end, wall) = if ls.min(lt) < hi {
             if ls <= lt {
                 (ls, Bound::Wall(0))
@@ -235,10 +236,7 @@ pub(super) fn walk<S: CellSolid>(
             }
             let now = solid.inside(&piece, at(0.5 * (l + l_next)));
             if now != inside && l > t_min {
-                return Some((
-                    l,
-                    solid.hit_part(i, j, bound, inside, direction, signs),
-                ));
+                return Some((l, solid.hit_part(i, j, bound, inside, direction, signs)));
             }
             inside = now;
         }

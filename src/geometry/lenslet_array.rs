@@ -369,9 +369,24 @@ impl AnalyticShape for LensletArray {
         );
         let stretch = clip(
             [
-                (o.dot(self.u_star), direction.dot(self.u_star), self.s_range, Bound::Wall(0)),
-                (o.dot(self.v_star), direction.dot(self.v_star), self.t_range, Bound::Wall(1)),
-                (o.dot(self.axis), direction.dot(self.axis), self.z_range, Bound::None),
+                (
+                    o.dot(self.u_star),
+                    direction.dot(self.u_star),
+                    self.s_range,
+                    Bound::Wall(0),
+                ),
+                (
+                    o.dot(self.v_star),
+                    direction.dot(self.v_star),
+                    self.t_range,
+                    Bound::Wall(1),
+                ),
+                (
+                    o.dot(self.axis),
+                    direction.dot(self.axis),
+                    self.z_range,
+                    Bound::None,
+                ),
             ],
             t_min,
             t_max,

@@ -7,6 +7,7 @@
 mod arrow;
 mod axial;
 mod bilinear_surface;
+mod cell_walk;
 mod cone;
 mod convex_polygon;
 mod csg;
@@ -18,7 +19,6 @@ mod elliptic_cylinder;
 mod interaction;
 mod lens_surface;
 mod lenses;
-mod cell_walk;
 mod lenslet_array;
 mod masked;
 mod paraboloid;
@@ -384,7 +384,7 @@ pub enum Shape {
     /// A sheet of glass shaped into spherical lenslets (Dr TIM's `RefractiveLensletArray`).
     LensletArray(LensletArray),
     /// The glass of a refractive view rotator (Dr TIM's `RefractiveViewRotator`).
-    ViewRotator(ViewRotator),
+    ViewRotator(Box<ViewRotator>),
     /// Solids combined by constructive solid geometry.
     Csg(Csg),
     /// An analytic shape under a general linear map.

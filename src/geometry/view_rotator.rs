@@ -147,9 +147,11 @@ impl ViewRotator {
             (normal, k) = (-normal, -k);
         }
         if k <= 1e-9 * (origin - eye).length() || !k.is_normal() {
-            return bad("the eye lies in the ocular plane (spanned by the periods through \
+            return bad(
+                "the eye lies in the ocular plane (spanned by the periods through \
                  ocular_plane_centre)"
-                .into());
+                    .into(),
+            );
         }
         // Every point of the box must lie beyond the plane through the eye parallel to the
         // ocular plane, where each voxel is a single cone from the eye.
@@ -169,7 +171,9 @@ impl ViewRotator {
         let view_normal = check_direction("view_plane_normal", spec.view_plane_normal)?;
         let m = spec.magnification_factor;
         if m == 0.0 || !m.is_finite() {
-            return bad(format!("magnification_factor must be non-zero and finite (it is {m})"));
+            return bad(format!(
+                "magnification_factor must be non-zero and finite (it is {m})"
+            ));
         }
         let rotation = DMat3::from_axis_angle(axis, spec.rotation_angle_deg.to_radians());
         let along = DMat3::from_cols(axis * axis.x, axis * axis.y, axis * axis.z);
@@ -351,7 +355,7 @@ impl CellSolid for ViewRotator {
             }
             Bound::Face(k) => {
                 let growing = direction.dot(self.span_stars[k]) > 0.0;
-                self.part(i, j, FACE + 2 * k as u32 | side(growing))
+                self.part(i, j, (FACE + 2 * k as u32) | side(growing))
             }
             // The search ended inside the glass: no surface (never reported as a hit).
             Bound::None => self.part(i, j, OCULAR),
@@ -370,7 +374,12 @@ impl AnalyticShape for ViewRotator {
         let o = origin - self.centre;
         let slab = |k: usize| {
             let star = self.span_stars[k];
-            (o.dot(star), direction.dot(star), [-0.5, 0.5], Bound::Face(k))
+            (
+                o.dot(star),
+                direction.dot(star),
+                [-0.5, 0.5],
+                Bound::Face(k),
+            )
         };
         let stretch = clip([slab(0), slab(1), slab(2)], t_min, t_max)?;
         let w = origin - self.eye;
