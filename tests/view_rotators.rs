@@ -5,14 +5,20 @@
 //! * its surface against the same wedges built another way, each pixel on its own by
 //!   constructive solid geometry from half-spaces (the wedge's two faces as Dr TIM's
 //!   `SurfaceOfRefractiveViewRotator` places them, the four walls of the pixel's voxel through
-//!   the eye, Dr TIM's two `FanOfPlanes`) and the bounding box: first hits from outside agree
-//!   in distance and normal, with the research program's parameters and with a skew one
-//!   (magnification 2, a tilted rotation axis, skew periods, the eye off the axis);
+//!   the eye, Dr TIM's two `FanOfPlanes`) and the bounding box: first hits from outside, and the
+//!   next change between glass and air from anywhere in the box with the search cut short,
+//!   agree in distance and normal, with the research program's parameters and with a skew one
+//!   (magnification 2, a tilted rotation axis, skew periods, the eye off the axis, the wedges
+//!   set back by a derivative-control thickness);
 //! * optics, with Snell's law and Rodrigues' rotation written here: the ray from the eye
 //!   through a pixel's centre leaves its wedge towards the point of the view plane that the eye
-//!   sees, undeviated, in the rotated (and magnified) direction, so the view is rotated;
+//!   sees, undeviated, in the rotated (and magnified) direction, so the view is rotated (also
+//!   with ViewRotationExplorerWithUnits's wedges set 10 mm back);
 //! * without rotation or magnification every wedge is a plane-parallel plate, which leaves the
 //!   direction of every ray from the eye as it was;
+//! * the diffraction blur: rays leaving the box are kicked by a pixel's single-slit
+//!   diffraction, (2/π) Si(2π) ≈ 0.903 of them within the first minimum along each side
+//!   (Abramowitz & Stegun's Si);
 //! * impossible parameters refused by `timbre check` where they are written.
 
 mod common;
@@ -21,6 +27,7 @@ use glam::DVec3;
 use tempfile::TempDir;
 use timbre::geometry::{Csg, CsgOperation, Parallelepiped, Plane, Shape};
 use timbre::scene::{SceneDescription, file};
+use timbre::trajectories;
 
 use common::cli::{path_str, timbre, write};
 use common::glass::{follow, snell};
@@ -43,6 +50,8 @@ struct Rotator {
     view_normal: DVec3,
     n: f64,
     thickness: f64,
+    /// D, Dr TIM's derivative-control thickness.
+    offset: f64,
 }
 
 /// ViewRotationExplorerWithUnitsSpacePlateTest's rotator, its box cut to `spans` about
@@ -62,6 +71,7 @@ fn research(box_centre: DVec3, spans: [DVec3; 3]) -> Rotator {
         view_normal: DVec3::Z,
         n: 1.5,
         thickness: 1.0 * MM,
+        offset: 0.0,
     }
 }
 
@@ -86,6 +96,24 @@ fn skew() -> Rotator {
         view_normal: DVec3::new(0.1, 0.0, 1.0),
         n: 1.7,
         thickness: 0.8 * MM,
+        offset: 0.3 * MM,
+    }
+}
+
+/// ViewRotationExplorerWithUnits's rotator (its defaults): the wedges start D = 10 mm behind
+/// the ocular plane, designed for the plane z = 1 m, in a box 44 mm deep about z = 20 mm.
+fn with_units() -> Rotator {
+    Rotator {
+        view_point: DVec3::new(0.0, 0.0, 1.0),
+        offset: 10.0 * MM,
+        ..research(
+            DVec3::new(0.0, 0.0, 20.0 * MM),
+            [
+                DVec3::new(50.0 * MM, 0.0, 0.0),
+                DVec3::new(0.0, 50.0 * MM, 0.0),
+                DVec3::new(0.0, 0.0, 44.0 * MM),
+            ],
+        )
     }
 }
 
@@ -98,7 +126,8 @@ impl Rotator {
              bounding_box_span_vector_3 = {}, eye_position = {}, ocular_plane_centre = {}, \
              period_vector_1 = {}, period_vector_2 = {}, rotation_angle_deg = {}, \
              rotation_axis_direction = {}, magnification_factor = {}, view_plane_point = {}, \
-             view_plane_normal = {}, refractive_index = {}, wedge_thickness = {:e} }}",
+             view_plane_normal = {}, refractive_index = {}, wedge_thickness = {:e}, \
+             derivative_control_thickness = {:e} }}",
             v(self.box_centre),
             v(self.spans[0]),
             v(self.spans[1]),
@@ -113,7 +142,8 @@ impl Rotator {
             v(self.view_point),
             v(self.view_normal),
             self.n,
-            self.thickness
+            self.thickness,
+            self.offset
         )
     }
 
@@ -125,12 +155,14 @@ impl Rotator {
         file::parse(&text, "rotator.toml").unwrap()
     }
 
-    /// Pixel (i, j)'s centre C, the direction d_O from the eye through it, and the point X of
+    /// Where pixel (i, j)'s wedge starts, C (D behind its centre along d_O), the direction d_O
+    /// from the eye through the pixel's centre, and the point X of
     /// the view plane the eye is to see in that direction: on the ray from the eye along d_O
     /// rotated by Rodrigues' formula, its part across the axis divided by the magnification.
     fn design(&self, i: i64, j: i64) -> (DVec3, DVec3, DVec3) {
-        let c = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
-        let d_o = (c - self.eye).normalize();
+        let centre = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
+        let d_o = (centre - self.eye).normalize();
+        let c = centre + self.offset * d_o;
         let (a, theta) = (self.axis.normalize(), self.angle_deg.to_radians());
         let rotated =
             d_o * theta.cos() + a.cross(d_o) * theta.sin() + a * a.dot(d_o) * (1.0 - theta.cos());
@@ -145,6 +177,7 @@ impl Rotator {
     /// refracts d_O into d_obj towards X), inside the pixel's voxel and the box.
     fn pixel(&self, i: i64, j: i64) -> Shape {
         let (c, d_o, x) = self.design(i, j);
+        let centre = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
         let q = c + self.thickness * d_o;
         let d_obj = (x - q).normalize();
         let mut n_obj = self.n * d_o - d_obj;
@@ -167,8 +200,8 @@ impl Rotator {
             (0.5 * self.p2, self.p1),
             (-0.5 * self.p2, self.p1),
         ] {
-            let mut normal = (c + edge - self.eye).cross(along);
-            if normal.dot(c - self.eye) > 0.0 {
+            let mut normal = (centre + edge - self.eye).cross(along);
+            if normal.dot(centre - self.eye) > 0.0 {
                 normal = -normal;
             }
             members.push(half_space(self.eye, normal));
@@ -232,7 +265,52 @@ fn first_hits_match_the_wedges_built_one_by_one() {
         }
         assert!(hits > 1000, "case {k}: {hits} hits");
         assert!(walls > 10, "case {k}: {walls} walls met");
+        // From anywhere in the box, in the glass or not, with the search cut short: the next
+        // surface of the union of the pixels' glass (no surface where two pixels' glass meets).
+        let union = Shape::Csg(Csg::new(CsgOperation::Union, pixels).unwrap());
+        let (mut inside, mut hits) = (0, 0);
+        for _ in 0..1500 {
+            let o = rng.point_in_box(case.box_centre - half, case.box_centre + half);
+            let d = rng.unit();
+            let t_max = rng.range(0.1, 4.0) * MM;
+            let expected = change_of_side(&union, o, d, t_max);
+            let got = glass.intersect(o, d, 1e-12, t_max);
+            inside += usize::from(union.contains(o));
+            match (expected, got) {
+                (None, None) => {}
+                (Some((t, part)), Some((t2, part2))) => {
+                    assert!(
+                        (t - t2).abs() < 1e-12,
+                        "case {k}: {o} along {d}: t {t} vs {t2}"
+                    );
+                    let x = o + t * d;
+                    let (n1, n2) = (union.normal(x, part), glass.normal(x, part2));
+                    assert!((n1 - n2).length() < 1e-9, "case {k} at {x}: {n1} vs {n2}");
+                    hits += 1;
+                }
+                (e, g) => panic!("case {k}: {o} along {d} to {t_max}: expected {e:?}, got {g:?}"),
+            }
+        }
+        assert!(
+            inside > 100 && hits > 300,
+            "case {k}: {inside} inside, {hits} hits"
+        );
     }
+}
+
+/// The first hit of `shape` along the ray from `o` along `d` before `t_max` where the ray
+/// crosses from glass to air or back: the union of pieces built independently may report the
+/// boundary between two of them, where rounding leaves them a hair apart or overlapping.
+fn change_of_side(shape: &Shape, o: DVec3, d: DVec3, t_max: f64) -> Option<(f64, u32)> {
+    let mut from = 1e-12;
+    while let Some((t, part)) = shape.intersect(o, d, from, t_max) {
+        let side = |t: f64| shape.contains(o + t * d);
+        if side(t - 1e-10) != side(t + 1e-10) {
+            return Some((t, part));
+        }
+        from = t + 1e-10;
+    }
+    None
 }
 
 /// Where the ray from `o` along `d` meets the plane through `point` normal to `normal`.
@@ -251,7 +329,7 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
             DVec3::new(0.0, 0.0, 3.0 * MM),
         ],
     );
-    for case in [whole, skew()] {
+    for case in [whole, skew(), with_units()] {
         // Pixels whose wedge's centre line, C to Q, lies inside the box.
         let spans = case.spans;
         let volume = spans[0].dot(spans[1].cross(spans[2]));
@@ -422,9 +500,116 @@ fn impossible_view_rotators_are_refused_where_they_are_written() {
             vec![":3:10:", "pixels", "more than"],
         ),
     ];
+    let cases = cases.into_iter().chain([(
+        device(&format!(
+            "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+             eye_position = [0, 0, -0.015], lambda = 5e-7"
+        )),
+        vec![":3:10:", "needs simulate_diffraction_blur = true"],
+    )]);
     let dir = TempDir::new().unwrap();
     for (text, needles) in cases {
         let path = write(&dir, "bad.toml", &text);
         timbre(dir.path(), &["check", path_str(&path)]).assert_bad_input(&needles);
+    }
+}
+
+/// The single-slit distribution's P(|x| < π) = (2/π) Si(2π), Si(2π) = 1.418151576132628
+/// (Abramowitz & Stegun, table 5.1): the fraction of rays inside the first diffraction minimum.
+const INSIDE_FIRST_MINIMUM: f64 = 2.0 / std::f64::consts::PI * 1.418_151_576_132_628;
+
+#[test]
+fn the_diffraction_blur_spreads_rays_leaving_the_box_as_a_pixel_diffracts() {
+    // A plate (no rotation), pixels 0.5 mm × 0.25 mm: without the blur the rays from the eye
+    // leave as they came; with it, each leaving the box is kicked by sin θ = x λ / (π w) along
+    // each side w, x of density sin² x / (π x²).
+    let mut plate = research(
+        DVec3::ZERO,
+        [
+            DVec3::new(20.0 * MM, 0.0, 0.0),
+            DVec3::new(0.0, 20.0 * MM, 0.0),
+            DVec3::new(0.0, 0.0, 6.0 * MM),
+        ],
+    );
+    plate.angle_deg = 0.0;
+    plate.p2 = DVec3::new(0.0, 0.25 * MM, 0.0);
+    let lambda = 550e-9;
+    let n = 2000;
+    let mut rng = Rng(11);
+    let directions: Vec<DVec3> = (0..n)
+        .map(|_| {
+            let target = DVec3::new(rng.range(-5.0, 5.0) * MM, rng.range(-5.0, 5.0) * MM, 0.0);
+            (target - plate.eye).normalize()
+        })
+        .collect();
+    for blur in [false, true] {
+        let mut text = format!(
+            "studio = \"none\"\n[[device]]\nname = \"rotator\"\nlenses = {}\n",
+            plate
+                .lenses()
+                .replace(" }", &format!(", simulate_diffraction_blur = {blur} }}"))
+        );
+        for d in &directions {
+            text += &format!(
+                "[[ray_trajectory]]\nstart = [0, 0, {:?}]\ndirection = [{:?}, {:?}, {:?}]\n\
+                 max_interactions = 10\n",
+                plate.eye.z, d.x, d.y, d.z
+            );
+        }
+        let description = file::parse(&text, "blur.toml").unwrap();
+        let traced = trajectories::trace(common::rays::device(), &description).unwrap();
+        let (mut inside_u, mut inside_v, mut reflected) = (0, 0, 0);
+        for (t, d) in traced.iter().zip(&directions) {
+            let met: Vec<&str> = t
+                .points
+                .iter()
+                .filter_map(|p| Some(description.objects[p.object?].name.as_str()))
+                .collect();
+            let change = t.direction - *d;
+            if !blur {
+                assert_eq!(met, ["rotator/wedges"; 2]);
+                assert!(change.length() < 1e-12, "{d}: {change}");
+                continue;
+            }
+            // In through the blur's transparent side, through the wedge, out through the blur;
+            // a kick of the distribution's far tail (|x| ≳ π w / λ ≈ 2800) is evanescent, and
+            // the blur reflects the ray (as Dr TIM's pixellation does).
+            assert_eq!(
+                met[..4],
+                [
+                    "rotator/diffraction blur",
+                    "rotator/wedges",
+                    "rotator/wedges",
+                    "rotator/diffraction blur"
+                ],
+                "{d}"
+            );
+            if met.len() > 4 {
+                reflected += 1;
+                continue;
+            }
+            // The kick changes the tangential components (x and y, across the box's back
+            // face): x_u = Δ(sin θ_u) π w_u / λ.
+            let pi = std::f64::consts::PI;
+            let (xu, xv) = (
+                change.x * pi * 0.5 * MM / lambda,
+                change.y * pi * 0.25 * MM / lambda,
+            );
+            inside_u += usize::from(xu.abs() < pi);
+            inside_v += usize::from(xv.abs() < pi);
+        }
+        if blur {
+            // P(|x| > X) ≈ 2/(π² X) along each side: about 2 × 10⁻⁴ a ray.
+            assert!(reflected <= 5, "{reflected} rays reflected");
+            let n = n - reflected;
+            let sigma = (INSIDE_FIRST_MINIMUM * (1.0 - INSIDE_FIRST_MINIMUM) / n as f64).sqrt();
+            for (side, inside) in [("u", inside_u), ("v", inside_v)] {
+                let fraction = inside as f64 / n as f64;
+                assert!(
+                    (fraction - INSIDE_FIRST_MINIMUM).abs() < 4.0 * sigma,
+                    "{side}: {fraction} inside the first minimum, expected {INSIDE_FIRST_MINIMUM}"
+                );
+            }
+        }
     }
 }

@@ -14,14 +14,15 @@
 //! the ocular plane.
 //!
 //! **A wedge.** With d_O = (Cᵢⱼ − E)/|Cᵢⱼ − E| the direction from the eye through the pixel's
-//! centre, the wedge's ocular face is the plane through Cᵢⱼ normal to d_O and its objective
-//! face passes through Q = Cᵢⱼ + T d_O (T the wedge thickness). The ray E + μ d_R, d_R being
-//! d_O rotated by θ about the rotation axis â with its part across â divided by the
+//! centre, the wedge's ocular face is the plane normal to d_O through C = Cᵢⱼ + D d_O (D the
+//! derivative-control thickness, 0 unless room is left for Dr TIM's derivative control) and its
+//! objective face passes through Q = C + T d_O (T the wedge thickness). The ray E + μ d_R, d_R
+//! being d_O rotated by θ about the rotation axis â with its part across â divided by the
 //! magnification M, meets the view plane at X; the objective face's normal
 //! n_obj = n d_O − d_obj, d_obj = (X − Q)/|X − Q|, is the one that refracts d_O (inside glass
 //! of index n) into d_obj (outside), so that the eye sees X, seen from E, in the direction d_O
 //! (Snell's law in vector form: n d_O − d_obj is normal to the surface). The glass is the
-//! intersection of the half-spaces (x − Cᵢⱼ)·d_O ≥ 0 and (x − Q)·n_obj ≤ 0 (n_obj oriented
+//! intersection of the half-spaces (x − C)·d_O ≥ 0 and (x − Q)·n_obj ≤ 0 (n_obj oriented
 //! along d_obj), cut to the pixel's voxel and the bounding box. A pixel whose rotated ray misses
 //! the view plane has no glass (Dr TIM reports it and leaves the pixel empty).
 //!
@@ -60,6 +61,9 @@ pub struct ViewRotatorSpec {
     /// n, T ≥ 0.
     pub refractive_index: f64,
     pub wedge_thickness: f64,
+    /// D: how far along d_O behind the pixel's centre the wedge starts (Dr TIM's
+    /// `derivativeControlThickness`, room for its derivative-control surfaces).
+    pub derivative_control_thickness: f64,
 }
 
 /// The most pixels a rotator may have (each hit names its pixel in 28 bits).
@@ -98,6 +102,7 @@ pub struct ViewRotator {
     view_normal: DVec3,
     index: f64,
     thickness: f64,
+    offset: f64,
     /// The first pixel's indices and the number of pixels along p₂.
     i0: i64,
     j0: i64,
@@ -199,6 +204,7 @@ impl ViewRotator {
             view_normal,
             index: spec.refractive_index,
             thickness: spec.wedge_thickness,
+            offset: spec.derivative_control_thickness,
             i0: 0,
             j0: 0,
             ni: 0,
@@ -296,8 +302,9 @@ impl CellSolid for ViewRotator {
 
     /// Dr TIM's `getSceneObjectsInPixel` (without derivative control).
     fn cell(&self, i: i64, j: i64) -> Wedge {
-        let c = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
-        let d_o = (c - self.eye).normalize();
+        let centre = self.origin + i as f64 * self.p1 + j as f64 * self.p2;
+        let d_o = (centre - self.eye).normalize();
+        let c = centre + self.offset * d_o;
         let q = c + self.thickness * d_o;
         let d_r = self.rotate_and_magnify * d_o;
         let mu = (self.view_point - self.eye).dot(self.view_normal) / d_r.dot(self.view_normal);
