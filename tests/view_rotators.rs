@@ -16,9 +16,10 @@
 //!   with ViewRotationExplorerWithUnits's wedges set 10 mm back);
 //! * without rotation or magnification every wedge is a plane-parallel plate, which leaves the
 //!   direction of every ray from the eye as it was;
-//! * the diffraction blur: rays leaving the box are kicked by a pixel's single-slit
-//!   diffraction, (2/π) Si(2π) ≈ 0.903 of them within the first minimum along each side
-//!   (Abramowitz & Stegun's Si);
+//! * the diffraction blur: rays leaving the box are kicked along the periods by a pixel's
+//!   single-slit diffraction, (2/π) Si(2π) ≈ 0.903 of them within the first minimum along each
+//!   side (Abramowitz & Stegun's Si), also with the device turned and at another wavelength;
+//!   rays leaving a skew box by any of its faces meet the blur once;
 //! * impossible parameters refused by `timbre check` where they are written.
 
 mod common;
@@ -500,13 +501,23 @@ fn impossible_view_rotators_are_refused_where_they_are_written() {
             vec![":3:10:", "pixels", "more than"],
         ),
     ];
-    let cases = cases.into_iter().chain([(
-        device(&format!(
-            "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
-             eye_position = [0, 0, -0.015], lambda = 5e-7"
-        )),
-        vec![":3:10:", "needs simulate_diffraction_blur = true"],
-    )]);
+    let cases = cases.into_iter().chain([
+        (
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+                 eye_position = [0, 0, -0.015], lambda = 5e-7"
+            )),
+            vec![":3:10:", "needs simulate_diffraction_blur = true"],
+        ),
+        (
+            // The blur's pixel sizes and wavelength would not scale with the device.
+            device(&format!(
+                "{good}, bounding_box_span_vector_3 = [0, 0, 0.003], \
+                 eye_position = [0, 0, -0.015], simulate_diffraction_blur = true"
+            )) + "transform = { scale = 2 }\n",
+            vec![":4:13:", "diffraction blur", "not scaled"],
+        ),
+    ]);
     let dir = TempDir::new().unwrap();
     for (text, needles) in cases {
         let path = write(&dir, "bad.toml", &text);
@@ -518,11 +529,49 @@ fn impossible_view_rotators_are_refused_where_they_are_written() {
 /// (Abramowitz & Stegun, table 5.1): the fraction of rays inside the first diffraction minimum.
 const INSIDE_FIRST_MINIMUM: f64 = 2.0 / std::f64::consts::PI * 1.418_151_576_132_628;
 
+/// Follows rays (start, direction) through `rotator` with the keys `keys` added to its
+/// `lenses` table and the device entry's lines `entry`: for each, the names of the objects met,
+/// where it met the last and its final direction.
+fn follow_rays(
+    rotator: &Rotator,
+    keys: &str,
+    entry: &str,
+    rays: &[(DVec3, DVec3)],
+) -> Vec<(Vec<String>, DVec3, DVec3)> {
+    let v = |x: DVec3| format!("[{:?}, {:?}, {:?}]", x.x, x.y, x.z);
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"rotator\"\nlenses = {}\n{entry}\n",
+        rotator.lenses().replace(" }", &format!(", {keys} }}"))
+    );
+    for (o, d) in rays {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = {}\ndirection = {}\nmax_interactions = 20\n",
+            v(*o),
+            v(*d)
+        );
+    }
+    let description = file::parse(&text, "blur.toml").unwrap();
+    let traced = trajectories::trace(common::rays::device(), &description).unwrap();
+    traced
+        .iter()
+        .map(|t| {
+            let hits: Vec<_> = t.points.iter().filter(|p| p.object.is_some()).collect();
+            let met = hits
+                .iter()
+                .map(|p| description.objects[p.object.unwrap()].name.clone())
+                .collect();
+            let last = hits.last().map_or(t.points[0].position, |p| p.position);
+            (met, last, t.direction)
+        })
+        .collect()
+}
+
 #[test]
 fn the_diffraction_blur_spreads_rays_leaving_the_box_as_a_pixel_diffracts() {
     // A plate (no rotation), pixels 0.5 mm × 0.25 mm: without the blur the rays from the eye
     // leave as they came; with it, each leaving the box is kicked by sin θ = x λ / (π w) along
-    // each side w, x of density sin² x / (π x²).
+    // each side w, x of density sin² x / (π x²). Also with the device turned by 30° about the
+    // eye's axis and moved along it (the kicks turn with it), and at a wavelength of 1 µm.
     let mut plate = research(
         DVec3::ZERO,
         [
@@ -533,49 +582,45 @@ fn the_diffraction_blur_spreads_rays_leaving_the_box_as_a_pixel_diffracts() {
     );
     plate.angle_deg = 0.0;
     plate.p2 = DVec3::new(0.0, 0.25 * MM, 0.0);
-    let lambda = 550e-9;
     let n = 2000;
     let mut rng = Rng(11);
-    let directions: Vec<DVec3> = (0..n)
-        .map(|_| {
-            let target = DVec3::new(rng.range(-5.0, 5.0) * MM, rng.range(-5.0, 5.0) * MM, 0.0);
-            (target - plate.eye).normalize()
-        })
+    let targets: Vec<DVec3> = (0..n)
+        .map(|_| DVec3::new(rng.range(-5.0, 5.0) * MM, rng.range(-5.0, 5.0) * MM, 0.0))
         .collect();
-    for blur in [false, true] {
-        let mut text = format!(
-            "studio = \"none\"\n[[device]]\nname = \"rotator\"\nlenses = {}\n",
-            plate
-                .lenses()
-                .replace(" }", &format!(", simulate_diffraction_blur = {blur} }}"))
+    let turn = glam::DMat3::from_rotation_z(30f64.to_radians());
+    let shift = DVec3::new(0.0, 0.0, 2.0 * MM);
+    let placed = "transform = { rotate = { axis = [0, 0, 1], angle_deg = 30 }, \
+                  translate = [0, 0, 0.002] }";
+    for (turned, lambda) in [(false, 550e-9), (true, 1e-6)] {
+        let (turn, shift, entry) = if turned {
+            (turn, shift, placed)
+        } else {
+            (glam::DMat3::IDENTITY, DVec3::ZERO, "")
+        };
+        let eye = turn * plate.eye + shift;
+        let rays: Vec<(DVec3, DVec3)> = targets
+            .iter()
+            .map(|t| (eye, turn * (*t - plate.eye).normalize()))
+            .collect();
+        let lambda_key = if turned { ", lambda = 1e-6" } else { "" };
+        let plain = follow_rays(&plate, "simulate_diffraction_blur = false", entry, &rays);
+        let blurred = follow_rays(
+            &plate,
+            &format!("simulate_diffraction_blur = true{lambda_key}"),
+            entry,
+            &rays,
         );
-        for d in &directions {
-            text += &format!(
-                "[[ray_trajectory]]\nstart = [0, 0, {:?}]\ndirection = [{:?}, {:?}, {:?}]\n\
-                 max_interactions = 10\n",
-                plate.eye.z, d.x, d.y, d.z
-            );
-        }
-        let description = file::parse(&text, "blur.toml").unwrap();
-        let traced = trajectories::trace(common::rays::device(), &description).unwrap();
         let (mut inside_u, mut inside_v, mut reflected) = (0, 0, 0);
-        for (t, d) in traced.iter().zip(&directions) {
-            let met: Vec<&str> = t
-                .points
-                .iter()
-                .filter_map(|p| Some(description.objects[p.object?].name.as_str()))
-                .collect();
-            let change = t.direction - *d;
-            if !blur {
-                assert_eq!(met, ["rotator/wedges"; 2]);
-                assert!(change.length() < 1e-12, "{d}: {change}");
-                continue;
-            }
+        for (((met, _, out), (blur_met, _, blur_out)), (_, d)) in
+            plain.iter().zip(&blurred).zip(&rays)
+        {
+            assert_eq!(met, &["rotator/wedges"; 2]);
+            assert!((*out - *d).length() < 1e-12, "{d}: left as {out}");
             // In through the blur's transparent side, through the wedge, out through the blur;
-            // a kick of the distribution's far tail (|x| ≳ π w / λ ≈ 2800) is evanescent, and
-            // the blur reflects the ray (as Dr TIM's pixellation does).
+            // a kick of the distribution's far tail (|x| ≳ π w / λ, about 1500 at 1 µm) is
+            // evanescent, and the blur reflects the ray (as Dr TIM's pixellation does).
             assert_eq!(
-                met[..4],
+                blur_met[..4],
                 [
                     "rotator/diffraction blur",
                     "rotator/wedges",
@@ -584,32 +629,83 @@ fn the_diffraction_blur_spreads_rays_leaving_the_box_as_a_pixel_diffracts() {
                 ],
                 "{d}"
             );
-            if met.len() > 4 {
+            if blur_met.len() > 4 {
                 reflected += 1;
                 continue;
             }
-            // The kick changes the tangential components (x and y, across the box's back
-            // face): x_u = Δ(sin θ_u) π w_u / λ.
+            // The kick changes the components along the box's back face, along the periods
+            // p₁ and p₂ (turned with the device): x = Δ(sin θ) π w / λ.
+            let change = *blur_out - *d;
             let pi = std::f64::consts::PI;
             let (xu, xv) = (
-                change.x * pi * 0.5 * MM / lambda,
-                change.y * pi * 0.25 * MM / lambda,
+                change.dot(turn * DVec3::X) * pi * 0.5 * MM / lambda,
+                change.dot(turn * DVec3::Y) * pi * 0.25 * MM / lambda,
             );
             inside_u += usize::from(xu.abs() < pi);
             inside_v += usize::from(xv.abs() < pi);
         }
-        if blur {
-            // P(|x| > X) ≈ 2/(π² X) along each side: about 2 × 10⁻⁴ a ray.
-            assert!(reflected <= 5, "{reflected} rays reflected");
-            let n = n - reflected;
-            let sigma = (INSIDE_FIRST_MINIMUM * (1.0 - INSIDE_FIRST_MINIMUM) / n as f64).sqrt();
-            for (side, inside) in [("u", inside_u), ("v", inside_v)] {
-                let fraction = inside as f64 / n as f64;
-                assert!(
-                    (fraction - INSIDE_FIRST_MINIMUM).abs() < 4.0 * sigma,
-                    "{side}: {fraction} inside the first minimum, expected {INSIDE_FIRST_MINIMUM}"
-                );
-            }
+        // P(|x| > X) ≈ 1/(π X) along each side: under 10⁻³ a ray.
+        assert!(reflected <= 6, "{reflected} rays reflected");
+        let n = n - reflected;
+        let sigma = (INSIDE_FIRST_MINIMUM * (1.0 - INSIDE_FIRST_MINIMUM) / n as f64).sqrt();
+        for (side, inside) in [("u", inside_u), ("v", inside_v)] {
+            let fraction = inside as f64 / n as f64;
+            assert!(
+                (fraction - INSIDE_FIRST_MINIMUM).abs() < 4.0 * sigma,
+                "turned {turned}, {side}: {fraction} inside the first minimum, expected \
+                 {INSIDE_FIRST_MINIMUM}"
+            );
         }
     }
+}
+
+#[test]
+fn every_ray_leaving_a_skew_box_is_blurred_once() {
+    // The skew rotator's box (its spans not along the periods, its faces tilted), rays from
+    // points inside it in every direction: each leaves through some face and meets the blur
+    // there, once, as its last surface.
+    let rotator = skew();
+    let mut rng = Rng(5);
+    let half = 0.5 * (rotator.spans[0].abs() + rotator.spans[1].abs() + rotator.spans[2].abs());
+    let rays: Vec<(DVec3, DVec3)> = (0..400)
+        .map(|_| {
+            // Inside the box: a random combination of the spans.
+            let a = [0, 1, 2].map(|_| rng.range(-0.45, 0.45));
+            let o = rotator.box_centre
+                + a[0] * rotator.spans[0]
+                + a[1] * rotator.spans[1]
+                + a[2] * rotator.spans[2];
+            (o, rng.unit())
+        })
+        .collect();
+    let traced = follow_rays(&rotator, "simulate_diffraction_blur = true", "", &rays);
+    let spans = rotator.spans;
+    let volume = spans[0].dot(spans[1].cross(spans[2]));
+    let stars = [
+        spans[1].cross(spans[2]) / volume,
+        spans[2].cross(spans[0]) / volume,
+        spans[0].cross(spans[1]) / volume,
+    ];
+    let mut faces = std::collections::BTreeSet::new();
+    for ((met, last, _), (o, d)) in traced.iter().zip(&rays) {
+        let blurs = met
+            .iter()
+            .filter(|m| *m == "rotator/diffraction blur")
+            .count();
+        // A ray the blur reflects back into the box (about one in a thousand) meets it again.
+        if blurs != 1 {
+            assert!(blurs == 3, "{o} along {d}: {met:?}");
+            continue;
+        }
+        assert_eq!(
+            met.last().unwrap(),
+            "rotator/diffraction blur",
+            "{o} along {d}: {met:?}"
+        );
+        // The face it left by: the box coordinate that is ±½ there (just beyond, by the gap).
+        let a = stars.map(|star| (*last - rotator.box_centre).dot(star));
+        let k = (0..3).find(|&k| (a[k].abs() - 0.5).abs() < 1e-3).unwrap();
+        faces.insert((k, a[k] > 0.0));
+    }
+    assert_eq!(faces.len(), 6, "left by the faces {faces:?} only");
 }

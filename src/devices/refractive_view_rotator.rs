@@ -34,9 +34,10 @@ const BLUR_LAMBDA: f64 = 550e-9;
 
 impl RefractiveViewRotator {
     /// The part that blurs rays leaving the box: the box's surface, each face moved out by
-    /// 10⁻⁷ of the scene's scale there (a hundred times the distance a ray leaving a surface
-    /// must travel before it may hit another), so that a ray leaving the glass through a face
-    /// of the box meets it next; from outside it is transparent.
+    /// g = 10⁻⁶ (1 + r), r the box's reach from the origin, so that a ray leaving the glass
+    /// through a face of the box meets it next: g exceeds the distance 10⁻⁹ (1 + |p|) a ray
+    /// leaving a surface at p travels before it may hit another wherever the device is placed
+    /// within 1000 (1 + r) of the origin. From outside it is transparent.
     fn blur(&self, lambda: f64) -> Result<Part, String> {
         let spec = &self.spec;
         let [a, b, c] = spec.bounding_box_span_vectors;
@@ -44,7 +45,7 @@ impl RefractiveViewRotator {
             .iter()
             .fold(spec.bounding_box_centre.abs(), |r, s| r + 0.5 * s.abs())
             .max_element();
-        let gap = 1e-7 * (1.0 + reach);
+        let gap = 1e-6 * (1.0 + reach);
         let volume = a.dot(b.cross(c));
         // A span's faces are 1/|its reciprocal vector| apart.
         let widen = |span: DVec3, reciprocal: DVec3| {
@@ -62,6 +63,10 @@ impl RefractiveViewRotator {
             lambda,
             blur: Some(Blur::SingleSlit),
             ray_offset: false,
+            sides: Some([
+                spec.period_vector_1.normalize(),
+                spec.period_vector_2.normalize(),
+            ]),
         };
         Ok(Part {
             name: "diffraction blur".into(),

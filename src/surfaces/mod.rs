@@ -465,9 +465,10 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the laws that
     /// have them move with the shape (ideal lenses, point-to-point holograms, light-ray fields,
-    /// Dove-prism arrays, space plates, variable-η CLAs, collineations), and their lengths scale
-    /// with it where that needs a similarity map. The other laws have no positions; the vectors
-    /// and tensors of a law in the global basis are read in x, y and z, and pixel sizes and
+    /// Dove-prism arrays, space plates, variable-η CLAs, collineations, and a pixellation's sides
+    /// where they are given in the scene), and their lengths scale with it where that needs a
+    /// similarity map. The other laws have no positions; the vectors and tensors of a law in
+    /// the global basis are read in x, y and z, and pixel sizes and
     /// wavelengths stay as given, wherever the object is.
     pub fn transformed(&self, t: &Transform) -> Result<Surface, String> {
         if t.is_identity() {
@@ -484,6 +485,7 @@ impl Surface {
                 Surface::PointToPointImagingHologram(h.transformed(t))
             }
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)?),
+            Surface::Pixellation(p) => Surface::Pixellation(p.transformed(t)?),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
             Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
             Surface::DerivativeControl(d) => Surface::DerivativeControl(d.transformed(t)?),
@@ -552,7 +554,6 @@ impl Surface {
             | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
             | Surface::RayRotatingInPlaneOfIncidence(_)
-            | Surface::Pixellation(_)
             | Surface::ComplexMetarefraction(_)
             | Surface::RayFlipping(_)
             | Surface::PhaseHologram(_)

@@ -92,6 +92,7 @@ impl LensletArray {
                 lambda,
                 blur: Some(Blur::SingleSlit),
                 ray_offset: false,
+                sides: None,
             }
             .spread(at, direction, self.transmission_coefficient, 1.0),
         }

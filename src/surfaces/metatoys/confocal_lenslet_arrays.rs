@@ -308,6 +308,7 @@ impl ConfocalLensletArraysKeys {
             lambda: self.lambda.map_or(GCLA_LAMBDA, |l| l.0),
             blur: blur.then_some(Blur::Uniform),
             ray_offset,
+            sides: None,
         })
     }
 }

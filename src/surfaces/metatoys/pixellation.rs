@@ -22,7 +22,7 @@ use glam::{DVec2, DVec3};
 use serde::Deserialize;
 
 use super::{hologram_direction, jacobian};
-use crate::geometry::{Exit, Interaction};
+use crate::geometry::{Exit, Interaction, Transform};
 use crate::keys::Positive;
 use crate::math::random::{ray_key, uniform_keyed};
 use crate::math::{Colour, HE_NE_WAVELENGTH};
@@ -49,6 +49,10 @@ pub struct Pixels {
     pub blur: Option<Blur>,
     /// Whether the ray offset is simulated.
     pub ray_offset: bool,
+    /// The directions of the pixels' sides in the scene (unit vectors), where they are not the
+    /// surface frame's u and v: Dr TIM's `BoundingBoxSurface` kicks along its pixel array's
+    /// periods on every face of its box. Each kick's part along the surface is applied.
+    pub sides: Option<[DVec3; 2]>,
 }
 
 /// Dr TIM's default pixel side (`GCLAsWithApertures`: 2 mm in metres, "a good compromise
@@ -114,7 +118,15 @@ impl Pixels {
             None => direction,
             Some(blur) => {
                 let local = jacobian(&frame).transpose() * direction;
-                match hologram_direction(local, self.kick(blur, &random)) {
+                let kick = self.kick(blur, &random);
+                let kick = match self.sides {
+                    None => kick,
+                    Some([a, b]) => {
+                        let k = kick.x * a + kick.y * b;
+                        DVec2::new(k.dot(frame.u), k.dot(frame.v))
+                    }
+                };
+                match hologram_direction(local, kick) {
                     Some(local) => jacobian(&frame) * local,
                     None => {
                         return Redirection::Leaves {
@@ -150,6 +162,26 @@ impl Pixellation {
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         self.pixels.spread(at, at.ray.direction, 1.0, 1.0)
     }
+
+    /// The pixellation of an object placed by `t`: sides given in the scene turn with it, which
+    /// a map that scales would not match (the pixel sizes and wavelength are lengths of the
+    /// scene).
+    pub fn transformed(&self, t: &Transform) -> Result<Pixellation, String> {
+        let mut pixels = self.pixels;
+        if let Some(sides) = pixels.sides {
+            if t.uniform_scale().is_none_or(|k| (k - 1.0).abs() > 1e-12) {
+                return Err(
+                    "a pixellation with its pixels' sides given in the scene (a view \
+                     rotator's diffraction blur) can be turned and moved but not scaled: its \
+                     pixel sizes and wavelength are lengths of the scene; give its lengths \
+                     instead"
+                        .into(),
+                );
+            }
+            pixels.sides = Some(sides.map(|side| t.vector(side).normalize()));
+        }
+        Ok(Pixellation { pixels })
+    }
 }
 
 /// `type = "pixellation"`: `pixel_side_length_u`, `pixel_side_length_v` (Dr TIM's GUI default
@@ -178,6 +210,7 @@ impl PixellationKeys {
                 lambda: self.lambda.map_or(HE_NE_WAVELENGTH, |l| l.0),
                 blur: blur.then_some(Blur::SingleSlit),
                 ray_offset: self.simulate_ray_offset.unwrap_or(true),
+                sides: None,
             },
         }))
     }
@@ -244,6 +277,7 @@ mod tests {
                 lambda: 632.8e-9,
                 blur: Some(Blur::SingleSlit),
                 ray_offset: true,
+                sides: None,
             }
         );
     }
