@@ -666,7 +666,6 @@ fn every_ray_leaving_a_skew_box_is_blurred_once() {
     // there, once, as its last surface.
     let rotator = skew();
     let mut rng = Rng(5);
-    let half = 0.5 * (rotator.spans[0].abs() + rotator.spans[1].abs() + rotator.spans[2].abs());
     let rays: Vec<(DVec3, DVec3)> = (0..400)
         .map(|_| {
             // Inside the box: a random combination of the spans.
