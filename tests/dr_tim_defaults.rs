@@ -219,6 +219,7 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             lambda: 564e-9,
             blur: Some(Blur::Uniform),
             ray_offset: true,
+            sides: None,
         })
     );
     // IDEALISED_DOVE_PRISM_ARRAY: prism 0 at the origin, inverting x, period 0.1.
@@ -277,6 +278,7 @@ fn surfaces_named_by_their_type_alone_are_dr_tims_new_ones() {
             lambda: 632.8e-9,
             blur: Some(Blur::SingleSlit),
             ray_offset: true,
+            sides: None,
         }
     );
     let Surface::RayRotating(rr) = surface("{ type = \"ray-rotating\" }") else {
