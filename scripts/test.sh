@@ -10,6 +10,8 @@ export PYO3_PYTHON="$venv/bin/python"
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release --locked -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --locked
+# ffmpeg (Debian's package) encodes the movies of tests/movies.rs (timbre render --encode).
+command -v ffmpeg >/dev/null || scripts/apt-install.sh ffmpeg
 cargo test --release --locked
 # `timbre serve` end to end in headless Chromium (tests/browser/, against target/release/timbre,
 # which `cargo test --release` has just built); installs chromium and playwright-core if missing.

@@ -45,8 +45,8 @@ macro_rules! err {
 mod cli;
 
 use cli::args::{Cli, Command, Encoding, PrecisionArg, ServeArgs};
+use cli::movie::run_render;
 use cli::progress::spinner;
-use cli::render::run_render;
 
 /// A failure to write standard output: a closed pipe is ignored (the reader has all it wanted;
 /// the command goes on and writes its files), anything else (a full disk, the file-size limit)

@@ -162,13 +162,27 @@ pub struct ServeArgs {
     pub visitors: u32,
 }
 
-#[derive(Parser)]
+#[derive(Parser, Clone)]
 pub struct RenderArgs {
     /// The TOML scene file; without it, TIM's standard studio with the cylinder lattice.
     pub scene: Option<PathBuf>,
-    /// Output image; the extension (.png or .exr) chooses the format.
+    /// Output image; the extension (.png or .exr) chooses the format. For a movie, the frames'
+    /// names: a pattern with %d or %0Nd for the frame number (frames/f%04d.png), or the name
+    /// with -0000, -0001, ... before its extension.
     #[arg(short, long, default_value = "out.png")]
     pub output: PathBuf,
+    /// Render a movie of N frames, 0 to N-1 (the scene's [animation] frames; with no
+    /// [animation], N frames of the scene as it is).
+    #[arg(long, value_name = "N", value_parser = whole::<u32>(1, timbre::scene::MAX_FRAMES as u64))]
+    pub frames: Option<u32>,
+    /// Render only frame K of the movie (its first_frame and last_frame): one job of a job
+    /// array.
+    #[arg(long, value_name = "K", value_parser = whole::<u32>(0, timbre::scene::MAX_FRAMES as u64 - 1))]
+    pub frame: Option<u32>,
+    /// Encode the movie's frames (PNG) into a video (.mp4, .webm, .gif, ...) with ffmpeg, at
+    /// the [animation]'s fps, once they are rendered.
+    #[arg(long, value_name = "VIDEO")]
+    pub encode: Option<PathBuf>,
     #[command(flatten)]
     pub settings: SettingArgs,
     /// Worker threads (default: all cores), at most 1024.
@@ -212,7 +226,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "SECONDS", value_parser = number)]
     pub checkpoint_interval: Option<f64>,
     /// Continue from the checkpoint of the same output, if there is one (checkpoints are saved
-    /// as with --checkpoint-interval).
+    /// as with --checkpoint-interval); for a movie, also skip the frames already written.
     #[arg(long)]
     pub resume: bool,
     /// Show the image in the tev viewer listening at HOST:PORT (tev's own is 127.0.0.1:14158)

@@ -4,5 +4,6 @@
 pub mod args;
 pub mod denoise;
 pub mod image;
+pub mod movie;
 pub mod progress;
 pub mod render;

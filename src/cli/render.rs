@@ -33,10 +33,14 @@ fn memory_needed(settings: &RenderSettings, stereo: &Stereo, format: OutputForma
     stereo::memory_needed(settings.aovs, stereo, pixels) + pixels * output
 }
 
-pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
-    let stopping = Stopping::new().map_err(internal)?;
-    let loading = Instant::now();
-    let (description, settings) = load_settings(&args)?;
+/// Renders the scene loaded from `args`' scene (since `loading`) with its `settings`.
+pub fn render(
+    args: RenderArgs,
+    description: SceneDescription,
+    settings: RenderSettings,
+    loading: Instant,
+    stopping: &Stopping,
+) -> Result<(), Failure> {
     let load_seconds = loading.elapsed().as_secs_f64();
     let stereo = &description.stereo;
     let format = OutputFormat::from_path(&args.output).map_err(bad_input)?;
@@ -79,7 +83,7 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
         let done = production::run(&scene, camera, &settings, &job, signals, &report, &mut show)
             .map_err(job_failure)?;
         shown.bar.finish_and_clear();
-        let rays = written(&args, done, &stopping)?;
+        let rays = written(&args, done, stopping)?;
         let seconds = start.elapsed().as_secs_f64();
         if let Some(viewer) = viewer {
             viewer.finish();
@@ -149,7 +153,7 @@ pub fn run_render(args: RenderArgs) -> Result<(), Failure> {
 
 /// The scene the arguments name (with a spinner while it loads, and its warnings), and the
 /// settings the render obeys: the scene's, with the command line's in place, checked.
-fn load_settings(args: &RenderArgs) -> Result<(SceneDescription, RenderSettings), Failure> {
+pub fn load_settings(args: &RenderArgs) -> Result<(SceneDescription, RenderSettings), Failure> {
     let waiting = spinner(args.quiet, "loading the scene");
     let mut description = load(args.scene.as_deref(), &args.set)?;
     waiting.finish_and_clear();

@@ -148,10 +148,11 @@ impl Job {
 /// checkpoint: handled from the start, so that it does not end the process while the scene
 /// loads. SIGINT and SIGTERM stop a production job ([`Signals::stop`]; a second one ends the
 /// process at once), handled by [`Stopping::handle`] once the render is known to be one; the
-/// number of the stopping signal is kept for the exit code.
+/// number of the stopping signal is kept for the exit code. One serves every frame of a movie.
 pub struct Stopping {
     pub signals: Signals,
     which: Arc<AtomicUsize>,
+    handled: std::sync::atomic::AtomicBool,
 }
 
 impl Stopping {
@@ -161,13 +162,20 @@ impl Stopping {
         Ok(Stopping {
             signals,
             which: Arc::new(AtomicUsize::new(0)),
+            handled: Default::default(),
         })
     }
 
-    /// Stops on SIGINT and SIGTERM from now on.
+    /// Stops on SIGINT and SIGTERM from now on (the handlers are installed once).
     pub fn handle(&self) -> std::io::Result<()> {
         use signal_hook::consts::{SIGINT, SIGTERM};
         use signal_hook::flag;
+        if self
+            .handled
+            .swap(true, std::sync::atomic::Ordering::Relaxed)
+        {
+            return Ok(());
+        }
         let stop = &self.signals.stop;
         for signal in [SIGINT, SIGTERM] {
             flag::register_conditional_shutdown(signal, 128 + signal, stop.clone())?;

@@ -2,6 +2,7 @@
 //! and ray-trajectory sources; the standard studios; the TOML scene-file format; and the
 //! built scene ([`Scene`]: the objects in Embree's BVHs), which `render` traces.
 
+mod animation;
 pub mod file;
 pub mod lights;
 mod ray_trajectory;
@@ -13,6 +14,7 @@ mod summary;
 use glam::DVec3;
 use thiserror::Error;
 
+pub use animation::{Animation, AnimationKeys, Interpolation, MAX_FRAMES, Track};
 pub use ray_trajectory::{RayTrajectory, Spread};
 pub use settings::RenderSettings;
 pub use stereo::{Packing, Stereo};
@@ -67,6 +69,8 @@ pub struct SceneDescription {
     pub render: RenderSettings,
     /// Rays whose paths are traced and drawn into the scene before it is rendered.
     pub trajectories: Vec<RayTrajectory>,
+    /// The movie the file's `[animation]` makes of it, if any.
+    pub animation: Option<Animation>,
 }
 
 impl SceneDescription {

@@ -231,6 +231,7 @@ impl Studio {
             }
         }
         SceneDescription {
+            animation: None,
             objects,
             arrays: Vec::new(),
             lights: lights(),

@@ -21,7 +21,7 @@ use thiserror::Error;
 use super::lights::{Lights, PointLight};
 use super::settings::SettingValues;
 use super::studio::{self, Studio};
-use super::{SceneDescription, SceneObject};
+use super::{AnimationKeys, SceneDescription, SceneObject};
 use crate::geometry::{Shape, Transform};
 use crate::keys::{Positive, Rgb, Vector};
 use crate::math::ReferenceFrame;
@@ -384,6 +384,7 @@ struct File {
     sky: Option<Spanned<SkyKeys>>,
     #[serde(default)]
     ray_trajectory: Vec<Spanned<TrajectorySection>>,
+    animation: Option<Spanned<AnimationKeys>>,
 }
 
 /// The METATOY window's pane (studio "metatoy-window").
@@ -412,6 +413,7 @@ impl File {
         one(&mut self.camera, next.camera, "camera")?;
         one(&mut self.window, next.window, "window")?;
         one(&mut self.sky, next.sky, "sky")?;
+        one(&mut self.animation, next.animation, "animation")?;
         self.light.extend(next.light);
         self.object.extend(next.object);
         self.device.extend(next.device);
@@ -585,6 +587,7 @@ fn describe(
             file_warnings: Vec::new(),
             render: Default::default(),
             trajectories: Vec::new(),
+            animation: None,
         },
     };
 
@@ -608,6 +611,15 @@ fn describe(
     // Lights given in the file replace the studio's lights.
     if !file.light.is_empty() {
         scene.lights = lights(file.light);
+    }
+
+    if let Some(animation) = file.animation {
+        let span = animation.span();
+        let animation = animation
+            .into_inner()
+            .build()
+            .map_err(|m| invalid(Some(span), format!("animation: {m}")))?;
+        scene.animation = Some(animation);
     }
 
     for (k, t) in file.ray_trajectory.into_iter().enumerate() {

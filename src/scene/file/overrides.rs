@@ -55,6 +55,17 @@ impl FromStr for Override {
     }
 }
 
+impl Override {
+    /// The override setting the dotted `key` (a valid key, as `--set` reads it) to `value`.
+    pub fn new(key: &str, value: toml::Value) -> Override {
+        Override {
+            key: key.split('.').map(str::to_string).collect(),
+            text: format!("{key}={value}"),
+            value,
+        }
+    }
+}
+
 impl fmt::Display for Override {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.text)
