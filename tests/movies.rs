@@ -3,9 +3,12 @@
 //!
 //! * frame k is, pixel for pixel, the picture `timbre render --set KEY=VALUE` makes of the
 //!   scene without its animation, with each track's value at k interpolated here (linear:
-//!   v_a + u (v_b − v_a); smooth: u → 3u² − 2u³; whole numbers rounded; strings stepped);
+//!   v_a + u (v_b − v_a); smooth: u → 3u² − 2u³; strings stepped), and a whole-number
+//!   setting takes the whole value between whole keyframes;
 //! * the frames are named by the output's pattern (%0Nd, %d, or -0000 before the extension);
 //! * `--frame K` renders frame K alone, `--resume` leaves frames already written as they are;
+//! * `--encode` makes a video of the frames with ffmpeg (ffprobe counts its frames, its size
+//!   and rate), from the first frame asked for;
 //! * bad animations and options are refused where they are written, with exit code 2.
 
 mod common;
@@ -67,7 +70,7 @@ fn frame_k_is_the_scene_with_its_tracks_values_at_k() {
     );
     // The values at each frame, worked out here: the position a third of the way per frame;
     // the angle 20 + 27.5 (3u² − 2u³), u = k/3; the studio "empty" from frame 2.
-    let smooth = |u: f64| u * u * (3.0 - 2.0 * u);
+    let smooth = |u: f64| 3.0 * u * u - 2.0 * u * u * u;
     for k in 0..4 {
         let u = k as f64 / 3.0;
         let set = [
@@ -150,22 +153,55 @@ fn frames_are_named_by_the_pattern_and_rendered_one_by_one() {
     assert!(dir.path().join("frames/f04.png").exists());
     // Without an [animation], --frames N renders N frames of the scene as it is.
     let still = write(&dir, "still.toml", SCENE);
+    let s = path_str(&still);
+    timbre(
+        dir.path(),
+        &["render", s, "-o", "s.png", "--frames", "2", "-q"],
+    )
+    .assert_success();
+    timbre(dir.path(), &["render", s, "-o", "plain.png", "-q"]).assert_success();
+    for k in 0..2 {
+        assert_eq!(
+            pixels(&dir.path().join(format!("s-000{k}.png"))),
+            pixels(&dir.path().join("plain.png"))
+        );
+    }
+}
+
+#[test]
+fn whole_number_settings_take_whole_values_between_whole_keyframes() {
+    // render.spp from 1 to 3 over frames 0 to 2: 2 at frame 1, a whole number, as the setting
+    // needs.
+    let dir = TempDir::new().unwrap();
+    let animation = "[animation]\nframes = 3\n[[animation.track]]\nkey = \"render.spp\"\n\
+                     keyframes = [{ frame = 0, value = 1 }, { frame = 2, value = 3 }]\n";
+    let movie = write(&dir, "movie.toml", format!("{SCENE}{animation}"));
+    let still = write(&dir, "still.toml", SCENE);
+    timbre(
+        dir.path(),
+        &["render", path_str(&movie), "-o", "f.png", "-q"],
+    )
+    .assert_success();
     timbre(
         dir.path(),
         &[
             "render",
             path_str(&still),
             "-o",
-            "s.png",
-            "--frames",
-            "2",
+            "two.png",
+            "--set",
+            "render.spp=2",
             "-q",
         ],
     )
     .assert_success();
     assert_eq!(
-        pixels(&dir.path().join("s-0000.png")),
-        pixels(&dir.path().join("s-0001.png"))
+        pixels(&dir.path().join("f-0001.png")),
+        pixels(&dir.path().join("two.png"))
+    );
+    assert_ne!(
+        pixels(&dir.path().join("f-0000.png")),
+        pixels(&dir.path().join("two.png"))
     );
 }
 
@@ -224,6 +260,24 @@ fn bad_animations_are_refused_where_they_are_written() {
             track("key = \"camera.nonsense\"\nkeyframes = [{ frame = 0, value = 1 }]"),
             vec!["nonsense"],
         ),
+        (
+            // A value only the last keyframe takes, beyond the view angle's range: refused
+            // before frames 0 to 2 are rendered.
+            track(
+                "key = \"camera.horizontal_view_angle_deg\"\n\
+                 keyframes = [{ frame = 0, value = 20 }, { frame = 3, value = 200 }]",
+            ),
+            vec!["200"],
+        ),
+        (
+            // A whole-number setting given 1.5 at frame 1 (from 1 to 2 over two frames):
+            // refused before frame 0 is rendered.
+            track(
+                "key = \"render.spp\"\n\
+                 keyframes = [{ frame = 0, value = 1 }, { frame = 2, value = 2 }]",
+            ),
+            vec!["1.5"],
+        ),
     ];
     for (text, needles) in cases {
         let path = write(&dir, "bad.toml", &text);
@@ -257,6 +311,19 @@ fn bad_animations_are_refused_where_they_are_written() {
             vec!["render", m, "-o", "f.exr", "--encode", "m.mp4"],
             vec!["PNG frames"],
         ),
+        (vec!["render", m, "--encode", "m.xyz"], vec!["one of .mp4"]),
+        (
+            // A table holding an animated value.
+            vec![
+                "render",
+                m,
+                "--set",
+                "camera={ horizontal_view_angle_deg = 30 }",
+            ],
+            vec!["'camera.position' is animated"],
+        ),
+        (vec!["render", s, "-o", "f%04d.png"], vec!["no [animation]"]),
+        (vec!["render", "--frames", "2"], vec!["name one"]),
         (
             vec!["render", m, "--frame", "4"],
             vec!["within the movie's 4 frames"],
@@ -309,8 +376,9 @@ fn the_frames_are_encoded_into_a_video_with_ffmpeg() {
         run.stdout
     );
     assert_eq!(probe(&dir.path().join("movie.mp4")), "48,36,12/1,4");
-    // With --resume every frame is there already: only the video is made, here an animated GIF
-    // of frames 1 to 3 at their own size.
+    // With --resume frames 1 to 3 are there already: only the video is made, here an animated
+    // GIF at their own size, from frame 1 (frame 0, removed, is not needed).
+    std::fs::remove_file(dir.path().join("f-0000.png")).unwrap();
     let run = timbre(
         dir.path(),
         &[

@@ -11,8 +11,8 @@ use std::time::Instant;
 
 use timbre::io::OutputFormat;
 use timbre::production::Stopping;
-use timbre::scene::Animation;
 use timbre::scene::file::Override;
+use timbre::scene::{Animation, Stereo};
 
 use super::args::RenderArgs;
 use super::render::{load_settings, render};
@@ -22,6 +22,11 @@ use crate::{Failure, bad_input, internal};
 /// the one picture.
 pub fn run_render(mut args: RenderArgs) -> Result<(), Failure> {
     let stopping = Stopping::new().map_err(internal)?;
+    if args.scene.is_none() && (args.frames.is_some() || args.frame.is_some()) {
+        return Err(bad_input(
+            "--frames and --frame render a movie of a scene file: name one",
+        ));
+    }
     frame_options(&mut args);
     let loading = Instant::now();
     let (description, settings) = load_settings(&args)?;
@@ -31,6 +36,11 @@ pub fn run_render(mut args: RenderArgs) -> Result<(), Failure> {
             "--encode makes a video of a movie's frames: give the scene an [animation] or \
              --frames N",
         )),
+        None if args.output.to_string_lossy().contains('%') => Err(bad_input(format!(
+            "{}: a % pattern names a movie's frames, and this scene has no [animation] (give \
+             --frames N, or a plain name)",
+            args.output.display()
+        ))),
         None => render(args, description, settings, loading, &stopping),
     }
 }
@@ -50,12 +60,19 @@ fn frame_options(args: &mut RenderArgs) {
 
 /// Renders frames `first_frame` to `last_frame` of `animation`, then encodes them if asked.
 fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Result<(), Failure> {
+    // A --set of an animated value, or of a part of one or a table holding one, would be
+    // overwritten or would overwrite the track.
     for track in &animation.tracks {
-        if let Some(o) = args.set.iter().find(|o| o.key.join(".") == track.key) {
+        let animated: Vec<&str> = track.key().split('.').collect();
+        let clash = |o: &&Override| {
+            let n = o.key.len().min(animated.len());
+            o.key[..n].iter().zip(&animated[..n]).all(|(a, b)| a == b)
+        };
+        if let Some(o) = args.set.iter().find(clash) {
             return Err(bad_input(format!(
                 "--set {o}: '{}' is animated by the scene's [animation] (change its keyframes, \
                  or --set animation.track.N.keyframes)",
-                track.key
+                track.key()
             )));
         }
     }
@@ -72,23 +89,25 @@ fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Re
         frame.set.extend(animation.overrides(k));
         frame
     };
-    // The scene is read at the first and the last frame and at each keyframe between before
-    // any frame is rendered: a value no frame may take is refused at once (between two
-    // keyframes a value goes from one to the other).
+    // Before any frame is rendered the scene is read at the first and the last frame, at the
+    // frames on either side of each keyframe, and where a track of whole numbers first takes
+    // a value with a fraction: a value outside a range that the keyframes' values are inside,
+    // and a number with a fraction for a whole-number setting, are refused at once.
     let mut checked = std::collections::BTreeSet::from([first, last]);
     for track in &animation.tracks {
-        checked.extend(
-            track
-                .keyframes
-                .iter()
-                .map(|(frame, _)| frame.round())
-                .filter(|&k| k >= first as f64 && k <= last as f64)
-                .map(|k| k as u32),
-        );
+        for frame in track.keyframe_frames() {
+            for k in [frame.floor(), frame.ceil()] {
+                if k >= first as f64 && k <= last as f64 {
+                    checked.insert(k as u32);
+                }
+            }
+        }
+        checked.extend((first..=last).find(|&k| track.fraction_at(k)));
     }
     for k in checked {
-        let frame = frame_args(k);
-        crate::load(frame.scene.as_deref(), &frame.set)?;
+        let mut frame = frame_args(k);
+        frame.quiet = true;
+        load_settings(&frame)?;
     }
     for k in first..=last {
         let output = pattern.path(k);
@@ -110,6 +129,8 @@ fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Re
         frame.encode = None;
         let loading = Instant::now();
         let (description, settings) = load_settings(&frame)?;
+        // A stereo picture keeps no checkpoint: --resume only skips the frames written.
+        frame.resume &= description.stereo == Stereo::Mono;
         render(frame, description, settings, loading, stopping)?;
     }
     if let Some(video) = video {
@@ -121,8 +142,9 @@ fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Re
 /// The frames' file names: the output's name with `%d` or `%0Nd` (N from 1 to 9) in it, or
 /// with `-%04d` before its extension (Dr TIM numbers its frames 0000, 0001, ...).
 struct FramePattern {
-    /// The output path with the frame number's place as `%0Nd`, as ffmpeg reads it.
-    text: String,
+    directory: PathBuf,
+    /// The file name with the frame number's place as `%d` or `%0Nd`.
+    name: String,
     /// The digits the number is padded to (0: not padded).
     width: usize,
 }
@@ -140,8 +162,7 @@ impl FramePattern {
                 output.display()
             ))
         };
-        let named = |name: String| output.with_file_name(name).to_string_lossy().into_owned();
-        let (text, width) = match name.matches('%').count() {
+        let (name, width) = match name.matches('%').count() {
             0 => {
                 let stem = Path::new(name)
                     .file_stem()
@@ -150,12 +171,11 @@ impl FramePattern {
                 let extension = Path::new(name)
                     .extension()
                     .map_or(String::new(), |e| format!(".{}", e.to_string_lossy()));
-                (named(format!("{stem}-%04d{extension}")), 4)
+                (format!("{stem}-%04d{extension}"), 4)
             }
             1 => {
                 let (_, after) = name.split_once('%').expect("one %");
                 let digits: String = after.chars().take_while(char::is_ascii_digit).collect();
-                let rest = &after[digits.len()..];
                 let width = match digits.as_str() {
                     "" => 0,
                     d if d.len() == 2 && d.starts_with('0') && d != "00" => {
@@ -163,23 +183,40 @@ impl FramePattern {
                     }
                     _ => return Err(bad()),
                 };
-                if !rest.starts_with('d') {
+                if !after[digits.len()..].starts_with('d') {
                     return Err(bad());
                 }
-                (named(name.to_string()), width)
+                (name.to_string(), width)
             }
             _ => return Err(bad()),
         };
-        Ok(FramePattern { text, width })
+        Ok(FramePattern {
+            directory: output.parent().unwrap_or(Path::new("")).to_path_buf(),
+            name,
+            width,
+        })
     }
 
     /// The file of frame `k`.
     fn path(&self, k: u32) -> PathBuf {
-        let (before, after) = self.text.rsplit_once('%').expect("a pattern");
+        let (before, after) = self.name.split_once('%').expect("a pattern");
         let after = &after[after.find('d').expect("a pattern") + 1..];
-        PathBuf::from(format!("{before}{k:0width$}{after}", width = self.width))
+        self.directory
+            .join(format!("{before}{k:0width$}{after}", width = self.width))
+    }
+
+    /// The pattern as ffmpeg reads it: a `%` of the directory doubled.
+    fn ffmpeg(&self) -> String {
+        let directory = self.directory.to_string_lossy().replace('%', "%%");
+        match directory.is_empty() {
+            true => self.name.clone(),
+            false => format!("{directory}/{}", self.name),
+        }
     }
 }
+
+/// The videos `--encode` makes, by extension.
+const VIDEO_FORMATS: [&str; 8] = ["mp4", "m4v", "mov", "mkv", "webm", "avi", "gif", "apng"];
 
 /// The video `video` may be made of PNG frames by the ffmpeg installed: checked before any
 /// frame is rendered.
@@ -189,10 +226,15 @@ fn check_encode(video: &Path, output: &Path) -> Result<PathBuf, Failure> {
             "--encode makes a video of PNG frames: give -o a .png pattern",
         ));
     }
-    if video.extension().is_none() {
+    let known = video
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| VIDEO_FORMATS.contains(&e.to_ascii_lowercase().as_str()));
+    if !known {
         return Err(bad_input(format!(
-            "--encode {}: the video's extension (.mp4, .webm, .gif, ...) chooses its format",
-            video.display()
+            "--encode {}: the video's extension chooses its format, one of .{}",
+            video.display(),
+            VIDEO_FORMATS.join(", .")
         )));
     }
     let found = Command::new("ffmpeg")
@@ -224,10 +266,13 @@ fn encode(
     command
         .args(["-y", "-loglevel", "error", "-framerate"])
         .arg(fps.to_string())
-        .args(["-start_number", &first.to_string(), "-i", &pattern.text])
+        .args(["-start_number", &first.to_string(), "-i", &pattern.ffmpeg()])
         .args(["-frames:v", &count.to_string()]);
     // H.264 and the like store colour at half resolution: even sizes, 4:2:0.
-    if matches!(extension.as_ref(), "mp4" | "mov" | "mkv" | "m4v") {
+    if matches!(
+        extension.to_ascii_lowercase().as_str(),
+        "mp4" | "mov" | "mkv" | "m4v"
+    ) {
         command.args([
             "-vf",
             "pad=ceil(iw/2)*2:ceil(ih/2)*2",

@@ -170,10 +170,8 @@ impl Stopping {
     pub fn handle(&self) -> std::io::Result<()> {
         use signal_hook::consts::{SIGINT, SIGTERM};
         use signal_hook::flag;
-        if self
-            .handled
-            .swap(true, std::sync::atomic::Ordering::Relaxed)
-        {
+        use std::sync::atomic::Ordering::Relaxed;
+        if self.handled.load(Relaxed) {
             return Ok(());
         }
         let stop = &self.signals.stop;
@@ -182,6 +180,7 @@ impl Stopping {
             flag::register(signal, stop.clone())?;
             flag::register_usize(signal, self.which.clone(), signal as usize)?;
         }
+        self.handled.store(true, Relaxed);
         Ok(())
     }
 

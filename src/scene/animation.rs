@@ -47,13 +47,14 @@ pub enum Interpolation {
     Step,
 }
 
+/// A track, as its keys make it: at least one keyframe, frames increasing, values of one kind.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Track {
     /// The `--set` key.
-    pub key: String,
-    pub interpolation: Interpolation,
-    /// (frame, value), frames increasing.
-    pub keyframes: Vec<(f64, Value)>,
+    key: String,
+    interpolation: Interpolation,
+    /// (frame, value).
+    keyframes: Vec<(f64, Value)>,
 }
 
 impl Animation {
@@ -67,6 +68,26 @@ impl Animation {
 }
 
 impl Track {
+    /// The `--set` key of the value the track changes.
+    pub fn key(&self) -> &str {
+        &self.key
+    }
+
+    /// The frames of the keyframes.
+    pub fn keyframe_frames(&self) -> impl Iterator<Item = f64> + '_ {
+        self.keyframes.iter().map(|(frame, _)| *frame)
+    }
+
+    /// Whether the track, of whole numbers, takes a number with a fraction at frame `k`.
+    pub fn fraction_at(&self, k: u32) -> bool {
+        let whole = |v: &Value| match v {
+            Value::Integer(_) => true,
+            Value::Array(a) => a.iter().all(Value::is_integer),
+            _ => false,
+        };
+        self.keyframes.iter().all(|(_, v)| whole(v)) && !whole(&self.value(k as f64))
+    }
+
     /// The track's value at frame `k`.
     pub fn value(&self, k: f64) -> Value {
         let keys = &self.keyframes;
@@ -93,7 +114,7 @@ impl Track {
 fn between(a: &Value, b: &Value, u: f64) -> Value {
     match (a, b) {
         (Value::Integer(x), Value::Integer(y)) => {
-            let v = *x as f64 + u * (*y - *x) as f64;
+            let v = *x as f64 + u * (*y as f64 - *x as f64);
             if v == v.round() && v.abs() < 9e15 {
                 Value::Integer(v as i64)
             } else {
