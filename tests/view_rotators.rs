@@ -118,7 +118,32 @@ fn with_units() -> Rotator {
     }
 }
 
+/// The research rotator without rotation, in a 2 cm × 2 cm box whose front face lies well
+/// before the ocular faces, so that every ray from the eye enters its wedge through the
+/// ocular face: every wedge a plane-parallel plate.
+fn plate() -> Rotator {
+    Rotator {
+        angle_deg: 0.0,
+        ..research(
+            DVec3::ZERO,
+            [
+                DVec3::new(20.0 * MM, 0.0, 0.0),
+                DVec3::new(0.0, 20.0 * MM, 0.0),
+                DVec3::new(0.0, 0.0, 6.0 * MM),
+            ],
+        )
+    }
+}
+
 impl Rotator {
+    /// The coordinates of `x` along the box's spans from its centre (each within ±½ inside).
+    fn box_coordinates(&self, x: DVec3) -> [f64; 3] {
+        let s = self.spans;
+        let volume = s[0].dot(s[1].cross(s[2]));
+        [s[1].cross(s[2]), s[2].cross(s[0]), s[0].cross(s[1])]
+            .map(|star| (x - self.box_centre).dot(star) / volume)
+    }
+
     fn lenses(&self) -> String {
         let v = |x: DVec3| format!("[{:e}, {:e}, {:e}]", x.x, x.y, x.z);
         format!(
@@ -332,18 +357,7 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
     );
     for case in [whole, skew(), with_units()] {
         // Pixels whose wedge's centre line, C to Q, lies inside the box.
-        let spans = case.spans;
-        let volume = spans[0].dot(spans[1].cross(spans[2]));
-        let stars = [
-            spans[1].cross(spans[2]) / volume,
-            spans[2].cross(spans[0]) / volume,
-            spans[0].cross(spans[1]) / volume,
-        ];
-        let in_box = |x: DVec3| {
-            stars
-                .iter()
-                .all(|s| (x - case.box_centre).dot(*s).abs() < 0.5)
-        };
+        let in_box = |x: DVec3| case.box_coordinates(x).iter().all(|a| a.abs() < 0.5);
         let pixels: Vec<(i64, i64)> = (-60..=60)
             .flat_map(|i| (-60..=60).map(move |j| (i, j)))
             .filter(|&(i, j)| {
@@ -408,17 +422,7 @@ fn the_eye_sees_through_each_pixel_the_rotated_point_of_the_view_plane() {
 
 #[test]
 fn without_rotation_every_wedge_is_a_plate_that_keeps_directions() {
-    // The box's front face well before the ocular faces, so every ray from the eye enters its
-    // wedge through the ocular face.
-    let mut plate = research(
-        DVec3::ZERO,
-        [
-            DVec3::new(20.0 * MM, 0.0, 0.0),
-            DVec3::new(0.0, 20.0 * MM, 0.0),
-            DVec3::new(0.0, 0.0, 6.0 * MM),
-        ],
-    );
-    plate.angle_deg = 0.0;
+    let plate = plate();
     let description = plate.scene();
     let mut rng = Rng(7);
     for _ in 0..500 {
@@ -572,15 +576,7 @@ fn the_diffraction_blur_spreads_rays_leaving_the_box_as_a_pixel_diffracts() {
     // leave as they came; with it, each leaving the box is kicked by sin θ = x λ / (π w) along
     // each side w, x of density sin² x / (π x²). Also with the device turned by 30° about the
     // eye's axis and moved along it (the kicks turn with it), and at a wavelength of 1 µm.
-    let mut plate = research(
-        DVec3::ZERO,
-        [
-            DVec3::new(20.0 * MM, 0.0, 0.0),
-            DVec3::new(0.0, 20.0 * MM, 0.0),
-            DVec3::new(0.0, 0.0, 6.0 * MM),
-        ],
-    );
-    plate.angle_deg = 0.0;
+    let mut plate = plate();
     plate.p2 = DVec3::new(0.0, 0.25 * MM, 0.0);
     let n = 2000;
     let mut rng = Rng(11);
@@ -678,13 +674,6 @@ fn every_ray_leaving_a_skew_box_is_blurred_once() {
         })
         .collect();
     let traced = follow_rays(&rotator, "simulate_diffraction_blur = true", "", &rays);
-    let spans = rotator.spans;
-    let volume = spans[0].dot(spans[1].cross(spans[2]));
-    let stars = [
-        spans[1].cross(spans[2]) / volume,
-        spans[2].cross(spans[0]) / volume,
-        spans[0].cross(spans[1]) / volume,
-    ];
     let mut faces = std::collections::BTreeSet::new();
     for ((met, last, _), (o, d)) in traced.iter().zip(&rays) {
         let blurs = met
@@ -702,7 +691,7 @@ fn every_ray_leaving_a_skew_box_is_blurred_once() {
             "{o} along {d}: {met:?}"
         );
         // The face it left by: the box coordinate that is ±½ there (just beyond, by the gap).
-        let a = stars.map(|star| (*last - rotator.box_centre).dot(star));
+        let a = rotator.box_coordinates(*last);
         let k = (0..3).find(|&k| (a[k].abs() - 0.5).abs() < 1e-3).unwrap();
         faces.insert((k, a[k] > 0.0));
     }
