@@ -60,13 +60,14 @@ impl LineCoordinate {
     /// where the line meets the plane s = σ. Fractional, the equation also has a root beyond
     /// the pole γ + δ λ = 0 (behind the eye of a fan), and a line of constant s puts its one
     /// root at the pole: only a root after `from` counts, and where rounding has put s(from)
-    /// at or past σ already, it is reached at once.
-    fn reach(&self, sigma: f64, from: f64) -> f64 {
+    /// at or past σ already, it is reached at once. `sign` is [`Self::sign`], which the walk
+    /// holds.
+    fn reach(&self, sigma: f64, from: f64, sign: f64) -> f64 {
         let l = (sigma * self.gamma - self.alpha) / (self.beta - sigma * self.delta);
         if self.delta == 0.0 {
             return l;
         }
-        if (self.at(from) - sigma) * self.sign() >= 0.0 {
+        if (self.at(from) - sigma) * sign >= 0.0 {
             from
         } else if l > from {
             l
@@ -198,8 +199,8 @@ pub(super) fn walk<S: CellSolid>(
     };
     let (mut i, mut j) = (cell(s.at(lo), signs[0]), cell(t.at(lo), signs[1]));
     let next = |c: i64, coordinate: &LineCoordinate, sign: f64, from: f64| match sign {
-        sign if sign > 0.0 => coordinate.reach(c as f64 + 0.5, from),
-        sign if sign < 0.0 => coordinate.reach(c as f64 - 0.5, from),
+        sign if sign > 0.0 => coordinate.reach(c as f64 + 0.5, from, sign),
+        sign if sign < 0.0 => coordinate.reach(c as f64 - 0.5, from, sign),
         _ => f64::INFINITY,
     };
     let mut inside = false;
