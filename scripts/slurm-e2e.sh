@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # End-to-end test of the Slurm scripts in cluster/slurm/ on a real, one-node Slurm cluster
 # started here for the test and stopped after it:
-#   1. installs Debian's slurm-wlm and munge if they are missing;
+#   1. installs Debian's slurm-wlm, munge and ffmpeg if they are missing;
 #   2. starts munged, slurmctld and slurmd as plain background processes (no systemd, no
 #      containers), all configured in a temporary directory: the machine's /etc/slurm and
 #      /etc/munge are neither read nor changed, and the ports are free ones, so a real Slurm
@@ -11,9 +11,12 @@
 #      shell the SIGUSR1 that #SBATCH --signal=B:USR1@120 sends before a time limit: the task
 #      must checkpoint, requeue itself and, when it runs again, resume from its checkpoint;
 #   4. checks that every job ended COMPLETED with exit code 0, and that the merged image is
-#      byte for byte a single `timbre render` of the same settings.
+#      byte for byte a single `timbre render` of the same settings;
+#   5. renders a 4-frame movie with cluster/slurm/submit-movie.sh (a render-frames.sbatch array,
+#      one frame per task, and encode.sbatch after it), checks each frame against the movie
+#      rendered here and the GIF's frame count, and renders one frame again with plain sbatch.
 # Prints PASS or FAIL (with the logs that matter) and exits non-zero on failure. Idempotent;
-# leaves no daemon running and no temporary files. About 20 s on 2 cores once the packages are
+# leaves no daemon running and no temporary files. About 30 s on 2 cores once the packages are
 # installed.
 #   TIMBRE=path          test this binary instead of building target/release/timbre
 #   SLURM_E2E_KEEP=1     keep the temporary directory (configuration, logs, images)
@@ -53,7 +56,7 @@ fi
 # --- packages --------------------------------------------------------------------------------
 installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
-for p in slurm-wlm munge; do installed "$p" || missing+=("$p"); done
+for p in slurm-wlm munge ffmpeg; do installed "$p" || missing+=("$p"); done
 if ((${#missing[@]})); then
     say "installing ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
@@ -71,7 +74,7 @@ if ((${#missing[@]})); then
     ((own_policy == 0)) || rm -f "$policy"
     ((ok == 0)) || { say "FAIL: could not install ${missing[*]} with apt-get"; exit 1; }
 fi
-for tool in munged munge slurmctld slurmd sbatch squeue sinfo scontrol scancel; do
+for tool in munged munge slurmctld slurmd sbatch squeue sinfo scontrol scancel ffprobe; do
     command -v "$tool" >/dev/null || { say "FAIL: $tool not found after installing slurm-wlm and munge"; exit 1; }
 done
 
@@ -123,7 +126,7 @@ trap 'exit 130' INT TERM
 fail() {
     say "FAIL: $*"
     local f
-    for f in "$work"/log/*.log "$work"/render/logs/*.out; do
+    for f in "$work"/log/*.log "$work"/render/logs/*.out "$work"/movie/logs/*.out; do
         [[ -f $f ]] || continue
         echo "----- tail of ${f#"$work"/}"
         tail -n 25 "$f"
@@ -272,4 +275,73 @@ single=
 ((status == 0)) || fail "the single render failed (exit status $status)"
 [[ -f $out/render.exr ]] || fail "no merged image $out/render.exr"
 cmp "$out/render.exr" "$work/single.exr" || fail "the merged image differs from the single render"
-say "PASS: merged tiles == single render, byte for byte ($((SECONDS - started)) s)"
+say "merged tiles == single render, byte for byte ($((SECONDS - started)) s)"
+
+# --- a movie: one frame per task, then the encode -----------------------------------------
+# Four frames of a camera that turns and moves, one frame per task of a render-frames.sbatch
+# array and a GIF from encode.sbatch once the array has finished, as submit-movie.sh submits
+# them; each frame must be byte for byte the one `timbre render` of the movie writes here.
+movie=$work/movie
+mkdir -p "$movie/here"
+cat >"$movie/scene.toml" <<TOML
+[render]
+width = 64
+height = 48
+spp = 8
+
+[animation]
+frames = 4
+fps = 5
+
+[[animation.track]]
+key = "camera.position"
+keyframes = [{ frame = 0, value = [0, 0, -12] }, { frame = 3, value = [2, 1, -9] }]
+
+[[animation.track]]
+key = "camera.horizontal_view_angle_deg"
+interpolation = "smooth"
+keyframes = [{ frame = 0, value = 40 }, { frame = 3, value = 25 }]
+TOML
+submitted=$(
+    OUT_DIR=$movie SCENE=$movie/scene.toml TIMBRE=$TIMBRE VIDEO=movie.gif CPUS_PER_TASK=1 \
+        PROGRESS=bar "$repo/cluster/slurm/submit-movie.sh"
+) || fail "submit-movie.sh failed"
+array=$(sed -n 's/^ARRAY_JOB_ID=//p' <<<"$submitted")
+encode=$(sed -n 's/^ENCODE_JOB_ID=//p' <<<"$submitted")
+[[ $array =~ ^[0-9]+$ && $encode =~ ^[0-9]+$ ]] || fail "submit-movie.sh printed no job ids: $submitted"
+say "submitted array job $array (4 frames) and encode job $encode"
+"$TIMBRE" render "$movie/scene.toml" -o "$movie/here/frame-%04d.png" -q >"$work/log/movie.log" 2>&1 ||
+    fail "the movie rendered here failed: $(cat "$work/log/movie.log")"
+wait_for_queue() {
+    for _ in $(seq 900); do
+        [[ -z $(squeue -h -o %A) ]] && return
+        sleep 0.2
+    done
+    fail "jobs still queued after 180 s: $(squeue -h -o '%i %T %r' | tr '\n' ';')"
+}
+wait_for_queue
+for job in "${array}_0" "${array}_1" "${array}_2" "${array}_3" "$encode"; do
+    st=$(job_field "$job" JobState) code=$(job_field "$job" ExitCode)
+    [[ $st == COMPLETED && $code == 0:0 ]] || fail "job $job ended $st with exit code $code"
+done
+for k in 0 1 2 3; do
+    cmp "$movie/frames/frame-000$k.png" "$movie/here/frame-000$k.png" ||
+        fail "frame $k of the array differs from the movie rendered here"
+done
+cmp -s "$movie/frames/frame-0000.png" "$movie/frames/frame-0003.png" && fail "frames 0 and 3 are the same picture"
+count=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames \
+    -of csv=p=0 "$movie/movie.gif") || fail "ffprobe cannot read $movie/movie.gif"
+[[ $count == 4 ]] || fail "$movie/movie.gif has $count frames, not 4"
+
+# One frame again, submitted by hand with sbatch as docs/CLUSTER.md shows, without
+# TIMBRE_SLURM_DIR: the task finds task.sh through the command Slurm recorded.
+rm "$movie/frames/frame-0002.png"
+again=$(env -u TIMBRE_SLURM_DIR OUT_DIR="$movie" SCENE="$movie/scene.toml" TIMBRE="$TIMBRE" \
+    sbatch --parsable --export=ALL --array=2 --cpus-per-task=1 --output="$movie/logs/again-%A_%a.out" \
+    "$repo/cluster/slurm/render-frames.sbatch") || fail "sbatch render-frames.sbatch failed"
+again=${again%%;*}
+wait_for_queue
+st=$(job_field "${again}_2" JobState) code=$(job_field "${again}_2" ExitCode)
+[[ $st == COMPLETED && $code == 0:0 ]] || fail "job ${again}_2 ended $st with exit code $code"
+cmp "$movie/frames/frame-0002.png" "$movie/here/frame-0002.png" || fail "frame 2 rendered again differs"
+say "PASS: merged tiles == single render; the movie's frames == a movie rendered here, GIF of 4 frames ($((SECONDS - started)) s)"

@@ -6,7 +6,8 @@
 //!   v_a + u (v_b − v_a); smooth: u → 3u² − 2u³; strings stepped), and a whole-number
 //!   setting takes the whole value between whole keyframes;
 //! * the frames are named by the output's pattern (%0Nd, %d, or -0000 before the extension);
-//! * `--frame K` renders frame K alone, `--resume` leaves frames already written as they are;
+//! * `--frame K` renders frame K alone, `--resume` leaves frames already written as they are,
+//!   and `timbre check` names the frames;
 //! * `--encode` makes a video of the frames with ffmpeg (ffprobe counts its frames, its size
 //!   and rate), from the first frame asked for;
 //! * bad animations and options are refused where they are written, with exit code 2.
@@ -113,6 +114,28 @@ fn frames_are_named_by_the_pattern_and_rendered_one_by_one() {
     .assert_success();
     let expected: Vec<String> = (0..6).map(|k| format!("f{k:02}.png")).collect();
     assert_eq!(files_in(dir.path().join("frames")), expected);
+    // `timbre check` names the frames a run renders (what cluster/slurm/submit-movie.sh reads):
+    // the file's 4 frames at the default 25 fps, or those --set asks for.
+    let run = timbre(dir.path(), &["check", m]);
+    run.assert_success();
+    assert!(
+        run.stdout
+            .contains("movie:        frames 0 to 3 of 4, 3 track(s), 25 fps"),
+        "{}",
+        run.stdout
+    );
+    let run = timbre(
+        dir.path(),
+        &[
+            "check",
+            m,
+            "--set",
+            "animation.frames=9",
+            "--set",
+            "animation.first_frame=5",
+        ],
+    );
+    assert!(run.stdout.contains("frames 5 to 8 of 9"), "{}", run.stdout);
     // --frame K renders only frame K, %d unpadded.
     timbre(
         dir.path(),

@@ -33,7 +33,7 @@ if [[ ${TIMBRE:-} == */* ]]; then
 fi
 OUTPUT=${OUTPUT:-$OUT_DIR/render.exr}
 mkdir -p "$OUT_DIR/parts" "$OUT_DIR/logs"
-export OUT_DIR TILES SCENE TIMBRE OUTPUT
+export OUT_DIR TILES SCENE TIMBRE OUTPUT TIMBRE_SLURM_DIR=$here
 
 # --export=ALL passes the variables above to the jobs even where a site sets SBATCH_EXPORT.
 array_opts=(--parsable --export=ALL --array="$TASKS" --output="$OUT_DIR/logs/tile-%A_%a.out")

@@ -194,6 +194,18 @@ impl fmt::Display for Report<'_> {
             f,
             "\n  render:       {}x{} at {} spp",
             r.width, r.height, r.spp
-        )
+        )?;
+        if let Some(a) = &d.animation {
+            write!(
+                f,
+                "\n  movie:        frames {} to {} of {}, {} track(s), {} fps",
+                a.first_frame,
+                a.last_frame,
+                a.frames,
+                a.tracks.len(),
+                a.fps
+            )?;
+        }
+        Ok(())
     }
 }
