@@ -4773,3 +4773,62 @@ fn research_curl_visualiser_shows_the_vortex_ring_where_the_turned_rays_meet_the
     }
     assert!(on >= 8 && off > 5000, "{on} on the ring, {off} off it");
 }
+
+/// scenes/research/FourPiLensInsideView.toml (Dr TIM's movie of that name): frame k looks
+/// along (cos φ, 0, sin φ), φ = 2π k / 51, as the program's populateStudio sets it; and with
+/// the program's focal length 1e5 the 4π lens images outside space to itself, so its view from
+/// inside is, but for the lenses' frames, the view through undeviating panes of the same
+/// transmission (lens_type = "glass-pane"): the lenses turn rays by |r|/f ≈ 1e-5 at most.
+#[test]
+fn research_four_pi_lens_inside_view_turns_as_dr_tim_and_shows_the_world_undistorted() {
+    let path = scene("research/FourPiLensInsideView");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let file: toml::Table = text.parse().unwrap();
+    let keyframes = file["animation"]["track"][0]["keyframes"]
+        .as_array()
+        .unwrap();
+    assert_eq!(file["animation"]["frames"].as_integer(), Some(50));
+    assert_eq!(keyframes.len(), 50);
+    for (k, keyframe) in keyframes.iter().enumerate() {
+        assert_eq!(keyframe["frame"].as_integer(), Some(k as i64));
+        let phi = 2.0 * PI * k as f64 / 51.0;
+        let d = vector(&serde_json::to_value(&keyframe["value"]).unwrap());
+        assert!(
+            (d - DVec3::new(phi.cos(), 0.0, phi.sin())).length() < 1e-15,
+            "frame {k}: {d}"
+        );
+    }
+    let frame = |k: &str, lens_type: &str| {
+        let dir = TempDir::new().unwrap();
+        let set = format!("device.0.lenses.lens_type=\"{lens_type}\"");
+        let args = [
+            "render",
+            "-q",
+            path_str(&path),
+            "-o",
+            "f.exr",
+            "--frame",
+            k,
+            "--width",
+            "160",
+            "--height",
+            "120",
+            "--set",
+            &set,
+        ];
+        timbre(dir.path(), &args).assert_success();
+        Picture::read(&dir.path().join(format!("f-{:0>4}.exr", k)))
+    };
+    for k in ["7", "30"] {
+        let lenses = frame(k, "ideal-thin-lens");
+        let panes = frame(k, "glass-pane");
+        let differing = lenses
+            .pixels()
+            .filter(|&(x, y)| (lenses.rgb(x, y) - panes.rgb(x, y)).abs().max_element() > 2e-3)
+            .count();
+        assert!(
+            differing <= 40,
+            "frame {k}: {differing} of 19200 pixels differ"
+        );
+    }
+}
