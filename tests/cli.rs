@@ -923,6 +923,7 @@ fn every_example_scene_checks_and_renders() {
         "trajectories-luneburg-focus.toml",
         "research/HolographicLensStarConicSectionTrajectoryPlotter.toml",
         "research/FourPiLensInsideView.toml",
+        "research/SurroundAnaglyphCameraDemo.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

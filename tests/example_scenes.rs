@@ -4832,3 +4832,42 @@ fn research_four_pi_lens_inside_view_turns_as_dr_tim_and_shows_the_world_undisto
         );
     }
 }
+
+/// scenes/research/SurroundAnaglyphCameraDemo.toml (Dr TIM's surround-anaglyph camera): the
+/// eyes, 1 apart on a horizontal circle about (0, 2, 0) and looking along its tangents, see
+/// the green ball at (3, 0, 0), 3 away horizontally, at the azimuths 90° ± asin(0.5 / 3) (the
+/// left eye to the right), whatever its height: 2 asin(1/6) of the 960 columns' 360° apart.
+#[test]
+fn research_surround_anaglyph_eyes_see_the_near_ball_at_the_tangent_azimuths() {
+    let p = render_file(
+        &scene("research/SurroundAnaglyphCameraDemo"),
+        &["--set", "camera.stereo=\"top-bottom\""],
+    );
+    let (w, h) = (960, 480);
+    assert_eq!(p.size, (w, 2 * h));
+    // The ball's pixels: green, below 20° under the horizon, within 30° of the right.
+    let column = |top: usize| {
+        let (mut sum, mut n) = (0.0, 0.0);
+        for y in top + h * 110 / 180..top + h {
+            for x in w * 225 / 360..w * 315 / 360 {
+                let c = p.rgb(x, y);
+                if c.y > 0.1 && c.y > 2.0 * c.x && c.y > 2.0 * c.z {
+                    sum += x as f64;
+                    n += 1.0;
+                }
+            }
+        }
+        assert!(n > 100.0, "{n} green pixels");
+        sum / n
+    };
+    let (left, right) = (column(0), column(h));
+    let expected = 2.0 * (1.0f64 / 6.0).asin() / (2.0 * PI) * w as f64;
+    assert!(
+        (left - right - expected).abs() < 1.0,
+        "left eye {left}, right eye {right}: {} apart, expected {expected}",
+        left - right
+    );
+    // Between them, straight to the right (column 3W/4 − ½).
+    let middle = 0.5 * (left + right);
+    assert!((middle - 719.5).abs() < 1.0, "{middle}");
+}

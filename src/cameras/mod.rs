@@ -1,7 +1,8 @@
 //! Cameras: where primary rays start, in which directions and at what times.
 //!
 //! One camera type covers TIM's pinhole, finite-aperture ("any focus surface") and orthographic
-//! cameras, each optionally moving at relativistic speed (§2). Rays are generated in the camera
+//! cameras and Dr TIM's equirectangular panoramas (`SurroundAnaglyphCamera`), each optionally
+//! moving at relativistic speed (§2). Rays are generated in the camera
 //! frame; [`Camera::to_scene_frame`] Lorentz-transforms them (or, as an option, Galileo-
 //! transforms them) into the scene frame. The two frames' coordinates coincide at time 0, and
 //! the boost is taken about the camera position (the pupil centre): at t = 0 the camera is
@@ -45,6 +46,14 @@ pub enum Projection {
     /// Chief rays parallel to the view direction, from the points of the plane through the
     /// camera position; `view_width` spans the centres of the outermost pixel columns.
     Orthographic { view_width: f64 },
+    /// The whole sphere of directions, 360° by 180°, in equal steps of longitude and latitude
+    /// (an equirectangular panorama, Dr TIM's `SurroundAnaglyphCamera` with its
+    /// `StandardPanorama3DGeometry`): column x + ½ of W is at azimuth φ = 2π (x + ½) / W from
+    /// straight behind, row y + ½ of H at polar angle θ = π (y + ½) / H from `up`; the view
+    /// direction is the centre of the picture and the camera's right three quarters across.
+    /// A stereo eye's offset turns with the azimuth (omnidirectional stereo), and the focus
+    /// "plane" is the sphere of radius `focus_distance` about the camera.
+    Equirectangular,
 }
 
 /// Where the images of the detector pixels are (TIM can focus on almost any surface).
@@ -111,6 +120,7 @@ impl Camera {
                 horizontal_view_angle,
             } => 2.0 * (0.5 * horizontal_view_angle).tan(),
             Projection::Orthographic { view_width } => view_width,
+            Projection::Equirectangular => 0.0,
         };
         Some(Camera {
             position,
@@ -262,6 +272,15 @@ impl Camera {
     /// (ignoring the eye offset) and direction (not normalised).
     #[inline]
     pub fn chief_ray(&self, width: u32, height: u32, x: f64, y: f64) -> (DVec3, DVec3) {
+        if self.projection == Projection::Equirectangular {
+            let phi = std::f64::consts::TAU * (x + 0.5) / width as f64;
+            let theta = std::f64::consts::PI * (y + 0.5) / height as f64;
+            let (sin_phi, cos_phi) = phi.sin_cos();
+            let (sin_theta, cos_theta) = theta.sin_cos();
+            // φ = 0 straight behind (Dr TIM's phi0 = −view), φ = 90° to the left.
+            let around = -cos_phi * self.view_direction - sin_phi * self.right;
+            return (self.position, cos_theta * self.up + sin_theta * around);
+        }
         let pitch = self.span / (width.max(2) - 1) as f64;
         let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
         let dy = (0.5 * (height as f64 - 1.0) - y) * pitch;
@@ -269,6 +288,32 @@ impl Camera {
         match self.projection {
             Projection::Perspective { .. } => (self.position, self.view_direction + across),
             Projection::Orthographic { .. } => (self.position + across, self.view_direction),
+            Projection::Equirectangular => unreachable!("handled above"),
+        }
+    }
+
+    /// The offset of this eye's pupil for a chief ray along `chief`: the offset given, or for
+    /// the equirectangular camera that offset turned about `up` with the azimuth, so that the
+    /// eyes lie across each chief ray as a turning head's do (Dr TIM's
+    /// `StandardPanorama3DGeometry`: the left eye at −½ IPD (up × d̂) for a horizontal d̂). Its
+    /// component along `right` turns to the horizontal perpendicular to the chief ray; straight
+    /// up or down, where that is undefined, it stays `right`.
+    fn eye_offset(&self, chief: DVec3) -> DVec3 {
+        if self.projection != Projection::Equirectangular || self.eye == DVec3::ZERO {
+            return self.eye;
+        }
+        let across = self.eye.dot(self.right);
+        let right = self.up.cross(chief).try_normalize().unwrap_or(self.right);
+        across * right + (self.eye - across * self.right)
+    }
+
+    /// Where the chief ray from `centre` along the unit `chief` meets the focus plane
+    /// `distance` ahead, or for the equirectangular camera the focus sphere of that radius;
+    /// none at an infinite distance (the equirectangular camera's default).
+    fn focus_point(&self, centre: DVec3, chief: DVec3, distance: f64) -> Option<DVec3> {
+        match self.projection {
+            Projection::Equirectangular => distance.is_finite().then(|| centre + distance * chief),
+            _ => Some(centre + distance / chief.dot(self.view_direction) * chief),
         }
     }
 
@@ -310,13 +355,11 @@ impl Camera {
     ) -> Ray {
         let chief = direction.normalize();
         let image = match self.focus {
-            Focus::Plane { distance } => {
-                Some(centre + distance / chief.dot(self.view_direction) * chief)
-            }
+            Focus::Plane { distance } => self.focus_point(centre, chief, distance),
             Focus::Surface => focus_surface(centre, chief).map(|t| centre + t * chief),
         };
         // This eye's pupil centre.
-        let eye_centre = centre + self.eye;
+        let eye_centre = centre + self.eye_offset(chief);
         let pupil_point = if self.aperture_radius > 0.0 {
             let r = self.aperture_radius * pupil[0].sqrt();
             let (s, c) = (std::f64::consts::TAU * pupil[1]).sin_cos();
@@ -472,6 +515,7 @@ impl fmt::Display for Description<'_> {
             (Projection::Orthographic { view_width }, _) => {
                 write!(f, "orthographic, {view_width} wide")?
             }
+            (Projection::Equirectangular, _) => write!(f, "equirectangular, 360° × 180°")?,
             (
                 Projection::Perspective {
                     horizontal_view_angle: a,
@@ -491,6 +535,9 @@ impl fmt::Display for Description<'_> {
         let boost = camera.boost();
         if camera.aperture_radius() > 0.0 || !boost.is_identity() {
             match camera.focus() {
+                Focus::Plane { distance } if distance.is_infinite() => {
+                    write!(f, "; focused at infinity")?
+                }
                 Focus::Plane { distance } => write!(f, "; focused at {distance}")?,
                 Focus::Surface => write!(f, "; focused on {} shapes", self.focus_shapes)?,
             }

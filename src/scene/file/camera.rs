@@ -56,6 +56,8 @@ enum CameraKind {
     #[serde(alias = "finite_aperture")]
     FiniteAperture,
     Orthographic,
+    /// Dr TIM's `SurroundAnaglyphCamera` (`StandardPanorama3DGeometry`): a 360° panorama.
+    Equirectangular,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -175,8 +177,8 @@ impl CameraSection {
             })?;
         let radius = aperture_radius(kind, aperture, &at)?;
         let diffraction = self.diffraction(kind, &at)?;
-        let focus = self.focus(&at)?;
-        let shutter = self.shutter(focus, &at)?;
+        let focus = self.focus(kind, &at)?;
+        let shutter = self.shutter(kind, focus, &at)?;
         let focus_surface = focus_surface(self.focus_surface, source, &at)?;
         let boost = match &self.beta {
             Some(b) => LorentzTransform::new(b.get_ref().0).ok_or_else(|| {
@@ -214,6 +216,7 @@ impl CameraSection {
             .with_diffraction(diffraction);
         let stereo = stereo(
             &camera,
+            kind,
             self.stereo.unwrap_or(StereoName::None),
             self.eye_separation,
             self.autostereogram,
@@ -228,6 +231,24 @@ impl CameraSection {
 
     /// The projection of a camera of `kind`: a view angle, or an orthographic view width.
     fn projection(&self, kind: CameraKind, at: At) -> Result<Projection, SceneFileError> {
+        if kind == CameraKind::Equirectangular {
+            let given = [
+                (
+                    "horizontal_view_angle_deg",
+                    self.horizontal_view_angle_deg.as_ref().map(Spanned::span),
+                ),
+                ("view_width", self.view_width.as_ref().map(Spanned::span)),
+            ];
+            if let Some((key, span)) = given.into_iter().find(|(_, s)| s.is_some()) {
+                return Err(at(
+                    span,
+                    &format!(
+                        "an equirectangular camera sees all round (360° by 180°): it has no {key}"
+                    ),
+                ));
+            }
+            return Ok(Projection::Equirectangular);
+        }
         if kind == CameraKind::Orthographic {
             if let Some(a) = &self.horizontal_view_angle_deg {
                 return Err(at(
@@ -266,8 +287,19 @@ impl CameraSection {
     /// the arbitrary-plane shutter only (Dr TIM's GUI's point (0, 0, 0), normal (0, 0, 1)),
     /// and no opening time for the fixed-point-surface shutter, which needs a focus plane and
     /// the Lorentz transformation.
-    fn shutter(&self, focus: Focus, at: At) -> Result<Shutter, SceneFileError> {
+    fn shutter(&self, kind: CameraKind, focus: Focus, at: At) -> Result<Shutter, SceneFileError> {
         let name = self.shutter.unwrap_or(ShutterName::EntrancePupil);
+        if kind == CameraKind::Equirectangular
+            && matches!(
+                name,
+                ShutterName::DetectorPlane | ShutterName::FixedPointSurface
+            )
+        {
+            return Err(at(
+                None,
+                "an equirectangular camera has no detector plane and no focus plane to keep fixed: its shutter is entrance-pupil, focus-surface or arbitrary-plane",
+            ));
+        }
         let only = |span: Option<Range<usize>>, key: &str, shutter: &str| {
             Err(at(
                 span,
@@ -359,8 +391,9 @@ impl CameraSection {
         }
     }
 
-    /// A focus plane at a distance, or the focus surface's shapes.
-    fn focus(&self, at: At) -> Result<Focus, SceneFileError> {
+    /// A focus plane at a distance (for the equirectangular camera a sphere, by default at
+    /// infinity: Dr TIM's `StandardPanorama3DGeometry`), or the focus surface's shapes.
+    fn focus(&self, kind: CameraKind, at: At) -> Result<Focus, SceneFileError> {
         Ok(match (&self.focus_distance, &self.focus_surface) {
             (Some(_), Some(s)) => {
                 return Err(at(
@@ -372,6 +405,9 @@ impl CameraSection {
                 distance: d.get_ref().0,
             },
             (None, Some(_)) => Focus::Surface,
+            (None, None) if kind == CameraKind::Equirectangular => Focus::Plane {
+                distance: f64::INFINITY,
+            },
             (None, None) => Focus::Plane {
                 distance: DEFAULT_FOCUS_DISTANCE,
             },
@@ -426,9 +462,11 @@ fn focus_surface(
 }
 
 /// The stereo output `name` of `camera`, with its eye separation (by default 0.4 to the
-/// camera's right) or autostereogram options.
+/// camera's right; for the equirectangular camera Dr TIM's interpupillary distance 1, of
+/// `StandardPanorama3DGeometry`) or autostereogram options.
 fn stereo(
     camera: &Camera,
+    kind: CameraKind,
     name: StereoName,
     eye_separation: Option<Spanned<Vector>>,
     autostereogram_section: Option<Spanned<AutostereogramSection>>,
@@ -436,9 +474,13 @@ fn stereo(
 ) -> Result<Stereo, SceneFileError> {
     let (right, _) = camera.right_up();
     let eye_span = eye_separation.as_ref().map(Spanned::span);
+    let default = match kind {
+        CameraKind::Equirectangular => 1.0,
+        _ => 0.4,
+    };
     let eye_separation = eye_separation
         .as_ref()
-        .map_or(0.4 * right, |e| e.get_ref().0);
+        .map_or(default * right, |e| e.get_ref().0);
     let two_eyes = !matches!(name, StereoName::None | StereoName::Autostereogram);
     if two_eyes && eye_separation == DVec3::ZERO {
         return Err(at(eye_span, "eye_separation must not be zero"));
@@ -450,6 +492,12 @@ fn stereo(
             &format!(
                 "eye_separation must be perpendicular to the view direction (the eyes lie in the pupil plane); its component along it is {along}"
             ),
+        ));
+    }
+    if kind == CameraKind::Equirectangular && name == StereoName::Autostereogram {
+        return Err(at(
+            None,
+            "an autostereogram is made of a picture in perspective: not of an equirectangular camera's",
         ));
     }
     if let Some(a) = &autostereogram_section
