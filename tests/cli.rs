@@ -921,6 +921,7 @@ fn every_example_scene_checks_and_renders() {
         "trajectories-glass-ball.toml",
         "trajectories-metatoy-window.toml",
         "trajectories-luneburg-focus.toml",
+        "trajectories-hyperboloid.toml",
         "research/HolographicLensStarConicSectionTrajectoryPlotter.toml",
         "research/FourPiLensInsideView.toml",
         "research/SurroundAnaglyphCameraDemo.toml",

@@ -2025,3 +2025,65 @@ direction = [0, 0, 1]
         "its own cylinder first"
     );
 }
+
+/// A hyperboloid of skew rays (Dr TIM's `RayTrajectoryHyperboloid`: waist radius w, angle α to
+/// the axis) through an ideal thin lens of focal length f, a distance L beyond the waist, is
+/// another hyperboloid of skew rays: worked out here in the transverse plane, a ray at the lens
+/// is at p = w r̂ + L tan α φ̂ with slope s = tan α φ̂, and leaves with the slope s − p/f; it is
+/// nearest the axis, at √(|p|² − (p·s′)²/|s′|²), a distance z* = −p·s′/|s′|² beyond the lens,
+/// the same for every ray (they are the same ray turned about the axis). The rays start on the
+/// waist circle.
+#[test]
+fn a_hyperboloid_of_skew_rays_is_imaged_by_a_lens_into_another() {
+    let (w, alpha, f, l) = (0.3f64, 0.2f64, 1.5, 2.0);
+    let text = format!(
+        "studio = \"none\"\n\
+         [[object]]\nname = \"lens\"\n\
+         shape = {{ type = \"disc\", centre = [0, 0, {l}], normal = [0, 0, 1], radius = 5 }}\n\
+         surface = {{ type = \"ideal-thin-lens\", focal_length = {f}, principal_point = [0, 0, {l}], optical_axis = [0, 0, 1], transmission_coefficient = 1 }}\n\
+         [[ray_trajectory]]\nstart = [0, 0, 0]\ndirection = [0, 0, 1]\n\
+         cone_half_angle_deg = {}\nwaist_radius = {w}\nrays = 6\n",
+        alpha.to_degrees()
+    );
+    let (_, traced) = trace_text(&text);
+    assert_eq!(traced.len(), 6);
+    // In the transverse plane, the ray of azimuth 0 (all others are it turned).
+    let p = glam::DVec2::new(w, l * alpha.tan());
+    let s = glam::DVec2::new(0.0, alpha.tan()) - p / f;
+    let z_star = -p.dot(s) / s.length_squared();
+    let r_star = (p.length_squared() - p.dot(s).powi(2) / s.length_squared()).sqrt();
+    for t in &traced {
+        let start = t.points[0].position;
+        assert!((start.truncate().length() - w).abs() < 1e-12 && start.z == 0.0);
+        let lens = t.points[1].position;
+        assert!((lens.z - l).abs() < 1e-9, "{lens}");
+        // Nearest the axis along the ray after the lens.
+        let d = t.direction;
+        let (q, e) = (lens.truncate(), d.truncate());
+        let along = -q.dot(e) / e.length_squared();
+        let nearest = lens + along * d;
+        assert!(
+            (nearest.z - l - z_star).abs() < 1e-9,
+            "waist at {} beyond the lens, expected {z_star}",
+            nearest.z - l
+        );
+        assert!(
+            (nearest.truncate().length() - r_star).abs() < 1e-9,
+            "waist radius {}, expected {r_star}",
+            nearest.truncate().length()
+        );
+    }
+}
+
+#[test]
+fn a_waist_radius_needs_a_cone_angle() {
+    let dir = tempfile::TempDir::new().unwrap();
+    let scene = write(
+        &dir,
+        "bad.toml",
+        "[[ray_trajectory]]\nstart = [0, 0, 0]\ndirection = [0, 0, 1]\nwaist_radius = 1\nrays = 4\n",
+    );
+    let run = timbre(dir.path(), &["check", path_str(&scene)]);
+    run.assert_bad_input(&["waist_radius", "cone_half_angle_deg"]);
+    assert_eq!(location(&run.stderr, &scene).0, 4, "{}", run.stderr);
+}

@@ -33,6 +33,16 @@ pub enum Spread {
     /// `rays` rays from the start on the cone of half-angle `half_angle` (radians) about the
     /// direction, equally spaced in azimuth (TIM's ray-trajectory cone).
     Cone { half_angle: f64, rays: u32 },
+    /// `rays` skew rays that rule a hyperboloid of one sheet about the direction (Dr TIM's
+    /// `RayTrajectoryHyperboloid`): ray k starts at azimuth φ_k = 2πk/rays on the waist, the
+    /// circle of radius `waist_radius` about the start perpendicular to the direction, and
+    /// leaves it at `half_angle` to the direction, tilted along the circle (towards increasing
+    /// azimuth). At distance z along the direction the rays are √(w² + z² tan²α) from the axis.
+    Hyperboloid {
+        half_angle: f64,
+        waist_radius: f64,
+        rays: u32,
+    },
     /// `rays` rays parallel to the direction through the disc of radius `radius` centred on the
     /// start and perpendicular to the direction, spread evenly over its area (Vogel's sunflower
     /// pattern: ray k at distance radius·√((k + ½)/rays) from the centre, k golden angles round);
@@ -58,6 +68,18 @@ impl RayTrajectory {
                     let azimuth = std::f64::consts::TAU * k as f64 / rays as f64;
                     let direction = half_angle.cos() * d + half_angle.sin() * across(azimuth);
                     Ray::new(self.start, direction, 0.0)
+                })
+                .collect(),
+            Spread::Hyperboloid {
+                half_angle,
+                waist_radius,
+                rays,
+            } => (0..rays)
+                .map(|k| {
+                    let azimuth = std::f64::consts::TAU * k as f64 / rays as f64;
+                    let along = std::f64::consts::FRAC_PI_2 + azimuth;
+                    let direction = half_angle.cos() * d + half_angle.sin() * across(along);
+                    Ray::new(self.start + waist_radius * across(azimuth), direction, 0.0)
                 })
                 .collect(),
             Spread::Bundle { radius, rays } => {
@@ -124,6 +146,42 @@ mod tests {
         assert!((across.normalize() - DVec3::X).length() < 1e-12, "{across}");
         let across = first(DVec3::NEG_X);
         assert!((across.normalize() - DVec3::Y).length() < 1e-12, "{across}");
+    }
+
+    /// Every point of every ray satisfies x² + y² − z² tan²α = w² (the hyperboloid of one
+    /// sheet about the start, for the axis along z), the rays pass the waist circle at its
+    /// radius at z = 0, and no two of them meet (skew lines: their common normal is not 0).
+    #[test]
+    fn hyperboloid_rays_rule_the_hyperboloid_of_one_sheet_and_are_skew() {
+        let (half_angle, waist_radius) = (0.35f64, 0.8);
+        let rays = source(Spread::Hyperboloid {
+            half_angle,
+            waist_radius,
+            rays: 7,
+        })
+        .rays();
+        let centre = DVec3::new(1.0, 2.0, 3.0);
+        assert_eq!(rays.len(), 7);
+        for r in &rays {
+            assert!((r.direction.length() - 1.0).abs() < 1e-15);
+            assert!((r.direction.z - half_angle.cos()).abs() < 1e-15);
+            for t in [-3.0, 0.0, 0.5, 4.0] {
+                let p = r.origin + t * r.direction - centre;
+                let residual = p.x * p.x + p.y * p.y
+                    - (p.z * half_angle.tan()).powi(2)
+                    - waist_radius * waist_radius;
+                assert!(residual.abs() < 1e-12, "{residual}");
+            }
+        }
+        for (i, a) in rays.iter().enumerate() {
+            for b in &rays[i + 1..] {
+                let normal = a.direction.cross(b.direction).normalize();
+                assert!((b.origin - a.origin).dot(normal).abs() > 1e-3);
+            }
+        }
+        // The first ray starts on the x axis's side and turns towards +y (Dr TIM's sense).
+        assert!((rays[0].origin - centre - DVec3::new(waist_radius, 0.0, 0.0)).length() < 1e-15);
+        assert!(rays[0].direction.y > 0.0 && rays[0].direction.x.abs() < 1e-15);
     }
 
     #[test]

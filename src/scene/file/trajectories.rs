@@ -39,6 +39,7 @@ pub(super) struct TrajectorySection {
     direction: Direction,
     cone_half_angle_deg: Option<Spanned<Positive>>,
     bundle_radius: Option<Spanned<Positive>>,
+    waist_radius: Option<Spanned<Positive>>,
     rays: Option<Spanned<Count>>,
     radius: Option<Positive>,
     colour: Option<Rgb>,
@@ -77,10 +78,23 @@ impl TrajectorySection {
                     ),
                 ));
             }
-            (Some(a), None) => Spread::Cone {
-                half_angle: a.get_ref().0.to_radians(),
-                rays,
+            (Some(a), None) => match &self.waist_radius {
+                Some(w) => Spread::Hyperboloid {
+                    half_angle: a.get_ref().0.to_radians(),
+                    waist_radius: w.get_ref().0,
+                    rays,
+                },
+                None => Spread::Cone {
+                    half_angle: a.get_ref().0.to_radians(),
+                    rays,
+                },
             },
+            (None, _) if self.waist_radius.is_some() => {
+                return Err(at(
+                    self.waist_radius.as_ref().map(Spanned::span),
+                    "waist_radius makes a hyperboloid of skew rays: it needs cone_half_angle_deg, the rays' angle to direction".into(),
+                ));
+            }
             (None, Some(r)) => Spread::Bundle {
                 radius: r.get_ref().0,
                 rays,
@@ -89,7 +103,7 @@ impl TrajectorySection {
                 return Err(at(
                     self.rays.map(|r| r.span()),
                     format!(
-                        "rays = {rays} needs cone_half_angle_deg or bundle_radius to spread them"
+                        "rays = {rays} needs cone_half_angle_deg (and waist_radius) or bundle_radius to spread them"
                     ),
                 ));
             }
