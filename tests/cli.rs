@@ -925,6 +925,8 @@ fn every_example_scene_checks_and_renders() {
         "research/HolographicLensStarConicSectionTrajectoryPlotter.toml",
         "research/FourPiLensInsideView.toml",
         "research/SurroundAnaglyphCameraDemo.toml",
+        "research/NegativeSpaceWedgeStarTrajectoryPlotter.toml",
+        "research/CubeInRayRotationSheetStar.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

@@ -4871,3 +4871,89 @@ fn research_surround_anaglyph_eyes_see_the_near_ball_at_the_tangent_azimuths() {
     let middle = 0.5 * (left + right);
     assert!((middle - 719.5).abs() < 1.0, "{middle}");
 }
+
+/// scenes/research/NegativeSpaceWedgeStarTrajectoryPlotter.toml (Dr TIM's program of that
+/// name): the wedges' sheets rotate ray directions by 180° about their normals, minus the
+/// mirror in planes through the star's axis, so every straight piece of the trajectory lies on a
+/// line as far from the axis as the first, from (0, 0, 1) along (cos 2°, 0, sin 2°): cos 2°. It
+/// crosses the wedges round the axis, each wedge's two sheets one after the other.
+#[test]
+fn research_negative_space_wedge_trajectory_keeps_its_distance_from_the_axis() {
+    let rays = trace_file(&scene("research/NegativeSpaceWedgeStarTrajectoryPlotter"));
+    assert_eq!(rays.len(), 2);
+    let expected = 2f64.to_radians().cos();
+    for ray in &rays {
+        assert!(ray.points.len() > 20, "{}", ray.points.len());
+        let sheets: Vec<&str> = ray.points[1..]
+            .iter()
+            .filter_map(|p| p.object.as_deref())
+            .filter(|o| o.contains("sheet"))
+            .collect();
+        assert!(sheets.len() > 20, "{sheets:?}");
+        for pair in ray.points.windows(2) {
+            let (a, b) = (pair[0].position, pair[1].position);
+            // The distance of the line through a and b from the y axis, in the plane y = 0.
+            let (p, d) = (
+                glam::DVec2::new(a.x, a.z),
+                glam::DVec2::new(b.x - a.x, b.z - a.z),
+            );
+            let distance = p.perp_dot(d.normalize()).abs();
+            assert!(
+                (distance - expected).abs() < 1e-9,
+                "{} to {}: {distance} from the axis",
+                a,
+                b
+            );
+            assert!(a.y.abs() < 1e-9, "{a}");
+        }
+        // It starts inside wedge 1 (centred on +z), leaves through one of its sheets, then
+        // crosses each wedge's two sheets in a row.
+        assert!(sheets[0].ends_with("wedge 1 sheet 2") || sheets[0].ends_with("wedge 1 sheet 1"));
+        for pair in sheets[1..].chunks(2).filter(|c| c.len() == 2) {
+            let wedge = |s: &str| s.split(" sheet").next().unwrap().to_string();
+            assert_eq!(wedge(pair[0]), wedge(pair[1]), "{pair:?}");
+        }
+    }
+}
+
+/// scenes/research/CubeInRayRotationSheetStar.toml (Dr TIM's program of that name): each of the
+/// eight sheets turns a ray's direction by 44° about the star's axis oriented along the
+/// crossing, so a line of sight from the eye that goes round the axis through sheet after sheet
+/// has turned by 44° k after k sheets, and after all eight by 352°: 8° short of a whole turn.
+#[test]
+fn research_cube_in_ray_rotation_sheet_star_turns_lines_of_sight_by_44_degrees_a_sheet() {
+    let start = DVec3::new(1.0, 0.0, 0.01);
+    let d0 = DVec3::new(-0.3, 0.0, 1.0).normalize();
+    let rays = trace("research/CubeInRayRotationSheetStar", &[ray(0, start, d0)]);
+    let points = &rays[0].points;
+    let sheets: Vec<usize> = (1..points.len())
+        .filter(|&k| {
+            points[k]
+                .object
+                .as_deref()
+                .is_some_and(|o| o.contains("ray-rotation sheet"))
+        })
+        .collect();
+    assert!(sheets.len() >= 8, "{:?}", rays[0].points);
+    // The first sheet crossed, and the sense of the turns: about +y if the ray crosses it
+    // along its normal (towards increasing azimuth, the star's ŵ × r̂ with ŵ = +y), else −y.
+    let first = points[sheets[0]].position;
+    let normal = DVec3::Y.cross(DVec3::new(first.x, 0.0, first.z).normalize());
+    let axis = if d0.dot(normal) > 0.0 {
+        DVec3::Y
+    } else {
+        -DVec3::Y
+    };
+    for (k, &index) in sheets.iter().take(8).enumerate() {
+        let next = points.get(index + 1).map_or(rays[0].direction, |p| {
+            (p.position - points[index].position).normalize()
+        });
+        let turn = (44.0 * (k + 1) as f64).to_radians();
+        let expected = d0 * turn.cos() + axis.cross(d0) * turn.sin();
+        assert!(
+            (next - expected).length() < 1e-9,
+            "after sheet {}: {next}, expected {expected}",
+            k + 1
+        );
+    }
+}

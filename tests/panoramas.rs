@@ -93,9 +93,7 @@ fn each_direction_appears_at_its_longitude_and_latitude() {
         (-135.0, 30.0, [0, 0, 255]),
         (60.0, -45.0, [255, 255, 0]),
     ];
-    let mut text = header(&format!(
-        "position = [1, 2, 3]\nview_direction = [1, 0, 1]\nup = [0, 1, 0]"
-    ));
+    let mut text = header("position = [1, 2, 3]\nview_direction = [1, 0, 1]\nup = [0, 1, 0]");
     for &(lambda, beta, colour) in &balls {
         let d = direction(view, up, lambda.to_radians(), beta.to_radians());
         text += &ball(position + 50.0 * d, 2.0, colour);
@@ -138,7 +136,7 @@ fn omnidirectional_stereo_eyes_see_a_near_ball_at_the_tangent_angle() {
         &[],
     );
     assert_eq!(image.dimensions(), (WIDTH, 2 * HEIGHT));
-    let lambda = (0.5 * separation / distance as f64).asin();
+    let lambda = (0.5 * separation / distance).asin();
     for (colour, towards) in [([255, 0, 0], 0.0), ([0, 255, 0], 0.5 * PI)] {
         let (left, _) = centroid(&image, 0..HEIGHT, colour);
         let (right, _) = centroid(&image, HEIGHT..2 * HEIGHT, colour);

@@ -14,16 +14,10 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::{Edges, Face, LensDevice, LensType, Part};
+use super::star::{MAX_SHEETS, Star, check_count, shown};
+use super::{Edges, LensDevice, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use crate::surfaces::ThinLens;
-
-/// Most lenses a star may have (checked before any is made). The lenses all meet on the axis,
-/// so their bounding boxes overlap there and every ray that meets the star is tested against a
-/// share of all of them: a render's time grows with their number. At this limit a 32x24 image
-/// at 1 sample a pixel of a star filling the view takes about 6 s of CPU time (3 s on two
-/// cores), and with edges the star is 40 001 objects, far below a scene's limit.
-pub const MAX_LENSES: u32 = 10_000;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct LensStar {
@@ -53,58 +47,42 @@ impl LensDevice for LensStar {
     /// (`top edge i`, `outer edge i`, `bottom edge i`) and the common `axial edge`.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let n = self.number_of_lenses;
-        if n == 0 || n > MAX_LENSES {
-            return Err(format!(
-                "number_of_lenses = {n} must be from 1 to {MAX_LENSES}"
-            ));
-        }
-        let w = self.intersection_direction.normalize();
-        let u = (self.point_on_lens1 - self.centre).reject_from_normalized(w);
-        if u.length() <= 1e-12 * (self.point_on_lens1 - self.centre).length() {
-            return Err(format!(
+        check_count("number_of_lenses", n, MAX_SHEETS)?;
+        let star = Star::new(
+            self.centre,
+            self.intersection_direction,
+            self.point_on_lens1 - self.centre,
+            self.star_radius,
+            self.star_length,
+        )
+        .ok_or_else(|| {
+            format!(
                 "point_on_lens1 = {} lies on the star's axis (through centre = {} along {})",
                 self.point_on_lens1, self.centre, self.intersection_direction
-            ));
-        }
-        let u = u.normalize();
-        let v = w.cross(u);
-        let axial = w * self.star_length;
-        let top = self.centre - 0.5 * axial;
-        let shown = |i: u32| match self.shown_lenses {
-            None => true,
-            Some((start, count)) => (i as i64 - start).rem_euclid(n as i64) < count.min(n) as i64,
-        };
+            )
+        })?;
         let mut parts = Vec::new();
-        for i in 0..n {
-            if !shown(i) {
-                continue;
-            }
+        for i in (0..n).filter(|&i| shown(self.shown_lenses, i, n)) {
             let phi = std::f64::consts::TAU * i as f64 / n as f64;
-            let (sin, cos) = phi.sin_cos();
-            let radial = cos * u + sin * v;
-            let outer = radial * self.star_radius;
-            let name = |what: &str| format!("{what} {}", i + 1);
-            let face = Face::Parallelogram {
-                corner: top,
-                span_u: axial,
-                span_v: outer,
-            };
             let lens = ThinLens {
-                principal_point: self.centre + self.principal_point_distance * radial,
-                optical_axis: -sin * u + cos * v,
+                principal_point: self.centre + self.principal_point_distance * star.radial(phi),
+                optical_axis: star.tangential(phi),
                 focal_length: self.focal_length,
                 gradient: None,
                 transmission_coefficient: self.lens_transmission_coefficient,
             };
-            parts.extend(self.thin_lens_type.part(name("lens"), face, lens)?);
+            let label = (i + 1).to_string();
+            parts.extend(self.thin_lens_type.part(
+                format!("lens {label}"),
+                star.face(phi),
+                lens,
+            )?);
             if let Some(e) = edges {
-                parts.push(e.part(name("top edge"), top, top + outer)?);
-                parts.push(e.part(name("outer edge"), top + outer, top + outer + axial)?);
-                parts.push(e.part(name("bottom edge"), top + outer + axial, top + axial)?);
+                parts.extend(star.sheet_edges(e, phi, &label)?);
             }
         }
         if let Some(e) = edges {
-            parts.push(e.part("axial edge".into(), top, top + axial)?);
+            parts.push(star.axial_edge(e)?);
         }
         Ok(parts)
     }

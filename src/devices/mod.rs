@@ -15,12 +15,15 @@ mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod lens_type;
+mod negative_space_wedge_star;
 mod ninky_nonk_silhouette;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
+mod ray_rotation_sheet_star;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
 mod refractive_view_rotator;
+mod star;
 mod tim_head;
 mod triangular_thick_lens;
 
@@ -33,9 +36,11 @@ pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
 pub use lens_type::{Face, LensType, semitransparent_plane};
+pub use negative_space_wedge_star::{NegativeSpaceWedgeStar, NegativeSpaceWedgeStarKeys};
 pub use ninky_nonk_silhouette::{NinkyNonkSilhouette, NinkyNonkSilhouetteKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
+pub use ray_rotation_sheet_star::{RayRotationSheetStar, RayRotationSheetStarKeys};
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
 pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
@@ -88,6 +93,8 @@ kinds! {
     /// own (read by the device's `...Keys`, in the device's file).
     pub enum LensesKeys -> Result<Box<dyn LensDevice>, String> {
         LensStar(LensStarKeys),
+        RayRotationSheetStar(RayRotationSheetStarKeys),
+        NegativeSpaceWedgeStar(NegativeSpaceWedgeStarKeys),
         LensSimplicialComplex(LensSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
