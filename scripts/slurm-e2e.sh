@@ -75,7 +75,7 @@ if ((${#missing[@]})); then
     ((ok == 0)) || { say "FAIL: could not install ${missing[*]} with apt-get"; exit 1; }
 fi
 for tool in munged munge slurmctld slurmd sbatch squeue sinfo scontrol scancel ffprobe; do
-    command -v "$tool" >/dev/null || { say "FAIL: $tool not found after installing slurm-wlm and munge"; exit 1; }
+    command -v "$tool" >/dev/null || { say "FAIL: $tool not found after installing slurm-wlm, munge and ffmpeg"; exit 1; }
 done
 
 # --- the temporary cluster -------------------------------------------------------------------

@@ -927,6 +927,7 @@ fn every_example_scene_checks_and_renders() {
         "research/SurroundAnaglyphCameraDemo.toml",
         "research/NegativeSpaceWedgeStarTrajectoryPlotter.toml",
         "research/CubeInRayRotationSheetStar.toml",
+        "research/SpaceAroundBlackHoleVisualiser.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

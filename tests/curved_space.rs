@@ -112,6 +112,36 @@ fn a_ray_rotation_sheet_star_closes_the_regular_polygon_of_its_angle() {
             p.position
         );
     }
+    // The star turned by 90° about x, and the ray with it: the same polygon, turned (the
+    // rotation axis, given in the device's coordinates, turns with it).
+    let turned = |v: DVec3| DVec3::new(v.x, -v.z, v.y);
+    let (s, d) = (turned(start), turned(direction));
+    let moved = text
+        .replace(
+            "[[device]]\n",
+            "[[device]]\ntransform = { rotate = { axis = [1, 0, 0], angle_deg = 90 } }\n",
+        )
+        .replace(
+            &format!("start = [{}, {}, {}]", start.x, start.y, start.z),
+            &format!("start = [{}, {}, {}]", s.x, s.y, s.z),
+        )
+        .replace(
+            &format!(
+                "direction = [{}, {}, {}]",
+                direction.x, direction.y, direction.z
+            ),
+            &format!("direction = [{}, {}, {}]", d.x, d.y, d.z),
+        );
+    let traced = trace(&moved);
+    assert_eq!(traced[0].points.len(), 14);
+    for (k, p) in traced[0].points.iter().enumerate().skip(1) {
+        let expected = turned(vertex((k as u32 - 1) % n));
+        assert!(
+            (p.position - expected).length() < 1e-9,
+            "turned, point {k}: {} != {expected}",
+            p.position
+        );
+    }
     // Turned the other way (−60°), the ray leaves the polygon at the first sheet.
     let traced = trace(&text.replace(
         &format!("rotation_angle_deg = {}", 360.0 / n as f64),
@@ -147,6 +177,14 @@ fn the_stars_have_dr_tims_defaults_and_named_parts() {
             "w/axial edge",
         ]
     );
+    // Dr TIM's ray-rotation sheets throw shadows, its negative-space wedges' sheets do not.
+    for o in &d.objects {
+        let sheet =
+            o.name.starts_with("r/") || o.name.ends_with("sheet 1") || o.name.ends_with("sheet 2");
+        if sheet && !o.name.contains("edge") {
+            assert_eq!(o.shadow_throwing, o.name.starts_with("r/"), "{}", o.name);
+        }
+    }
     // Dr TIM's default ray-rotation-sheet star: 5 sheets about (0, 0, 10) along y, the first
     // towards +x, 2 long radially and 1 along the axis. Its 100 wedges cut out 340°: wedge 100
     // is centred 3.6° before wedge 1 (at +x), and its sheets are 1.7° apart.
@@ -191,5 +229,75 @@ fn bad_star_parameters_are_refused_with_file_and_line() {
         let run = timbre(dir.path(), &["check", path_str(&path)]);
         run.assert_bad_input(needles);
         assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The Chen–Belin black hole: n = (jR + r)³ / (r² (r − R)) inside the simulation sphere. For a
+// spherically symmetric index the angular momentum L = n r sin θ of a ray is conserved (also
+// across the sphere's surface, by Snell's law), and a ray turns where n r = L. With j = 3/5,
+// n r is least at the photon sphere r = 3R, where it is (3.6R)³/(9R² · 2R) · 3R = 7.776 R: a ray
+// from far away with impact parameter b below 7.776 R never turns and falls in (the black
+// hole's shadow), one above turns at the larger root of n r = b and escapes.
+// ---------------------------------------------------------------------------------------------
+
+/// Traces rays along +z with impact parameters `b` (along x) past a black hole of horizon radius
+/// `horizon` (j = 3/5) at the origin, in a simulation sphere of radius 1.
+fn past_black_hole(horizon: f64, bs: &[f64]) -> Vec<Trajectory> {
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nlenses = {{ type = \"chen-belin-black-hole\", \
+         centre = [0, 0, 0], horizon_radius = {horizon}, j_parameter = 0.6, \
+         simulation_sphere_radius = 1, simulation_sphere_surface_transmission_coefficient = 1 }}\n"
+    );
+    for b in bs {
+        text += &format!("[[ray_trajectory]]\nstart = [{b}, 0, -3]\ndirection = [0, 0, 1]\n");
+    }
+    trace(&text)
+}
+
+#[test]
+fn the_black_holes_shadow_is_its_photon_spheres_critical_impact_parameter() {
+    let horizon = 0.05;
+    let critical = 7.776 * horizon;
+    let traced = past_black_hole(
+        horizon,
+        &[
+            0.0,
+            0.5 * critical,
+            critical * (1.0 - 1e-4),
+            critical * (1.0 + 1e-4),
+            1.5 * critical,
+        ],
+    );
+    let ends: Vec<bool> = traced
+        .iter()
+        .map(|t| matches!(t.end, trajectories::End::Escaped))
+        .collect();
+    assert_eq!(ends, [false, false, false, true, true], "{traced:#?}");
+}
+
+#[test]
+fn an_escaping_ray_comes_closest_where_n_r_equals_its_impact_parameter() {
+    let (horizon, j) = (0.05f64, 0.6);
+    let n = |r: f64| (j * horizon + r).powi(3) / (r * r * (r - horizon));
+    for b in [0.45, 0.6, 0.8] {
+        // The turning point: the root of n(r) r = b beyond the photon sphere (bisection; n r
+        // rises from 7.776 R there).
+        let (mut lo, mut hi) = (3.0 * horizon, 1.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if n(mid) * mid < b { lo = mid } else { hi = mid }
+        }
+        let traced = past_black_hole(horizon, &[b]);
+        let closest = traced[0]
+            .points
+            .iter()
+            .map(|p| p.position.length())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (closest - lo).abs() < 2e-3 * lo,
+            "b = {b}: closest {closest}, turning point {lo}"
+        );
+        assert!(matches!(traced[0].end, trajectories::End::Escaped));
     }
 }

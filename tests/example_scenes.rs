@@ -13,7 +13,7 @@
 mod common;
 
 use std::collections::HashMap;
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 use std::path::{Path, PathBuf};
 
 use exr::prelude::{AttributeValue, FlatSamples};
@@ -4955,5 +4955,43 @@ fn research_cube_in_ray_rotation_sheet_star_turns_lines_of_sight_by_44_degrees_a
             "after sheet {}: {next}, expected {expected}",
             k + 1
         );
+    }
+}
+
+/// scenes/research/SpaceAroundBlackHoleVisualiser.toml (Dr TIM's program of that name): the
+/// black hole's shadow. For Chen's profile (j = 1) n r is least at the photon sphere
+/// r = (2 + √3)R, and a line of sight with impact parameter b (n r sin θ, conserved, also
+/// across the simulation sphere's surface by Snell's law) below n r there falls in. Seen from
+/// the eye, 10 from the hole, the shadow is the disc of angular radius asin(b_c/10): lines of
+/// sight 10 % inside it are black, those 10 % outside see the scene, in every direction round
+/// it.
+#[test]
+fn research_black_hole_shadow_has_the_photon_spheres_angular_radius() {
+    let (w, h) = (640, 480);
+    let p = render("research/SpaceAroundBlackHoleVisualiser", w, h);
+    let view = DVec3::new(-0.3, -0.2, 1.0);
+    let eye = -10.0 * view.normalize();
+    let camera = Camera::new(eye, view, DVec3::Y, 20.0, w, h);
+    let horizon = 0.01;
+    let r = (2.0 + 3f64.sqrt()) * horizon;
+    let n = (horizon + r).powi(3) / (r * r * (r - horizon));
+    let alpha = (n * r / 10.0).asin();
+    let forward = view.normalize();
+    let across = DVec3::Y.cross(forward).normalize();
+    let upwards = forward.cross(across);
+    for k in 0..12 {
+        let turn = TAU * k as f64 / 12.0;
+        let side = turn.cos() * across + turn.sin() * upwards;
+        for (factor, black) in [(0.9, true), (1.1, false)] {
+            let a = factor * alpha;
+            let d = a.cos() * forward + a.sin() * side;
+            let (x, y) = camera.pixel_of_direction(d);
+            let c = p.rgb(x.round() as usize, y.round() as usize);
+            assert_eq!(
+                c.max_element() == 0.0,
+                black,
+                "at {factor} of the shadow's radius, azimuth {k}: {c}"
+            );
+        }
     }
 }

@@ -174,6 +174,27 @@ fn frames_are_named_by_the_pattern_and_rendered_one_by_one() {
         b"not a picture"
     );
     assert!(dir.path().join("frames/f04.png").exists());
+    // A stereo movie's frames keep no checkpoint: with --resume and --checkpoint-interval (as
+    // each task of cluster/slurm/render-frames.sbatch has them) they are rendered all the same.
+    let run = timbre(
+        dir.path(),
+        &[
+            "render",
+            m,
+            "-o",
+            "anaglyph-%d.png",
+            "--frame",
+            "1",
+            "--resume",
+            "--checkpoint-interval",
+            "300",
+            "--set",
+            "camera.stereo=\"anaglyph\"",
+            "-q",
+        ],
+    );
+    run.assert_success();
+    assert!(dir.path().join("anaglyph-1.png").exists());
     // Without an [animation], --frames N renders N frames of the scene as it is.
     let still = write(&dir, "still.toml", SCENE);
     let s = path_str(&still);

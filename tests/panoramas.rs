@@ -197,10 +197,11 @@ fn what_an_equirectangular_camera_cannot_have_is_refused() {
         ),
         ("view_width = 2", 3, &["no view_width"]),
         ("aperture_radius = 0.1", 3, &["finite-aperture"]),
-        ("shutter = \"detector-plane\"", 1, &["no detector plane"]),
+        ("shutter = \"detector-plane\"", 3, &["no detector plane"]),
+        ("detector_distance = 2", 3, &["no detector_distance"]),
         (
             "stereo = \"autostereogram\"",
-            1,
+            3,
             &["not of an equirectangular camera's"],
         ),
     ] {

@@ -14,7 +14,8 @@
 #   CPUS_PER_TASK  CPUs (timbre threads) per frame (default: the script's #SBATCH line, 4)
 #   TASKS          the array's tasks (default: the movie's frames, first_frame to last_frame,
 #                  as `timbre check` reads them); give a subset such as 3,7 to render only
-#                  those frames again
+#                  those frames (a frame already written is skipped: delete it to render it
+#                  again)
 # sbatch's own input variables (SBATCH_PARTITION, SBATCH_ACCOUNT, SBATCH_TIMELIMIT, ...) apply
 # to both jobs; options on the command line of this script go to timbre, not sbatch.
 # Prints ARRAY_JOB_ID=... and, with VIDEO, ENCODE_JOB_ID=... on standard output.
@@ -51,6 +52,8 @@ for ((i = 0; i < ${#args[@]}; i++)); do
     case ${args[i]} in
     --set) check+=(--set "${args[i + 1]:-}") ;;
     --set=*) check+=("${args[i]}") ;;
+    --frames | --frames=* | --frame | --frame=*)
+        die "${args[i]%%=*} is for one render: set FRAMES (the movie's frames) or TASKS (those to render)" ;;
     esac
 done
 summary=$("$TIMBRE" "${check[@]}") || die "timbre check ${check[*]} failed (above)"

@@ -129,8 +129,12 @@ fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Re
         frame.encode = None;
         let loading = Instant::now();
         let (description, settings) = load_settings(&frame)?;
-        // A stereo picture keeps no checkpoint: --resume only skips the frames written.
-        frame.resume &= description.stereo == Stereo::Mono;
+        // A stereo picture keeps no checkpoint: --resume only skips the frames written, and
+        // --checkpoint-interval (which the Slurm recipe gives every frame) saves nothing.
+        if description.stereo != Stereo::Mono {
+            frame.resume = false;
+            frame.checkpoint_interval = None;
+        }
         render(frame, description, settings, loading, stopping)?;
     }
     if let Some(video) = video {

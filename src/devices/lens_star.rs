@@ -14,7 +14,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::star::{MAX_SHEETS, Star, check_count, shown};
+use super::star::{MAX_SHEETS, Star, check_count, shown, subset};
 use super::{Edges, LensDevice, LensType, Part};
 use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, Vector};
 use crate::surfaces::ThinLens;
@@ -110,10 +110,11 @@ pub struct LensStarKeys {
 impl LensStarKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
         let number_of_lenses = self.number_of_lenses.unwrap_or(5);
-        let shown_lenses = match (self.shown_lenses_start_index, self.number_of_shown_lenses) {
-            (None, None) => None,
-            (start, n) => Some((start.unwrap_or(0), n.unwrap_or(number_of_lenses))),
-        };
+        let shown_lenses = subset(
+            self.shown_lenses_start_index,
+            self.number_of_shown_lenses,
+            number_of_lenses,
+        );
         Ok(Box::new(LensStar {
             number_of_lenses,
             focal_length: self.focal_length.map_or(1.0, |f| f.0),

@@ -6,6 +6,7 @@
 //! has the same default here, so that a device named by its type alone is Dr TIM's default
 //! object.
 
+mod chen_belin_black_hole;
 mod clas;
 mod coordinate_system;
 mod four_pi_lens;
@@ -27,6 +28,7 @@ mod star;
 mod tim_head;
 mod triangular_thick_lens;
 
+pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
@@ -60,6 +62,12 @@ pub trait LensDevice: std::fmt::Debug {
     /// Dr TIM's defaults for the device's edges: by default those of `EditableLensStar`.
     fn edge_defaults(&self) -> EdgeDefaults {
         EdgeDefaults::HIDDEN_RED
+    }
+
+    /// Whether the device's lenses (or sheets) throw shadows where the `[[device]]` entry does
+    /// not say: Dr TIM's `shadowThrowing` of them, by default `false`.
+    fn shadow_throwing(&self) -> bool {
+        false
     }
 }
 
@@ -107,6 +115,7 @@ kinds! {
         RefractiveLensletArray(RefractiveLensletArrayKeys),
         RefractiveViewRotator(RefractiveViewRotatorKeys),
         Clas(ClasKeys),
+        ChenBelinBlackHole(ChenBelinBlackHoleKeys),
     }
 }
 

@@ -15,7 +15,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::star::{MAX_SHEETS, Star, check_count, shown};
+use super::star::{MAX_SHEETS, Star, check_count, shown, subset};
 use super::{Edges, LensDevice, Part};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector};
 use crate::surfaces::Surface;
@@ -118,13 +118,11 @@ impl NegativeSpaceWedgeStarKeys {
                 "deficit_angle_deg must be between 0 and 360, got {deficit}"
             ));
         }
-        let shown_wedges = match (
+        let shown_wedges = subset(
             self.shown_negative_space_wedges_start_index,
             self.number_of_shown_negative_space_wedges,
-        ) {
-            (None, None) => None,
-            (start, count) => Some((start.unwrap_or(0), count.unwrap_or(n))),
-        };
+            n,
+        );
         Ok(Box::new(NegativeSpaceWedgeStar {
             deficit_angle: deficit.to_radians(),
             number_of_negative_space_wedges: n,

@@ -12,7 +12,7 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::star::{MAX_SHEETS, Star, check_count, shown};
+use super::star::{MAX_SHEETS, Star, check_count, shown, subset};
 use super::{Edges, LensDevice, Part};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector};
 use crate::surfaces::Surface;
@@ -59,17 +59,20 @@ impl LensDevice for RayRotationSheetStar {
                 self.point_on_ray_rotation_sheet1, self.centre, self.intersection_direction
             )
         })?;
-        let surface = Surface::RayRotating(RayRotating {
-            angle: self.rotation_angle,
-            axis: RotationAxis::Direction(self.rotation_axis_direction, Basis::Global),
-            transmission_coefficient: self.ray_rotation_sheet_transmission_coefficient,
-            reflection_coefficient: 1.0,
-        });
+        let axis = self.rotation_axis_direction.normalize();
         let mut parts = Vec::new();
         for i in (0..n).filter(|&i| shown(self.shown_sheets, i, n)) {
             let phi = std::f64::consts::TAU * i as f64 / n as f64;
             let label = (i + 1).to_string();
-            parts.push(star.sheet(format!("ray-rotation sheet {label}"), phi, surface.clone())?);
+            // The axis in the sheet's own frame, so that it turns with the device's transform
+            // (Dr TIM's global basis is the device's own).
+            let surface = Surface::RayRotating(RayRotating {
+                angle: self.rotation_angle,
+                axis: RotationAxis::Direction(star.local(phi, axis), Basis::Local),
+                transmission_coefficient: self.ray_rotation_sheet_transmission_coefficient,
+                reflection_coefficient: 1.0,
+            });
+            parts.push(star.sheet(format!("ray-rotation sheet {label}"), phi, surface)?);
             if let Some(e) = edges {
                 parts.extend(star.sheet_edges(e, phi, &label)?);
             }
@@ -78,6 +81,11 @@ impl LensDevice for RayRotationSheetStar {
             parts.push(star.axial_edge(e)?);
         }
         Ok(parts)
+    }
+
+    /// Dr TIM's sheets throw shadows (`RayRotatingAboutArbitraryAxisDirection(..., true)`).
+    fn shadow_throwing(&self) -> bool {
+        true
     }
 }
 
@@ -103,13 +111,11 @@ pub struct RayRotationSheetStarKeys {
 impl RayRotationSheetStarKeys {
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
         let n = self.number_of_ray_rotation_sheets.unwrap_or(5);
-        let shown_sheets = match (
+        let shown_sheets = subset(
             self.shown_ray_rotation_sheets_start_index,
             self.number_of_shown_ray_rotation_sheets,
-        ) {
-            (None, None) => None,
-            (start, count) => Some((start.unwrap_or(0), count.unwrap_or(n))),
-        };
+            n,
+        );
         Ok(Box::new(RayRotationSheetStar {
             number_of_ray_rotation_sheets: n,
             // Dr TIM's default rotation angle is 1 (radian).

@@ -69,6 +69,17 @@ impl Star {
         -sin * self.u + cos * self.v
     }
 
+    /// The components of `a` in the surface frame of the sheet at azimuth φ (u along the
+    /// axis, v radial, w its normal t̂(φ)): what [`crate::surfaces::metatoys::Basis::Local`]
+    /// takes, so that a direction given with the star moves with the sheet under transforms.
+    pub fn local(&self, phi: f64, a: DVec3) -> DVec3 {
+        DVec3::new(
+            a.dot(self.w),
+            a.dot(self.radial(phi)),
+            a.dot(self.tangential(phi)),
+        )
+    }
+
     /// The end of the axis at −length/2, where every sheet has its corner.
     fn top(&self) -> DVec3 {
         self.centre - 0.5 * self.length * self.w
@@ -133,6 +144,16 @@ pub fn shown(subset: Option<(i64, u32)>, i: u32, n: u32) -> bool {
     match subset {
         None => true,
         Some((start, count)) => (i as i64 - start).rem_euclid(n as i64) < count.min(n) as i64,
+    }
+}
+
+/// The shown subset that Dr TIM's start index and number of shown sheets (or wedges) keys
+/// ask for, of `n`: none given, all shown; either given, the other defaults to 0 (start) or
+/// n (count).
+pub fn subset(start: Option<i64>, count: Option<u32>, n: u32) -> Option<(i64, u32)> {
+    match (start, count) {
+        (None, None) => None,
+        (start, count) => Some((start.unwrap_or(0), count.unwrap_or(n))),
     }
 }
 

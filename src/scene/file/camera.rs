@@ -38,13 +38,13 @@ pub(super) struct CameraSection {
     beta: Option<Spanned<Vector>>,
     transformation: Option<Spanned<TransformationName>>,
     doppler: Option<Spanned<bool>>,
-    shutter: Option<ShutterName>,
+    shutter: Option<Spanned<ShutterName>>,
     shutter_time: Option<Spanned<Finite>>,
-    detector_distance: Option<Positive>,
+    detector_distance: Option<Spanned<Positive>>,
     lens_type: Option<Spanned<LensTypeName>>,
     shutter_plane_point: Option<Spanned<Vector>>,
     shutter_plane_normal: Option<Spanned<Direction>>,
-    stereo: Option<StereoName>,
+    stereo: Option<Spanned<StereoName>>,
     eye_separation: Option<Spanned<Vector>>,
     autostereogram: Option<Spanned<AutostereogramSection>>,
 }
@@ -208,7 +208,9 @@ impl CameraSection {
             .with_shutter(
                 shutter,
                 self.shutter_time.as_ref().map_or(0.0, |t| t.get_ref().0),
-                self.detector_distance.map_or(1.0, |d| d.0),
+                self.detector_distance
+                    .as_ref()
+                    .map_or(1.0, |d| d.get_ref().0),
             )
             .with_velocity(boost)
             .with_transformation(transformation)
@@ -217,7 +219,7 @@ impl CameraSection {
         let stereo = stereo(
             &camera,
             kind,
-            self.stereo.unwrap_or(StereoName::None),
+            self.stereo.as_ref().map(|s| (*s.get_ref(), s.span())),
             self.eye_separation,
             self.autostereogram,
             &at,
@@ -288,17 +290,26 @@ impl CameraSection {
     /// and no opening time for the fixed-point-surface shutter, which needs a focus plane and
     /// the Lorentz transformation.
     fn shutter(&self, kind: CameraKind, focus: Focus, at: At) -> Result<Shutter, SceneFileError> {
-        let name = self.shutter.unwrap_or(ShutterName::EntrancePupil);
-        if kind == CameraKind::Equirectangular
-            && matches!(
+        let name = self
+            .shutter
+            .as_ref()
+            .map_or(ShutterName::EntrancePupil, |s| *s.get_ref());
+        if kind == CameraKind::Equirectangular {
+            if matches!(
                 name,
                 ShutterName::DetectorPlane | ShutterName::FixedPointSurface
-            )
-        {
-            return Err(at(
-                None,
-                "an equirectangular camera has no detector plane and no focus plane to keep fixed: its shutter is entrance-pupil, focus-surface or arbitrary-plane",
-            ));
+            ) {
+                return Err(at(
+                    self.shutter.as_ref().map(Spanned::span),
+                    "an equirectangular camera has no detector plane and no focus plane to keep fixed: its shutter is entrance-pupil, focus-surface or arbitrary-plane",
+                ));
+            }
+            if let Some(d) = &self.detector_distance {
+                return Err(at(
+                    Some(d.span()),
+                    "an equirectangular camera has no detector plane: no detector_distance",
+                ));
+            }
         }
         let only = |span: Option<Range<usize>>, key: &str, shutter: &str| {
             Err(at(
@@ -375,7 +386,7 @@ impl CameraSection {
         {
             return Err(at(
                 Some(d.span()),
-                "diffractive_aperture is for the finite-aperture camera (type = \"finite-aperture\"): a pinhole or orthographic camera has no aperture to diffract",
+                "diffractive_aperture is for the finite-aperture camera (type = \"finite-aperture\"): a pinhole, orthographic or equirectangular camera has no aperture to diffract",
             ));
         }
         match (diffracts, &self.lambda) {
@@ -467,11 +478,12 @@ fn focus_surface(
 fn stereo(
     camera: &Camera,
     kind: CameraKind,
-    name: StereoName,
+    stereo: Option<(StereoName, Range<usize>)>,
     eye_separation: Option<Spanned<Vector>>,
     autostereogram_section: Option<Spanned<AutostereogramSection>>,
     at: At,
 ) -> Result<Stereo, SceneFileError> {
+    let (name, name_span) = stereo.map_or((StereoName::None, None), |(n, s)| (n, Some(s)));
     let (right, _) = camera.right_up();
     let eye_span = eye_separation.as_ref().map(Spanned::span);
     let default = match kind {
@@ -496,7 +508,7 @@ fn stereo(
     }
     if kind == CameraKind::Equirectangular && name == StereoName::Autostereogram {
         return Err(at(
-            None,
+            name_span,
             "an autostereogram is made of a picture in perspective: not of an equirectangular camera's",
         ));
     }

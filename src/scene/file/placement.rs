@@ -115,9 +115,9 @@ impl SurfaceAxesSection {
 #[serde(deny_unknown_fields)]
 pub(super) struct DeviceSection {
     name: Option<String>,
-    /// Whether the lenses throw shadows (edges always do).
-    #[serde(default)]
-    shadow_throwing: bool,
+    /// Whether the lenses throw shadows (edges always do); where not given, the device's
+    /// own default (Dr TIM's), [`LensDevice::shadow_throwing`].
+    shadow_throwing: Option<bool>,
     frame: Option<FrameName>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
@@ -172,6 +172,7 @@ impl DeviceSection {
             .build()
             .map_err(|e| (span.clone(), format!("{kind}: {e}")))?;
         let edges = self.edges(device.as_ref())?;
+        self.shadow_throwing.get_or_insert(device.shadow_throwing());
         device
             .parts(edges.as_ref())
             .map_err(|e| (span, format!("{kind}: {e}")))
@@ -812,7 +813,7 @@ impl<'a> Placer<'a> {
                     name: format!("{name}/{}", p.name),
                     shape: p.shape,
                     surface: p.surface,
-                    shadow_throwing: p.edge || d.shadow_throwing,
+                    shadow_throwing: p.edge || d.shadow_throwing.unwrap_or(false),
                     frame: FrameName::or(d.frame, frame),
                 },
             )?);

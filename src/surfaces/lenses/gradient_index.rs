@@ -130,21 +130,46 @@ impl GradientIndex {
         } else {
             TABLE_SOLVER
         };
-        if self.profile.rho_n_squared(0.0).0 > 0.0 {
-            self.regularised(&solver, p0, h0, show)
-        } else {
-            self.in_tau(&solver, p0, h0, show)
+        match self.profile.absorbing_radius() {
+            Some(absorbing) => self.into_horizon(&solver, p0, h0, absorbing, show),
+            None if self.profile.rho_n_squared(0.0).0 > 0.0 => {
+                self.regularised(&solver, p0, h0, show)
+            }
+            None => self.in_tau(&solver, p0, h0, show, leaving),
         }
     }
 
-    /// The ray from (1, 0) with optical direction vector `p0`, integrated in τ: the phase is
-    /// (x, p, ∫n² dτ).
+    /// [`Self::in_tau`] for a profile with a horizon: the ray leaves the lens, or falls within
+    /// the `absorbing` radius, from where it can only fall into the horizon (`None`: it is
+    /// absorbed, black). The event g = (|x|² − 1)(|x|² − a²) crosses zero upwards at both.
+    fn into_horizon(
+        &self,
+        solver: &Dop853,
+        p0: DVec2,
+        h0: f64,
+        absorbing: f64,
+        show: &mut dyn FnMut(DVec2),
+    ) -> Option<Leaving> {
+        let a2 = absorbing * absorbing;
+        let event = |phase: &Phase<2>| {
+            let ([x, y], [vx, vy]) = (phase.x, phase.v);
+            let r2 = x * x + y * y;
+            let along = 2.0 * (x * vx + y * vy);
+            ((r2 - 1.0) * (r2 - a2), along * (2.0 * r2 - 1.0 - a2))
+        };
+        let (x, p, path) = self.in_tau(solver, p0, h0, show, event)?;
+        (x.length_squared() > 0.5 * (1.0 + a2)).then_some((x, p, path))
+    }
+
+    /// The ray from (1, 0) with optical direction vector `p0`, integrated in τ until `event`:
+    /// the phase is (x, p, ∫n² dτ).
     fn in_tau(
         &self,
         solver: &Dop853,
         p0: DVec2,
         h0: f64,
         show: &mut dyn FnMut(DVec2),
+        event: impl Fn(&Phase<2>) -> (f64, f64),
     ) -> Option<Leaving> {
         let field = |x: &[f64; 2]| {
             let (n2, force) = self.profile.n_squared_and_force(x[0] * x[0] + x[1] * x[1]);
@@ -156,7 +181,7 @@ impl GradientIndex {
             q: 0.0,
         };
         let step = |y: &Phase<2>| show(DVec2::from(y.x));
-        let y = solver.integrate_until(field, start, h0, leaving, step)?;
+        let y = solver.integrate_until(field, start, h0, event, step)?;
         Some((DVec2::from(y.x), DVec2::from(y.v), y.q))
     }
 

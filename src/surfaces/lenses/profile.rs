@@ -8,9 +8,13 @@
 //!   symmetric profile has no slope at its centre) and the not-a-knot condition at the surface
 //!   end, which imposes nothing on the data there.
 //!
-//! All three built-in profiles have n(1) = 1, matching the surrounding medium. Beyond ρ = 1 each
-//! is continued by its own formula (the table by its last cubic), which the integrator's trial
-//! stages may sample just outside the surface.
+//! - the Chen–Belin black hole (Dr TIM's `SurfaceOfChenBelinMetricSpace`, after Huanyang Chen's
+//!   profile as Jakub Belin modified it): n = (jh + ρ)³ / (ρ² (ρ − h)), with h the horizon
+//!   radius in units of R, singular at the horizon.
+//!
+//! The Luneburg, Eaton and Maxwell-fisheye profiles have n(1) = 1, matching the surrounding
+//! medium. Beyond ρ = 1 each profile is continued by its own formula (the table by its last
+//! cubic), which the integrator's trial stages may sample just outside the surface.
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum IndexProfile {
@@ -18,6 +22,12 @@ pub enum IndexProfile {
     Eaton,
     MaxwellFisheye,
     Table(TableProfile),
+    /// The horizon radius h (in units of R, 0 < h) and Belin's j ≥ 0 (j = 1 is Chen's
+    /// profile).
+    ChenBelin {
+        horizon: f64,
+        j: f64,
+    },
 }
 
 impl IndexProfile {
@@ -28,7 +38,35 @@ impl IndexProfile {
             IndexProfile::Eaton => (2.0 / rho - 1.0).sqrt(),
             IndexProfile::MaxwellFisheye => 2.0 / (1.0 + rho * rho),
             IndexProfile::Table(t) => t.eval(rho).0,
+            &IndexProfile::ChenBelin { horizon, j } => {
+                (j * horizon + rho).powi(3) / (rho * rho * (rho - horizon))
+            }
         }
+    }
+
+    /// n′/n of the Chen–Belin profile at ρ: d ln n/dρ = 3/(ρ + jh) − 2/ρ − 1/(ρ − h).
+    fn chen_belin_log_slope(horizon: f64, j: f64, rho: f64) -> f64 {
+        3.0 / (rho + j * horizon) - 2.0 / rho - 1.0 / (rho - horizon)
+    }
+
+    /// The radius within which every ray falls into the horizon: for a profile with a horizon
+    /// (Chen–Belin), half-way between the horizon and the photon sphere, where nρ (the largest
+    /// angular momentum a ray there can have) is least. Inside the photon sphere nρ grows
+    /// inwards, so a ray moving inwards there never turns back. `None` for the others.
+    pub fn absorbing_radius(&self) -> Option<f64> {
+        match *self {
+            IndexProfile::ChenBelin { horizon, j } => {
+                Some(0.5 * (horizon + Self::photon_sphere_radius(horizon, j)))
+            }
+            _ => None,
+        }
+    }
+
+    /// The photon sphere of the Chen–Belin profile, in units of R: where d(nρ)/dρ = 0, i.e.
+    /// 3/(ρ + jh) = 1/ρ + 1/(ρ − h), the larger root of ρ² − 2(1 + j)hρ + jh² = 0:
+    /// ρ = h (1 + j + √(1 + j + j²)). 3h for Belin's j = 3/5, (2 + √3)h for Chen's j = 1.
+    pub fn photon_sphere_radius(horizon: f64, j: f64) -> f64 {
+        horizon * (1.0 + j + (1.0 + j + j * j).sqrt())
     }
 
     /// n² and the factor φ with n∇n = ∇(n²)/2 = φ x at a point x (in units of R, relative to
@@ -52,6 +90,11 @@ impl IndexProfile {
                 let force = if rho == 0.0 { 0.0 } else { n * slope / rho };
                 (n * n, force)
             }
+            &IndexProfile::ChenBelin { horizon, j } => {
+                let rho = rho_squared.sqrt();
+                let n2 = self.n(rho).powi(2);
+                (n2, n2 * Self::chen_belin_log_slope(horizon, j, rho) / rho)
+            }
         }
     }
 
@@ -74,6 +117,13 @@ impl IndexProfile {
                 let (n, slope) = t.eval(rho);
                 (rho * n * n, n * (n + 2.0 * rho * slope))
             }
+            &IndexProfile::ChenBelin { horizon, j } => {
+                let n2 = self.n(rho).powi(2);
+                (
+                    rho * n2,
+                    n2 * (1.0 + 2.0 * rho * Self::chen_belin_log_slope(horizon, j, rho)),
+                )
+            }
         }
     }
 
@@ -89,6 +139,7 @@ impl IndexProfile {
             IndexProfile::Eaton => "eaton",
             IndexProfile::MaxwellFisheye => "maxwell-fisheye",
             IndexProfile::Table(_) => "table",
+            IndexProfile::ChenBelin { .. } => "chen-belin",
         }
     }
 }
@@ -288,6 +339,33 @@ mod tests {
         }
         assert_eq!(IndexProfile::Eaton.rho_n_squared(0.0), (2.0, -1.0));
         assert_eq!(IndexProfile::Luneburg.rho_n_squared(0.0).0, 0.0);
+    }
+
+    /// Chen's and Belin's photon spheres are where n ρ is least (a central difference of n ρ
+    /// vanishes there, and it is larger on either side): (2 + √3)h for j = 1, 3h for j = 3/5,
+    /// as Dr TIM's comments say; and the force is n n′/ρ, n′ by a central difference.
+    #[test]
+    fn the_chen_belin_photon_sphere_is_where_n_rho_is_least() {
+        let h = 0.02;
+        for (j, expected) in [(1.0, (2.0 + 3f64.sqrt()) * h), (0.6, 3.0 * h)] {
+            let profile = IndexProfile::ChenBelin { horizon: h, j };
+            let r = IndexProfile::photon_sphere_radius(h, j);
+            assert!((r - expected).abs() < 1e-15, "{r}");
+            let n_rho = |x: f64| profile.n(x) * x;
+            let e = 1e-6;
+            assert!(((n_rho(r + e) - n_rho(r - e)) / (2.0 * e)).abs() < 1e-7);
+            assert!(n_rho(0.9 * r) > n_rho(r) && n_rho(1.1 * r) > n_rho(r));
+            for rho in [0.05, 0.1, 0.5, 1.0] {
+                let slope = (profile.n(rho + e) - profile.n(rho - e)) / (2.0 * e);
+                let (n2, force) = profile.n_squared_and_force(rho * rho);
+                assert!((n2 - profile.n(rho).powi(2)).abs() < 1e-12 * n2);
+                let want = profile.n(rho) * slope / rho;
+                assert!(
+                    (force - want).abs() < 1e-6 * want.abs(),
+                    "{rho}: {force} {want}"
+                );
+            }
+        }
     }
 
     #[test]
