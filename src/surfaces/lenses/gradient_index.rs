@@ -131,7 +131,7 @@ impl GradientIndex {
             TABLE_SOLVER
         };
         match self.profile.absorbing_radius() {
-            Some(absorbing) => self.into_horizon(&solver, p0, h0, absorbing, show),
+            Some(absorbing) => self.towards_horizon(&solver, p0, h0, absorbing, show),
             None if self.profile.rho_n_squared(0.0).0 > 0.0 => {
                 self.regularised(&solver, p0, h0, show)
             }
@@ -142,7 +142,7 @@ impl GradientIndex {
     /// [`Self::in_tau`] for a profile with a horizon: the ray leaves the lens, or falls within
     /// the `absorbing` radius, from where it can only fall into the horizon (`None`: it is
     /// absorbed, black). The event g = (|x|² − 1)(|x|² − a²) crosses zero upwards at both.
-    fn into_horizon(
+    fn towards_horizon(
         &self,
         solver: &Dop853,
         p0: DVec2,
