@@ -61,9 +61,13 @@ impl LensDevice for LensStar {
                 self.point_on_lens1, self.centre, self.intersection_direction
             )
         })?;
-        let mut parts = Vec::new();
-        for i in (0..n).filter(|&i| shown(self.shown_lenses, i, n)) {
-            let phi = std::f64::consts::TAU * i as f64 / n as f64;
+        let sheets = (0..n).filter(|&i| shown(self.shown_lenses, i, n)).map(|i| {
+            (
+                std::f64::consts::TAU * i as f64 / n as f64,
+                (i + 1).to_string(),
+            )
+        });
+        star.parts(sheets, edges, |phi, label| {
             let lens = ThinLens {
                 principal_point: self.centre + self.principal_point_distance * star.radial(phi),
                 optical_axis: star.tangential(phi),
@@ -71,20 +75,11 @@ impl LensDevice for LensStar {
                 gradient: None,
                 transmission_coefficient: self.lens_transmission_coefficient,
             };
-            let label = (i + 1).to_string();
-            parts.extend(self.thin_lens_type.part(
-                format!("lens {label}"),
-                star.face(phi),
-                lens,
-            )?);
-            if let Some(e) = edges {
-                parts.extend(star.sheet_edges(e, phi, &label)?);
-            }
-        }
-        if let Some(e) = edges {
-            parts.push(star.axial_edge(e)?);
-        }
-        Ok(parts)
+            let part = self
+                .thin_lens_type
+                .part(format!("lens {label}"), star.face(phi), lens)?;
+            Ok(part.into_iter().collect())
+        })
     }
 }
 

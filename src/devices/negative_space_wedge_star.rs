@@ -68,24 +68,20 @@ impl LensDevice for NegativeSpaceWedgeStar {
             reflection_coefficient: 1.0,
         });
         let wedge_angle = self.deficit_angle / (2.0 * n as f64);
-        let mut parts = Vec::new();
-        for i in (0..n).filter(|&i| shown(self.shown_wedges, i, n)) {
-            let centre = std::f64::consts::TAU * i as f64 / n as f64;
-            for (j, phi) in [
-                (1, centre - 0.5 * wedge_angle),
-                (2, centre + 0.5 * wedge_angle),
-            ] {
-                let label = format!("wedge {} sheet {j}", i + 1);
-                parts.push(star.sheet(label.clone(), phi, surface.clone())?);
-                if let Some(e) = edges {
-                    parts.extend(star.sheet_edges(e, phi, &label)?);
-                }
-            }
-        }
-        if let Some(e) = edges {
-            parts.push(star.axial_edge(e)?);
-        }
-        Ok(parts)
+        let sheets = (0..n)
+            .filter(|&i| shown(self.shown_wedges, i, n))
+            .flat_map(|i| {
+                let centre = std::f64::consts::TAU * i as f64 / n as f64;
+                [(1, -0.5), (2, 0.5)].map(|(j, side)| {
+                    (
+                        centre + side * wedge_angle,
+                        format!("wedge {} sheet {j}", i + 1),
+                    )
+                })
+            });
+        star.parts(sheets, edges, |phi, label| {
+            Ok(vec![star.sheet(label.to_string(), phi, surface.clone())?])
+        })
     }
 }
 

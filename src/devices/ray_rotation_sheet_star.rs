@@ -60,10 +60,13 @@ impl LensDevice for RayRotationSheetStar {
             )
         })?;
         let axis = self.rotation_axis_direction.normalize();
-        let mut parts = Vec::new();
-        for i in (0..n).filter(|&i| shown(self.shown_sheets, i, n)) {
-            let phi = std::f64::consts::TAU * i as f64 / n as f64;
-            let label = (i + 1).to_string();
+        let sheets = (0..n).filter(|&i| shown(self.shown_sheets, i, n)).map(|i| {
+            (
+                std::f64::consts::TAU * i as f64 / n as f64,
+                (i + 1).to_string(),
+            )
+        });
+        star.parts(sheets, edges, |phi, label| {
             // The axis in the sheet's own frame, so that it turns with the device's transform
             // (Dr TIM's global basis is the device's own).
             let surface = Surface::RayRotating(RayRotating {
@@ -72,15 +75,12 @@ impl LensDevice for RayRotationSheetStar {
                 transmission_coefficient: self.ray_rotation_sheet_transmission_coefficient,
                 reflection_coefficient: 1.0,
             });
-            parts.push(star.sheet(format!("ray-rotation sheet {label}"), phi, surface)?);
-            if let Some(e) = edges {
-                parts.extend(star.sheet_edges(e, phi, &label)?);
-            }
-        }
-        if let Some(e) = edges {
-            parts.push(star.axial_edge(e)?);
-        }
-        Ok(parts)
+            Ok(vec![star.sheet(
+                format!("ray-rotation sheet {label}"),
+                phi,
+                surface,
+            )?])
+        })
     }
 
     /// Dr TIM's sheets throw shadows (`RayRotatingAboutArbitraryAxisDirection(..., true)`).

@@ -110,9 +110,30 @@ impl Star {
         })
     }
 
-    /// The edges of the sheet at azimuth φ: `top edge LABEL`, `outer edge LABEL` and
-    /// `bottom edge LABEL`.
-    pub fn sheet_edges(&self, edges: &Edges, phi: f64, label: &str) -> Result<Vec<Part>, String> {
+    /// The parts of the sheets at the azimuths φ with the labels of `sheets`: each sheet's own,
+    /// as `sheet(φ, label)` makes them, and with `edges` its edges (`top edge LABEL`,
+    /// `outer edge LABEL`, `bottom edge LABEL`); then the common `axial edge`.
+    pub fn parts(
+        &self,
+        sheets: impl IntoIterator<Item = (f64, String)>,
+        edges: Option<&Edges>,
+        mut sheet: impl FnMut(f64, &str) -> Result<Vec<Part>, String>,
+    ) -> Result<Vec<Part>, String> {
+        let mut parts = Vec::new();
+        for (phi, label) in sheets {
+            parts.extend(sheet(phi, &label)?);
+            if let Some(e) = edges {
+                parts.extend(self.sheet_edges(e, phi, &label)?);
+            }
+        }
+        if let Some(e) = edges {
+            parts.push(self.axial_edge(e)?);
+        }
+        Ok(parts)
+    }
+
+    /// The edges of the sheet at azimuth φ.
+    fn sheet_edges(&self, edges: &Edges, phi: f64, label: &str) -> Result<Vec<Part>, String> {
         let (top, axial) = (self.top(), self.length * self.w);
         let outer = self.radius * self.radial(phi);
         Ok(vec![
@@ -130,8 +151,8 @@ impl Star {
         ])
     }
 
-    /// The edge along the axis, common to all sheets: `axial edge`.
-    pub fn axial_edge(&self, edges: &Edges) -> Result<Part, String> {
+    /// The edge along the axis, common to all sheets.
+    fn axial_edge(&self, edges: &Edges) -> Result<Part, String> {
         let top = self.top();
         edges.part("axial edge".into(), top, top + self.length * self.w)
     }
