@@ -272,24 +272,35 @@ impl Camera {
     /// (ignoring the eye offset) and direction (not normalised).
     #[inline]
     pub fn chief_ray(&self, width: u32, height: u32, x: f64, y: f64) -> (DVec3, DVec3) {
-        if self.projection == Projection::Equirectangular {
-            let phi = std::f64::consts::TAU * (x + 0.5) / width as f64;
-            let theta = std::f64::consts::PI * (y + 0.5) / height as f64;
-            let (sin_phi, cos_phi) = phi.sin_cos();
-            let (sin_theta, cos_theta) = theta.sin_cos();
-            // φ = 0 straight behind (Dr TIM's phi0 = −view), φ = 90° to the left.
-            let around = -cos_phi * self.view_direction - sin_phi * self.right;
-            return (self.position, cos_theta * self.up + sin_theta * around);
+        match self.projection {
+            Projection::Perspective { .. } => (
+                self.position,
+                self.view_direction + self.across(width, height, x, y),
+            ),
+            Projection::Orthographic { .. } => (
+                self.position + self.across(width, height, x, y),
+                self.view_direction,
+            ),
+            Projection::Equirectangular => {
+                let phi = std::f64::consts::TAU * (x + 0.5) / width as f64;
+                let theta = std::f64::consts::PI * (y + 0.5) / height as f64;
+                let (sin_phi, cos_phi) = phi.sin_cos();
+                let (sin_theta, cos_theta) = theta.sin_cos();
+                // φ = 0 straight behind (Dr TIM's phi0 = −view), φ = 90° to the left.
+                let around = -cos_phi * self.view_direction - sin_phi * self.right;
+                (self.position, cos_theta * self.up + sin_theta * around)
+            }
         }
+    }
+
+    /// The offset across the view direction of detector position (x, y) of a perspective or
+    /// orthographic camera: at unit distance, or in length.
+    #[inline]
+    fn across(&self, width: u32, height: u32, x: f64, y: f64) -> DVec3 {
         let pitch = self.span / (width.max(2) - 1) as f64;
         let dx = (x - 0.5 * (width as f64 - 1.0)) * pitch;
         let dy = (0.5 * (height as f64 - 1.0) - y) * pitch;
-        let across = dx * self.right + dy * self.up;
-        match self.projection {
-            Projection::Perspective { .. } => (self.position, self.view_direction + across),
-            Projection::Orthographic { .. } => (self.position + across, self.view_direction),
-            Projection::Equirectangular => unreachable!("handled above"),
-        }
+        dx * self.right + dy * self.up
     }
 
     /// The offset of this eye's pupil for a chief ray along `chief`: the offset given, or for

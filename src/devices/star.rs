@@ -85,23 +85,30 @@ impl Star {
         self.centre - 0.5 * self.length * self.w
     }
 
+    /// The sheet at azimuth φ: its corner and its spans along the axis and outwards.
+    fn spans(&self, phi: f64) -> (DVec3, DVec3, DVec3) {
+        (
+            self.top(),
+            self.length * self.w,
+            self.radius * self.radial(phi),
+        )
+    }
+
     /// The sheet at azimuth φ, as a face.
     pub fn face(&self, phi: f64) -> Face {
+        let (corner, span_u, span_v) = self.spans(phi);
         Face::Parallelogram {
-            corner: self.top(),
-            span_u: self.length * self.w,
-            span_v: self.radius * self.radial(phi),
+            corner,
+            span_u,
+            span_v,
         }
     }
 
     /// The sheet at azimuth φ with `surface`, named `name`.
     pub fn sheet(&self, name: String, phi: f64, surface: Surface) -> Result<Part, String> {
-        let shape = Parallelogram::new(
-            self.top(),
-            self.length * self.w,
-            self.radius * self.radial(phi),
-        )
-        .map_err(|e| format!("{name}: {e}"))?;
+        let (corner, span_u, span_v) = self.spans(phi);
+        let shape =
+            Parallelogram::new(corner, span_u, span_v).map_err(|e| format!("{name}: {e}"))?;
         Ok(Part {
             name,
             shape: Shape::Parallelogram(shape),
@@ -134,8 +141,7 @@ impl Star {
 
     /// The edges of the sheet at azimuth φ.
     fn sheet_edges(&self, edges: &Edges, phi: f64, label: &str) -> Result<Vec<Part>, String> {
-        let (top, axial) = (self.top(), self.length * self.w);
-        let outer = self.radius * self.radial(phi);
+        let (top, axial, outer) = self.spans(phi);
         Ok(vec![
             edges.part(format!("top edge {label}"), top, top + outer)?,
             edges.part(
