@@ -301,3 +301,254 @@ fn an_escaping_ray_comes_closest_where_n_r_equals_its_impact_parameter() {
         assert!(matches!(traced[0].end, trajectories::End::Escaped));
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Space-cancelling wedges and the net of a hypercube. A space-cancelling wedge of apex angle ν
+// removes the wedge of space between its legs: a ray that crosses it leaves on the line it came
+// on turned by ν about the apex edge (position and direction), whether the legs teleport to each
+// other or N negative-space wedges of δ = ν/(2N) each turn it by 2δ; Dr TIM's three-lens wedges
+// image every point Q (through all three lenses) onto Q turned by ν. The net of a hypercube is
+// glued into the tesseract's surface, on which a straight line along an edge of the tesseract's
+// grid closes on itself after four cubes.
+
+/// The scene text of the wedge `lenses` (apex edge along z through the origin, bisector
+/// (1, 1, 0), so the legs of a 90° wedge lie along +x and +y) with one trajectory from `start`
+/// along `direction`.
+fn wedge_scene(lenses: &str, start: DVec3, direction: DVec3) -> String {
+    format!(
+        "studio = \"none\"\n[[device]]\nname = \"w\"\nlenses = {{ type = \"space-cancelling-wedge\", \
+         apex_edge_centre = [0, 0, 0], apex_edge_direction = [0, 0, 1], \
+         bisector_direction = [1, 1, 0], {lenses} }}\n\
+         [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 50\n",
+        start.x, start.y, start.z, direction.x, direction.y, direction.z
+    )
+}
+
+#[test]
+fn a_space_cancelling_wedge_turns_a_crossing_ray_by_its_apex_angle() {
+    // From below the x leg (y < 0), upwards: crossing the wedge turns the line by +ν about +z.
+    for apex in [90f64, 60.0, 150.0] {
+        let nu = apex.to_radians();
+        for gluing in [
+            "\"perfect\"".to_string(),
+            "\"negative-space-wedges\", number_of_negative_space_wedges = 1".into(),
+            "\"negative-space-wedges\", number_of_negative_space_wedges = 3".into(),
+            "\"negative-space-wedges-symmetric\", number_of_negative_space_wedges = 2".into(),
+            "\"negative-space-wedges-with-containment-mirrors\", number_of_negative_space_wedges = 4"
+                .into(),
+        ] {
+            // The x leg is at −ν/2 from the bisector's side: rotate the set-up so that the leg
+            // the ray crosses first lies along (cos(45° − ν/2), sin(45° − ν/2)).
+            let leg = 45f64.to_radians() - nu / 2.0;
+            let start = rotate(DVec3::new(0.45, -0.5, 0.1), DVec3::Z, leg);
+            let direction = rotate(DVec3::new(0.1, 1.0, 0.05).normalize(), DVec3::Z, leg);
+            let lenses = format!(
+                "apex_angle_deg = {apex}, leg_length = 30, apex_edge_length = 4, gluing_type = {gluing}"
+            );
+            let traced = trace(&wedge_scene(&lenses, start, direction));
+            let t = &traced[0];
+            let label = format!("ν = {apex}°, {gluing}");
+            assert!(t.points.len() >= 3, "{label}: {:?}", t.points);
+            let last = t.points.last().unwrap().position;
+            let expected = rotate(direction, DVec3::Z, nu);
+            assert!(
+                (t.direction - expected).length() < 1e-9,
+                "{label}: leaves along {} != {expected}",
+                t.direction
+            );
+            let before = t.points[t.points.len() - 2].position;
+            let back = rotate(before, DVec3::Z, -nu);
+            assert!(
+                line_distance(back, start, direction) < 1e-9,
+                "{label}: {before} turned back is {} off the incoming line (last {last})",
+                line_distance(back, start, direction)
+            );
+        }
+    }
+}
+
+#[test]
+fn three_lens_space_cancelling_wedges_image_points_turned_by_the_apex_angle() {
+    for (gluing, q) in [
+        ("lenses-completely-symmetric", DVec3::new(1.5, -1.0, 0.1)),
+        ("lenses-quite-symmetric", DVec3::new(3.0, -0.05, 0.1)),
+    ] {
+        let image = rotate(q, DVec3::Z, 90f64.to_radians());
+        for direction in [
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.01, 1.0, 0.02),
+            DVec3::new(-0.01, 1.0, -0.01),
+        ] {
+            let lenses =
+                format!("gluing_type = \"{gluing}\", leg_length = 100, apex_edge_length = 100");
+            let traced = trace(&wedge_scene(&lenses, q, direction.normalize()));
+            let t = &traced[0];
+            // Through L3, L2 and L1, then on to beyond the scene.
+            assert!(
+                t.points.len() == 5 && t.points[1..4].iter().all(|p| p.object.is_some()),
+                "{gluing}: {:?}",
+                t.points
+            );
+            let exit = t.points[3].position;
+            assert!(
+                line_distance(image, exit, t.direction) < 1e-8 * (1.0 + image.length()),
+                "{gluing}: from {q} along {direction}, the ray leaves {} off {image}",
+                line_distance(image, exit, t.direction)
+            );
+        }
+    }
+}
+
+/// A straight line in the tesseract's surface closes after four cubes (length 4s): round the
+/// ring of four outer cubes about an inner-cube edge's direction, and through an outer cube,
+/// the eighth cube and the opposite outer cube. The net is skew (right (1, 1, 0), up made
+/// perpendicular to it from (−1, 1, 0.3)), of side 0.7, about (0.3, −0.2, 5).
+#[test]
+fn the_net_of_a_hypercube_closes_straight_lines_after_four_cubes() {
+    let (centre, s) = (DVec3::new(0.3, -0.2, 5.0), 0.7);
+    let right = DVec3::new(1.0, 1.0, 0.0).normalize();
+    let up = DVec3::new(-1.0, 1.0, 0.3)
+        .reject_from_normalized(right)
+        .normalize();
+    let front = up.cross(right);
+    for (start, direction) in [
+        // Through the right outer cube, the eighth cube and the left outer cube.
+        (centre + 0.1 * up + 0.2 * front, right),
+        // Round the ring of the right, top, left and bottom outer cubes.
+        (centre + s * right + 0.2 * front, up),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n[[device]]\nname = \"net\"\nlenses = {{ type = \"net-of-hypercube\", \
+                 centre = [{}, {}, {}], right_direction = [1, 1, 0], up_direction = [-1, 1, 0.3], \
+                 side_length = {s}, gluing_type = \"perfect\" }}\n\
+                 [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 40\n",
+            centre.x,
+            centre.y,
+            centre.z,
+            start.x,
+            start.y,
+            start.z,
+            direction.x,
+            direction.y,
+            direction.z
+        );
+        let traced = trace(&text);
+        let t = &traced[0];
+        // The ray comes back onto its start line, in its start direction, after passing
+        // wedges, having gone exactly 4s.
+        let mut travelled = 0.0;
+        let mut closed = false;
+        for (k, pair) in t.points.windows(2).enumerate() {
+            if pair[1].arrival == trajectories::Arrival::Teleported {
+                continue;
+            }
+            let step = pair[1].position - pair[0].position;
+            let along = step.normalize();
+            let back_on_line = k > 1
+                && (along - direction).length() < 1e-9
+                && line_distance(pair[0].position, start, direction) < 1e-9;
+            if back_on_line && (start - pair[0].position).dot(direction) >= 0.0 {
+                let total = travelled + (start - pair[0].position).length();
+                assert!((total - 4.0 * s).abs() < 1e-9, "closed after {total}");
+                closed = true;
+                break;
+            }
+            travelled += step.length();
+        }
+        assert!(closed, "path {:?}", t.points);
+    }
+}
+
+#[test]
+fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
+    let d = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"w\"\nshow_edges = true\nlenses = { type = \"space-cancelling-wedge\" }\n\
+         [[device]]\nname = \"n\"\nlenses = { type = \"net-of-hypercube\" }\n",
+    );
+    let names: Vec<&str> = d
+        .objects
+        .iter()
+        .map(|o| o.name.as_str())
+        .filter(|n| n.starts_with("w/"))
+        .collect();
+    // Dr TIM's default: one negative-space wedge of 45° (two 180° ray-rotation sheets and a
+    // black base) cancelling a 90° wedge about (0, 0, 10) along y, bisector +x, legs 1 long.
+    assert_eq!(
+        names,
+        [
+            "w/surface 0",
+            "w/top edge of surface 0",
+            "w/outer edge of surface 0",
+            "w/bottom edge of surface 0",
+            "w/surface 1",
+            "w/top edge of surface 1",
+            "w/outer edge of surface 1",
+            "w/bottom edge of surface 1",
+            "w/base surface of negative-space wedge 0",
+            "w/top edge of base surface of negative-space wedge 0",
+            "w/bottom edge of base surface of negative-space wedge 0",
+            "w/apex edge",
+        ]
+    );
+    let sheet = |name: &str| match &d.objects.iter().find(|o| o.name == name).unwrap().shape {
+        timbre::geometry::Shape::Parallelogram(p) => (p.corner(), p.span_u(), p.span_v()),
+        other => panic!("{other:?}"),
+    };
+    // Surface 0 at −45° from +x about y (towards ĉ = x̂ × ŷ = +z, negated), surface 1 on the
+    // bisector.
+    let (corner, along, out) = sheet("w/surface 0");
+    assert!(
+        (corner - DVec3::new(0.0, -0.5, 10.0)).length() < 1e-12,
+        "{corner}"
+    );
+    assert!((along - DVec3::Y).length() < 1e-12);
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert!((out - DVec3::new(h, 0.0, -h)).length() < 1e-12, "{out}");
+    assert!((sheet("w/surface 1").2 - DVec3::X).length() < 1e-12);
+    // The default net: 24 perfect wedges of two teleporting legs each, no edges or faces.
+    let net: Vec<&str> = d
+        .objects
+        .iter()
+        .map(|o| o.name.as_str())
+        .filter(|n| n.starts_with("n/"))
+        .collect();
+    assert_eq!(net.len(), 48, "{net:?}");
+    assert!(net.iter().all(|n| n.contains("teleporting surface")));
+
+    let dir = tempfile::tempdir().unwrap();
+    for (lenses, needles) in [
+        (
+            "{ type = \"space-cancelling-wedge\", apex_angle_deg = 400 }",
+            &["apex angle", "360"][..],
+        ),
+        (
+            "{ type = \"space-cancelling-wedge\", bisector_direction = [0, 3, 0] }",
+            &["bisector_direction", "along apex_edge_direction"],
+        ),
+        (
+            "{ type = \"space-cancelling-wedge\", gluing_type = \"mirror-approximation\" }",
+            &["mirror-approximation", "perfect"],
+        ),
+        (
+            "{ type = \"net-of-hypercube\", gluing_type = \"negative-space-wedges-with-containment-mirrors\" }",
+            &["containment mirrors", "never meet"],
+        ),
+        (
+            "{ type = \"net-of-hypercube\", up_direction = [2, 0, 0] }",
+            &["up_direction", "along right_direction"],
+        ),
+    ] {
+        let text = format!("studio = \"none\"\n\n[[device]]\nname = \"s\"\nlenses = {lenses}\n");
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+    // A device whose surfaces teleport to each other cannot be arrayed.
+    let text = "studio = \"none\"\n\n[[device]]\nname = \"s\"\narray = { vectors = [[5, 0, 0]], counts = [2] }\n\
+                lenses = { type = \"space-cancelling-wedge\", gluing_type = \"perfect\" }\n";
+    let path = write(dir.path(), "array.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["teleports to another part of its device", "array"]);
+    assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+}

@@ -17,6 +17,7 @@ mod lens_simplicial_complex;
 mod lens_star;
 mod lens_type;
 mod negative_space_wedge_star;
+mod net_of_hypercube;
 mod ninky_nonk_silhouette;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
@@ -24,6 +25,7 @@ mod ray_rotation_sheet_star;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
 mod refractive_view_rotator;
+mod space_cancelling_wedge;
 mod star;
 mod tim_head;
 mod triangular_thick_lens;
@@ -39,6 +41,7 @@ pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKe
 pub use lens_star::{LensStar, LensStarKeys};
 pub use lens_type::{Face, LensType, semitransparent_plane};
 pub use negative_space_wedge_star::{NegativeSpaceWedgeStar, NegativeSpaceWedgeStarKeys};
+pub use net_of_hypercube::{NetOfHypercube, NetOfHypercubeKeys};
 pub use ninky_nonk_silhouette::{NinkyNonkSilhouette, NinkyNonkSilhouetteKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
@@ -46,6 +49,7 @@ pub use ray_rotation_sheet_star::{RayRotationSheetStar, RayRotationSheetStarKeys
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
 pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
+pub use space_cancelling_wedge::{Gluing, SpaceCancellingWedge, SpaceCancellingWedgeKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
@@ -103,6 +107,8 @@ kinds! {
         LensStar(LensStarKeys),
         RayRotationSheetStar(RayRotationSheetStarKeys),
         NegativeSpaceWedgeStar(NegativeSpaceWedgeStarKeys),
+        SpaceCancellingWedge(SpaceCancellingWedgeKeys),
+        NetOfHypercube(NetOfHypercubeKeys),
         LensSimplicialComplex(LensSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),

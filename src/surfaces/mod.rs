@@ -536,6 +536,7 @@ impl Surface {
                 surfaces: transformed_pair(&c.surfaces, t)?,
             }),
             Surface::Rainbow(r) => Surface::Rainbow(r.transformed(t)),
+            Surface::Teleporting(s) => Surface::Teleporting(s.transformed(t)?),
             Surface::PositionDependentColour(c) => {
                 Surface::PositionDependentColour(c.transformed(t))
             }
@@ -560,7 +561,6 @@ impl Surface {
             | Surface::PhaseConjugating(_)
             | Surface::LorentzWindow(_)
             | Surface::GalileoWindow(_)
-            | Surface::Teleporting(_)
             | Surface::Picture(_)
             | Surface::ImageSky(_)
             | Surface::Dissolved(_)

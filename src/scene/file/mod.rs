@@ -798,7 +798,7 @@ fn link_teleporter(
                     "teleporting: the destination '{destination}' is at rest in another frame"
                 ));
             }
-            t.destination = shape.clone();
+            t.destination = Some(shape.clone());
             *done = true;
         }
     }

@@ -321,6 +321,20 @@ impl Placed {
     /// Every object repeated at each of `offsets`: objects in no array become one new array;
     /// an existing array's copies are repeated (its offsets become all the sums).
     fn repeat(self, offsets: &[DVec3]) -> Result<Placed, String> {
+        // Copies share their surfaces, so every copy of a device's teleporting surface would
+        // send rays to the first copy's destination.
+        if let Some(o) = self
+            .objects
+            .iter()
+            .find(|o| matches!(&o.surface, Surface::Teleporting(t) if t.destination.is_some()))
+        {
+            return Err(format!(
+                "'{}' teleports to another part of its device, which an array cannot repeat \
+                 (every copy would teleport to the first copy's); give each copy as a device \
+                 of its own",
+                o.name
+            ));
+        }
         let mut in_array = vec![false; self.objects.len()];
         for a in &self.arrays {
             in_array[a.objects.clone()].fill(true);

@@ -30,7 +30,7 @@ use glam::{DQuat, DVec2, DVec3};
 use serde::Deserialize;
 
 use super::{hologram_direction, jacobian};
-use crate::geometry::{Exit, Interaction, Shape};
+use crate::geometry::{Exit, Interaction, Shape, Transform};
 use crate::keys::{Coefficient, NonNegative, coefficient, throughput};
 use crate::math::Colour;
 use crate::math::Frame;
@@ -51,8 +51,10 @@ pub enum Teleportation {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Teleporting {
     /// The linked surface rays leave from (analytic shapes; meshes have no inverse
-    /// coordinates).
-    pub destination: Shape,
+    /// coordinates), in the coordinates of the teleporting object. `None` until the scene
+    /// file links the surface to the object its `destination` names, once every object is
+    /// placed; a device's teleporting surfaces have theirs from the start, and move with it.
+    pub destination: Option<Shape>,
     pub teleportation: Teleportation,
     /// Radius of the random surface-coordinate error (0 for perfect teleportation).
     pub positional_error: f64,
@@ -83,8 +85,9 @@ impl Teleporting {
         } else {
             DVec2::ZERO
         };
-        let p = self.destination.point_at(c + shift)?;
-        let f = self.destination.frame(p, 0);
+        let destination = self.destination.as_ref()?;
+        let p = destination.point_at(c + shift)?;
+        let f = destination.frame(p, 0);
         let local = DVec3::new(d.dot(frame.u), d.dot(frame.v), d.dot(frame.w));
         let mut out = local.x * f.u + local.y * f.v + local.z * f.w;
         if self.angular_error > 0.0 {
@@ -106,14 +109,17 @@ impl Teleporting {
     /// Holographic teleportation of a ray with unit direction `d` that meets the origin at
     /// `p`, with surface coordinates `c` and frame `frame` there.
     pub fn holographic(&self, p: DVec3, c: DVec2, d: DVec3, frame: &Frame) -> Redirection<'static> {
-        let Some(p2) = self.destination.point_at(c) else {
+        let Some(destination) = &self.destination else {
+            return Redirection::Lost;
+        };
+        let Some(p2) = destination.point_at(c) else {
             return Redirection::Lost;
         };
         let Some(design) = (p2 - p).try_normalize() else {
             return Redirection::Lost;
         };
         let tangential = |v: DVec3| DVec2::new(v.x, v.y);
-        let (origin, exit) = (jacobian(frame), jacobian(&self.destination.frame(p2, 0)));
+        let (origin, exit) = (jacobian(frame), jacobian(&destination.frame(p2, 0)));
         let kick = tangential(origin.transpose() * design);
         let Some(between) = hologram_direction(origin.transpose() * d, kick).map(|e| origin * e)
         else {
@@ -122,7 +128,7 @@ impl Teleporting {
                 factor: Colour::splat(self.reflection_coefficient),
             };
         };
-        let Some((t, _)) = self.destination.intersect(p, between, 0.0, f64::INFINITY) else {
+        let Some((t, _)) = destination.intersect(p, between, 0.0, f64::INFINITY) else {
             return Redirection::Leaves {
                 direction: between,
                 factor: Colour::splat(self.transmission_coefficient),
@@ -145,6 +151,18 @@ impl Teleporting {
             exit,
             factor: Colour::splat(factor),
         }
+    }
+
+    /// The surface of an object moved by `t`: its destination, if it has one yet, moved too.
+    pub fn transformed(&self, t: &Transform) -> Result<Teleporting, String> {
+        let destination = match &self.destination {
+            Some(shape) => Some(t.shape(shape).map_err(|e| format!("destination: {e}"))?),
+            None => None,
+        };
+        Ok(Teleporting {
+            destination,
+            ..self.clone()
+        })
     }
 
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
@@ -207,7 +225,7 @@ impl TeleportingKeys {
             Teleportation::Perfect | Teleportation::Holographic => {}
         }
         Ok(Surface::Teleporting(Teleporting {
-            destination: unlinked(),
+            destination: None,
             teleportation,
             positional_error,
             angular_error: angular_error_deg.to_radians(),
@@ -215,11 +233,6 @@ impl TeleportingKeys {
             reflection_coefficient: coefficient(self.reflection_coefficient),
         }))
     }
-}
-
-/// The destination of a teleporting surface before it is linked: a point-sized sphere.
-fn unlinked() -> Shape {
-    Shape::Sphere(crate::geometry::Sphere::new(DVec3::ZERO, f64::MIN_POSITIVE).expect("valid"))
 }
 
 #[cfg(test)]
@@ -247,7 +260,7 @@ mod tests {
             tilt * DVec3::Y,
         );
         let teleporter = Teleporting {
-            destination: destination.clone(),
+            destination: Some(destination.clone()),
             teleportation: Teleportation::Holographic,
             positional_error: 0.0,
             angular_error: 0.0,
@@ -309,9 +322,9 @@ mod tests {
     fn angular_errors_fill_the_cone_uniformly() {
         let sigma = 5f64.to_radians();
         let window = Teleporting {
-            destination: Shape::Parallelogram(
+            destination: Some(Shape::Parallelogram(
                 Parallelogram::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap(),
-            ),
+            )),
             teleportation: Teleportation::Perfect,
             positional_error: 0.0,
             angular_error: sigma,

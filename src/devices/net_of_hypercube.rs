@@ -1,0 +1,413 @@
+//! The net of a hypercube (Dr TIM's `EditableNetOfHypercube`): the tesseract's eight cubes
+//! unfolded into 3D space, optically glued into its 3D surface. About the inner cube (side s,
+//! centred on `centre`) sit six outer cubes, one on each face, and the eighth cube (the one
+//! opposite the inner cube in 4D) cut into six square pyramids of height s/2, one on each
+//! outer cube's outer face, their apices at the eighth cube's centre (2s from `centre`).
+//!
+//! The net closes up where space-cancelling wedges ([`SpaceCancellingWedge`]) remove the space
+//! between faces that are one face of the tesseract: along each of the inner cube's 12 edges a
+//! 90° wedge (legs s × `space_cancelling_wedge_leg_length_factor` along the two outer cubes'
+//! facing sides) glues the outer cubes to each other, and a 180° wedge with its apex edge
+//! twice as far from `centre` (legs √2 s × factor, in the plane of the two pyramids' facing
+//! sides) glues those sides. A straight line in the tesseract's surface, e.g. from the inner
+//! cube through an outer cube, the eighth cube and the opposite outer cube, is a ray that
+//! closes on itself after 4s.
+
+use glam::DVec3;
+use serde::Deserialize;
+
+use super::space_cancelling_wedge::{Gluing, SpaceCancellingWedge};
+use super::{EdgeDefaults, Edges, LensDevice, Part};
+use crate::geometry::{ConvexPolygon, Parallelogram, Shape};
+use crate::keys::{Coefficient, Direction, Positive, Rgb, Vector, throughput};
+use crate::math::Colour;
+use crate::surfaces::{ColourFilter, Coloured, Surface};
+
+/// Dr TIM's `MyMath.TINY`, by which the wedges' edges are thinner than the net's.
+const TINY: f64 = 1e-4;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct NetOfHypercube {
+    pub centre: DVec3,
+    pub right_direction: DVec3,
+    /// Made perpendicular to the right direction; must not be along it.
+    pub up_direction: DVec3,
+    pub side_length: f64,
+    pub show_space_cancelling_wedges: bool,
+    pub space_cancelling_wedge_leg_length_factor: f64,
+    pub space_cancelling_wedge_surface_transmission_coefficient: f64,
+    pub gluing: Gluing,
+    pub number_of_negative_space_wedges: u32,
+    pub distance_p1_p2: f64,
+    /// The wedges' edges (Dr TIM's `showSpaceCancellingWedgeEdges`), if shown.
+    pub space_cancelling_wedge_edges: Option<Edges>,
+    /// The colour filter of the net's faces, shown with its edges.
+    pub net_face_transmission: Colour,
+}
+
+/// One of the six sides of the inner cube: its outward normal n̂ and the normals m̂ and ô of
+/// two other sides, with their names (Dr TIM's `NamedDirection`s).
+#[derive(Clone, Copy)]
+struct Side {
+    n: (DVec3, &'static str),
+    m: (DVec3, &'static str),
+    o: (DVec3, &'static str),
+}
+
+/// The name of the opposite direction.
+fn opposite(name: &str) -> &'static str {
+    match name {
+        "right" => "left",
+        "left" => "right",
+        "top" => "bottom",
+        "bottom" => "top",
+        "front" => "back",
+        _ => "front",
+    }
+}
+
+fn reverse((v, name): (DVec3, &'static str)) -> (DVec3, &'static str) {
+    (-v, opposite(name))
+}
+
+impl NetOfHypercube {
+    /// Dr TIM's six sides (n, m, o), from its right, up and front directions (front = up ×
+    /// right).
+    fn sides(&self) -> Result<[Side; 6], String> {
+        let right = self.right_direction.normalize();
+        let up = self.up_direction.reject_from_normalized(right);
+        if up.length() <= 1e-12 * self.up_direction.length() {
+            return Err(format!(
+                "up_direction = {} is along right_direction = {}",
+                self.up_direction, self.right_direction
+            ));
+        }
+        let up = up.normalize();
+        let (r, u, f) = ((right, "right"), (up, "top"), (up.cross(right), "front"));
+        let side = |n, m, o| Side { n, m, o };
+        Ok([
+            side(r, u, f),
+            side(reverse(r), u, reverse(f)),
+            side(u, f, r),
+            side(reverse(u), f, reverse(r)),
+            side(f, r, u),
+            side(reverse(f), r, reverse(u)),
+        ])
+    }
+
+    /// The two wedges along the inner cube's edge from `start` to `end`.
+    fn wedges(&self, name: &str, start: DVec3, end: DVec3) -> Result<Vec<Part>, String> {
+        let s = self.side_length;
+        let k = self.space_cancelling_wedge_leg_length_factor;
+        let mid = 0.5 * (start + end);
+        let wedge =
+            |apex_angle: f64, apex_edge_centre: DVec3, leg_length: f64| SpaceCancellingWedge {
+                apex_angle,
+                apex_edge_centre,
+                apex_edge_direction: end - start,
+                bisector_direction: mid - self.centre,
+                leg_length,
+                apex_edge_length: s,
+                show_refracting_surfaces: self.show_space_cancelling_wedges,
+                containment_mirrors_angle_with_sides: 91f64.to_radians(),
+                surface_transmission_coefficient: self
+                    .space_cancelling_wedge_surface_transmission_coefficient,
+                gluing: self.gluing,
+                number_of_negative_space_wedges: self.number_of_negative_space_wedges,
+                distance_p1_p2: self.distance_p1_p2,
+            };
+        let edges = self.space_cancelling_wedge_edges.as_ref();
+        let mut parts = wedge(std::f64::consts::FRAC_PI_2, mid, s * k)
+            .parts_named(&format!("90° wedge at {name}/"), edges)?;
+        parts.extend(
+            wedge(
+                std::f64::consts::PI,
+                self.centre + 2.0 * (mid - self.centre),
+                std::f64::consts::SQRT_2 * s * k,
+            )
+            .parts_named(&format!("180° wedge at {name}/"), edges)?,
+        );
+        Ok(parts)
+    }
+
+    /// The parts Dr TIM's `addSceneObjectsForSide` adds for `side`: the wedges along two of
+    /// the inner cube's edges, and with `edges` the net's edges of the outer cube and the
+    /// pyramid on that side, and their faces (added to `faces`).
+    fn side(
+        &self,
+        side: Side,
+        edges: Option<&Edges>,
+        faces: &mut Vec<Face>,
+    ) -> Result<Vec<Part>, String> {
+        let h = 0.5 * self.side_length;
+        let s = self.side_length;
+        let Side { n, m, o } = side;
+        let (nn, mn, on) = (n.1, m.1, o.1);
+        let (mo, oo) = (opposite(mn), opposite(on));
+        let corner = |along_n: f64, o_sign: f64, m_sign: f64| {
+            self.centre + along_n * n.0 + o_sign * h * o.0 + m_sign * h * m.0
+        };
+        let inner = |os, ms| corner(h, os, ms);
+        let outer = |os, ms| corner(3.0 * h, os, ms);
+        let apex = self.centre + 2.0 * s * n.0;
+        let mut parts = Vec::new();
+        parts.extend(self.wedges(
+            &format!("inner cube's {nn} {on} edge"),
+            inner(1.0, -1.0),
+            inner(1.0, 1.0),
+        )?);
+        parts.extend(self.wedges(
+            &format!("inner cube's {nn} {oo} edge"),
+            inner(-1.0, -1.0),
+            inner(-1.0, 1.0),
+        )?);
+        let Some(edges) = edges else {
+            return Ok(parts);
+        };
+        let cube = format!("{nn} outer cube");
+        let mut cylinders = vec![
+            (
+                format!("inner cube's {nn} {on} edge"),
+                inner(1.0, -1.0),
+                inner(1.0, 1.0),
+            ),
+            (
+                format!("inner cube's {nn} {oo} edge"),
+                inner(-1.0, -1.0),
+                inner(-1.0, 1.0),
+            ),
+            (
+                format!("{cube}'s outer {on} edge"),
+                outer(1.0, -1.0),
+                outer(1.0, 1.0),
+            ),
+            (
+                format!("{cube}'s outer {oo} edge"),
+                outer(-1.0, -1.0),
+                outer(-1.0, 1.0),
+            ),
+            (
+                format!("{cube}'s outer {mn} edge"),
+                outer(1.0, 1.0),
+                outer(-1.0, 1.0),
+            ),
+            (
+                format!("{cube}'s outer {mo} edge"),
+                outer(1.0, -1.0),
+                outer(-1.0, -1.0),
+            ),
+        ];
+        for (os, o_name) in [(1.0, on), (-1.0, oo)] {
+            for (ms, m_name) in [(1.0, mn), (-1.0, mo)] {
+                cylinders.push((
+                    format!("{cube}'s {o_name} {m_name} edge"),
+                    inner(os, ms),
+                    outer(os, ms),
+                ));
+                cylinders.push((
+                    format!("{cube}'s outer {o_name} {m_name} corner to the eighth cube's centre"),
+                    apex,
+                    outer(os, ms),
+                ));
+            }
+        }
+        for (name, start, end) in cylinders {
+            parts.push(edges.part(name, start, end)?);
+        }
+        let face = |name: String, corners: Vec<DVec3>| -> Result<Face, String> {
+            let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+            let n = corners.len();
+            let shape = ConvexPolygon::new(corners.clone()).map_err(|e| e.to_string())?;
+            Ok(Face {
+                part: Part {
+                    name,
+                    shape: Shape::ConvexPolygon(shape),
+                    surface: self.face(),
+                    edge: false,
+                },
+                centre: corners.iter().sum::<DVec3>() / n as f64,
+                normal: normal.normalize(),
+            })
+        };
+        let square = |name: String, corner: DVec3, u: DVec3, v: DVec3| {
+            face(name, vec![corner, corner + u, corner + u + v, corner + v])
+        };
+        let triangle = |name: String, a: DVec3, b: DVec3| face(name, vec![a, b, apex]);
+        let (sn, sm, so) = (s * n.0, s * m.0, s * o.0);
+        let sixth = format!("{nn} sixth of the eighth cube");
+        faces.extend([
+            square(
+                format!("{nn} face of the inner cube"),
+                inner(1.0, 1.0),
+                -sm,
+                -so,
+            )?,
+            square(format!("{mn} face of the {cube}"), inner(1.0, 1.0), sn, -so)?,
+            square(
+                format!("{mo} face of the {cube}"),
+                inner(1.0, -1.0),
+                sn,
+                -so,
+            )?,
+            square(format!("{on} face of the {cube}"), inner(1.0, 1.0), sn, -sm)?,
+            square(
+                format!("{oo} face of the {cube}"),
+                inner(-1.0, 1.0),
+                sn,
+                -sm,
+            )?,
+            square(
+                format!("{nn} face of the {cube}"),
+                outer(1.0, 1.0),
+                -sm,
+                -so,
+            )?,
+            triangle(
+                format!("{mn} face of the {sixth}"),
+                outer(1.0, 1.0),
+                outer(-1.0, 1.0),
+            )?,
+            triangle(
+                format!("{mo} face of the {sixth}"),
+                outer(1.0, -1.0),
+                outer(-1.0, -1.0),
+            )?,
+            triangle(
+                format!("{on} face of the {sixth}"),
+                outer(1.0, 1.0),
+                outer(1.0, -1.0),
+            )?,
+            triangle(
+                format!("{oo} face of the {sixth}"),
+                outer(-1.0, 1.0),
+                outer(-1.0, -1.0),
+            )?,
+        ]);
+        Ok(parts)
+    }
+
+    /// The surface of the net's faces: Dr TIM's colour filter that throws no shadow.
+    fn face(&self) -> Surface {
+        Surface::ColourFilter(ColourFilter {
+            transmission: self.net_face_transmission,
+        })
+    }
+}
+
+/// A face of the net, with its centroid and unit normal.
+struct Face {
+    part: Part,
+    centre: DVec3,
+    normal: DVec3,
+}
+
+impl Face {
+    /// Whether the face's centre lies on the parallelogram `p`, in its plane.
+    fn on(&self, p: &Parallelogram) -> bool {
+        let (u, v) = (p.span_u(), p.span_v());
+        let m = u.cross(v).normalize();
+        let d = self.centre - p.corner();
+        let scale = 1.0 + self.centre.abs().max_element() + p.corner().abs().max_element();
+        if self.normal.cross(m).length() > 1e-9 || d.dot(m).abs() > 1e-9 * scale {
+            return false;
+        }
+        // d = a u + b v: the Gram system.
+        let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+        let det = uu * vv - uv * uv;
+        let a = (vv * d.dot(u) - uv * d.dot(v)) / det;
+        let b = (uu * d.dot(v) - uv * d.dot(u)) / det;
+        (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)
+    }
+}
+
+impl LensDevice for NetOfHypercube {
+    /// For each inner-cube edge (e.g. `inner cube's right front edge`) its wedges' parts,
+    /// `90° wedge at EDGE/PART` and `180° wedge at EDGE/PART`; with `edges`, the net's edges
+    /// and faces (`right face of the inner cube`, `top face of the right outer cube`,
+    /// `top face of the right sixth of the eighth cube`, ...). A face whose centre lies on a
+    /// shown wedge surface is left out: the surface stands in its place (a ray that met both
+    /// would meet only the one found first, the other being within its self-hit margin).
+    fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        let (mut parts, mut faces) = (Vec::new(), Vec::new());
+        for side in self.sides()? {
+            parts.extend(self.side(side, edges, &mut faces)?);
+        }
+        let wedge_surfaces: Vec<&Parallelogram> = parts
+            .iter()
+            .filter_map(|p| match &p.shape {
+                Shape::Parallelogram(s) if !p.edge => Some(s),
+                _ => None,
+            })
+            .collect();
+        let shown: Vec<Part> = faces
+            .into_iter()
+            .filter(|f| !wedge_surfaces.iter().any(|w| f.on(w)))
+            .map(|f| f.part)
+            .collect();
+        parts.extend(shown);
+        Ok(parts)
+    }
+
+    /// Dr TIM's net structure: hidden, radius 0.02, `SurfaceColour.BLUE_SHINY`.
+    fn edge_defaults(&self) -> EdgeDefaults {
+        EdgeDefaults {
+            shown: false,
+            radius: 0.02,
+            colour: Colour::new(0.0, 0.0, 1.0),
+        }
+    }
+}
+
+/// `lenses = { type = "net-of-hypercube" }`: Dr TIM's `EditableNetOfHypercube`, with the
+/// defaults of its constructor `EditableNetOfHypercube(parent, studio)`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NetOfHypercubeKeys {
+    centre: Option<Vector>,
+    right_direction: Option<Direction>,
+    up_direction: Option<Direction>,
+    side_length: Option<Positive>,
+    show_space_cancelling_wedges: Option<bool>,
+    space_cancelling_wedge_leg_length_factor: Option<Positive>,
+    space_cancelling_wedge_surface_transmission_coefficient: Option<Coefficient>,
+    gluing_type: Option<Gluing>,
+    number_of_negative_space_wedges: Option<u32>,
+    distance_p1_p2: Option<Positive>,
+    show_space_cancelling_wedge_edges: Option<bool>,
+    space_cancelling_wedge_edge_radius: Option<Positive>,
+    net_face_transmission: Option<Rgb>,
+}
+
+impl NetOfHypercubeKeys {
+    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
+        let net = NetOfHypercube {
+            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            right_direction: self.right_direction.map_or(DVec3::X, |d| d.0),
+            up_direction: self.up_direction.map_or(DVec3::Y, |d| d.0),
+            side_length: self.side_length.map_or(1.0, |s| s.0),
+            show_space_cancelling_wedges: self.show_space_cancelling_wedges.unwrap_or(true),
+            space_cancelling_wedge_leg_length_factor: self
+                .space_cancelling_wedge_leg_length_factor
+                .map_or(1.0, |k| k.0),
+            space_cancelling_wedge_surface_transmission_coefficient: throughput(
+                self.space_cancelling_wedge_surface_transmission_coefficient,
+            ),
+            gluing: self.gluing_type.unwrap_or(Gluing::Perfect),
+            number_of_negative_space_wedges: self.number_of_negative_space_wedges.unwrap_or(1),
+            distance_p1_p2: self.distance_p1_p2.map_or(1.0, |d| d.0),
+            space_cancelling_wedge_edges: self
+                .show_space_cancelling_wedge_edges
+                .unwrap_or(false)
+                .then(|| Edges {
+                    radius: self
+                        .space_cancelling_wedge_edge_radius
+                        .map_or(0.02 - TINY, |r| r.0),
+                    surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
+                }),
+            net_face_transmission: self
+                .net_face_transmission
+                .map_or(Colour::new(0.0, 198.0 / 255.0, 200.0 / 255.0), |t| t.0),
+        };
+        Ok(Box::new(net))
+    }
+}
