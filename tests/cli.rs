@@ -928,6 +928,7 @@ fn every_example_scene_checks_and_renders() {
         "research/NegativeSpaceWedgeStarTrajectoryPlotter.toml",
         "research/CubeInRayRotationSheetStar.toml",
         "research/SpaceAroundBlackHoleVisualiser.toml",
+        "research/NetOfHypercubeVisualiser.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

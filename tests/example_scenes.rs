@@ -4916,6 +4916,51 @@ fn research_negative_space_wedge_trajectory_keeps_its_distance_from_the_axis() {
     }
 }
 
+/// scenes/research/NetOfHypercubeVisualiser.toml (Dr TIM's program of that name): the
+/// trajectory from the inner cube's centre is a straight line in the tesseract's surface. Its
+/// 4D direction is constant; in each cube's 3D coordinates it is that direction less the cube's
+/// normal component, and the wedges, which turn by 90° or 180° about axes along the net's
+/// edges, only permute and negate the components. So every straight segment's direction has
+/// the start direction's components, (0.1, 1, 0)/|…|, in some order and with some signs.
+#[test]
+fn research_net_of_hypercube_trajectory_is_straight_in_the_tesseract() {
+    let rays = trace_file(&scene("research/NetOfHypercubeVisualiser"));
+    assert_eq!(rays.len(), 1);
+    let ray = &rays[0];
+    let sorted = |d: DVec3| {
+        let mut c = [d.x.abs(), d.y.abs(), d.z.abs()];
+        c.sort_by(f64::total_cmp);
+        c
+    };
+    let expected = sorted(DVec3::new(0.1, 1.0, 0.0).normalize());
+    let mut segments = 0;
+    for pair in ray.points.windows(2) {
+        if pair[1].arrival == "teleported" {
+            continue;
+        }
+        let d = (pair[1].position - pair[0].position).normalize();
+        let got = sorted(d);
+        assert!(
+            got.iter().zip(&expected).all(|(a, b)| (a - b).abs() < 1e-9),
+            "{} to {}: direction {d}",
+            pair[0].position,
+            pair[1].position
+        );
+        segments += 1;
+    }
+    let teleports = ray.points.iter().filter(|p| p.arrival == "teleported").count();
+    assert!(teleports >= 5 && segments > 12, "{teleports} teleports, {segments} segments");
+    // Both kinds of wedge glue it: the outer cubes' sides (90°) and the pyramids' (180°).
+    for kind in ["90° wedge", "180° wedge"] {
+        assert!(
+            ray.points
+                .iter()
+                .any(|p| p.object.as_deref().is_some_and(|o| o.contains(kind))),
+            "{kind}"
+        );
+    }
+}
+
 /// scenes/research/CubeInRayRotationSheetStar.toml (Dr TIM's program of that name): each of the
 /// eight sheets turns a ray's direction by 44° about the star's axis oriented along the
 /// crossing, so a line of sight from the eye that goes round the axis through sheet after sheet

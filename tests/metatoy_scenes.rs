@@ -298,7 +298,7 @@ fn metatoy_surfaces_are_read_with_their_parameters_and_defaults() {
     let Surface::Teleporting(t) = &object(&d, "window").surface else {
         panic!()
     };
-    assert_eq!(t.destination, object(&d, "exit").shape);
+    assert_eq!(t.destination.as_ref(), Some(&object(&d, "exit").shape));
     assert_eq!(t.positional_error, 0.01);
     assert!((t.angular_error - 1f64.to_radians()).abs() < 1e-15);
     assert_eq!(t.teleportation, Teleportation::Perfect);

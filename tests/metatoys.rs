@@ -966,7 +966,7 @@ fn teleporting_keeps_surface_coordinates_and_local_direction_components() {
         rotation * DVec3::new(0.4, 0.8, 0.0),
     );
     let teleporter = Teleporting {
-        destination: parallelogram(corner, span_u, span_v),
+        destination: Some(parallelogram(corner, span_u, span_v)),
         teleportation: Teleportation::Perfect,
         positional_error: 0.0,
         angular_error: 0.0,
@@ -988,12 +988,12 @@ fn teleporting_keeps_surface_coordinates_and_local_direction_components() {
         let (point, direction) = got.unwrap_or_else(|| panic!("c {c} not teleported"));
         let want = corner + c.x * span_u.normalize() + c.y * span_v.normalize();
         assert_close(point, want, 1e-12, &format!("c {c}"));
-        let coordinates = teleporter.destination.coordinates(point, 0);
+        let coordinates = teleporter.destination.as_ref().unwrap().coordinates(point, 0);
         assert!(
             (coordinates - c).length() < 1e-12,
             "c {c} arrives at {coordinates}"
         );
-        let exit = teleporter.destination.frame(point, 0);
+        let exit = teleporter.destination.as_ref().unwrap().frame(point, 0);
         assert_close(
             components(direction, &exit),
             components(d, &frame),
@@ -1024,7 +1024,7 @@ fn imperfect_teleporting_spreads_exit_points_within_the_positional_error() {
         rotation * DVec3::new(0.0, 1.0, 0.0),
     );
     let perfect = Teleporting {
-        destination: destination.clone(),
+        destination: Some(destination.clone()),
         teleportation: Teleportation::Perfect,
         positional_error: 0.0,
         angular_error: 0.0,
