@@ -4948,8 +4948,15 @@ fn research_net_of_hypercube_trajectory_is_straight_in_the_tesseract() {
         );
         segments += 1;
     }
-    let teleports = ray.points.iter().filter(|p| p.arrival == "teleported").count();
-    assert!(teleports >= 5 && segments > 12, "{teleports} teleports, {segments} segments");
+    let teleports = ray
+        .points
+        .iter()
+        .filter(|p| p.arrival == "teleported")
+        .count();
+    assert!(
+        teleports >= 5 && segments > 12,
+        "{teleports} teleports, {segments} segments"
+    );
     // Both kinds of wedge glue it: the outer cubes' sides (90°) and the pyramids' (180°).
     for kind in ["90° wedge", "180° wedge"] {
         assert!(

@@ -988,7 +988,11 @@ fn teleporting_keeps_surface_coordinates_and_local_direction_components() {
         let (point, direction) = got.unwrap_or_else(|| panic!("c {c} not teleported"));
         let want = corner + c.x * span_u.normalize() + c.y * span_v.normalize();
         assert_close(point, want, 1e-12, &format!("c {c}"));
-        let coordinates = teleporter.destination.as_ref().unwrap().coordinates(point, 0);
+        let coordinates = teleporter
+            .destination
+            .as_ref()
+            .unwrap()
+            .coordinates(point, 0);
         assert!(
             (coordinates - c).length() < 1e-12,
             "c {c} arrives at {coordinates}"
