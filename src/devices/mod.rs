@@ -17,6 +17,7 @@ mod lens_simplicial_complex;
 mod lens_star;
 mod lens_type;
 mod negative_space_wedge_star;
+mod net;
 mod net_of_hypercube;
 mod ninky_nonk_silhouette;
 mod platonic_lens;

@@ -16,15 +16,12 @@
 use glam::DVec3;
 use serde::Deserialize;
 
+use super::net::{self, CYAN_GLASS, NetFace, TINY};
 use super::space_cancelling_wedge::{Gluing, SpaceCancellingWedge};
 use super::{EdgeDefaults, Edges, LensDevice, Part};
-use crate::geometry::{ConvexPolygon, Parallelogram, Shape};
 use crate::keys::{Coefficient, Direction, Positive, Rgb, Vector, throughput};
 use crate::math::Colour;
-use crate::surfaces::{ColourFilter, Coloured, Surface};
-
-/// Dr TIM's `MyMath.TINY`, by which the wedges' edges are thinner than the net's.
-const TINY: f64 = 1e-4;
+use crate::surfaces::{Coloured, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct NetOfHypercube {
@@ -137,7 +134,7 @@ impl NetOfHypercube {
         &self,
         side: Side,
         edges: Option<&Edges>,
-        faces: &mut Vec<Face>,
+        faces: &mut Vec<NetFace>,
     ) -> Result<Vec<Part>, String> {
         let h = 0.5 * self.side_length;
         let s = self.side_length;
@@ -214,20 +211,8 @@ impl NetOfHypercube {
         for (name, start, end) in cylinders {
             parts.push(edges.part(name, start, end)?);
         }
-        let face = |name: String, corners: Vec<DVec3>| -> Result<Face, String> {
-            let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-            let n = corners.len();
-            let shape = ConvexPolygon::new(corners.clone()).map_err(|e| e.to_string())?;
-            Ok(Face {
-                part: Part {
-                    name,
-                    shape: Shape::ConvexPolygon(shape),
-                    surface: self.face(),
-                    edge: false,
-                },
-                centre: corners.iter().sum::<DVec3>() / n as f64,
-                normal: normal.normalize(),
-            })
+        let face = |name: String, corners: Vec<DVec3>| {
+            net::face(name, corners, self.net_face_transmission)
         };
         let square = |name: String, corner: DVec3, u: DVec3, v: DVec3| {
             face(name, vec![corner, corner + u, corner + u + v, corner + v])
@@ -286,66 +271,20 @@ impl NetOfHypercube {
         Ok(parts)
     }
 
-    /// The surface of the net's faces: Dr TIM's colour filter that throws no shadow.
-    fn face(&self) -> Surface {
-        Surface::ColourFilter(ColourFilter {
-            transmission: self.net_face_transmission,
-        })
-    }
-}
-
-/// A face of the net, with its centroid and unit normal.
-struct Face {
-    part: Part,
-    centre: DVec3,
-    normal: DVec3,
-}
-
-impl Face {
-    /// Whether the face's centre lies on the parallelogram `p`, in its plane.
-    fn on(&self, p: &Parallelogram) -> bool {
-        let (u, v) = (p.span_u(), p.span_v());
-        let m = u.cross(v).normalize();
-        let d = self.centre - p.corner();
-        let scale = 1.0 + self.centre.abs().max_element() + p.corner().abs().max_element();
-        if self.normal.cross(m).length() > 1e-9 || d.dot(m).abs() > 1e-9 * scale {
-            return false;
-        }
-        // d = a u + b v: the Gram system.
-        let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
-        let det = uu * vv - uv * uv;
-        let a = (vv * d.dot(u) - uv * d.dot(v)) / det;
-        let b = (uu * d.dot(v) - uv * d.dot(u)) / det;
-        (0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)
-    }
 }
 
 impl LensDevice for NetOfHypercube {
     /// For each inner-cube edge (e.g. `inner cube's right front edge`) its wedges' parts,
     /// `90° wedge at EDGE/PART` and `180° wedge at EDGE/PART`; with `edges`, the net's edges
     /// and faces (`right face of the inner cube`, `top face of the right outer cube`,
-    /// `top face of the right sixth of the eighth cube`, ...). A face whose centre lies on a
-    /// shown wedge surface is left out: the surface stands in its place (a ray that met both
-    /// would meet only the one found first, the other being within its self-hit margin).
+    /// `top face of the right sixth of the eighth cube`, ...), but for those a shown wedge
+    /// surface stands in for ([`net::with_faces`]).
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let (mut parts, mut faces) = (Vec::new(), Vec::new());
         for side in self.sides()? {
             parts.extend(self.side(side, edges, &mut faces)?);
         }
-        let wedge_surfaces: Vec<&Parallelogram> = parts
-            .iter()
-            .filter_map(|p| match &p.shape {
-                Shape::Parallelogram(s) if !p.edge => Some(s),
-                _ => None,
-            })
-            .collect();
-        let shown: Vec<Part> = faces
-            .into_iter()
-            .filter(|f| !wedge_surfaces.iter().any(|w| f.on(w)))
-            .map(|f| f.part)
-            .collect();
-        parts.extend(shown);
-        Ok(parts)
+        Ok(net::with_faces(parts, faces))
     }
 
     /// Dr TIM's net structure: hidden, radius 0.02, `SurfaceColour.BLUE_SHINY`.
@@ -406,7 +345,7 @@ impl NetOfHypercubeKeys {
                 }),
             net_face_transmission: self
                 .net_face_transmission
-                .map_or(Colour::new(0.0, 198.0 / 255.0, 200.0 / 255.0), |t| t.0),
+                .map_or(CYAN_GLASS, |t| t.0),
         };
         Ok(Box::new(net))
     }
