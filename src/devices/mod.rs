@@ -16,9 +16,11 @@ mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
 mod lens_type;
+mod mirrored_space_cancelling_wedge;
 mod negative_space_wedge_star;
 mod net;
 mod net_of_hypercube;
+mod net_of_symmetric_4_simplex;
 mod ninky_nonk_silhouette;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
@@ -43,6 +45,7 @@ pub use lens_star::{LensStar, LensStarKeys};
 pub use lens_type::{Face, LensType, semitransparent_plane};
 pub use negative_space_wedge_star::{NegativeSpaceWedgeStar, NegativeSpaceWedgeStarKeys};
 pub use net_of_hypercube::{NetOfHypercube, NetOfHypercubeKeys};
+pub use net_of_symmetric_4_simplex::{NetOfSymmetric4Simplex, NetOfSymmetric4SimplexKeys};
 pub use ninky_nonk_silhouette::{NinkyNonkSilhouette, NinkyNonkSilhouetteKeys};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
@@ -110,6 +113,7 @@ kinds! {
         NegativeSpaceWedgeStar(NegativeSpaceWedgeStarKeys),
         SpaceCancellingWedge(SpaceCancellingWedgeKeys),
         NetOfHypercube(NetOfHypercubeKeys),
+        NetOfSymmetricFourSimplex(NetOfSymmetric4SimplexKeys),
         LensSimplicialComplex(LensSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
