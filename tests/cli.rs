@@ -929,6 +929,7 @@ fn every_example_scene_checks_and_renders() {
         "research/CubeInRayRotationSheetStar.toml",
         "research/SpaceAroundBlackHoleVisualiser.toml",
         "research/NetOfHypercubeVisualiser.toml",
+        "research/NetOfSymmetric4SimplexVisualiser.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

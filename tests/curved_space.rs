@@ -537,6 +537,18 @@ fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
             "{ type = \"net-of-hypercube\", up_direction = [2, 0, 0] }",
             &["up_direction", "along right_direction"],
         ),
+        (
+            "{ type = \"net-of-symmetric-four-simplex\", gluing_type = \"negative-space-wedges-with-containment-mirrors\" }",
+            &["containment-mirrors", "not built"],
+        ),
+        (
+            "{ type = \"net-of-symmetric-four-simplex\", gluing_type = \"lenses-quite-symmetric\" }",
+            &["gluing_type = \"lenses-quite-symmetric\"", "perfect"],
+        ),
+        (
+            "{ type = \"net-of-symmetric-four-simplex\", normal_to_enclosing_cube_3 = [1, 1, 0] }",
+            &["coplanar"],
+        ),
     ] {
         let text = format!("studio = \"none\"\n\n[[device]]\nname = \"s\"\nlenses = {lenses}\n");
         let path = write(dir.path(), "bad.toml", text);
@@ -551,4 +563,140 @@ fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
     let run = timbre(dir.path(), &["check", path_str(&path)]);
     run.assert_bad_input(&["teleports to another part of its device", "array"]);
     assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+}
+
+/// The shape of the object `name` of `d`, which must be a convex polygon: its vertices.
+fn polygon(d: &timbre::scene::SceneDescription, name: &str) -> Vec<DVec3> {
+    match &d
+        .objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no {name}"))
+        .shape
+    {
+        timbre::geometry::Shape::ConvexPolygon(p) => p.vertices().to_vec(),
+        other => panic!("{name}: {other:?}"),
+    }
+}
+
+/// The net of a symmetric 4-simplex. With outer tetrahedra of the inner one's height it is the
+/// net of the regular 4-simplex: every edge is as long as the inner tetrahedron's, and round
+/// each inner edge three regular tetrahedra (dihedral angle arccos ⅓ each) leave
+/// 360° − 3 arccos ⅓ = 148.4° for the wedge, whose legs are the two outer tetrahedra's facing
+/// faces. With half that height the eight vertices are the corners of the cube the inner
+/// tetrahedron is inscribed in, and the wedges are flat (180°). A ray through a perfect wedge's
+/// leg leaves the other leg turned by the wedge's angle about the edge.
+#[test]
+fn the_net_of_a_symmetric_4_simplex_is_regular_or_fills_a_cube() {
+    let net = |factor: f64, gluing: &str| {
+        common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"n\"\nshow_edges = true\n\
+             lenses = {{ type = \"net-of-symmetric-four-simplex\", centroid = [0, 0, 0], \
+             edge_length = 1.3, outer_tetrahedron_height_factor = {factor}, gluing_type = \"{gluing}\" }}\n"
+        ))
+    };
+    let e = 1.3;
+    let h = 0.5 * e / std::f64::consts::SQRT_2;
+    let vertex = |d: &timbre::scene::SceneDescription, k: usize| match &d
+        .objects
+        .iter()
+        .find(|o| o.name == format!("n/vertex {k}"))
+        .unwrap()
+        .shape
+    {
+        timbre::geometry::Shape::Sphere(s) => s.centre(),
+        other => panic!("{other:?}"),
+    };
+    let angle = |a: DVec3, b: DVec3| a.angle_between(b);
+    // The regular 4-simplex.
+    let d = net(1.0, "perfect");
+    let v: Vec<DVec3> = (0..8).map(|k| vertex(&d, k)).collect();
+    let edges: Vec<(usize, usize)> = (0..4)
+        .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
+        .chain((0..4).flat_map(|k| (0..4).filter(move |&f| f != k).map(move |f| (f, 4 + k))))
+        .collect();
+    assert_eq!(edges.len(), 18);
+    for &(a, b) in &edges {
+        assert!(((v[a] - v[b]).length() - e).abs() < 1e-12, "edge {a}-{b}");
+    }
+    let nu = std::f64::consts::TAU - 3.0 * (1.0f64 / 3.0).acos();
+    for (i, j) in [(0, 1), (0, 2), (0, 3), (1, 2), (2, 3), (3, 1)] {
+        let leg = |k: u32| {
+            polygon(
+                &d,
+                &format!("n/wedge at edge {i}-{j}/sub-wedge 0 leg surface {k}"),
+            )
+        };
+        let (l1, l2) = (leg(1), leg(2));
+        let mid = 0.5 * (v[i] + v[j]);
+        assert!(
+            (angle(l1[2] - mid, l2[2] - mid) - nu).abs() < 1e-12,
+            "edge {i}-{j}"
+        );
+        // Each leg's far vertex is an outer tetrahedron's fourth vertex.
+        for l in [l1[2], l2[2]] {
+            assert!(
+                (4..8).any(|k| (v[k] - l).length() < 1e-12),
+                "edge {i}-{j}: {l}"
+            );
+        }
+        // A ray from the outer tetrahedron onto leg 1 leaves leg 2 turned by ν.
+        let axis = (l1[2] - mid).cross(l2[2] - mid).normalize();
+        let inwards = (l1[2] - mid).cross(v[j] - v[i]).normalize();
+        let outside = if inwards.dot(l2[2] - mid) > 0.0 {
+            -inwards
+        } else {
+            inwards
+        };
+        let hit = mid + 0.4 * (l1[2] - mid) + 0.1 * (v[j] - v[i]);
+        let start = hit + 0.05 * outside;
+        let direction = (-outside + 0.2 * (v[j] - v[i])).normalize();
+        let text = format!(
+            "studio = \"none\"\n[[device]]\nname = \"n\"\nlenses = {{ type = \"net-of-symmetric-four-simplex\", \
+             centroid = [0, 0, 0], edge_length = 1.3, show_space_cancelling_wedges = true }}\n\
+             [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 3\n",
+            start.x, start.y, start.z, direction.x, direction.y, direction.z
+        );
+        let traced = trace(&text);
+        let t = &traced[0];
+        assert_eq!(
+            t.points[2].arrival,
+            trajectories::Arrival::Teleported,
+            "{:?}",
+            t.points
+        );
+        let arrival = t.points[1].position;
+        let after = (t.points[3].position - t.points[2].position).normalize();
+        let expected = rotate(direction, axis, nu);
+        assert!(
+            (after - expected).length() < 1e-9,
+            "edge {i}-{j}: {after} != {expected}"
+        );
+        let expected_exit = mid + rotate(arrival - mid, axis, nu);
+        assert!(
+            (t.points[2].position - expected_exit).length() < 1e-9,
+            "edge {i}-{j}"
+        );
+    }
+    // Half-height outer tetrahedra fill the cube; the wedges are flat.
+    let d = net(0.5, "negative-space-wedges");
+    for k in 0..8 {
+        let c = vertex(&d, k);
+        assert!(
+            [c.x, c.y, c.z].iter().all(|x| (x.abs() - h).abs() < 1e-12),
+            "vertex {k} = {c} is no corner of the cube of half side {h}"
+        );
+    }
+    for (i, j) in [(0, 1), (2, 3)] {
+        let prefix = format!("n/wedge at edge {i}-{j}/sub-wedge 0 ");
+        let (leg, bisector) = (
+            polygon(&d, &format!("{prefix}leg surface 1")),
+            polygon(&d, &format!("{prefix}bisector surface")),
+        );
+        let mid = 0.5 * (v[i] + v[j]);
+        // The negative-space wedge is half the flat wedge: 90° from leg 1 to the bisector.
+        assert!(
+            (angle(leg[2] - mid, bisector[2] - mid) - std::f64::consts::FRAC_PI_2).abs() < 1e-12
+        );
+    }
 }

@@ -4968,6 +4968,53 @@ fn research_net_of_hypercube_trajectory_is_straight_in_the_tesseract() {
     }
 }
 
+/// scenes/research/NetOfSymmetric4SimplexVisualiser.toml (Dr TIM's program of that name): the
+/// inner tetrahedron's vertices are alternate corners of the cube of side 1/√2 about the origin,
+/// and round each of its edges three regular tetrahedra leave 360° − 3 arccos ⅓ for the wedge.
+/// So each time the trajectory is teleported from a wedge's leg, at the edge from vertex I to
+/// vertex J, it leaves the other leg on its line turned by that angle about that edge.
+#[test]
+fn research_net_of_4_simplex_trajectory_turns_by_the_deficit_angle() {
+    let rays = trace_file(&scene("research/NetOfSymmetric4SimplexVisualiser"));
+    let ray = &rays[0];
+    let h = 0.5 / std::f64::consts::SQRT_2;
+    let v = [
+        DVec3::new(h, h, h),
+        DVec3::new(h, -h, -h),
+        DVec3::new(-h, h, -h),
+        DVec3::new(-h, -h, h),
+    ];
+    let nu = TAU - 3.0 * (1.0f64 / 3.0).acos();
+    let rotate = |p: DVec3, axis: DVec3, angle: f64| {
+        p * angle.cos() + axis.cross(p) * angle.sin() + axis * axis.dot(p) * (1.0 - angle.cos())
+    };
+    let mut teleports = 0;
+    for k in 2..ray.points.len() - 1 {
+        if ray.points[k].arrival != "teleported" {
+            continue;
+        }
+        let (before, at, after, next) = (
+            ray.points[k - 2].position,
+            ray.points[k - 1].position,
+            ray.points[k].position,
+            ray.points[k + 1].position,
+        );
+        let object = ray.points[k - 1].object.as_deref().unwrap();
+        let edge = object.split("wedge at edge ").nth(1).unwrap();
+        let i: usize = edge[..1].parse().unwrap();
+        let j: usize = edge[2..3].parse().unwrap();
+        let axis = (v[j] - v[i]).normalize();
+        let (d_in, d_out) = ((at - before).normalize(), (next - after).normalize());
+        let turned = [nu, -nu].iter().any(|&a| {
+            (v[i] + rotate(at - v[i], axis, a) - after).length() < 1e-9
+                && (rotate(d_in, axis, a) - d_out).length() < 1e-9
+        });
+        assert!(turned, "at {at} on {object}: to {after} along {d_out}");
+        teleports += 1;
+    }
+    assert!(teleports >= 5, "{teleports} teleports");
+}
+
 /// scenes/research/CubeInRayRotationSheetStar.toml (Dr TIM's program of that name): each of the
 /// eight sheets turns a ray's direction by 44° about the star's axis oriented along the
 /// crossing, so a line of sight from the eye that goes round the axis through sheet after sheet

@@ -60,8 +60,9 @@ impl MirroredSpaceCancellingWedge {
                     .into(),
             ),
             other => Err(format!(
-                "gluing_type = {other:?} is not one Dr TIM's nets of 4-simplices offer; use \
-                 \"perfect\", \"negative-space-wedges\" or \"negative-space-wedges-symmetric\""
+                "gluing_type = \"{}\" is not one Dr TIM's nets of 4-simplices offer; use \
+                 \"perfect\", \"negative-space-wedges\" or \"negative-space-wedges-symmetric\"",
+                crate::keys::kebab_case(&format!("{other:?}"))
             )),
         }
     }
@@ -86,7 +87,10 @@ impl MirroredSpaceCancellingWedge {
             ));
         }
         let a = self.apex_edge_direction.normalize();
-        let b = self.bisector_direction.reject_from_normalized(a).normalize();
+        let b = self
+            .bisector_direction
+            .reject_from_normalized(a)
+            .normalize();
         let c = b.cross(a);
         let half = 0.5 * self.apex_edge_length * a;
         let (bottom, top) = (self.apex_edge_centre - half, self.apex_edge_centre + half);
@@ -140,8 +144,16 @@ impl MirroredSpaceCancellingWedge {
                     })
                 };
                 vec![
-                    (name("leg surface 1"), leg1, to(triangle("leg surface 2", leg2)?)),
-                    (name("leg surface 2"), leg2, to(triangle("leg surface 1", leg1)?)),
+                    (
+                        name("leg surface 1"),
+                        leg1,
+                        to(triangle("leg surface 2", leg2)?),
+                    ),
+                    (
+                        name("leg surface 2"),
+                        leg2,
+                        to(triangle("leg surface 1", leg1)?),
+                    ),
                 ]
             } else {
                 vec![

@@ -50,9 +50,7 @@ impl NetFace {
         let scale = 1.0 + self.centre.abs().max_element() + origin.abs().max_element();
         self.normal.cross(m).length() < 1e-9
             && (self.centre - origin).dot(m).abs() < 1e-9 * scale
-            && shape
-                .point_at(shape.coordinates(self.centre, 0))
-                .is_some()
+            && shape.point_at(shape.coordinates(self.centre, 0)).is_some()
     }
 }
 

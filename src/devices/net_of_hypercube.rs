@@ -270,7 +270,6 @@ impl NetOfHypercube {
         ]);
         Ok(parts)
     }
-
 }
 
 impl LensDevice for NetOfHypercube {
@@ -343,9 +342,7 @@ impl NetOfHypercubeKeys {
                         .map_or(0.02 - TINY, |r| r.0),
                     surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
                 }),
-            net_face_transmission: self
-                .net_face_transmission
-                .map_or(CYAN_GLASS, |t| t.0),
+            net_face_transmission: self.net_face_transmission.map_or(CYAN_GLASS, |t| t.0),
         };
         Ok(Box::new(net))
     }

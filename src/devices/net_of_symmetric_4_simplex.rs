@@ -80,9 +80,7 @@ impl NetOfSymmetric4Simplex {
     pub fn apex_angle(&self) -> f64 {
         let atan = |x: f64| x.atan();
         let r = 2.0 * std::f64::consts::SQRT_2;
-        2.0 * std::f64::consts::PI
-            - atan(r)
-            - 2.0 * atan(r * self.outer_tetrahedron_height_factor)
+        2.0 * std::f64::consts::PI - atan(r) - 2.0 * atan(r * self.outer_tetrahedron_height_factor)
     }
 }
 
@@ -129,7 +127,8 @@ impl LensDevice for NetOfSymmetric4Simplex {
             )?);
         }
         // The outer tetrahedra's edges: from the three vertices of the face each sits on.
-        let outer_edges = (0..4).flat_map(|k| (0..4).filter(move |&f| f != k).map(move |f| [f, 4 + k]));
+        let outer_edges =
+            (0..4).flat_map(|k| (0..4).filter(move |&f| f != k).map(move |f| [f, 4 + k]));
         if let Some(e) = edges {
             let vertices = Edges {
                 radius: e.radius + TINY,
