@@ -531,7 +531,15 @@ fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
         ),
         (
             "{ type = \"net-of-hypercube\", gluing_type = \"negative-space-wedges-with-containment-mirrors\" }",
+            &["number_of_negative_space_wedges = 2 or more"],
+        ),
+        (
+            "{ type = \"space-cancelling-wedge\", apex_angle_deg = 180, gluing_type = \"negative-space-wedges-with-containment-mirrors\" }",
             &["containment mirrors", "never meet"],
+        ),
+        (
+            "{ type = \"space-cancelling-wedge\", apex_angle_deg = 0.3, gluing_type = \"lenses-quite-symmetric\" }",
+            &["above 0.4°"],
         ),
         (
             "{ type = \"net-of-hypercube\", up_direction = [2, 0, 0] }",
@@ -547,7 +555,7 @@ fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
         ),
         (
             "{ type = \"net-of-symmetric-four-simplex\", normal_to_enclosing_cube_3 = [1, 1, 0] }",
-            &["coplanar"],
+            &["perpendicular"],
         ),
     ] {
         let text = format!("studio = \"none\"\n\n[[device]]\nname = \"s\"\nlenses = {lenses}\n");
@@ -651,32 +659,35 @@ fn the_net_of_a_symmetric_4_simplex_is_regular_or_fills_a_cube() {
         let hit = mid + 0.4 * (l1[2] - mid) + 0.1 * (v[j] - v[i]);
         let start = hit + 0.05 * outside;
         let direction = (-outside + 0.2 * (v[j] - v[i])).normalize();
-        let text = format!(
-            "studio = \"none\"\n[[device]]\nname = \"n\"\nlenses = {{ type = \"net-of-symmetric-four-simplex\", \
-             centroid = [0, 0, 0], edge_length = 1.3, show_space_cancelling_wedges = true }}\n\
-             [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 3\n",
-            start.x, start.y, start.z, direction.x, direction.y, direction.z
-        );
-        let traced = trace(&text);
-        let t = &traced[0];
-        assert_eq!(
-            t.points[2].arrival,
-            trajectories::Arrival::Teleported,
-            "{:?}",
-            t.points
-        );
-        let arrival = t.points[1].position;
-        let after = (t.points[3].position - t.points[2].position).normalize();
-        let expected = rotate(direction, axis, nu);
-        assert!(
-            (after - expected).length() < 1e-9,
-            "edge {i}-{j}: {after} != {expected}"
-        );
-        let expected_exit = mid + rotate(arrival - mid, axis, nu);
-        assert!(
-            (t.points[2].position - expected_exit).length() < 1e-9,
-            "edge {i}-{j}"
-        );
+        // One sub-wedge, or two (which a perfect wedge makes as one).
+        for n in [1, 2] {
+            let text = format!(
+                "studio = \"none\"\n[[device]]\nname = \"n\"\nlenses = {{ type = \"net-of-symmetric-four-simplex\", \
+                 centroid = [0, 0, 0], edge_length = 1.3, number_of_negative_space_wedges = {n} }}\n\
+                 [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 3\n",
+                start.x, start.y, start.z, direction.x, direction.y, direction.z
+            );
+            let traced = trace(&text);
+            let t = &traced[0];
+            assert_eq!(
+                t.points[2].arrival,
+                trajectories::Arrival::Teleported,
+                "{:?}",
+                t.points
+            );
+            let arrival = t.points[1].position;
+            let after = (t.points[3].position - t.points[2].position).normalize();
+            let expected = rotate(direction, axis, nu);
+            assert!(
+                (after - expected).length() < 1e-9,
+                "edge {i}-{j}: {after} != {expected}"
+            );
+            let expected_exit = mid + rotate(arrival - mid, axis, nu);
+            assert!(
+                (t.points[2].position - expected_exit).length() < 1e-9,
+                "edge {i}-{j}"
+            );
+        }
     }
     // Half-height outer tetrahedra fill the cube; the wedges are flat.
     let d = net(0.5, "negative-space-wedges");
@@ -699,4 +710,123 @@ fn the_net_of_a_symmetric_4_simplex_is_regular_or_fills_a_cube() {
             (angle(leg[2] - mid, bisector[2] - mid) - std::f64::consts::FRAC_PI_2).abs() < 1e-12
         );
     }
+}
+
+/// Dr TIM's `PositiveSpaceOnlyOrthographicCamera` (the orthographic camera's
+/// `positive_space_only`): 4 wedges cutting out 240° leave gaps of 30° centred on 45°, 135°,
+/// ...; the camera stretches the 90° sector of pixels about each gap's centre onto the gap. A
+/// small sphere in the gap at azimuth 40° (2 from the axis) therefore appears, stretching the
+/// angle, at azimuth 45° + (40° − 45°) × 90°/30° = 30°, 2 from the axis; stretching the width,
+/// at the same distance along the gap's centre line and tan 45°/tan 15° times as far across it.
+#[test]
+fn the_positive_space_only_camera_stretches_the_gaps_between_wedges() {
+    let (r, phi, centre) = (2.0f64, 40f64.to_radians(), 45f64.to_radians());
+    // Camera right +z, up −x, looking down −y; azimuth from right towards up.
+    let point = r * (phi.cos() * DVec3::Z - phi.sin() * DVec3::X);
+    for (method, expected) in [
+        ("stretch-angle", {
+            let a = centre + (phi - centre) * 3.0;
+            (r * a.cos(), r * a.sin())
+        }),
+        ("stretch-width", {
+            let (along, across) = (r * (phi - centre).cos(), r * (phi - centre).sin());
+            let across = across * 45f64.to_radians().tan() / 15f64.to_radians().tan();
+            (
+                along * centre.cos() - across * centre.sin(),
+                along * centre.sin() + across * centre.cos(),
+            )
+        }),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n[render]\nwidth = 201\nheight = 201\n\
+             [camera]\ntype = \"orthographic\"\nposition = [0, 100, 0]\nview_direction = [0, -1, 0]\n\
+             up = [-1, 0, 0]\nview_width = 8\n\
+             positive_space_only = {{ deficit_angle_deg = 240, number_of_negative_space_wedges = 4, \
+             leftover_space_stretching_method = \"{method}\" }}\n\
+             [[object]]\nshape = {{ type = \"sphere\", centre = [{}, {}, {}], radius = 0.05 }}\n\
+             surface = {{ type = \"constant-colour\", colour = [1, 1, 1] }}\n",
+            point.x, point.y, point.z
+        );
+        let image = common::images::render_text(&text);
+        let (mut sum, mut n) = ((0.0, 0.0), 0.0);
+        for y in 0..image.height {
+            for x in 0..image.width {
+                if image.pixels[(y * image.width + x) as usize].x > 0.5 {
+                    sum = (sum.0 + x as f64, sum.1 + y as f64);
+                    n += 1.0;
+                }
+            }
+        }
+        assert!(n > 0.0, "{method}: the sphere is not seen");
+        let pitch = 8.0 / 200.0;
+        let (x, y) = ((sum.0 / n - 100.0) * pitch, (100.0 - sum.1 / n) * pitch);
+        assert!(
+            (x - expected.0).abs() < 1.0 * pitch && (y - expected.1).abs() < 1.0 * pitch,
+            "{method}: seen at ({x}, {y}), expected {expected:?}"
+        );
+    }
+}
+
+/// A device's teleporting surfaces move with its transform: a perfect wedge scaled by 2.5 (and
+/// by −2.5, a mirror), turned by 37° about (1, 2, 3) and moved sends the transformed ray where
+/// the transform takes the untransformed ray's exit, along the turned (or mirrored) direction.
+/// A stretching transform is refused.
+#[test]
+fn a_transformed_perfect_wedge_teleports_as_the_transform_says() {
+    let lenses = "{ type = \"space-cancelling-wedge\", gluing_type = \"perfect\", \
+                  apex_edge_centre = [0, 0, 0], apex_edge_direction = [0, 0, 1], \
+                  bisector_direction = [1, 1, 0] }";
+    let scene = |transform: &str, start: DVec3, d: DVec3| {
+        format!(
+            "studio = \"none\"\n[[device]]\nname = \"w\"\n{transform}lenses = {lenses}\n\
+             [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 3\n",
+            start.x, start.y, start.z, d.x, d.y, d.z
+        )
+    };
+    let (start, direction) = (
+        DVec3::new(0.45, -0.5, 0.1),
+        DVec3::new(0.1, 1.0, 0.05).normalize(),
+    );
+    let plain = trace(&scene("", start, direction));
+    let (exit, out) = (plain[0].points[2].position, plain[0].direction);
+    assert_eq!(
+        plain[0].points[2].arrival,
+        trajectories::Arrival::Teleported
+    );
+    let axis = DVec3::new(1.0, 2.0, 3.0).normalize();
+    let angle = 37f64.to_radians();
+    let shift = DVec3::new(0.3, -1.0, 2.0);
+    for k in [2.5, -2.5] {
+        let map = |p: DVec3| rotate(k * p, axis, angle) + shift;
+        let turn = |d: DVec3| rotate(k.signum() * d, axis, angle);
+        let transform = format!(
+            "transform = {{ scale = {k}, rotate = {{ axis = [1, 2, 3], angle_deg = 37 }}, translate = [0.3, -1, 2] }}\n"
+        );
+        let moved = trace(&scene(&transform, map(start), turn(direction)));
+        let t = &moved[0];
+        assert_eq!(
+            t.points[2].arrival,
+            trajectories::Arrival::Teleported,
+            "{k}: {:?}",
+            t.points
+        );
+        assert!(
+            (t.points[2].position - map(exit)).length() < 1e-9,
+            "scale {k}: exit {}",
+            t.points[2].position
+        );
+        assert!(
+            (t.direction - turn(out)).length() < 1e-9,
+            "scale {k}: direction {}",
+            t.direction
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "studio = \"none\"\n\n[[device]]\nname = \"w\"\ntransform = {{ scale = [1, 3, 1] }}\nlenses = {lenses}\n"
+    );
+    let path = write(dir.path(), "stretched.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["teleporting surfaces", "not stretched"]);
+    assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
 }

@@ -12,8 +12,10 @@
 
 pub mod aperture_diffraction;
 pub mod doppler;
+mod positive_space_only;
 mod shutter;
 
+pub use positive_space_only::{PositiveSpaceOnly, PositiveSpaceOnlyKeys, Stretching};
 pub use shutter::{LensType, Shutter, ShutterGeometry};
 
 use std::fmt;
@@ -44,8 +46,13 @@ pub enum Projection {
     /// direction.
     Perspective { horizontal_view_angle: f64 },
     /// Chief rays parallel to the view direction, from the points of the plane through the
-    /// camera position; `view_width` spans the centres of the outermost pixel columns.
-    Orthographic { view_width: f64 },
+    /// camera position; `view_width` spans the centres of the outermost pixel columns. With
+    /// `positive_space_only`, the points are those it maps each pixel's to, about the camera
+    /// position, azimuth 0 along the camera's right ([`PositiveSpaceOnly`]).
+    Orthographic {
+        view_width: f64,
+        positive_space_only: Option<PositiveSpaceOnly>,
+    },
     /// The whole sphere of directions, 360° by 180°, in equal steps of longitude and latitude
     /// (an equirectangular panorama, Dr TIM's `SurroundAnaglyphCamera` with its
     /// `StandardPanorama3DGeometry`): column x + ½ of W is at azimuth φ = 2π (x + ½) / W from
@@ -119,7 +126,7 @@ impl Camera {
             Projection::Perspective {
                 horizontal_view_angle,
             } => 2.0 * (0.5 * horizontal_view_angle).tan(),
-            Projection::Orthographic { view_width } => view_width,
+            Projection::Orthographic { view_width, .. } => view_width,
             Projection::Equirectangular => 0.0,
         };
         Some(Camera {
@@ -277,10 +284,20 @@ impl Camera {
                 self.position,
                 self.view_direction + self.across(width, height, x, y),
             ),
-            Projection::Orthographic { .. } => (
-                self.position + self.across(width, height, x, y),
-                self.view_direction,
-            ),
+            Projection::Orthographic {
+                positive_space_only,
+                ..
+            } => {
+                let across = self.across(width, height, x, y);
+                let across = match positive_space_only {
+                    None => across,
+                    Some(p) => {
+                        let (x, y) = p.remap(across.dot(self.right), across.dot(self.up));
+                        x * self.right + y * self.up
+                    }
+                };
+                (self.position + across, self.view_direction)
+            }
             Projection::Equirectangular => {
                 let phi = std::f64::consts::TAU * (x + 0.5) / width as f64;
                 let theta = std::f64::consts::PI * (y + 0.5) / height as f64;
@@ -523,8 +540,22 @@ impl fmt::Display for Description<'_> {
         // Degrees to 9 decimals (20° comes back from radians as 19.999999999999996).
         let degrees = |a: f64| (a.to_degrees() * 1e9).round() / 1e9;
         match (camera.projection(), camera.aperture_radius()) {
-            (Projection::Orthographic { view_width }, _) => {
-                write!(f, "orthographic, {view_width} wide")?
+            (
+                Projection::Orthographic {
+                    view_width,
+                    positive_space_only,
+                },
+                _,
+            ) => {
+                write!(f, "orthographic, {view_width} wide")?;
+                if let Some(p) = positive_space_only {
+                    write!(
+                        f,
+                        ", positive space only ({} wedges, deficit {}°)",
+                        p.number_of_negative_space_wedges,
+                        degrees(p.deficit_angle)
+                    )?
+                }
             }
             (Projection::Equirectangular, _) => write!(f, "equirectangular, 360° × 180°")?,
             (

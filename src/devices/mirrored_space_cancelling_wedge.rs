@@ -8,7 +8,9 @@
 //! at θ_w ± ν/(2N).
 //!
 //! - `perfect`: the legs teleport to each other (Dr TIM's `Teleporting`, `PERFECT`), turning a
-//!   ray by ν/N about the apex edge.
+//!   ray by ν/N about the apex edge. Neighbouring sub-wedges' legs coincide, and a ray leaving
+//!   one leg within the self-hit margin of the coincident one would not take the next jump: so
+//!   whatever N, one pair is made, the legs at ∓ν/2 (the N jumps of ν/N in one).
 //! - `negative-space-wedges`, `negative-space-wedges-symmetric`: leg 1 (at θ_w + ν/(2N)) and
 //!   the bisector surface (at θ_w) rotate ray directions by 180° about their normals, a
 //!   negative-space wedge of ν/(2N) that turns a ray by ν/N.
@@ -20,11 +22,11 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use super::space_cancelling_wedge::Gluing;
+use super::space_cancelling_wedge::{Gluing, check_number_of_wedges, teleporting_to};
 use super::{Edges, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::surfaces::Surface;
-use crate::surfaces::metatoys::{RayRotating, RotationAxis, Teleportation, Teleporting};
+use crate::surfaces::metatoys::{RayRotating, RotationAxis};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct MirroredSpaceCancellingWedge {
@@ -42,9 +44,6 @@ pub struct MirroredSpaceCancellingWedge {
     /// N ≥ 1 sub-wedges.
     pub number_of_negative_space_wedges: u32,
 }
-
-/// Most sub-wedges a mirrored wedge may have (they all meet on the apex edge).
-const MAX_SUB_WEDGES: u32 = 5_000;
 
 impl MirroredSpaceCancellingWedge {
     /// Refuses what Dr TIM's mirrored wedge does not make (or not as meant).
@@ -73,12 +72,11 @@ impl MirroredSpaceCancellingWedge {
     /// apex edge and from its ends to the third vertices).
     pub fn parts_named(&self, prefix: &str, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         Self::check_gluing(self.gluing)?;
-        let n = self.number_of_negative_space_wedges;
-        if n == 0 || n > MAX_SUB_WEDGES {
-            return Err(format!(
-                "number_of_negative_space_wedges = {n} must be from 1 to {MAX_SUB_WEDGES}"
-            ));
-        }
+        check_number_of_wedges(self.number_of_negative_space_wedges)?;
+        let n = match self.gluing {
+            Gluing::Perfect => 1,
+            _ => self.number_of_negative_space_wedges,
+        };
         let nu = self.apex_angle;
         if !(nu > 0.0 && nu <= 2.0 * PI) {
             return Err(format!(
@@ -133,26 +131,19 @@ impl MirroredSpaceCancellingWedge {
             let name = |s: &str| format!("sub-wedge {w} {s}");
             let (leg1, leg2) = (vertex(centre + 0.5 * width), vertex(centre - 0.5 * width));
             let surfaces: Vec<(String, DVec3, Surface)> = if self.gluing == Gluing::Perfect {
-                let to = |destination: Shape| {
-                    Surface::Teleporting(Teleporting {
-                        destination: Some(destination),
-                        teleportation: Teleportation::Perfect,
-                        positional_error: 0.0,
-                        angular_error: 0.0,
-                        transmission_coefficient: self.surface_transmission_coefficient,
-                        reflection_coefficient: 1.0,
-                    })
+                let to = |destination| {
+                    teleporting_to(destination, self.surface_transmission_coefficient)
                 };
                 vec![
                     (
                         name("leg surface 1"),
                         leg1,
-                        to(triangle("leg surface 2", leg2)?),
+                        to(triangle(&name("leg surface 2"), leg2)?),
                     ),
                     (
                         name("leg surface 2"),
                         leg2,
-                        to(triangle("leg surface 1", leg1)?),
+                        to(triangle(&name("leg surface 1"), leg1)?),
                     ),
                 ]
             } else {

@@ -4,16 +4,26 @@
 
 use glam::{DVec2, DVec3};
 
-use super::Part;
+use super::{Edges, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::math::Colour;
-use crate::surfaces::{ColourFilter, Surface};
+use crate::surfaces::{ColourFilter, Coloured, Surface};
 
 /// Dr TIM's `MyMath.TINY`, by which the wedges' edges are thinner than the net's.
 pub const TINY: f64 = 1e-4;
 
 /// Dr TIM's `ColourFilter.CYAN_GLASS`, the nets' faces by default: cyan (0, 198, 200)/255.
 pub const CYAN_GLASS: Colour = Colour::new(0.0, 198.0 / 255.0, 200.0 / 255.0);
+
+/// The edges of a net's wedges, if `shown`: shiny red (Dr TIM's `RED_SHINY`), of `radius` where
+/// given, else (as Dr TIM's) [`TINY`] thinner than the net's edges, whose radius is 0.02 where
+/// they are hidden.
+pub fn wedge_edges(shown: bool, radius: Option<f64>, net_edges: Option<&Edges>) -> Option<Edges> {
+    shown.then(|| Edges {
+        radius: radius.unwrap_or_else(|| net_edges.map_or(0.02, |e| e.radius) - TINY),
+        surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
+    })
+}
 
 /// A face of a net, with its centroid and unit normal.
 pub struct NetFace {

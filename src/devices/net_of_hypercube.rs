@@ -16,12 +16,11 @@
 use glam::DVec3;
 use serde::Deserialize;
 
-use super::net::{self, CYAN_GLASS, NetFace, TINY};
+use super::net::{self, CYAN_GLASS, NetFace};
 use super::space_cancelling_wedge::{Gluing, SpaceCancellingWedge};
 use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::keys::{Coefficient, Direction, Positive, Rgb, Vector, throughput};
 use crate::math::Colour;
-use crate::surfaces::{Coloured, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct NetOfHypercube {
@@ -36,35 +35,31 @@ pub struct NetOfHypercube {
     pub gluing: Gluing,
     pub number_of_negative_space_wedges: u32,
     pub distance_p1_p2: f64,
-    /// The wedges' edges (Dr TIM's `showSpaceCancellingWedgeEdges`), if shown.
-    pub space_cancelling_wedge_edges: Option<Edges>,
+    /// Whether the wedges' edges are shown (Dr TIM's `showSpaceCancellingWedgeEdges`).
+    pub show_space_cancelling_wedge_edges: bool,
+    /// Their radius, where given ([`net::wedge_edges`]).
+    pub space_cancelling_wedge_edge_radius: Option<f64>,
     /// The colour filter of the net's faces, shown with its edges.
     pub net_face_transmission: Colour,
 }
 
-/// One of the six sides of the inner cube: its outward normal n̂ and the normals m̂ and ô of
-/// two other sides, with their names (Dr TIM's `NamedDirection`s).
+/// A direction with its name and its opposite's (Dr TIM's `NamedDirection`).
 #[derive(Clone, Copy)]
-struct Side {
-    n: (DVec3, &'static str),
-    m: (DVec3, &'static str),
-    o: (DVec3, &'static str),
-}
+struct Named(DVec3, &'static str, &'static str);
 
-/// The name of the opposite direction.
-fn opposite(name: &str) -> &'static str {
-    match name {
-        "right" => "left",
-        "left" => "right",
-        "top" => "bottom",
-        "bottom" => "top",
-        "front" => "back",
-        _ => "front",
+impl Named {
+    fn reverse(self) -> Named {
+        Named(-self.0, self.2, self.1)
     }
 }
 
-fn reverse((v, name): (DVec3, &'static str)) -> (DVec3, &'static str) {
-    (-v, opposite(name))
+/// One of the six sides of the inner cube: its outward normal n̂ and the normals m̂ and ô of
+/// two other sides.
+#[derive(Clone, Copy)]
+struct Side {
+    n: Named,
+    m: Named,
+    o: Named,
 }
 
 impl NetOfHypercube {
@@ -80,20 +75,30 @@ impl NetOfHypercube {
             ));
         }
         let up = up.normalize();
-        let (r, u, f) = ((right, "right"), (up, "top"), (up.cross(right), "front"));
+        let (r, u, f) = (
+            Named(right, "right", "left"),
+            Named(up, "top", "bottom"),
+            Named(up.cross(right), "front", "back"),
+        );
         let side = |n, m, o| Side { n, m, o };
         Ok([
             side(r, u, f),
-            side(reverse(r), u, reverse(f)),
+            side(r.reverse(), u, f.reverse()),
             side(u, f, r),
-            side(reverse(u), f, reverse(r)),
+            side(u.reverse(), f, r.reverse()),
             side(f, r, u),
-            side(reverse(f), r, reverse(u)),
+            side(f.reverse(), r, u.reverse()),
         ])
     }
 
-    /// The two wedges along the inner cube's edge from `start` to `end`.
-    fn wedges(&self, name: &str, start: DVec3, end: DVec3) -> Result<Vec<Part>, String> {
+    /// The two wedges along the inner cube's edge from `start` to `end`, with `edges`.
+    fn wedges(
+        &self,
+        name: &str,
+        start: DVec3,
+        end: DVec3,
+        edges: Option<&Edges>,
+    ) -> Result<Vec<Part>, String> {
         let s = self.side_length;
         let k = self.space_cancelling_wedge_leg_length_factor;
         let mid = 0.5 * (start + end);
@@ -113,7 +118,6 @@ impl NetOfHypercube {
                 number_of_negative_space_wedges: self.number_of_negative_space_wedges,
                 distance_p1_p2: self.distance_p1_p2,
             };
-        let edges = self.space_cancelling_wedge_edges.as_ref();
         let mut parts = wedge(std::f64::consts::FRAC_PI_2, mid, s * k)
             .parts_named(&format!("90° wedge at {name}/"), edges)?;
         parts.extend(
@@ -134,13 +138,14 @@ impl NetOfHypercube {
         &self,
         side: Side,
         edges: Option<&Edges>,
+        wedge_edges: Option<&Edges>,
         faces: &mut Vec<NetFace>,
     ) -> Result<Vec<Part>, String> {
         let h = 0.5 * self.side_length;
         let s = self.side_length;
         let Side { n, m, o } = side;
         let (nn, mn, on) = (n.1, m.1, o.1);
-        let (mo, oo) = (opposite(mn), opposite(on));
+        let (mo, oo) = (m.2, o.2);
         let corner = |along_n: f64, o_sign: f64, m_sign: f64| {
             self.centre + along_n * n.0 + o_sign * h * o.0 + m_sign * h * m.0
         };
@@ -152,11 +157,13 @@ impl NetOfHypercube {
             &format!("inner cube's {nn} {on} edge"),
             inner(1.0, -1.0),
             inner(1.0, 1.0),
+            wedge_edges,
         )?);
         parts.extend(self.wedges(
             &format!("inner cube's {nn} {oo} edge"),
             inner(-1.0, -1.0),
             inner(-1.0, 1.0),
+            wedge_edges,
         )?);
         let Some(edges) = edges else {
             return Ok(parts);
@@ -279,9 +286,27 @@ impl LensDevice for NetOfHypercube {
     /// `top face of the right sixth of the eighth cube`, ...), but for those a shown wedge
     /// surface stands in for ([`net::with_faces`]).
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        // Dr TIM's containment mirrors, at 91° to the sides, meet the long legs only in
+        // negative-space wedges under 89°: the 180° wedges need at least two.
+        if self.gluing == Gluing::NegativeSpaceWedgesWithContainmentMirrors
+            && self.number_of_negative_space_wedges < 2
+        {
+            return Err(
+                "gluing_type = \"negative-space-wedges-with-containment-mirrors\" needs \
+                        number_of_negative_space_wedges = 2 or more in a net of a hypercube (the \
+                        containment mirrors of its 180° wedges, at 91° to the sides, meet the \
+                        long legs only in negative-space wedges under 89°)"
+                    .into(),
+            );
+        }
+        let wedge_edges = net::wedge_edges(
+            self.show_space_cancelling_wedge_edges,
+            self.space_cancelling_wedge_edge_radius,
+            edges,
+        );
         let (mut parts, mut faces) = (Vec::new(), Vec::new());
         for side in self.sides()? {
-            parts.extend(self.side(side, edges, &mut faces)?);
+            parts.extend(self.side(side, edges, wedge_edges.as_ref(), &mut faces)?);
         }
         Ok(net::with_faces(parts, faces))
     }
@@ -333,15 +358,12 @@ impl NetOfHypercubeKeys {
             gluing: self.gluing_type.unwrap_or(Gluing::Perfect),
             number_of_negative_space_wedges: self.number_of_negative_space_wedges.unwrap_or(1),
             distance_p1_p2: self.distance_p1_p2.map_or(1.0, |d| d.0),
-            space_cancelling_wedge_edges: self
+            show_space_cancelling_wedge_edges: self
                 .show_space_cancelling_wedge_edges
-                .unwrap_or(false)
-                .then(|| Edges {
-                    radius: self
-                        .space_cancelling_wedge_edge_radius
-                        .map_or(0.02 - TINY, |r| r.0),
-                    surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
-                }),
+                .unwrap_or(false),
+            space_cancelling_wedge_edge_radius: self
+                .space_cancelling_wedge_edge_radius
+                .map(|r| r.0),
             net_face_transmission: self.net_face_transmission.map_or(CYAN_GLASS, |t| t.0),
         };
         Ok(Box::new(net))

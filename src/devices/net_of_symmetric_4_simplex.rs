@@ -24,7 +24,6 @@ use super::space_cancelling_wedge::Gluing;
 use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::keys::{Coefficient, Direction, Positive, Rgb, Vector, throughput};
 use crate::math::Colour;
-use crate::surfaces::{Coloured, Surface};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct NetOfSymmetric4Simplex {
@@ -39,8 +38,10 @@ pub struct NetOfSymmetric4Simplex {
     pub gluing: Gluing,
     pub number_of_negative_space_wedges: u32,
     pub show_net_faces: bool,
-    /// The wedges' edges (Dr TIM's `showSpaceCancellingWedgeEdges`), if shown.
-    pub space_cancelling_wedge_edges: Option<Edges>,
+    /// Whether the wedges' edges are shown (Dr TIM's `showSpaceCancellingWedgeEdges`).
+    pub show_space_cancelling_wedge_edges: bool,
+    /// Their radius, where given ([`net::wedge_edges`]).
+    pub space_cancelling_wedge_edge_radius: Option<f64>,
     pub net_face_transmission: Colour,
 }
 
@@ -92,12 +93,24 @@ impl LensDevice for NetOfSymmetric4Simplex {
     /// ([`net::with_faces`]).
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let [n1, n2, n3] = self.normals_to_enclosing_cube;
-        if n1.cross(n2).dot(n3).abs() < 1e-9 {
+        // Dr TIM uses them as given, but only perpendicular ones make the inner tetrahedron
+        // regular, which the wedges' angle assumes: others would leave the net open.
+        if [n1.dot(n2), n2.dot(n3), n3.dot(n1)]
+            .iter()
+            .any(|c| c.abs() > 1e-9)
+        {
             return Err(
-                "the normals to the enclosing cube are coplanar: the inner tetrahedron would be flat"
+                "the normals to the enclosing cube (normal_to_enclosing_cube_1, _2, _3) \
+                        must be perpendicular to each other: only then is the inner tetrahedron \
+                        regular, as the wedges' angle assumes"
                     .into(),
             );
         }
+        let wedge_edges = net::wedge_edges(
+            self.show_space_cancelling_wedge_edges,
+            self.space_cancelling_wedge_edge_radius,
+            edges,
+        );
         let v = self.vertices();
         let mut parts = Vec::new();
         for [i, j] in INNER_EDGES {
@@ -121,10 +134,9 @@ impl LensDevice for NetOfSymmetric4Simplex {
                 gluing: self.gluing,
                 number_of_negative_space_wedges: self.number_of_negative_space_wedges,
             };
-            parts.extend(wedge.parts_named(
-                &format!("wedge at edge {i}-{j}/"),
-                self.space_cancelling_wedge_edges.as_ref(),
-            )?);
+            parts.extend(
+                wedge.parts_named(&format!("wedge at edge {i}-{j}/"), wedge_edges.as_ref())?,
+            );
         }
         // The outer tetrahedra's edges: from the three vertices of the face each sits on.
         let outer_edges =
@@ -222,15 +234,12 @@ impl NetOfSymmetric4SimplexKeys {
             gluing,
             number_of_negative_space_wedges: self.number_of_negative_space_wedges.unwrap_or(1),
             show_net_faces: self.show_net_faces.unwrap_or(false),
-            space_cancelling_wedge_edges: self
+            show_space_cancelling_wedge_edges: self
                 .show_space_cancelling_wedge_edges
-                .unwrap_or(false)
-                .then(|| Edges {
-                    radius: self
-                        .space_cancelling_wedge_edge_radius
-                        .map_or(0.02 - TINY, |r| r.0),
-                    surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
-                }),
+                .unwrap_or(false),
+            space_cancelling_wedge_edge_radius: self
+                .space_cancelling_wedge_edge_radius
+                .map(|r| r.0),
             net_face_transmission: self.net_face_transmission.map_or(CYAN_GLASS, |t| t.0),
         }))
     }

@@ -73,8 +73,33 @@ pub struct SpaceCancellingWedge {
 }
 
 /// Most negative-space wedges a space-cancelling wedge may have: they all meet on the apex
-/// edge, so a ray near it is tested against all of them (as for the stars' sheets).
-const MAX_NEGATIVE_SPACE_WEDGES: u32 = 5_000;
+/// edge, so a ray near it is tested against all of them (as for the stars' sheets); at this
+/// limit a wedge filling a 120 × 90 picture takes minutes to render.
+pub const MAX_NEGATIVE_SPACE_WEDGES: u32 = 5_000;
+
+/// A surface that teleports perfectly to `destination` (Dr TIM's `Teleporting`, `PERFECT`,
+/// throwing no shadow), passing on `transmission_coefficient` of the light.
+pub fn teleporting_to(destination: Shape, transmission_coefficient: f64) -> Surface {
+    Surface::Teleporting(Teleporting {
+        destination: Some(destination),
+        teleportation: Teleportation::Perfect,
+        positional_error: 0.0,
+        angular_error: 0.0,
+        transmission_coefficient,
+        reflection_coefficient: 1.0,
+    })
+}
+
+/// Refuses `n` negative-space wedges (or sub-wedges) outside 1 to
+/// [`MAX_NEGATIVE_SPACE_WEDGES`].
+pub fn check_number_of_wedges(n: u32) -> Result<(), String> {
+    if n == 0 || n > MAX_NEGATIVE_SPACE_WEDGES {
+        return Err(format!(
+            "number_of_negative_space_wedges = {n} must be from 1 to {MAX_NEGATIVE_SPACE_WEDGES}"
+        ));
+    }
+    Ok(())
+}
 
 /// The wedge's basis and the parts made so far.
 struct Builder<'a> {
@@ -174,16 +199,7 @@ impl Builder<'_> {
                 .map(Shape::Parallelogram)
                 .map_err(|e| e.to_string())
         };
-        let to = |destination: Shape| {
-            Surface::Teleporting(Teleporting {
-                destination: Some(destination),
-                teleportation: Teleportation::Perfect,
-                positional_error: 0.0,
-                angular_error: 0.0,
-                transmission_coefficient: self.w.surface_transmission_coefficient,
-                reflection_coefficient: 1.0,
-            })
-        };
+        let to = |destination| teleporting_to(destination, self.w.surface_transmission_coefficient);
         let first = to(shape(legs[1])?);
         let second = to(shape(legs[0])?);
         self.sheet("first teleporting surface", legs[0], first, None)?;
@@ -376,11 +392,7 @@ impl SpaceCancellingWedge {
             ));
         }
         let n = self.number_of_negative_space_wedges;
-        if n == 0 || n > MAX_NEGATIVE_SPACE_WEDGES {
-            return Err(format!(
-                "number_of_negative_space_wedges = {n} must be from 1 to {MAX_NEGATIVE_SPACE_WEDGES}"
-            ));
-        }
+        check_number_of_wedges(n)?;
         let delta = nu / (2.0 * n as f64);
         let mu = self.containment_mirrors_angle_with_sides;
         if self.gluing == Gluing::NegativeSpaceWedgesWithContainmentMirrors
@@ -392,6 +404,23 @@ impl SpaceCancellingWedge {
                 mu.to_degrees(),
                 delta.to_degrees()
             ));
+        }
+        // Dr TIM's lens formulas break down at these angles: ν/2 − 2ε must be positive, and
+        // 1 + 2 cos(ν/3) vanishes at 360°.
+        let eps = 0.1f64.to_radians();
+        if self.gluing == Gluing::LensesQuiteSymmetric && nu <= 4.0 * eps {
+            return Err(format!(
+                "a quite symmetric three-lens wedge needs an apex angle above 0.4° (four times \
+                 Dr TIM's ε = 0.1°), got {}°",
+                nu.to_degrees()
+            ));
+        }
+        if self.gluing == Gluing::LensesCompletelySymmetric && nu >= 2.0 * PI - 1e-9 {
+            return Err(
+                "a completely symmetric three-lens wedge of 360° has lenses of infinite \
+                        focal length (1 + 2 cos(ν/3) = 0): give an apex angle below 360°"
+                    .into(),
+            );
         }
         if self.gluing == Gluing::MirrorApproximation {
             return Err(

@@ -1031,7 +1031,7 @@ fn state<'a>(
         Projection::Perspective {
             horizontal_view_angle,
         } => (Some(horizontal_view_angle.to_degrees()), None),
-        Projection::Orthographic { view_width } => (None, Some(view_width)),
+        Projection::Orthographic { view_width, .. } => (None, Some(view_width)),
         Projection::Equirectangular => (None, None),
     };
     let mut table = applied

@@ -9,7 +9,8 @@ use serde::Deserialize;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::cameras::{
-    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, Projection, Shutter, Transformation,
+    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, PositiveSpaceOnlyKeys, Projection, Shutter,
+    Transformation,
 };
 use crate::geometry::Shape;
 use crate::geometry::ShapeKeys;
@@ -47,6 +48,7 @@ pub(super) struct CameraSection {
     stereo: Option<Spanned<StereoName>>,
     eye_separation: Option<Spanned<Vector>>,
     autostereogram: Option<Spanned<AutostereogramSection>>,
+    positive_space_only: Option<Spanned<PositiveSpaceOnlyKeys>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -262,9 +264,20 @@ impl CameraSection {
                 .view_width
                 .as_ref()
                 .ok_or_else(|| at(None, "an orthographic camera needs view_width"))?;
+            let positive_space_only = match &self.positive_space_only {
+                Some(p) => Some(p.get_ref().build().map_err(|e| at(Some(p.span()), &e))?),
+                None => None,
+            };
             return Ok(Projection::Orthographic {
                 view_width: w.get_ref().0,
+                positive_space_only,
             });
+        }
+        if let Some(p) = &self.positive_space_only {
+            return Err(at(
+                Some(p.span()),
+                "positive_space_only is for orthographic cameras (type = \"orthographic\"), Dr TIM's PositiveSpaceOnlyOrthographicCamera",
+            ));
         }
         if let Some(w) = &self.view_width {
             return Err(at(

@@ -154,8 +154,17 @@ impl Teleporting {
     }
 
     /// The surface of an object moved by `t`: its destination, if it has one yet, moved too.
+    /// Surface coordinates are lengths, so a map that does not scale uniformly would send rays
+    /// off the destination: it is refused.
     pub fn transformed(&self, t: &Transform) -> Result<Teleporting, String> {
         let destination = match &self.destination {
+            Some(_) if t.uniform_scale().is_none() => {
+                return Err(
+                    "a device's teleporting surfaces can be rotated, scaled uniformly \
+                            and moved, not stretched (their surface coordinates are lengths)"
+                        .into(),
+                );
+            }
             Some(shape) => Some(t.shape(shape).map_err(|e| format!("destination: {e}"))?),
             None => None,
         };
