@@ -542,6 +542,10 @@ fn the_wedge_and_the_net_have_dr_tims_defaults_and_refuse_bad_parameters() {
             &["above 0.4°"],
         ),
         (
+            "{ type = \"space-cancelling-wedge\", apex_angle_deg = 360, gluing_type = \"lenses-completely-symmetric\" }",
+            &["infinite", "below 360°"],
+        ),
+        (
             "{ type = \"net-of-hypercube\", up_direction = [2, 0, 0] }",
             &["up_direction", "along right_direction"],
         ),
@@ -829,4 +833,67 @@ fn a_transformed_perfect_wedge_teleports_as_the_transform_says() {
     let run = timbre(dir.path(), &["check", path_str(&path)]);
     run.assert_bad_input(&["teleporting surfaces", "not stretched"]);
     assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+}
+
+/// `positive_space_only` belongs to the orthographic camera at rest with one eye, as Dr TIM's
+/// camera is: elsewhere it is refused at the key that conflicts.
+#[test]
+fn positive_space_only_is_refused_where_it_cannot_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let view =
+        "positive_space_only = { deficit_angle_deg = 300, number_of_negative_space_wedges = 10 }";
+    for (camera, needles, line) in [
+        (
+            format!("type = \"pinhole\"\n{view}"),
+            &["positive_space_only", "orthographic"][..],
+            5,
+        ),
+        (
+            format!("type = \"equirectangular\"\n{view}"),
+            &["equirectangular", "positive_space_only"],
+            5,
+        ),
+        (
+            format!("type = \"orthographic\"\nview_width = 4\n{view}\nbeta = [0, 0, 0.5]"),
+            &["at rest", "beta"],
+            7,
+        ),
+        (
+            format!("type = \"orthographic\"\nview_width = 4\n{view}\nstereo = \"anaglyph\""),
+            &["one eye", "stereo"],
+            7,
+        ),
+    ] {
+        let text = format!("studio = \"none\"\n\n[camera]\n{camera}\n");
+        let path = write(dir.path(), "camera.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, line, "{}", run.stderr);
+    }
+}
+
+/// The nets' wedge edges are Dr TIM's 10⁻⁴ thinner than the net's edges, whatever radius those
+/// are given.
+#[test]
+fn the_nets_wedge_edges_follow_the_nets_edge_radius() {
+    for lenses in ["net-of-hypercube", "net-of-symmetric-four-simplex"] {
+        let d = common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"n\"\nshow_edges = true\nedge_radius = 0.05\n\
+             lenses = {{ type = \"{lenses}\", show_space_cancelling_wedge_edges = true }}\n"
+        ));
+        let radius = |wanted: &dyn Fn(&str) -> bool| {
+            d.objects
+                .iter()
+                .filter(|o| wanted(&o.name))
+                .find_map(|o| match &o.shape {
+                    timbre::geometry::Shape::Cylinder(c) => Some(c.radius()),
+                    _ => None,
+                })
+                .unwrap_or_else(|| panic!("{lenses}: no such edge"))
+        };
+        let wedge = radius(&|n| n.contains("wedge at"));
+        let net = radius(&|n| !n.contains("wedge at"));
+        assert!((net - 0.05).abs() < 1e-12, "{lenses}: {net}");
+        assert!((wedge - (0.05 - 1e-4)).abs() < 1e-12, "{lenses}: {wedge}");
+    }
 }

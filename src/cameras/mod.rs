@@ -551,9 +551,13 @@ impl fmt::Display for Description<'_> {
                 if let Some(p) = positive_space_only {
                     write!(
                         f,
-                        ", positive space only ({} wedges, deficit {}°)",
+                        ", positive space only ({} wedges, deficit {}°, {})",
                         p.number_of_negative_space_wedges,
-                        degrees(p.deficit_angle)
+                        degrees(p.deficit_angle),
+                        match p.stretching {
+                            crate::cameras::Stretching::StretchAngle => "stretching the angle",
+                            crate::cameras::Stretching::StretchWidth => "stretching the width",
+                        }
                     )?
                 }
             }

@@ -121,6 +121,18 @@ mod tests {
                 assert!(a > 30.0 && a < 60.0, "{phi} -> {a}");
             }
         }
+        // Below azimuth 0 and with an odd number of wedges: 5 wedges cutting out 200° leave
+        // gaps of 32° centred on 36° + 72° k; the pixel at −100° lies in the sector from −144°
+        // to −72°, centred on −108°, and is stretched onto −108° + 8° × 32/72.
+        let camera = PositiveSpaceOnly {
+            deficit_angle: 200f64.to_radians(),
+            number_of_negative_space_wedges: 5,
+            stretching: Stretching::StretchAngle,
+        };
+        let (s, c) = (-100f64).to_radians().sin_cos();
+        let (x, y) = camera.remap(c, s);
+        let expected = -108.0 + 8.0 * 32.0 / 72.0;
+        assert!((y.atan2(x).to_degrees() - expected).abs() < 1e-9);
         // Stretching the angle keeps the distance from the axis.
         let camera = PositiveSpaceOnly {
             deficit_angle: 240f64.to_radians(),

@@ -4,7 +4,7 @@
 
 use glam::{DVec2, DVec3};
 
-use super::{Edges, Part};
+use super::{EdgeDefaults, Edges, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::math::Colour;
 use crate::surfaces::{ColourFilter, Coloured, Surface};
@@ -12,17 +12,45 @@ use crate::surfaces::{ColourFilter, Coloured, Surface};
 /// Dr TIM's `MyMath.TINY`, by which the wedges' edges are thinner than the net's.
 pub const TINY: f64 = 1e-4;
 
+/// Dr TIM's net structure (edges, and for the 4-simplex vertices): hidden, radius 0.02,
+/// `SurfaceColour.BLUE_SHINY`.
+pub const NET_EDGES: EdgeDefaults = EdgeDefaults {
+    shown: false,
+    radius: 0.02,
+    colour: Colour::new(0.0, 0.0, 1.0),
+};
+
 /// Dr TIM's `ColourFilter.CYAN_GLASS`, the nets' faces by default: cyan (0, 198, 200)/255.
 pub const CYAN_GLASS: Colour = Colour::new(0.0, 198.0 / 255.0, 200.0 / 255.0);
 
 /// The edges of a net's wedges, if `shown`: shiny red (Dr TIM's `RED_SHINY`), of `radius` where
 /// given, else (as Dr TIM's) [`TINY`] thinner than the net's edges, whose radius is 0.02 where
 /// they are hidden.
-pub fn wedge_edges(shown: bool, radius: Option<f64>, net_edges: Option<&Edges>) -> Option<Edges> {
-    shown.then(|| Edges {
-        radius: radius.unwrap_or_else(|| net_edges.map_or(0.02, |e| e.radius) - TINY),
+pub fn wedge_edges(
+    shown: bool,
+    radius: Option<f64>,
+    net_edges: Option<&Edges>,
+) -> Result<Option<Edges>, String> {
+    if !shown {
+        return Ok(None);
+    }
+    let radius = match radius {
+        Some(r) => r,
+        None => {
+            let net = net_edges.map_or(NET_EDGES.radius, |e| e.radius);
+            if net <= TINY {
+                return Err(format!(
+                    "the wedges' edges are 1e-4 thinner than the net's, which are {net} thick: \
+                     give space_cancelling_wedge_edge_radius"
+                ));
+            }
+            net - TINY
+        }
+    };
+    Ok(Some(Edges {
+        radius,
         surface: Surface::Coloured(Coloured::shiny(Colour::new(1.0, 0.0, 0.0))),
-    })
+    }))
 }
 
 /// A face of a net, with its centroid and unit normal.

@@ -37,7 +37,7 @@ pub struct NetOfHypercube {
     pub distance_p1_p2: f64,
     /// Whether the wedges' edges are shown (Dr TIM's `showSpaceCancellingWedgeEdges`).
     pub show_space_cancelling_wedge_edges: bool,
-    /// Their radius, where given ([`net::wedge_edges`]).
+    /// Their radius, where given (else 10⁻⁴ less than the net's edges').
     pub space_cancelling_wedge_edge_radius: Option<f64>,
     /// The colour filter of the net's faces, shown with its edges.
     pub net_face_transmission: Colour,
@@ -284,7 +284,7 @@ impl LensDevice for NetOfHypercube {
     /// `90° wedge at EDGE/PART` and `180° wedge at EDGE/PART`; with `edges`, the net's edges
     /// and faces (`right face of the inner cube`, `top face of the right outer cube`,
     /// `top face of the right sixth of the eighth cube`, ...), but for those a shown wedge
-    /// surface stands in for ([`net::with_faces`]).
+    /// surface stands in for (see `devices/net.rs`).
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         // Dr TIM's containment mirrors, at 91° to the sides, meet the long legs only in
         // negative-space wedges under 89°: the 180° wedges need at least two.
@@ -303,7 +303,7 @@ impl LensDevice for NetOfHypercube {
             self.show_space_cancelling_wedge_edges,
             self.space_cancelling_wedge_edge_radius,
             edges,
-        );
+        )?;
         let (mut parts, mut faces) = (Vec::new(), Vec::new());
         for side in self.sides()? {
             parts.extend(self.side(side, edges, wedge_edges.as_ref(), &mut faces)?);
@@ -311,13 +311,8 @@ impl LensDevice for NetOfHypercube {
         Ok(net::with_faces(parts, faces))
     }
 
-    /// Dr TIM's net structure: hidden, radius 0.02, `SurfaceColour.BLUE_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: false,
-            radius: 0.02,
-            colour: Colour::new(0.0, 0.0, 1.0),
-        }
+        net::NET_EDGES
     }
 }
 

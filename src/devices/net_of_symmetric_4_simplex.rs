@@ -40,7 +40,7 @@ pub struct NetOfSymmetric4Simplex {
     pub show_net_faces: bool,
     /// Whether the wedges' edges are shown (Dr TIM's `showSpaceCancellingWedgeEdges`).
     pub show_space_cancelling_wedge_edges: bool,
-    /// Their radius, where given ([`net::wedge_edges`]).
+    /// Their radius, where given (else 10⁻⁴ less than the net's edges').
     pub space_cancelling_wedge_edge_radius: Option<f64>,
     pub net_face_transmission: Colour,
 }
@@ -90,7 +90,7 @@ impl LensDevice for NetOfSymmetric4Simplex {
     /// 0 to 3); with `edges`, the net's vertices (`vertex K`, the outer ones 4 to 7, K − 4 the
     /// inner vertex opposite) and edges (`edge I-K`); with `show_net_faces`, its faces
     /// (`face I-J-K`) but for those a shown wedge surface stands in for
-    /// ([`net::with_faces`]).
+    /// (see `devices/net.rs`).
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let [n1, n2, n3] = self.normals_to_enclosing_cube;
         // Dr TIM uses them as given, but only perpendicular ones make the inner tetrahedron
@@ -110,7 +110,7 @@ impl LensDevice for NetOfSymmetric4Simplex {
             self.show_space_cancelling_wedge_edges,
             self.space_cancelling_wedge_edge_radius,
             edges,
-        );
+        )?;
         let v = self.vertices();
         let mut parts = Vec::new();
         for [i, j] in INNER_EDGES {
@@ -175,13 +175,8 @@ impl LensDevice for NetOfSymmetric4Simplex {
         Ok(net::with_faces(parts, faces))
     }
 
-    /// Dr TIM's net structure: hidden, radius 0.02, `SurfaceColour.BLUE_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: false,
-            radius: 0.02,
-            colour: Colour::new(0.0, 0.0, 1.0),
-        }
+        net::NET_EDGES
     }
 }
 

@@ -297,7 +297,17 @@ impl Builder<'_> {
         let centre = self.w.apex_edge_centre;
         let (_, along) = self.apex();
         for (k, (p, f)) in points.into_iter().zip(f).enumerate() {
-            let out = (p - centre).normalize() * self.w.leg_length;
+            let from_edge = p - centre;
+            // (NaN, from an overflow, fails the comparison too.)
+            if from_edge.length().is_nan() || from_edge.length() <= 1e-9 * self.w.distance_p1_p2 {
+                return Err(format!(
+                    "at an apex angle of {}°, Dr TIM's formulas put L{}'s principal point on the \
+                     apex edge (or at infinity): give another apex angle",
+                    self.w.apex_angle.to_degrees(),
+                    k + 1
+                ));
+            }
+            let out = from_edge.normalize() * self.w.leg_length;
             let lens = Surface::IdealThinLens(ThinLens {
                 principal_point: p,
                 optical_axis: along.cross(out).normalize(),

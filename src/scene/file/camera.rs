@@ -194,6 +194,28 @@ impl CameraSection {
             })?,
             None => *camera.boost(),
         };
+        // Dr TIM's positive-space-only camera is at rest and monocular: its remap assumes rays
+        // along the star's axis, which a moving camera's aberration and stereo eyes' focusing
+        // would tilt.
+        if self.positive_space_only.is_some() {
+            let moving = self.beta.as_ref().filter(|b| b.get_ref().0 != DVec3::ZERO);
+            if let Some(b) = moving {
+                return Err(at(
+                    Some(b.span()),
+                    "a positive_space_only camera is at rest (its rays run along the star's axis): no beta",
+                ));
+            }
+            let stereo = self
+                .stereo
+                .as_ref()
+                .filter(|s| !matches!(s.get_ref(), StereoName::None));
+            if let Some(s) = stereo {
+                return Err(at(
+                    Some(s.span()),
+                    "a positive_space_only camera has one eye (its rays run along the star's axis): no stereo",
+                ));
+            }
+        }
         let transformation = match self.transformation.as_ref().map(|t| *t.get_ref()) {
             None | Some(TransformationName::Lorentz) => Transformation::Lorentz,
             Some(TransformationName::Galileo) => Transformation::Galileo,
@@ -242,6 +264,10 @@ impl CameraSection {
                     self.horizontal_view_angle_deg.as_ref().map(Spanned::span),
                 ),
                 ("view_width", self.view_width.as_ref().map(Spanned::span)),
+                (
+                    "positive_space_only",
+                    self.positive_space_only.as_ref().map(Spanned::span),
+                ),
             ];
             if let Some((key, span)) = given.into_iter().find(|(_, s)| s.is_some()) {
                 return Err(at(

@@ -876,9 +876,14 @@ impl<'a> Placer<'a> {
         name: &str,
     ) -> Result<Placed, SceneFileError> {
         match offsets {
-            Some((span, offsets)) => placed
-                .repeat(&offsets)
-                .map_err(|e| source.error(Some(span), format!("'{name}': {e}"))),
+            Some((span, offsets)) => placed.repeat(&offsets).map_err(|e| {
+                let message = if name.is_empty() {
+                    e
+                } else {
+                    format!("'{name}': {e}")
+                };
+                source.error(Some(span), message)
+            }),
             None => Ok(placed),
         }
     }
