@@ -930,6 +930,7 @@ fn every_example_scene_checks_and_renders() {
         "research/SpaceAroundBlackHoleVisualiser.toml",
         "research/NetOfHypercubeVisualiser.toml",
         "research/NetOfSymmetric4SimplexVisualiser.toml",
+        "research/ShiftyGCLAsCubicCloakVisualiser.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

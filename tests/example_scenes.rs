@@ -5015,6 +5015,40 @@ fn research_net_of_4_simplex_trajectory_turns_by_the_deficit_angle() {
     assert!(teleports >= 5, "{teleports} teleports");
 }
 
+/// scenes/research/ShiftyGCLAsCubicCloakVisualiser.toml (Dr TIM's program of that name): the
+/// inner cube of the cloak is seen shifted by δ = (0, 0.2, 0) and the space round it as it is.
+/// So each trajectory along +x at height y runs at y − 0.2 where it crosses the inner cube
+/// (|x| < 0.4), and leaves the cloak on the line it came on.
+#[test]
+fn research_shifty_cloak_trajectories_run_lower_inside_and_straight_on_outside() {
+    let rays = trace_file(&scene("research/ShiftyGCLAsCubicCloakVisualiser"));
+    assert_eq!(rays.len(), 3);
+    let mut inside = 0;
+    for (ray, y) in rays.iter().zip([0.3, 0.0, -0.3]) {
+        assert!(
+            (ray.direction - DVec3::X).length() < 1e-9,
+            "{}",
+            ray.trajectory
+        );
+        let last = ray.points.last().unwrap().position;
+        assert!(
+            (last.y - y).abs() < 1e-9 && (last.z - 0.01).abs() < 1e-9,
+            "{}: ends at {last}",
+            ray.trajectory
+        );
+        for p in &ray.points {
+            let p = p.position;
+            if p.x.abs() < 0.4 + 1e-9 && (p.y - (y - 0.2)).abs() < 0.4 {
+                assert!((p.y - (y - 0.2)).abs() < 1e-9, "{}: {p}", ray.trajectory);
+                inside += 1;
+            }
+        }
+    }
+    // The two upper trajectories cross the inner cube (entering and leaving it); the lowest,
+    // at −0.5 inside, passes below it.
+    assert_eq!(inside, 4);
+}
+
 /// scenes/research/CubeInRayRotationSheetStar.toml (Dr TIM's program of that name): each of the
 /// eight sheets turns a ray's direction by 44° about the star's axis oriented along the
 /// crossing, so a line of sight from the eye that goes round the axis through sheet after sheet

@@ -28,6 +28,7 @@ mod ray_rotation_sheet_star;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
 mod refractive_view_rotator;
+mod shifty_cloak;
 mod space_cancelling_wedge;
 mod star;
 mod tim_head;
@@ -53,6 +54,7 @@ pub use ray_rotation_sheet_star::{RayRotationSheetStar, RayRotationSheetStarKeys
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
 pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
+pub use shifty_cloak::{CubicShiftyCloakKeys, ShiftyCloak, SimpleTetrahedralShiftyCloakKeys};
 pub use space_cancelling_wedge::{Gluing, SpaceCancellingWedge, SpaceCancellingWedgeKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
@@ -117,6 +119,8 @@ kinds! {
         LensSimplicialComplex(LensSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
+        CubicShiftyCloak(CubicShiftyCloakKeys),
+        SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         PlatonicLens(PlatonicLensKeys),
         FourPiLens(FourPiLensKeys),
         FresnelLens(FresnelLensKeys),

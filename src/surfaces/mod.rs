@@ -465,8 +465,9 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the laws that
     /// have them move with the shape (ideal lenses, point-to-point holograms, light-ray fields,
-    /// Dove-prism arrays, space plates, variable-η CLAs, collineations, and a pixellation's sides
-    /// where they are given in the scene), and their lengths scale with it where that needs a
+    /// Dove-prism arrays, space plates, variable-η CLAs, collineations, gCLAs made as a device's
+    /// imaging surfaces, and a pixellation's sides where they are given in the scene), and
+    /// their lengths scale with it where that needs a
     /// similarity map. The other laws have no positions; the vectors and tensors of a law in
     /// the global basis are read in x, y and z, and pixel sizes and
     /// wavelengths stay as given, wherever the object is.
@@ -492,6 +493,7 @@ impl Surface {
             Surface::VariableEtaConfocalLensletArrays(a) => {
                 Surface::VariableEtaConfocalLensletArrays(a.transformed(t)?)
             }
+            Surface::ConfocalLensletArrays(a) => Surface::ConfocalLensletArrays(a.transformed(t)?),
             Surface::IdealisedDovePrismArray(a) => {
                 Surface::IdealisedDovePrismArray(a.transformed(t)?)
             }
@@ -552,7 +554,6 @@ impl Surface {
             | Surface::Transparent(_)
             | Surface::Lens(_)
             | Surface::MetricInterface(_)
-            | Surface::ConfocalLensletArrays(_)
             | Surface::RayRotating(_)
             | Surface::RayRotatingInPlaneOfIncidence(_)
             | Surface::ComplexMetarefraction(_)

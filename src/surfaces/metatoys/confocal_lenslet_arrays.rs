@@ -32,8 +32,8 @@ use super::gcla_transmission::{
     Apertures, Transmission, best_case, projection_transmission, reversed,
 };
 use super::pixellation::{Blur, GCLA_LAMBDA, GCLA_PIXEL_SIDE_LENGTH, Pixels};
-use super::{Basis, Outgoing, crosses};
-use crate::geometry::Interaction;
+use super::{Basis, HomogeneousPlanarImaging, Outgoing, crosses};
+use crate::geometry::{Interaction, Transform};
 use crate::keys::{Coefficient, Direction, Finite, NonZero, Positive, coefficient, throughput};
 use crate::surfaces::{Redirection, Surface, reflect};
 
@@ -57,6 +57,9 @@ pub struct ConfocalLensletArrays {
     pub reflection_coefficient: f64,
     /// The telescopelets' pixellation, if simulated.
     pub pixels: Option<Pixels>,
+    /// The imaging surface the arrays realise, where they were made as one (a device's
+    /// interfaces): their a, u, v, η and δ are then its, and they move with the object.
+    pub imaging: Option<HomogeneousPlanarImaging>,
 }
 
 /// The telescopelets' orthonormal basis and parameters at one point, in global coordinates.
@@ -153,6 +156,40 @@ impl Telescopelets {
 }
 
 impl ConfocalLensletArrays {
+    /// The arrays realising `imaging` (Dr TIM's `HomogeneousPlanarImagingSurface.toGCLAs`), in
+    /// the global basis, with lossless total internal reflection.
+    pub fn imaging(
+        imaging: HomogeneousPlanarImaging,
+        transmission: Transmission,
+    ) -> Result<ConfocalLensletArrays, String> {
+        let t = imaging.telescopes()?;
+        Ok(ConfocalLensletArrays {
+            a: t.a_hat,
+            u: t.u_hat,
+            v: t.a_hat.cross(t.u_hat),
+            basis: Basis::Global,
+            eta: DVec2::splat(t.eta),
+            delta: t.delta,
+            transmission,
+            reflection_coefficient: 1.0,
+            pixels: None,
+            imaging: Some(imaging),
+        })
+    }
+
+    /// The arrays of an object placed by `t`: those made as an imaging surface move with it
+    /// (any invertible affine map keeps them one); the others' global vectors stay as given.
+    pub fn transformed(&self, t: &Transform) -> Result<ConfocalLensletArrays, String> {
+        match self.imaging {
+            Some(imaging) => Ok(ConfocalLensletArrays {
+                reflection_coefficient: self.reflection_coefficient,
+                pixels: self.pixels,
+                ..ConfocalLensletArrays::imaging(imaging.transformed(t), self.transmission)?
+            }),
+            None => Ok(self.clone()),
+        }
+    }
+
     pub fn redirect(&self, at: &Interaction) -> Redirection<'static> {
         let frame = at.frame();
         let d = at.ray.direction;
@@ -251,6 +288,7 @@ impl ConfocalLensletArraysKeys {
             transmission,
             reflection_coefficient: coefficient(self.reflection_coefficient),
             pixels,
+            imaging: None,
         }))
     }
 
@@ -370,6 +408,7 @@ mod tests {
             transmission: Transmission::Constant(0.9),
             reflection_coefficient: 0.5,
             pixels: None,
+            imaging: None,
         }
     }
 

@@ -25,6 +25,7 @@ mod confocal_lenslet_arrays;
 mod derivative_control;
 mod galileo_window;
 mod gcla_transmission;
+mod homogeneous_planar_imaging;
 mod ideal_thin_space_plate;
 mod idealised_dove_prism_array;
 mod lorentz_window;
@@ -51,6 +52,7 @@ pub use derivative_control::{
 };
 pub use galileo_window::{GalileoWindow, GalileoWindowKeys, galileo_direction};
 pub use gcla_transmission::{Apertures, Transmission};
+pub use homogeneous_planar_imaging::{HomogeneousPlanarImaging, Telescopes};
 pub use ideal_thin_space_plate::{IdealThinSpacePlate, IdealThinSpacePlateKeys};
 pub use idealised_dove_prism_array::{IdealisedDovePrismArray, IdealisedDovePrismArrayKeys};
 pub use lorentz_window::{LorentzWindow, LorentzWindowKeys};

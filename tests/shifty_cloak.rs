@@ -1,0 +1,338 @@
+//! Issue 41 item 2, Dr TIM's shifty cloaks (`EditableCubicShiftyCloak`,
+//! `EditableSimpleTetrahedralShiftyCloak`), checked against what a transformation-optics cloak
+//! must do, worked out from its parameters alone:
+//!
+//! * seen from outside, space outside the cloak is as it is: a ray that enters and leaves the
+//!   cloak goes on along the line it came on;
+//! * the inner cube (or tetrahedron) and everything in it is seen shifted by δ: a ray leaving a
+//!   point P inside it leaves the cloak on a line through P + δ;
+//! * both hold for the cloak placed by any invertible affine map T, with T P + L δ for the
+//!   shifted image (L the linear part of T), since imaging is kept by affine maps;
+//! * Dr TIM's defaults, part names and refusals.
+
+mod common;
+
+use glam::{DMat3, DVec3};
+use timbre::surfaces::Surface;
+use timbre::trajectories::{self, End, Trajectory};
+
+use common::cli::{location, path_str, timbre, write};
+use common::rng::Rng;
+
+fn trace(text: &str) -> Vec<Trajectory> {
+    let description = common::images::parse(text);
+    trajectories::trace(common::rays::device(), &description).expect("trace")
+}
+
+/// Distance of `p` from the line through `a` along `d`.
+fn line_distance(p: DVec3, a: DVec3, d: DVec3) -> f64 {
+    (p - a).reject_from_normalized(d.normalize()).length()
+}
+
+/// A point in the box [−1, 1]³ times `size`.
+fn random_point(rng: &mut Rng, size: f64) -> DVec3 {
+    size * DVec3::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    )
+}
+
+/// A `[[ray_trajectory]]` table.
+fn ray(start: DVec3, direction: DVec3) -> String {
+    format!(
+        "[[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 1000\n",
+        start.x, start.y, start.z, direction.x, direction.y, direction.z
+    )
+}
+
+/// The cloaks checked: type, the `lenses` keys beyond it, the device's transform (a TOML
+/// table, or empty) and that transform as a linear map and translation.
+struct Case {
+    kind: &'static str,
+    keys: &'static str,
+    transform: &'static str,
+    linear: DMat3,
+    shift: DVec3,
+    /// Whether |n̂·δ| is less than the distance h between the outer and inner faces for every
+    /// face: otherwise a frustum is seen folded over, and rays from inside can circle for ever.
+    unfolded: bool,
+}
+
+fn cases() -> Vec<Case> {
+    let plain = |kind, keys, unfolded| Case {
+        kind,
+        keys,
+        transform: "",
+        linear: DMat3::IDENTITY,
+        shift: DVec3::ZERO,
+        unfolded,
+    };
+    vec![
+        // Dr TIM's defaults (δ = (1, 0, 0) is four times the distance between the faces: the
+        // frusta on ±u are folded over).
+        plain("cubic-shifty-cloak", "centre = [0, 0, 0]", false),
+        plain(
+            "simple-tetrahedral-shifty-cloak",
+            "centre = [0, 0, 0]",
+            false,
+        ),
+        plain(
+            "cubic-shifty-cloak",
+            "centre = [0.1, -0.2, 0.05], u_direction = [1, 1, 0], v_direction = [0, 0.3, 1], \
+             side_length_outside = 1.3, side_length_inside = 0.4, delta = [0.1, -0.05, 0.07]",
+            true,
+        ),
+        plain(
+            "simple-tetrahedral-shifty-cloak",
+            "centre = [0, 0.1, 0], u_direction = [0, 1, 1], v_direction = [1, 0, 0], \
+             side_length_outside = 1.5, side_length_inside = 0.3, delta = [-0.05, 0.08, 0.1]",
+            true,
+        ),
+        // Stretched and moved: [[2, 0.3, 0], [0, 1, 0], [0.2, 0, 0.7]] (rows), then (0, 0, 1).
+        Case {
+            kind: "cubic-shifty-cloak",
+            keys: "centre = [0, 0, 0], delta = [0.1, 0.2, -0.1]",
+            transform: "transform = { matrix = [[2, 0.3, 0], [0, 1, 0], [0.2, 0, 0.7]], translate = [0, 0, 1] }\n",
+            linear: DMat3::from_cols_array(&[2.0, 0.0, 0.2, 0.3, 1.0, 0.0, 0.0, 0.0, 0.7]),
+            shift: DVec3::new(0.0, 0.0, 1.0),
+            unfolded: true,
+        },
+    ]
+}
+
+impl Case {
+    fn scene(&self, rays: &str) -> String {
+        format!(
+            "studio = \"none\"\n[[device]]\nname = \"cloak\"\nshow_edges = false\n{}lenses = {{ type = \"{}\", {} }}\n{rays}",
+            self.transform, self.kind, self.keys
+        )
+    }
+
+    fn place(&self, p: DVec3) -> DVec3 {
+        self.linear * p + self.shift
+    }
+}
+
+#[test]
+fn space_outside_the_cloak_is_seen_as_it_is() {
+    let mut rng = Rng(41);
+    for case in cases() {
+        // Rays from a sphere of radius 4 about the cloak through points near its centre.
+        let mut rays = Vec::new();
+        for _ in 0..40 {
+            let start = case.place(4.0 * random_point(&mut rng, 1.0).normalize());
+            let target = case.place(random_point(&mut rng, 0.4));
+            rays.push((start, target - start));
+        }
+        let text = case.scene(&rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        let traced = trace(&text);
+        let mut crossed = 0;
+        for (t, &(start, direction)) in traced.iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.keys, t.points);
+            if t.points.len() < 3 {
+                continue;
+            }
+            crossed += 1;
+            let last = t.points.last().unwrap().position;
+            let d = t.direction;
+            assert!(
+                (d - direction.normalize()).length() < 1e-9,
+                "{} {}: leaves along {d}, came along {}",
+                case.kind,
+                case.keys,
+                direction.normalize()
+            );
+            let off = line_distance(last, start, direction);
+            assert!(
+                off < 1e-9,
+                "{} {}: {off} off its line",
+                case.kind,
+                case.keys
+            );
+        }
+        assert!(crossed >= 30, "{}: only {crossed} rays crossed", case.keys);
+    }
+}
+
+#[test]
+fn the_inner_polyhedron_is_seen_shifted_by_delta() {
+    let mut rng = Rng(7);
+    for case in cases().into_iter().filter(|c| c.unfolded) {
+        let delta = delta_of(&case);
+        let size = inner_half_size(&case);
+        let mut rays = Vec::new();
+        for _ in 0..20 {
+            // Inside the inner polyhedron: within a third of its half side of the centre.
+            let p = centre_of(&case) + random_point(&mut rng, size / 3.0);
+            rays.push((p, random_point(&mut rng, 1.0)));
+        }
+        let placed: Vec<_> = rays
+            .iter()
+            .map(|&(p, d)| (case.place(p), case.linear * d))
+            .collect();
+        let text = case.scene(&placed.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        for (t, &(p, _)) in trace(&text).iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.keys, t.points);
+            let last = t.points.last().unwrap().position;
+            let image = case.place(p) + case.linear * delta;
+            let off = line_distance(image, last, t.direction);
+            assert!(
+                off < 1e-9,
+                "{} {}: the ray from {p} leaves {off} off {image}",
+                case.kind,
+                case.keys
+            );
+        }
+    }
+}
+
+/// δ, the centre and the inner half side of a case, read from its keys.
+fn key(case: &Case, name: &str) -> Option<String> {
+    let at = case.keys.find(&format!("{name} = "))? + name.len() + 3;
+    let rest = &case.keys[at..];
+    let end = if rest.starts_with('[') {
+        rest.find(']').unwrap() + 1
+    } else {
+        rest.find(',').unwrap_or(rest.len())
+    };
+    Some(rest[..end].to_string())
+}
+
+fn vector(text: &str) -> DVec3 {
+    let v: Vec<f64> = text
+        .trim_matches(|c| c == '[' || c == ']')
+        .split(',')
+        .map(|x| x.trim().parse().unwrap())
+        .collect();
+    DVec3::new(v[0], v[1], v[2])
+}
+
+fn delta_of(case: &Case) -> DVec3 {
+    key(case, "delta").map_or(DVec3::X, |d| vector(&d))
+}
+
+fn centre_of(case: &Case) -> DVec3 {
+    vector(&key(case, "centre").unwrap())
+}
+
+/// Half the inner cube's side, or the radius of the inner tetrahedron's inscribed sphere: the
+/// points used lie within a third of it of the centre.
+fn inner_half_size(case: &Case) -> f64 {
+    let side = key(case, "side_length_inside").map_or(0.5, |s| s.parse().unwrap());
+    match case.kind {
+        // The tetrahedron of alternate corners of a cube of side s has inradius s / (2√3).
+        "simple-tetrahedral-shifty-cloak" => side / (2.0 * 3f64.sqrt()),
+        _ => 0.5 * side,
+    }
+}
+
+/// `EditableCubicShiftyCloak(parent, studio)` and `EditableSimpleTetrahedralShiftyCloak(parent,
+/// studio)`: centre (0, 0, 10), u (1, 0, 0), v (0, 1, 0), sides 1 and 0.5, δ (1, 0, 0),
+/// interfaces shown with transmission coefficient 0.96, frames shown, radius 0.01,
+/// `GREY50_SHINY`. The cube has 6 outer, 6 inner and 12 diagonal faces, 16 vertices and
+/// 12 + 12 + 8 edges; the tetrahedron 4, 4 and 6 faces, 8 vertices and 6 + 6 + 4 edges.
+#[test]
+fn shifty_cloaks_named_by_their_type_alone_are_dr_tims_default_cloaks() {
+    for (kind, faces, frames, corner) in [
+        (
+            "cubic-shifty-cloak",
+            24,
+            16 + 32,
+            DVec3::new(0.5, 0.5, 10.5),
+        ),
+        (
+            "simple-tetrahedral-shifty-cloak",
+            14,
+            8 + 16,
+            DVec3::new(0.5, 0.5, 10.5),
+        ),
+    ] {
+        let d = common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = {{ type = \"{kind}\" }}\n"
+        ));
+        let interfaces: Vec<_> = d
+            .objects
+            .iter()
+            .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+            .collect();
+        assert_eq!(interfaces.len(), faces, "{kind}");
+        assert_eq!(d.objects.len(), faces + frames, "{kind}");
+        for o in &interfaces {
+            let Surface::ConfocalLensletArrays(a) = &o.surface else {
+                unreachable!()
+            };
+            assert_eq!(
+                a.transmission,
+                timbre::surfaces::metatoys::Transmission::Constant(0.96)
+            );
+            assert!(!o.shadow_throwing, "{}", o.name);
+        }
+        let vertex = d
+            .objects
+            .iter()
+            .find(|o| o.name == "d/outer vertex +u+v+w")
+            .unwrap_or_else(|| panic!("{kind}: no outer vertex"));
+        let (lo, hi) = vertex.shape.bounds().unwrap();
+        assert!(((lo + hi) / 2.0 - corner).length() < 1e-12, "{kind}");
+        assert!(((hi - lo).x - 0.02).abs() < 1e-12, "{kind}: radius 0.01");
+        let Surface::Coloured(c) = &vertex.surface else {
+            panic!("{kind}: frames are coloured")
+        };
+        assert_eq!(c.diffuse, timbre::math::Colour::splat(0.5));
+        assert!(
+            d.objects.iter().any(|o| o.name == "d/inner vertex +u+v+w"),
+            "{kind}"
+        );
+    }
+    let d = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nshow_edges = false\n\
+         lenses = { type = \"cubic-shifty-cloak\" }\n",
+    );
+    let names: Vec<&str> = d.objects.iter().map(|o| o.name.as_str()).collect();
+    for name in [
+        "d/outer face in +u direction",
+        "d/inner face in -w direction",
+        "d/diagonal face between the +u and +v faces",
+    ] {
+        assert!(names.contains(&name), "{name} in {names:?}");
+    }
+    let hidden = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\n\
+         lenses = { type = \"simple-tetrahedral-shifty-cloak\", show_interfaces = false }\n",
+    );
+    assert_eq!(hidden.objects.len(), 24);
+}
+
+#[test]
+fn bad_shifty_cloaks_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, needles) in [
+        (
+            "side_length_inside = 1",
+            &["side_length_inside", "less than side_length_outside"][..],
+        ),
+        (
+            "v_direction = [2, 0, 0]",
+            &["v_direction must not be along u_direction"][..],
+        ),
+        // h = (1 − 0.5) × 0.5 = 0.25 for the +u face.
+        (
+            "delta = [0.25, 0, 0]",
+            &[
+                "+u face",
+                "inner face would appear in the outer face's plane",
+            ][..],
+        ),
+        ("side_length_outside = -1", &["positive number"][..]),
+        ("colour = 1", &["colour"][..]),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ type = \"cubic-shifty-cloak\", {keys} }}\n"
+        );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
