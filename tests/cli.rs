@@ -931,6 +931,7 @@ fn every_example_scene_checks_and_renders() {
         "research/NetOfHypercubeVisualiser.toml",
         "research/NetOfSymmetric4SimplexVisualiser.toml",
         "research/ShiftyGCLAsCubicCloakVisualiser.toml",
+        "research/ShiftyGCLAsTetrahedralCloakVisualiser.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

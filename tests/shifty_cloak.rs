@@ -89,6 +89,18 @@ fn cases() -> Vec<Case> {
              side_length_outside = 1.5, side_length_inside = 0.3, delta = [-0.05, 0.08, 0.1]",
             true,
         ),
+        plain(
+            "tetrahedral-shifty-cloak",
+            "centre = [0, 0, 0], delta = [0.05, 0.02, -0.03]",
+            true,
+        ),
+        plain(
+            "tetrahedral-shifty-cloak",
+            "centre = [0.1, 0, 0], u = [1, 1, 0], v = [-1, 1, 0], w = [0, 0, 1], \
+             asymmetric_configuration = false, side_length = 1.2, side_length_i = 0.3, \
+             delta = [-0.02, 0.04, 0.03]",
+            true,
+        ),
         // Stretched and moved: [[2, 0.3, 0], [0, 1, 0], [0.2, 0, 0.7]] (rows), then (0, 0, 1).
         Case {
             kind: "cubic-shifty-cloak",
@@ -219,11 +231,13 @@ fn centre_of(case: &Case) -> DVec3 {
 /// Half the inner cube's side, or the radius of the inner tetrahedron's inscribed sphere: the
 /// points used lie within a third of it of the centre.
 fn inner_half_size(case: &Case) -> f64 {
-    let side = key(case, "side_length_inside").map_or(0.5, |s| s.parse().unwrap());
+    let side = |name, default| key(case, name).map_or(default, |s| s.parse().unwrap());
+    // The tetrahedron of alternate corners of a cube of side s has inradius s / (2√3).
+    let inradius = |s: f64| s / (2.0 * 3f64.sqrt());
     match case.kind {
-        // The tetrahedron of alternate corners of a cube of side s has inradius s / (2√3).
-        "simple-tetrahedral-shifty-cloak" => side / (2.0 * 3f64.sqrt()),
-        _ => 0.5 * side,
+        "simple-tetrahedral-shifty-cloak" => inradius(side("side_length_inside", 0.5)),
+        "tetrahedral-shifty-cloak" => inradius(side("side_length_i", 0.3)),
+        _ => 0.5 * side("side_length_inside", 0.5),
     }
 }
 
@@ -330,6 +344,180 @@ fn bad_shifty_cloaks_are_refused_where_they_are_given() {
         let text = format!(
             "studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ type = \"cubic-shifty-cloak\", {keys} }}\n"
         );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
+
+/// A homogeneous planar imaging surface simplicial complex (Dr TIM's
+/// `EditableHomogeneousPlanarImagingSurfaceSimplicialComplex`) shows each cell through the
+/// affine map that takes its vertices to their virtual positions: a point with barycentric
+/// coordinates w in a cell is seen at Σ wᵢ Vᵢ. Dr TIM's default, with its inner vertex seen far
+/// outside the tetrahedron, folds the cells over; space outside is still seen as it is.
+#[test]
+fn a_complex_of_imaging_surfaces_shows_each_cell_through_the_map_of_its_vertices() {
+    let p = [
+        DVec3::new(-1.0, 0.0, 1.0),
+        DVec3::new(1.0, 0.0, 1.0),
+        DVec3::new(0.0, 0.0, -1.0),
+        DVec3::new(0.0, 1.0, 0.0),
+        DVec3::new(0.0, 0.4, 0.1),
+    ];
+    let list = |v: &[DVec3]| {
+        v.iter()
+            .map(|x| format!("[{}, {}, {}]", x.x, x.y, x.z))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut rng = Rng(3);
+    for (v4, unfolded) in [
+        (DVec3::new(0.1, 0.5, 0.2), true),
+        (DVec3::new(2.0, 0.75, 3.0), false),
+    ] {
+        let mut v = p;
+        v[4] = v4;
+        let scene = |rays: &str| {
+            format!(
+                "studio = \"none\"\n[[device]]\nname = \"c\"\nshow_edges = false\n\
+                 lenses = {{ type = \"homogeneous-planar-imaging-surface-simplicial-complex\", \
+                 vertices = [{}], vertices_v = [{}], show_structure_v = false }}\n{rays}",
+                list(&p),
+                list(&v)
+            )
+        };
+        // Outside: rays through the tetrahedron go on along their lines.
+        let rays: Vec<(DVec3, DVec3)> = (0..30)
+            .map(|_| {
+                let start = 4.0 * random_point(&mut rng, 1.0).normalize();
+                let target = DVec3::new(0.0, 0.3, 0.2) + random_point(&mut rng, 0.3);
+                (start, target - start)
+            })
+            .collect();
+        let traced = trace(&scene(
+            &rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>(),
+        ));
+        for (t, &(start, direction)) in traced.iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped);
+            assert!((t.direction - direction.normalize()).length() < 1e-9);
+            let last = t.points.last().unwrap().position;
+            assert!(line_distance(last, start, direction) < 1e-9);
+        }
+        if !unfolded {
+            continue;
+        }
+        // Inside each of the four cells round vertex 4.
+        for cell in [[0, 1, 2, 4], [0, 1, 3, 4], [0, 2, 3, 4], [1, 2, 3, 4]] {
+            let w = [0.2, 0.25, 0.15, 0.4];
+            let at = |x: &[DVec3; 5]| (0..4).map(|i| w[i] * x[cell[i]]).sum::<DVec3>();
+            let (point, image) = (at(&p), at(&v));
+            let rays: Vec<DVec3> = (0..8).map(|_| random_point(&mut rng, 1.0)).collect();
+            let traced = trace(&scene(
+                &rays.iter().map(|&d| ray(point, d)).collect::<String>(),
+            ));
+            for t in &traced {
+                assert_eq!(t.end, End::Escaped, "{cell:?}: {:?}", t.points);
+                let last = t.points.last().unwrap().position;
+                let off = line_distance(image, last, t.direction);
+                assert!(off < 1e-9, "{cell:?}: {off} off {image}");
+            }
+        }
+    }
+}
+
+/// `EditableTetrahedralShiftyCloak(parent, studio)`: centre (0, 0, 10), u, v, w along x, y, z,
+/// asymmetric, side lengths 1 and 0.3, δ = 0, interfaces shown with transmission coefficient
+/// 0.96, frames shown, radius 0.01, `GREY50_SHINY`. With δ = 0 every face images space to
+/// itself, so no face is needed. `EditableHomogeneousPlanarImagingSurfaceSimplicialComplex(
+/// description, parent, studio)`: a tetrahedron on y = 0 about (0, 0, 10) with its top at
+/// (0, 1, 10) and an inner vertex at (0, 0.5, 10) seen at (2, 0.75, 13): 6 faces meet that
+/// vertex and all need imaging; its structure (blue, radius 0.021) and virtual structure (red,
+/// 0.02) are shown, 10 edges and 5 vertices each.
+#[test]
+fn the_complex_and_the_tetrahedral_cloak_named_by_their_type_alone_are_dr_tims() {
+    let parse = |lenses: &str| {
+        common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = {{ {lenses} }}\n"
+        ))
+        .objects
+    };
+    let cloak = parse("type = \"tetrahedral-shifty-cloak\"");
+    assert!(
+        cloak
+            .iter()
+            .all(|o| !matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+    );
+    let vertex = |objects: &[timbre::scene::SceneObject], name: &str| {
+        let o = objects
+            .iter()
+            .find(|o| o.name == name)
+            .unwrap_or_else(|| panic!("no {name}"));
+        let (lo, hi) = o.shape.bounds().unwrap();
+        ((lo + hi) / 2.0, (hi - lo).x / 2.0)
+    };
+    let (at, radius) = vertex(&cloak, "d/vertex 0");
+    assert!((at - DVec3::new(0.5, 0.5, 10.5)).length() < 1e-12 && (radius - 0.01).abs() < 1e-12);
+    // Inner vertex 0 (vertex 4): the inner corner (0.15, 0.15, 0.15) moved 1 % further from
+    // outer vertex 1, (0.5, −0.5, −0.5).
+    let from = DVec3::new(0.5, -0.5, 9.5);
+    let expected = from + 1.01 * (DVec3::new(0.15, 0.15, 10.15) - from);
+    assert!((vertex(&cloak, "d/vertex 4").0 - expected).length() < 1e-12);
+    // 6 + 6 + 12 edges.
+    assert_eq!(cloak.iter().filter(|o| o.name.contains("edge")).count(), 24);
+    let shifted = parse("type = \"tetrahedral-shifty-cloak\", delta = [0, 0.01, 0]");
+    let faces = shifted
+        .iter()
+        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+        .count();
+    assert!(faces > 4, "{faces} faces");
+
+    let complex = parse("type = \"homogeneous-planar-imaging-surface-simplicial-complex\"");
+    let faces: Vec<_> = complex
+        .iter()
+        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+        .collect();
+    assert_eq!(faces.len(), 10, "4 outer and 6 inner faces");
+    assert_eq!(complex.len(), 10 + 2 * (10 + 5));
+    assert!(faces.iter().all(|o| !o.shadow_throwing));
+    let (at, radius) = vertex(&complex, "d/virtual vertex 4");
+    assert!((at - DVec3::new(2.0, 0.75, 13.0)).length() < 1e-12 && (radius - 0.02).abs() < 1e-12);
+    let (_, radius) = vertex(&complex, "d/vertex 4");
+    assert!((radius - 0.021).abs() < 1e-12);
+}
+
+#[test]
+fn bad_complexes_and_tetrahedral_cloaks_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (lenses, needles) in [
+        (
+            "type = \"tetrahedral-shifty-cloak\", side_length_i = 0.97",
+            &["side_length_i", "at most 0.96"][..],
+        ),
+        (
+            "type = \"tetrahedral-shifty-cloak\", asymmetric_configuration = false, side_length_i = 0.33",
+            &["symmetric configuration"][..],
+        ),
+        (
+            "type = \"tetrahedral-shifty-cloak\", w = [1, 1, 0]",
+            &["u, v and w must not lie in one plane"][..],
+        ),
+        (
+            "type = \"homogeneous-planar-imaging-surface-simplicial-complex\", \
+             vertices_v = [[-1, 0, 11], [1, 0, 11], [0, 0, 9], [0, 1.2, 10], [0, 0.5, 10]]",
+            &[
+                "vertex 3 is on the outside",
+                "virtual position must be its physical one",
+            ][..],
+        ),
+        (
+            "type = \"homogeneous-planar-imaging-surface-simplicial-complex\", \
+             vertices_v = [[-1, 0, 11], [1, 0, 11], [0, 0, 9], [0, 1, 10], [0, 0, 10.5]]",
+            &["lie in a plane", "seen flat"][..],
+        ),
+    ] {
+        let text =
+            format!("studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ {lenses} }}\n");
         let path = write(dir.path(), "bad.toml", text);
         let run = timbre(dir.path(), &["check", path_str(&path)]);
         run.assert_bad_input(needles);

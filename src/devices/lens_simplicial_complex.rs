@@ -102,7 +102,9 @@ impl LensDevice for LensSimplicialComplex {
     /// `structure_v`, the same at the virtual positions, `virtual edge I-J` and `virtual vertex
     /// I`.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
-        let complex = Complex::new(self)?;
+        let mut complex = Complex::new(&self.vertices, &self.vertices_v, &self.edges)?;
+        complex.maps = complex.cell_maps()?;
+        complex.check_vertices()?;
         let mut parts = Vec::new();
         for (f, face) in complex.faces.iter().enumerate() {
             // A triangle of edges that bounds no cell has outside space on both sides.
@@ -119,25 +121,12 @@ impl LensDevice for LensSimplicialComplex {
             let corners = Face::Triangle(face.map(|i| self.vertices[i]));
             parts.extend(self.lens_type.part(face_name(*face), corners, lens)?);
         }
-        // Dr TIM's `SurfaceColour.RED_SHINY`.
-        let structure_v = self.structure_v.map(|radius| Edges {
-            radius,
-            surface: EdgeDefaults::HIDDEN_RED.surface(),
-        });
-        let structures = [
-            (edges, &self.vertices, ""),
-            (structure_v.as_ref(), &self.vertices_v, "virtual "),
-        ];
-        for (shown, positions, space) in structures {
-            let Some(e) = shown else { continue };
-            for &[i, j] in &complex.edges {
-                let name = format!("{space}edge {i}-{j}");
-                parts.push(e.part(name, positions[i], positions[j])?);
-            }
-            for (i, &at) in positions.iter().enumerate() {
-                parts.push(e.vertex(format!("{space}vertex {i}"), at)?);
-            }
-        }
+        parts.extend(complex.structure(
+            edges,
+            self.structure_v,
+            &self.vertices,
+            &self.vertices_v,
+        )?);
         Ok(parts)
     }
 
@@ -151,41 +140,49 @@ impl LensDevice for LensSimplicialComplex {
     }
 }
 
-/// The complex in coordinates centred on the physical vertices and scaled by their extent,
-/// with its faces, cells and the cells' maps to outside space.
-struct Complex {
-    centre: DVec3,
-    scale: f64,
-    p: Vec<DVec3>,
-    v: Vec<DVec3>,
-    edges: BTreeSet<[usize; 2]>,
-    faces: Vec<[usize; 3]>,
+/// A simplicial complex (Dr TIM's `SimplicialComplex`, its faces and cells inferred from its
+/// edges) in coordinates centred on the physical vertices and scaled by their extent, with the
+/// cells' maps to outside space where a kind of face has worked them out.
+pub(super) struct Complex {
+    pub centre: DVec3,
+    pub scale: f64,
+    /// The physical and virtual positions, scaled.
+    pub p: Vec<DVec3>,
+    pub v: Vec<DVec3>,
+    pub edges: BTreeSet<[usize; 2]>,
+    pub faces: Vec<[usize; 3]>,
     /// The cells on either side of each face (one for a face on the outside, none for a
     /// triangle of edges that bounds no cell).
-    sides: Vec<Vec<usize>>,
-    cells: Vec<[usize; 4]>,
+    pub sides: Vec<Vec<usize>>,
+    pub cells: Vec<[usize; 4]>,
     /// The four faces of each cell.
     cell_faces: Vec<[usize; 4]>,
     maps: Vec<DMat4>,
 }
 
 impl Complex {
-    fn new(c: &LensSimplicialComplex) -> Result<Complex, String> {
-        let n = c.vertices.len();
-        if c.vertices_v.len() != n {
+    /// The faces and cells of the complex of these physical and virtual vertex positions and
+    /// edges.
+    pub fn new(
+        vertices: &[DVec3],
+        vertices_v: &[DVec3],
+        edge_list: &[[usize; 2]],
+    ) -> Result<Complex, String> {
+        let n = vertices.len();
+        if vertices_v.len() != n {
             return Err(format!(
                 "there are {n} vertices but {} vertices_v",
-                c.vertices_v.len()
+                vertices_v.len()
             ));
         }
-        if n > MAX_VERTICES || c.edges.len() > MAX_EDGES {
+        if n > MAX_VERTICES || edge_list.len() > MAX_EDGES {
             return Err(format!(
                 "a complex may have at most {MAX_VERTICES} vertices and {MAX_EDGES} edges, not {n} and {}",
-                c.edges.len()
+                edge_list.len()
             ));
         }
         let mut edges = BTreeSet::new();
-        for &[i, j] in &c.edges {
+        for &[i, j] in edge_list {
             if i >= n || j >= n || i == j {
                 return Err(format!(
                     "edge [{i}, {j}] must join two different vertices of the {n}"
@@ -193,17 +190,16 @@ impl Complex {
             }
             edges.insert([i.min(j), i.max(j)]);
         }
-        let centre = c.vertices.iter().sum::<DVec3>() / n.max(1) as f64;
-        let scale = c
-            .vertices
+        let centre = vertices.iter().sum::<DVec3>() / n.max(1) as f64;
+        let scale = vertices
             .iter()
             .map(|p| (*p - centre).length())
             .fold(0.0, f64::max);
         if scale == 0.0 {
             return Err("the vertices must not all coincide".into());
         }
-        let p: Vec<DVec3> = c.vertices.iter().map(|x| (*x - centre) / scale).collect();
-        let v: Vec<DVec3> = c.vertices_v.iter().map(|x| (*x - centre) / scale).collect();
+        let p: Vec<DVec3> = vertices.iter().map(|x| (*x - centre) / scale).collect();
+        let v: Vec<DVec3> = vertices_v.iter().map(|x| (*x - centre) / scale).collect();
         let joined = |i: usize, j: usize| edges.contains(&[i.min(j), i.max(j)]);
         let mut faces = Vec::new();
         for &[i, j] in &edges {
@@ -250,7 +246,7 @@ impl Complex {
                 face_name(faces[f])
             ));
         }
-        let mut complex = Complex {
+        Ok(Complex {
             centre,
             scale,
             p,
@@ -261,10 +257,48 @@ impl Complex {
             cells,
             cell_faces,
             maps: Vec::new(),
-        };
-        complex.maps = complex.cell_maps()?;
-        complex.check_vertices()?;
-        Ok(complex)
+        })
+    }
+
+    /// With `edges`, the edges `edge I-J` and the vertices `vertex I` at `vertices` (Dr TIM's
+    /// physical-space structure); with `structure_v`, the same of that radius in shiny red at
+    /// `vertices_v`, `virtual edge I-J` and `virtual vertex I`.
+    pub fn structure(
+        &self,
+        edges: Option<&Edges>,
+        structure_v: Option<f64>,
+        vertices: &[DVec3],
+        vertices_v: &[DVec3],
+    ) -> Result<Vec<Part>, String> {
+        // Dr TIM's `SurfaceColour.RED_SHINY`.
+        let structure_v = structure_v.map(|radius| Edges {
+            radius,
+            surface: EdgeDefaults::HIDDEN_RED.surface(),
+        });
+        let structures = [
+            (edges, vertices, ""),
+            (structure_v.as_ref(), vertices_v, "virtual "),
+        ];
+        let mut parts = Vec::new();
+        for (shown, positions, space) in structures {
+            let Some(e) = shown else { continue };
+            for &[i, j] in &self.edges {
+                let name = format!("{space}edge {i}-{j}");
+                parts.push(e.part(name, positions[i], positions[j])?);
+            }
+            for (i, &at) in positions.iter().enumerate() {
+                parts.push(e.vertex(format!("{space}vertex {i}"), at)?);
+            }
+        }
+        Ok(parts)
+    }
+
+    /// Whether vertex `x` lies on the outside of the complex.
+    pub fn on_outside(&self, x: usize) -> bool {
+        self.sides
+            .iter()
+            .zip(&self.faces)
+            .any(|(s, f)| s.len() == 1 && f.contains(&x))
     }
 
     /// The cells' maps to outside space, worked out from the outside inwards.
@@ -324,7 +358,7 @@ impl Complex {
     }
 
     /// φ = (n, −n·A) of face `f`'s plane, n its unit normal (either way).
-    fn plane(&self, f: usize) -> DVec4 {
+    pub fn plane(&self, f: usize) -> DVec4 {
         let [a, b, c] = self.faces[f].map(|i| self.p[i]);
         let n = (b - a).cross(c - a).normalize();
         n.extend(-n.dot(a))
@@ -344,12 +378,7 @@ impl Complex {
                         "vertex {x}: the lenses image it to {}, not to its virtual position {} (in cell {cell:?}); {}",
                         self.centre + self.scale * image,
                         self.centre + self.scale * self.v[x],
-                        if self
-                            .sides
-                            .iter()
-                            .zip(&self.faces)
-                            .any(|(s, f)| s.len() == 1 && f.contains(&x))
-                        {
+                        if self.on_outside(x) {
                             "vertices on the outside of the complex must keep their physical positions"
                         } else {
                             "ideal lenses cannot realise these virtual positions"

@@ -12,6 +12,7 @@ mod coordinate_system;
 mod four_pi_lens;
 mod fresnel_lens;
 mod fresnel_lens_surface;
+mod homogeneous_planar_imaging_surface_simplicial_complex;
 mod ideal_lens_cloak;
 mod lens_simplicial_complex;
 mod lens_star;
@@ -31,6 +32,7 @@ mod refractive_view_rotator;
 mod shifty_cloak;
 mod space_cancelling_wedge;
 mod star;
+mod tetrahedral_shifty_cloak;
 mod tim_head;
 mod triangular_thick_lens;
 
@@ -40,6 +42,10 @@ pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
 pub use fresnel_lens::{FresnelLens, FresnelLensKeys};
 pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Sections};
+pub use homogeneous_planar_imaging_surface_simplicial_complex::{
+    HomogeneousPlanarImagingSurfaceSimplicialComplex,
+    HomogeneousPlanarImagingSurfaceSimplicialComplexKeys,
+};
 pub use ideal_lens_cloak::{IdealLensCloak, IdealLensCloakKeys};
 pub use lens_simplicial_complex::{LensSimplicialComplex, LensSimplicialComplexKeys};
 pub use lens_star::{LensStar, LensStarKeys};
@@ -56,6 +62,7 @@ pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArra
 pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
 pub use shifty_cloak::{CubicShiftyCloakKeys, ShiftyCloak, SimpleTetrahedralShiftyCloakKeys};
 pub use space_cancelling_wedge::{Gluing, SpaceCancellingWedge, SpaceCancellingWedgeKeys};
+pub use tetrahedral_shifty_cloak::{TetrahedralShiftyCloak, TetrahedralShiftyCloakKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
@@ -117,10 +124,12 @@ kinds! {
         NetOfHypercube(NetOfHypercubeKeys),
         NetOfSymmetricFourSimplex(NetOfSymmetric4SimplexKeys),
         LensSimplicialComplex(LensSimplicialComplexKeys),
+        HomogeneousPlanarImagingSurfaceSimplicialComplex(HomogeneousPlanarImagingSurfaceSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
+        TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),
         PlatonicLens(PlatonicLensKeys),
         FourPiLens(FourPiLensKeys),
         FresnelLens(FresnelLensKeys),
