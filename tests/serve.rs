@@ -1101,3 +1101,81 @@ async fn a_public_server_reads_and_writes_no_file_for_its_pages() {
     assert_eq!(status, 200, "{response}");
     assert!(response.contains("frame-ancestors *"), "{response}");
 }
+
+/// A scene with an `[animation]` gets a frame slider: frame k of the movie is the scene with
+/// each track's value at k given by `--set`, byte for byte (the camera keyed linearly from
+/// (0, 0, 0) at frame 0 to (0.4, 0.2, 0) at frame 4 is at (0.3, 0.15, 0) at frame 3); a frame
+/// past the end shows the last; `null` the scene as written.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_frame_slider_shows_the_movies_frames() {
+    let movie = format!(
+        "{SCENE}[animation]\nframes = 5\n[[animation.track]]\nkey = \"camera.position\"\n\
+         keyframes = [{{ frame = 0, value = [0, 0, 0] }}, {{ frame = 4, value = [0.4, 0.2, 0] }}]\n"
+    );
+    let server = Server::start_with(&movie, &[]);
+    write(server.path(), "still.toml", SCENE);
+    let still = |set: &[&str]| {
+        let mut args = vec![
+            "render",
+            "still.toml",
+            "-q",
+            "--spp",
+            "3",
+            "-o",
+            "still.png",
+        ];
+        for s in set {
+            args.extend(["--set", s]);
+        }
+        timbre(server.path(), &args).assert_success();
+        decode_png(&server.path().join("still.png"))
+    };
+    let mut page = server.connect().await;
+    let state = page.json("scene").await;
+    assert_eq!(
+        state["animation"],
+        serde_json::json!({"frames": 5, "frame": null})
+    );
+    let written = page.converged(0).await;
+    assert_eq!(written.differences(&still(&[])), 0, "the scene as written");
+
+    page.send(serde_json::json!({"type": "frame", "frame": 3}))
+        .await;
+    let state = page.json("scene").await;
+    assert_eq!(state["animation"]["frame"], 3);
+    let position = state["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["key"] == "camera.position")
+        .map(|p| p["value"].clone());
+    // Linear interpolation, u = 3/4 of the way, in f64 as any code does it.
+    let (x, y) = (0.0 + 0.75 * (0.4 - 0.0), 0.0 + 0.75 * (0.2 - 0.0));
+    let position: Vec<f64> = position
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(position, [x, y, 0.0]);
+    let third = page.converged(written.generation).await;
+    let expected = still(&[&format!("camera.position=[{x:?}, {y:?}, 0]")]);
+    assert_eq!(third.differences(&expected), 0, "frame 3");
+    assert!(written.differences(&expected) > 100, "the camera moved");
+
+    page.send(serde_json::json!({"type": "frame", "frame": 9}))
+        .await;
+    assert_eq!(page.json("scene").await["animation"]["frame"], 4);
+    let last = page.converged(third.generation).await;
+    assert_eq!(
+        last.differences(&still(&["camera.position=[0.4, 0.2, 0]"])),
+        0
+    );
+
+    page.send(serde_json::json!({"type": "frame", "frame": null}))
+        .await;
+    assert!(page.json("scene").await["animation"]["frame"].is_null());
+    let back = page.converged(last.generation).await;
+    assert_eq!(back.differences(&still(&[])), 0);
+}

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant, SystemTime};
 use axum::body::Bytes;
 use tokio::sync::{broadcast, watch};
 
-use super::messages::{CameraState, Hit, SceneState, ToPage};
+use super::messages::{AnimationState, CameraState, Hit, SceneState, ToPage};
 use super::parameters::{Parameter, Slider, parameters};
 use super::preview::{LoadError, Preview};
 use super::{ServeError, ServeOptions};
@@ -109,6 +109,8 @@ struct Inputs {
     exposure: f64,
     /// The scene's `png_transfer`, which frames are encoded by, as its PNG would be.
     transfer: PngTransfer,
+    /// The frame of the scene's `[animation]` the page shows; `None`: the scene as written.
+    frame: Option<u32>,
     /// Raised by every change of the picture, and of the display.
     generation: u64,
     display: u64,
@@ -193,6 +195,7 @@ impl Engine {
                 from_page: false,
                 exposure: 0.0,
                 transfer: PngTransfer::Linear,
+                frame: None,
                 generation: 1,
                 display: 0,
                 requests: VecDeque::new(),
@@ -304,6 +307,15 @@ impl Engine {
         });
     }
 
+    /// Shows frame `frame` of the scene's `[animation]`, or with `None` the scene as written.
+    pub fn frame(&self, frame: Option<u32>) {
+        self.change(true, |i| {
+            let changed = i.frame != frame;
+            i.frame = frame;
+            changed
+        });
+    }
+
     /// New scene text (from the page's editor).
     pub fn text(&self, text: String) {
         self.change(true, |i| {
@@ -376,6 +388,7 @@ enum Work {
         check: Check,
         /// The command line's `--set`s (the first of `overrides`), which are trusted.
         base: usize,
+        frame: Option<u32>,
     },
     Show,
     Pass,
@@ -416,6 +429,7 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                             (false, true) => Check::Nothing,
                         },
                         base: inputs.base.len(),
+                        frame: inputs.frame,
                     };
                 }
                 if let Some(r) = inputs.requests.pop_front() {
@@ -452,7 +466,9 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                 generation,
                 check,
                 base,
+                frame,
             } => {
+                preview.frame = frame;
                 let changes = &overrides[base.min(overrides.len())..];
                 let load = |preview: &mut Preview, text: &str, check| {
                     preview.load(
@@ -1020,9 +1036,15 @@ fn state<'a>(
 ) -> SceneState<'a> {
     let description = preview.description().expect("loaded");
     let settings = preview.settings().expect("loaded");
+    // The values shown are the frame's where the page shows one of the scene's movie.
+    let frame = preview.shown_frame();
+    let shown: Vec<Override> = match &frame {
+        Some((_, at_frame)) => [overrides, at_frame].concat(),
+        None => overrides.to_vec(),
+    };
     // A large scene is read in parts by the loader; here it would take tens of times its size.
     let applied = (text.len() <= MAX_PARAMETER_TEXT)
-        .then(|| file::with_overrides(text, overrides).ok())
+        .then(|| file::with_overrides(text, &shown).ok())
         .flatten()
         .and_then(|t| t.parse::<toml::Table>().ok());
     let camera = &description.camera;
@@ -1113,5 +1135,9 @@ fn state<'a>(
             .map(|w| for_page(shared, w))
             .collect(),
         public: shared.public,
+        animation: description.animation.as_ref().map(|a| AnimationState {
+            frames: a.frames,
+            frame: frame.map(|(k, _)| k),
+        }),
     }
 }

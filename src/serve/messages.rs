@@ -84,6 +84,17 @@ pub struct SceneState<'a> {
     pub warnings: Vec<String>,
     /// A public server's page: nothing is saved or written (the page hides those controls).
     pub public: bool,
+    /// The scene's `[animation]`, if it has one: the page's frame slider.
+    pub animation: Option<AnimationState>,
+}
+
+/// A scene's movie as the page's frame slider shows it.
+#[derive(Debug, Serialize)]
+pub struct AnimationState {
+    /// Frames in the movie, 0 to `frames` − 1.
+    pub frames: u32,
+    /// The frame shown; `None`: the scene as written.
+    pub frame: Option<u32>,
 }
 
 /// The camera as the page moves it.

@@ -138,6 +138,9 @@ pub struct Preview {
     path: PathBuf,
     options: PreviewOptions,
     loaded: Option<Loaded>,
+    /// The frame of the scene's `[animation]` shown (the last frame where the movie is
+    /// shorter); `None`, or a scene without one: the scene as written.
+    pub frame: Option<u32>,
 }
 
 impl Preview {
@@ -149,12 +152,14 @@ impl Preview {
             path,
             options,
             loaded: None,
+            frame: None,
         })
     }
 
     /// The scene as `timbre render` would read `text` (the scene file's contents) with
-    /// `overrides` (reading only the files `confinement` allows, if given), and the settings
-    /// the preview renders it with. A failure leaves the loaded scene as it was.
+    /// `overrides` (reading only the files `confinement` allows, if given), at the frame shown
+    /// (as `timbre render --frame K` renders it), and the settings the preview renders it with.
+    /// A failure leaves the loaded scene as it was.
     pub fn describe(
         &self,
         text: &str,
@@ -162,11 +167,18 @@ impl Preview {
         confinement: Option<&Confinement>,
     ) -> Result<(SceneDescription, RenderSettings), LoadError> {
         let path = self.path.display().to_string();
-        let description = match confinement {
-            Some(c) => file::parse_confined(text, &path, overrides, c),
-            None => file::parse_with(text, &path, overrides),
+        let parse = |overrides: &[Override]| {
+            match confinement {
+                Some(c) => file::parse_confined(text, &path, overrides, c),
+                None => file::parse_with(text, &path, overrides),
+            }
+            .map_err(|e| LoadError::of(e, &path))
+        };
+        let mut description = parse(overrides)?;
+        let at_frame = frame_overrides(self.frame, &description);
+        if !at_frame.is_empty() {
+            description = parse(&[overrides, &at_frame].concat())?;
         }
-        .map_err(|e| LoadError::of(e, &path))?;
         let mut s = description.render.clone();
         let o = &self.options;
         if !o.settings.gives("spp") {
@@ -286,6 +298,14 @@ impl Preview {
     /// The scene loaded last, as parsed.
     pub fn description(&self) -> Option<&SceneDescription> {
         self.loaded.as_ref().map(|l| &l.parsed)
+    }
+
+    /// The frame of the loaded scene's `[animation]` shown, if one is, and the `--set`s that
+    /// make it.
+    pub fn shown_frame(&self) -> Option<(u32, Vec<Override>)> {
+        let description = self.description()?;
+        let k = shown(self.frame, description)?;
+        Some((k, frame_overrides(self.frame, description)))
     }
 
     /// The scene loaded last, built (shared, so that a render to a file can go on beside the
@@ -577,5 +597,20 @@ fn picture(l: &Loaded, views: &[View]) -> Image {
             pack(&view(0, left), &view(1, right), *packing, *half)
         }
         (_, views) => view(0, &views[0]),
+    }
+}
+
+/// The frame of `description`'s `[animation]` that `frame` shows: at most its last.
+fn shown(frame: Option<u32>, description: &SceneDescription) -> Option<u32> {
+    let animation = description.animation.as_ref()?;
+    Some(frame?.min(animation.frames - 1))
+}
+
+/// The `--set`s that make the frame `frame` shows of `description` (none for the scene as
+/// written).
+fn frame_overrides(frame: Option<u32>, description: &SceneDescription) -> Vec<Override> {
+    match (shown(frame, description), &description.animation) {
+        (Some(k), Some(animation)) => animation.overrides(k),
+        _ => Vec::new(),
     }
 }

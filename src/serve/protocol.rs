@@ -105,6 +105,10 @@ pub enum ClientMessage {
     },
     /// Writes the scene text to the scene file.
     WriteScene {},
+    /// Shows this frame of the scene's `[animation]` (`null`: the scene as written).
+    Frame {
+        frame: Option<u32>,
+    },
     /// Display exposure in stops (does not restart the accumulation).
     Exposure {
         stops: f64,
@@ -428,6 +432,10 @@ fn handle(engine: &Engine, message: ClientMessage) -> Option<String> {
             Ok(())
         }
         ClientMessage::WriteScene {} => engine.request(EngineRequest::WriteScene),
+        ClientMessage::Frame { frame } => {
+            engine.frame(frame);
+            Ok(())
+        }
         ClientMessage::Exposure { stops } => exposure(stops).map(|stops| engine.exposure(stops)),
         ClientMessage::Inspect { x, y } => engine.request(EngineRequest::Inspect { x, y }),
         ClientMessage::Trajectory { x, y } => engine.request(EngineRequest::Trajectory { x, y }),

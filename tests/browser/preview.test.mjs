@@ -13,7 +13,7 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn, execFileSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -106,9 +106,9 @@ function decodePng(buf) {
 
 // `timbre render` of the test's settings (plus --set pairs), as RGB bytes.
 let renders = 0;
-function reference(sets = [], spp = SPP) {
+function reference(sets = [], spp = SPP, scene = SCENE) {
   const file = join(scratch, `ref-${renders++}.png`);
-  const args = ['render', SCENE, ...SIZE, '--spp', String(spp), '-q', '-o', file];
+  const args = ['render', scene, ...SIZE, '--spp', String(spp), '-q', '-o', file];
   for (const s of sets) args.push('--set', s);
   execFileSync(TIMBRE, args, { stdio: ['ignore', 'ignore', 'pipe'], timeout: WAIT });
   const png = decodePng(readFileSync(file));
@@ -117,8 +117,8 @@ function reference(sets = [], spp = SPP) {
 }
 
 // ---- the server ------------------------------------------------------------------------------
-function serve(extra = []) {
-  const proc = spawn(TIMBRE, ['serve', SCENE, '--port', '0', '--bind', '127.0.0.1', ...SIZE, '--spp', String(SPP), ...extra],
+function serve(extra = [], scene = SCENE) {
+  const proc = spawn(TIMBRE, ['serve', scene, '--port', '0', '--bind', '127.0.0.1', ...SIZE, '--spp', String(SPP), ...extra],
     { stdio: ['ignore', 'pipe', 'pipe'] });
   servers.add(proc);
   let stderr = '', stdout = '';
@@ -149,8 +149,8 @@ function serve(extra = []) {
 
 // Runs body(page) against a fresh server and browser context; always stops both, and prints
 // the server's standard error and the page's console errors and warnings when it fails.
-async function withPage(body, extra = []) {
-  const server = serve(extra);
+async function withPage(body, extra = [], scene = SCENE) {
+  const server = serve(extra, scene);
   const logs = [];
   let context;
   try {
@@ -494,3 +494,35 @@ test('a public server serves several pages at once, each its own view, refuses f
       await server.stop();
     }
   });
+
+test('the frame slider shows a frame of the scene\'s movie, the CLI --set render of its values', {
+  timeout: 2 * WAIT }, async () => {
+  // glass-ball.toml with its glass's index keyed from 1.5 at frame 0 to 1.1 at frame 4.
+  const movie = join(scratch, 'movie.toml');
+  writeFileSync(movie, readFileSync(SCENE, 'utf8') + '\n[animation]\nframes = 5\n[[animation.track]]\n' +
+    `key = "${INDEX_KEY}"\nkeyframes = [{ frame = 0, value = 1.5 }, { frame = 4, value = 1.1 }]\n`);
+  // Frame 2, half way, interpolated linearly in f64.
+  const value = 1.5 + 0.5 * (1.1 - 1.5);
+  const ref = reference([`${INDEX_KEY}=${value}`]), written = reference();
+  await withPage(async (page) => {
+    const s0 = await converged(page);
+    assert.equal(await page.isVisible('#movie'), true, 'the frame slider is shown');
+    assert.equal(await page.textContent('#frame-value'), 'as written');
+    assertSame('the scene as written', await canvasRGB(page), written);
+    await page.evaluate(() => {
+      const f = document.getElementById('frame');
+      f.value = '2';
+      f.dispatchEvent(new Event('input', { bubbles: true }));
+    });
+    await converged(page, s0.generation);
+    const s1 = await grab(page);
+    assert.deepEqual(s1.state.animation, { frames: 5, frame: 2 }, 'the state names the frame');
+    assert.equal(s1.state.parameters.find((q) => q.key === INDEX_KEY).value, value, 'the frame\'s value');
+    assertSame(`frame 2 (${INDEX_KEY}=${value})`, s1.rgb, ref);
+    await page.click('#frame-reset');
+    await converged(page, s1.generation);
+    const s2 = await grab(page);
+    assert.equal(s2.state.animation.frame, null, 'back to the scene as written');
+    assertSame('the scene as written again', s2.rgb, written);
+  }, [], movie);
+});
