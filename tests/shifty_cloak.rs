@@ -110,6 +110,15 @@ fn cases() -> Vec<Case> {
             shift: DVec3::new(0.0, 0.0, 1.0),
             unfolded: true,
         },
+        // Mirrored (x → −x) and sheared.
+        Case {
+            kind: "tetrahedral-shifty-cloak",
+            keys: "centre = [0, 0, 0], delta = [0.04, -0.03, 0.02]",
+            transform: "transform = { matrix = [[-1, 0, 0], [0, 1, 0.3], [0, 0, 2]] }\n",
+            linear: DMat3::from_cols_array(&[-1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.3, 2.0]),
+            shift: DVec3::ZERO,
+            unfolded: true,
+        },
     ]
 }
 
@@ -429,7 +438,7 @@ fn a_complex_of_imaging_surfaces_shows_each_cell_through_the_map_of_its_vertices
 /// `EditableTetrahedralShiftyCloak(parent, studio)`: centre (0, 0, 10), u, v, w along x, y, z,
 /// asymmetric, side lengths 1 and 0.3, δ = 0, interfaces shown with transmission coefficient
 /// 0.96, frames shown, radius 0.01, `GREY50_SHINY`. With δ = 0 every face images space to
-/// itself, so no face is needed. `EditableHomogeneousPlanarImagingSurfaceSimplicialComplex(
+/// itself: its 32 faces (Dr TIM's 15 cells) are gCLAs with η = 1 and δ = 0. `EditableHomogeneousPlanarImagingSurfaceSimplicialComplex(
 /// description, parent, studio)`: a tetrahedron on y = 0 about (0, 0, 10) with its top at
 /// (0, 1, 10) and an inner vertex at (0, 0.5, 10) seen at (2, 0.75, 13): 6 faces meet that
 /// vertex and all need imaging; its structure (blue, radius 0.021) and virtual structure (red,
@@ -443,11 +452,21 @@ fn the_complex_and_the_tetrahedral_cloak_named_by_their_type_alone_are_dr_tims()
         .objects
     };
     let cloak = parse("type = \"tetrahedral-shifty-cloak\"");
-    assert!(
-        cloak
-            .iter()
-            .all(|o| !matches!(o.surface, Surface::ConfocalLensletArrays(_)))
-    );
+    let faces: Vec<_> = cloak
+        .iter()
+        .filter_map(|o| match &o.surface {
+            Surface::ConfocalLensletArrays(a) => Some(a),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(faces.len(), 32);
+    for a in faces {
+        assert!((a.eta - glam::DVec2::ONE).length() < 1e-12 && a.delta.length() < 1e-12);
+        assert_eq!(
+            a.transmission,
+            timbre::surfaces::metatoys::Transmission::Constant(0.96)
+        );
+    }
     let vertex = |objects: &[timbre::scene::SceneObject], name: &str| {
         let o = objects
             .iter()
@@ -465,12 +484,6 @@ fn the_complex_and_the_tetrahedral_cloak_named_by_their_type_alone_are_dr_tims()
     assert!((vertex(&cloak, "d/vertex 4").0 - expected).length() < 1e-12);
     // 6 + 6 + 12 edges.
     assert_eq!(cloak.iter().filter(|o| o.name.contains("edge")).count(), 24);
-    let shifted = parse("type = \"tetrahedral-shifty-cloak\", delta = [0, 0.01, 0]");
-    let faces = shifted
-        .iter()
-        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
-        .count();
-    assert!(faces > 4, "{faces} faces");
 
     let complex = parse("type = \"homogeneous-planar-imaging-surface-simplicial-complex\"");
     let faces: Vec<_> = complex
@@ -514,6 +527,10 @@ fn bad_complexes_and_tetrahedral_cloaks_are_refused_where_they_are_given() {
             "type = \"homogeneous-planar-imaging-surface-simplicial-complex\", \
              vertices_v = [[-1, 0, 11], [1, 0, 11], [0, 0, 9], [0, 1, 10], [0, 0, 10.5]]",
             &["lie in a plane", "seen flat"][..],
+        ),
+        (
+            "type = \"homogeneous-planar-imaging-surface-simplicial-complex\", edges = [[0, 1]]",
+            &["vertex 4 is in no cell"][..],
         ),
     ] {
         let text =

@@ -69,7 +69,14 @@ impl HomogeneousPlanarImagingSurfaceSimplicialComplex {
     /// Each cell's map to outside space, after checking the outside vertices stay put.
     fn cell_maps(&self, complex: &Complex) -> Result<Vec<Affine>, String> {
         for x in 0..complex.p.len() {
-            if complex.on_outside(x) && (complex.v[x] - complex.p[x]).length() > TOLERANCE {
+            let moved = (complex.v[x] - complex.p[x]).length() > TOLERANCE;
+            if moved && !complex.cells.iter().any(|c| c.contains(&x)) {
+                return Err(format!(
+                    "vertex {x} is in no cell of the complex, so nothing can show it at its virtual position {} (its physical one is {})",
+                    self.vertices_v[x], self.vertices[x]
+                ));
+            }
+            if moved && complex.on_outside(x) {
                 return Err(format!(
                     "vertex {x} is on the outside of the complex, so its virtual position must be its physical one, {}, not {}",
                     self.vertices[x], self.vertices_v[x]
@@ -99,9 +106,10 @@ impl HomogeneousPlanarImagingSurfaceSimplicialComplex {
 }
 
 impl LensDevice for HomogeneousPlanarImagingSurfaceSimplicialComplex {
-    /// With `show_imaging_elements`, the faces `face I-J-K` that image (a face with the same
-    /// map on both sides is left out, as in the lens simplicial complex); with `edges` and
-    /// `structure_v`, the physical and virtual structures as the lens simplicial complex's.
+    /// With `show_imaging_elements`, the faces `face I-J-K` (each, as in Dr TIM, also one with
+    /// the same map on both sides: gCLAs with η = 1 and δ = 0, which pass light on undeviated
+    /// but dimmed); with `edges` and `structure_v`, the physical and virtual structures as the
+    /// lens simplicial complex's.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let complex = Complex::new(&self.vertices, &self.vertices_v, &self.edges)?;
         let maps = self.cell_maps(&complex)?;
@@ -125,9 +133,6 @@ impl LensDevice for HomogeneousPlanarImagingSurfaceSimplicialComplex {
             }
             let inside = complex.p[off_face];
             let outside = front.inverse_apply(maps[behind].apply(inside));
-            if (outside - inside).length() <= TOLERANCE {
-                continue;
-            }
             let unscaled = |x: DVec3| complex.centre + complex.scale * x;
             let name = face_name(*face);
             let imaging = HomogeneousPlanarImaging {

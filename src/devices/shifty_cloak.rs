@@ -15,8 +15,8 @@
 //! face, h that of the inner face. Neighbouring maps agree on the faces between them (on a
 //! diagonal face, which contains c, the two frusta's d/h are equal), so each face is the
 //! homogeneous planar imaging surface ([`HomogeneousPlanarImaging`]) that images a point x of the
-//! region behind it into V_front⁻¹(V_behind(x)) in front; Dr TIM's gives its faces the same
-//! conjugate pairs. A frustum's map is singular where n̂·δ = h (the inner face would appear in
+//! region behind it into V_front⁻¹(V_behind(x)) in front; Dr TIM's conjugate pairs (other
+//! points) give its faces the same maps. A frustum's map is singular where n̂·δ = h (the inner face would appear in
 //! the outer face's plane): refused.
 
 use glam::DVec3;
@@ -362,7 +362,7 @@ impl LensDevice for ShiftyCloak {
     /// With `show_interfaces`, the faces `outer face in +u direction`, `inner face in +u
     /// direction`, `diagonal face between the +u and +v faces`, ... (the tetrahedron's
     /// `outer face in -u-v-w direction`, ...); with `edges` the frames `outer vertex +u+v+w`,
-    /// `inner vertex ...`, `outer edge +u+v+w to +u+v-w`, `inner edge ...`, `diagonal edge at
+    /// `inner vertex ...`, `outer edge +u+v-w to +u+v+w`, `inner edge ...`, `diagonal edge at
     /// +u+v+w`.
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let layout = self.layout()?;

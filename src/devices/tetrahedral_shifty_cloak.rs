@@ -158,7 +158,7 @@ impl TetrahedralShiftyCloakKeys {
             show_interfaces: self.show_interfaces.unwrap_or(true),
             interface_transmission_coefficient: throughput(self.interface_transmission_coefficient),
         };
-        if cloak.u.cross(cloak.v).dot(cloak.w).abs() < 1e-9 {
+        if cloak.u.cross(cloak.v).dot(cloak.w).abs() < 1e-6 {
             return Err("u, v and w must not lie in one plane".into());
         }
         let largest = cloak.largest_inner_side();

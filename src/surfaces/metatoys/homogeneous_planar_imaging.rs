@@ -51,11 +51,9 @@ impl HomogeneousPlanarImaging {
             .ok_or("an imaging surface needs a non-zero normal")?;
         let u_hat = a_hat.any_orthonormal_vector();
         let v_hat = a_hat.cross(u_hat);
-        let scale = (self.inside_position - self.point_on_plane)
-            .length()
-            .max((self.outside_position - self.point_on_plane).length());
-        let a_p = (self.inside_position - self.point_on_plane).dot(a_hat);
-        if a_p.abs() <= 1e-12 * scale || !a_p.is_finite() {
+        let from_plane = self.inside_position - self.point_on_plane;
+        let a_p = from_plane.dot(a_hat);
+        if a_p.abs() <= 1e-12 * from_plane.length() || !a_p.is_finite() {
             return Err(format!(
                 "the inside position {} lies in the imaging plane",
                 self.inside_position
