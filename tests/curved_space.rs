@@ -302,6 +302,97 @@ fn an_escaping_ray_comes_closest_where_n_r_equals_its_impact_parameter() {
     }
 }
 
+/// Dr TIM's shell simulation of the black hole (`SPHERICAL_SHELLS_CONSTANT_N`): between
+/// spheres about the centre the index is constant, so a ray is straight there, |r × d̂| fixed,
+/// and at each sphere Snell's law keeps n |r × d̂| (n sin θ at one r). So n |r × d̂| along the
+/// whole path is the impact parameter b, with n the index of the shell a segment runs in: the
+/// profile at the middle of the shell, worked out here from the shell's number. A ray well
+/// inside the smooth profile's shadow (b = 7.776 R / 3) falls onto the horizon.
+#[test]
+fn in_the_shell_simulation_n_r_sin_theta_stays_the_impact_parameter() {
+    let (horizon, j, layers) = (0.05f64, 0.6, 40u32);
+    let step = (1.0 - horizon) / (layers - 1) as f64;
+    let n = |r: f64| (j * horizon + r).powi(3) / (r * r * (r - horizon));
+    let shell = |r: f64| match r < 1.0 {
+        true => n(horizon + ((r - horizon) / step).ceil().max(1.0) * step - 0.5 * step),
+        false => 1.0,
+    };
+    let bs = [0.13f64, 0.45, 0.8];
+    let mut text = format!(
+        "studio = \"none\"\n[[device]]\nlenses = {{ type = \"chen-belin-black-hole\", \
+         centre = [0, 0, 0], horizon_radius = {horizon}, j_parameter = {j}, \
+         simulation_type = \"spherical-shells-constant-n\", number_of_spherical_layers = {layers} }}\n"
+    );
+    for b in bs {
+        text += &format!(
+            "[[ray_trajectory]]\nstart = [{b}, 0, -3]\ndirection = [0, 0, 1]\nmax_interactions = 10000\n"
+        );
+    }
+    let traced = trace(&text);
+    for (t, b) in traced.iter().zip(bs) {
+        let mut crossings = 0;
+        for w in t.points.windows(2) {
+            let (p, q) = (w[0].position, w[1].position);
+            let d = (q - p).normalize();
+            let middle = (0.5 * (p + q)).length();
+            let l = shell(middle) * p.cross(d).length();
+            assert!((l - b).abs() < 1e-9, "b = {b}: n r sin θ = {l} at {p}");
+            crossings += 1;
+        }
+        assert!(crossings > 10, "b = {b}: {} points", t.points.len());
+    }
+    // The ray with b = 0.13 falls in; the others come out again.
+    assert_eq!(traced[0].end, trajectories::End::Absorbed);
+    let objects = common::images::parse(&text).objects;
+    let on = traced[0]
+        .points
+        .last()
+        .unwrap()
+        .object
+        .expect("on an object");
+    assert!(
+        objects[on].name.ends_with("/horizon"),
+        "{}",
+        objects[on].name
+    );
+    assert!(
+        traced[1..]
+            .iter()
+            .all(|t| t.end == trajectories::End::Escaped)
+    );
+}
+
+#[test]
+fn bad_shell_simulations_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, needles) in [
+        (
+            "number_of_spherical_layers = 10",
+            &["belongs to simulation_type"][..],
+        ),
+        (
+            "simulation_type = \"spherical-shells-constant-n\", number_of_spherical_layers = 1",
+            &["from 2 to"][..],
+        ),
+        (
+            "simulation_type = \"shells\"",
+            &["smooth-n", "spherical-shells-constant-n"][..],
+        ),
+        (
+            "simulation_type = \"spherical-shells-constant-n\", horizon_radius = 2",
+            &["larger than the horizon"][..],
+        ),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n\n[[device]]\nname = \"b\"\nlenses = {{ type = \"chen-belin-black-hole\", {keys} }}\n"
+        );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Space-cancelling wedges and the net of a hypercube. A space-cancelling wedge of apex angle ν
 // removes the wedge of space between its legs: a ray that crosses it leaves on the line it came
