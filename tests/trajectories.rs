@@ -2087,3 +2087,84 @@ fn a_waist_radius_needs_a_cone_angle() {
     run.assert_bad_input(&["waist_radius", "cone_half_angle_deg"]);
     assert_eq!(location(&run.stderr, &scene).0, 4, "{}", run.stderr);
 }
+
+// ---------------------------------------------------------------------------------------------
+// `seen_by`: Dr TIM's programs trace their trajectories, then remove objects (or add some)
+// before rendering. A trajectory meets an object only the trajectories see, and passes one
+// only the camera sees as though it were not there; the picture is the other way round.
+// ---------------------------------------------------------------------------------------------
+
+/// A ray along +z at x = 0.1 meets a mirror at z = 5 (seen by the trajectories only) and comes
+/// back by the law of reflection, through a ball at z = 2 that only the camera sees.
+#[test]
+fn trajectories_meet_what_only_they_see_and_pass_what_only_the_camera_sees() {
+    let objects = |mirror: &str, ball: &str| {
+        format!(
+            "studio = \"none\"\n\
+             [[object]]\nname = \"mirror\"\n{mirror}\
+             shape = {{ type = \"disc\", centre = [0, 0, 5], normal = [0, 0, 1], radius = 1 }}\n\
+             surface = {{ type = \"mirror\" }}\n\
+             [[group]]\n{ball}\
+             [[group.object]]\nname = \"ball\"\n\
+             shape = {{ type = \"sphere\", centre = [0, 0, 2], radius = 0.3 }}\n\
+             surface = {{ type = \"matt\", colour = [1, 0, 0] }}\n"
+        )
+    };
+    let ray = "[[ray_trajectory]]\nstart = [0.1, 0, 0]\ndirection = [0, 0, 1]\n";
+    let text = objects("seen_by = \"trajectories\"\n", "seen_by = \"camera\"\n") + ray;
+    let (d, traced) = trace_text(&text);
+    let t = &traced[0];
+    // Straight through the ball to the mirror, reflected back along −z.
+    assert_eq!(t.points[1].object, Some(index_of(&d, "mirror")));
+    assert!(close_vec(
+        t.points[1].position,
+        DVec3::new(0.1, 0.0, 5.0),
+        1e-12
+    ));
+    assert!(close_vec(t.direction, reflect(DVec3::Z, DVec3::Z), 1e-12));
+    assert_eq!(t.end, End::Escaped);
+    assert!(
+        t.points
+            .iter()
+            .all(|p| p.object != Some(index_of(&d, "ball")))
+    );
+    // Seen by all, the ball absorbs it.
+    let (d, traced) = trace_text(&(objects("", "") + ray));
+    assert_eq!(traced[0].end, End::Absorbed);
+    assert_eq!(traced[0].points[1].object, Some(index_of(&d, "ball")));
+
+    // The picture leaves out what only the trajectories see: with the mirror only the
+    // trajectories see and no trajectory, it is the picture without the mirror, byte for byte;
+    // with the mirror seen by all (reflecting the sky dimmed by 0.96), it differs.
+    let light = "[[light]]\ntype = \"point\"\nposition = [0, 3, 0]\ncolour = [1, 1, 1]\n\
+                 [[object]]\nname = \"sky\"\n\
+                 shape = { type = \"sphere\", centre = [0, 0, 0], radius = 100 }\n\
+                 surface = { type = \"constant-colour\", colour = [0.5, 0.5, 1] }\n\
+                 [camera]\nposition = [0, 0, -1]\nlook_at = [0, 0, 3]\n[render]\nwidth = 48\nheight = 36\n";
+    let hidden =
+        common::images::render_text(&(objects("seen_by = \"trajectories\"\n", "") + light));
+    let without = {
+        let text = objects("", "") + light;
+        let start = text.find("[[object]]").unwrap();
+        let end = text.find("[[group]]").unwrap();
+        common::images::render_text(&format!("{}{}", &text[..start], &text[end..]))
+    };
+    assert_eq!(common::images::differing(&hidden, &without), 0);
+    let shown = common::images::render_text(&(objects("", "") + light));
+    assert!(
+        common::images::differing(&shown, &without) > 0,
+        "the mirror shows"
+    );
+}
+
+#[test]
+fn seen_by_takes_one_of_its_three_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "studio = \"none\"\n\n[[object]]\nseen_by = \"nobody\"\n\
+                shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n\
+                surface = { type = \"matt\", colour = [1, 0, 0] }\n";
+    let path = write(dir.path(), "bad.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["nobody", "all", "camera", "trajectories"]);
+    assert_eq!(location(&run.stderr, &path).0, 4, "{}", run.stderr);
+}

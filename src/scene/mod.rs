@@ -49,6 +49,28 @@ pub struct SceneObject {
     /// Whether the object casts shadows.
     pub shadow_throwing: bool,
     pub frame: ReferenceFrame,
+    /// Which rays meet it: the camera's, the ray trajectories' or both.
+    pub seen_by: SeenBy,
+}
+
+/// Which rays meet an object (`seen_by`). Dr TIM's programs often trace their ray trajectories
+/// and then remove objects, or add them, before rendering: an object only the trajectories
+/// meet is traced through and then left out of the picture; one only the camera sees is
+/// passed by the trajectories as though it were not there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SeenBy {
+    #[default]
+    All,
+    Camera,
+    Trajectories,
+}
+
+impl SeenBy {
+    /// Whether rays of `kind` (`Camera` or `Trajectories`) meet the object.
+    pub fn meets(self, kind: SeenBy) -> bool {
+        self == SeenBy::All || self == kind
+    }
 }
 
 /// Everything needed to render a picture, before the BVH is built.
@@ -233,7 +255,7 @@ impl Scene {
         if !description.trajectories.is_empty() {
             return Err(BuildError::UndrawnTrajectories);
         }
-        let world = |frame| World::build(device, description, frame);
+        let world = |frame| World::build(device, description, frame, SeenBy::Camera);
         let camera_frame = if description
             .objects
             .iter()
@@ -272,19 +294,20 @@ impl Scene {
 }
 
 impl World {
-    /// The objects of `description` at rest in `frame`, in their order. Each array is
-    /// restricted to its members in this frame, which stay contiguous.
+    /// The objects of `description` at rest in `frame` that rays of `kind` meet, in their
+    /// order. Each array is restricted to its members among them, which stay contiguous.
     pub(crate) fn build(
         device: &Device,
         description: &SceneDescription,
         frame: ReferenceFrame,
+        kind: SeenBy,
     ) -> Result<World, EmbreeError> {
         // New index of each object of this frame.
         let mut index = vec![usize::MAX; description.objects.len()];
         let mut objects = Vec::new();
         let mut shapes = Vec::new();
         for (id, o) in description.objects.iter().enumerate() {
-            if o.frame == frame {
+            if o.frame == frame && o.seen_by.meets(kind) {
                 index[id] = objects.len();
                 objects.push(ObjectInfo {
                     id,

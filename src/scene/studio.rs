@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::lights::{Lights, PointLight};
-use super::{RenderSettings, SceneDescription, SceneObject, Stereo};
+use super::{RenderSettings, SceneDescription, SceneObject, SeenBy, Stereo};
 use crate::cameras::Camera;
 use crate::geometry::{Cylinder, Parallelogram, Plane, Shape, Sphere};
 use crate::math::{Colour, ReferenceFrame};
@@ -31,6 +31,7 @@ pub fn sky() -> SceneObject {
         surface: Surface::ConstantColour(Colour::new(0.5, 0.5, 1.0)),
         shadow_throwing: false,
         frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
     }
 }
 
@@ -51,6 +52,7 @@ pub fn floor() -> SceneObject {
         }),
         shadow_throwing: true,
         frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
     }
 }
 
@@ -112,6 +114,7 @@ fn cylinder_lattice(xs: [f64; 4], ys: [f64; 4], zs: [f64; 4]) -> Vec<SceneObject
         surface: Surface::Coloured(Coloured::shiny(colour)),
         shadow_throwing: true,
         frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
     };
     let mut objects = Vec::with_capacity(48);
     for (i, &x) in xs.iter().enumerate() {
@@ -166,6 +169,7 @@ pub fn window_pane(surface: Surface) -> SceneObject {
         surface,
         shadow_throwing: false,
         frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
     }
 }
 
@@ -199,6 +203,7 @@ pub fn window_frame() -> Vec<SceneObject> {
         surface: grey.clone(),
         shadow_throwing: true,
         frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
     };
     (0..4)
         .map(|i| {

@@ -6,7 +6,7 @@ use super::{Arrival, End, MAX_CURVED_POINTS, MAX_POINTS, Point, Trajectory, Traj
 use crate::embree::Device;
 use crate::geometry::Interaction;
 use crate::math::{Colour, Ray, ReferenceFrame};
-use crate::scene::{SceneDescription, World};
+use crate::scene::{SceneDescription, SeenBy, World};
 use crate::surfaces::{Redirection, Weighted};
 
 /// Follows every ray of every trajectory source of `description` through its scene-frame
@@ -16,7 +16,12 @@ pub fn trace(
     device: &Device,
     description: &SceneDescription,
 ) -> Result<Vec<Trajectory>, TrajectoryError> {
-    let world = World::build(device, description, ReferenceFrame::Scene)?;
+    let world = World::build(
+        device,
+        description,
+        ReferenceFrame::Scene,
+        SeenBy::Trajectories,
+    )?;
     let bounds = description.summary().bounds;
     let mut budget = MAX_POINTS;
     let mut traced = Vec::new();

@@ -3,7 +3,7 @@
 use super::{Arrival, Trajectory};
 use crate::geometry::{Cylinder, Shape, Sphere};
 use crate::math::ReferenceFrame;
-use crate::scene::{RayTrajectory, SceneObject};
+use crate::scene::{RayTrajectory, SceneObject, SeenBy};
 use crate::surfaces::Surface;
 
 /// The objects that draw `trajectories` (traced from `sources`): a cylinder of the source's
@@ -21,6 +21,7 @@ pub fn tubes(sources: &[RayTrajectory], trajectories: &[Trajectory]) -> Vec<Scen
             surface: Surface::ConstantColour(source.colour),
             shadow_throwing: false,
             frame: ReferenceFrame::Scene,
+            seen_by: SeenBy::All,
         };
         let segments: Vec<Option<Cylinder>> = t
             .points

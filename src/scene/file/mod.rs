@@ -24,7 +24,6 @@ use super::studio::{self, Studio};
 use super::{AnimationKeys, SceneDescription, SceneObject};
 use crate::geometry::{Shape, Transform};
 use crate::keys::{Positive, Rgb, Vector};
-use crate::math::ReferenceFrame;
 use crate::surfaces::SkyKeys;
 use crate::surfaces::Surface;
 use crate::surfaces::SurfaceKeys;
@@ -648,7 +647,7 @@ fn describe(
         source,
         items,
         &Transform::IDENTITY,
-        ReferenceFrame::Scene,
+        placement::Inherited::TOP,
         "",
     )?;
     scene.objects.extend(placed.objects);

@@ -23,7 +23,7 @@ use crate::geometry::{ObjectArray, Shape, ShapeKeys, Transform, TransformKeys};
 use crate::keys::{Array, Finite, Positive, Vector};
 use crate::math::ReferenceFrame;
 use crate::picture::Picture;
-use crate::scene::SceneObject;
+use crate::scene::{SceneObject, SeenBy};
 use crate::surfaces::{Surface, SurfaceKeys, mesh_materials};
 
 /// Most array copies a scene may have in all (after flattening nested arrays): each is an
@@ -65,6 +65,7 @@ pub(super) struct ObjectSection {
     #[serde(default = "super::yes")]
     shadow_throwing: bool,
     frame: Option<FrameName>,
+    seen_by: Option<SeenBy>,
     shape: Spanned<ShapeKeys>,
     /// Omitted for a mesh file whose parts all have materials.
     surface: Option<Spanned<SurfaceKeys>>,
@@ -119,6 +120,7 @@ pub(super) struct DeviceSection {
     /// own default (Dr TIM's), [`LensDevice::shadow_throwing`].
     shadow_throwing: Option<bool>,
     frame: Option<FrameName>,
+    seen_by: Option<SeenBy>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     lenses: Option<Spanned<LensesKeys>>,
@@ -206,6 +208,7 @@ impl DeviceSection {
 pub(super) struct GroupSection {
     name: Option<String>,
     frame: Option<FrameName>,
+    seen_by: Option<SeenBy>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     #[serde(default)]
@@ -224,6 +227,7 @@ pub(super) struct IncludeSection {
     file: Spanned<String>,
     name: Option<String>,
     frame: Option<FrameName>,
+    seen_by: Option<SeenBy>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
 }
@@ -242,6 +246,29 @@ impl FrameName {
             None => inherited,
             Some(FrameName::Scene) => ReferenceFrame::Scene,
             Some(FrameName::Camera) => ReferenceFrame::Camera,
+        }
+    }
+}
+
+/// The frame an entry's objects are at rest in and the rays that meet them (`seen_by`), as its
+/// group or include gives them; an entry may say otherwise for itself and its members.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Inherited {
+    pub frame: ReferenceFrame,
+    pub seen_by: SeenBy,
+}
+
+impl Inherited {
+    /// The scene file's own entries: at rest in the scene, met by every ray.
+    pub const TOP: Inherited = Inherited {
+        frame: ReferenceFrame::Scene,
+        seen_by: SeenBy::All,
+    };
+
+    fn within(self, frame: Option<FrameName>, seen_by: Option<SeenBy>) -> Inherited {
+        Inherited {
+            frame: FrameName::or(frame, self.frame),
+            seen_by: seen_by.unwrap_or(self.seen_by),
         }
     }
 }
@@ -427,14 +454,14 @@ impl<'a> Placer<'a> {
         }
     }
 
-    /// Places `items` of the file `source` under the map `parent`, in `frame` unless they say
-    /// otherwise; names get `prefix`.
+    /// Places `items` of the file `source` under the map `parent`, in the frame and seen by
+    /// the rays `inherited` says unless they say otherwise; names get `prefix`.
     pub(super) fn items(
         &mut self,
         source: &Source,
         items: Items,
         parent: &Transform,
-        frame: ReferenceFrame,
+        inherited: Inherited,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         // The included files are admitted first, then counted from their sizes before any is
@@ -461,14 +488,14 @@ impl<'a> Placer<'a> {
         let mut placed = Placed::default();
         for o in items.object {
             let span = o.shape.span();
-            placed.append(self.object(source, o, parent, frame, prefix)?);
+            placed.append(self.object(source, o, parent, inherited, prefix)?);
             placed
                 .check_size()
                 .map_err(|e| source.error(Some(span), e))?;
         }
         for d in items.device {
             let span = d.span();
-            placed.append(self.device(source, d, parent, frame, prefix)?);
+            placed.append(self.device(source, d, parent, inherited, prefix)?);
             placed
                 .check_size()
                 .map_err(|e| source.error(Some(span), e))?;
@@ -482,8 +509,13 @@ impl<'a> Placer<'a> {
                 group: g.group,
                 include: g.include,
             };
-            let frame = FrameName::or(g.frame, frame);
-            let inner = self.items(source, members, &own, frame, &name)?;
+            let inner = self.items(
+                source,
+                members,
+                &own,
+                inherited.within(g.frame, g.seen_by),
+                &name,
+            )?;
             placed.append(self.repeat(source, inner, offsets, &name)?);
             placed.check_size().map_err(|e| source.error(None, e))?;
         }
@@ -528,8 +560,13 @@ impl<'a> Placer<'a> {
             )?;
             self.stack.push(key);
             let outer = std::mem::replace(&mut self.within, within);
-            let frame = FrameName::or(i.frame, frame);
-            let inner = self.items(&included, file.items(), &own, frame, &name)?;
+            let inner = self.items(
+                &included,
+                file.items(),
+                &own,
+                inherited.within(i.frame, i.seen_by),
+                &name,
+            )?;
             self.within = outer;
             self.stack.pop();
             placed.append(self.repeat(source, inner, offsets, &name)?);
@@ -609,11 +646,12 @@ impl<'a> Placer<'a> {
         source: &Source,
         o: ObjectSection,
         parent: &Transform,
-        frame: ReferenceFrame,
+        inherited: Inherited,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
         let own_name = o.name.unwrap_or_else(|| format!("object {}", self.count));
+        let rest = inherited.within(o.frame, o.seen_by);
         let name = join(prefix, Some(&own_name));
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
@@ -740,22 +778,20 @@ impl<'a> Placer<'a> {
                     shape,
                     surface,
                     shadow_throwing: o.shadow_throwing,
-                    frame: FrameName::or(o.frame, frame),
+                    frame: rest.frame,
+                    seen_by: rest.seen_by,
                 },
             )?);
         }
         if let Some(axes) = o.surface_axes {
             let at = axes.span();
-            let (parts, frame) = match placed.objects.as_slice() {
-                [on] => (axes.get_ref().parts(&on.shape), on.frame),
-                all => (
-                    Err(format!(
-                        "surface_axes: the mesh file has {} parts, and meshes have no surface \
-                         coordinates to look up",
-                        all.len()
-                    )),
-                    frame,
-                ),
+            let parts = match placed.objects.as_slice() {
+                [on] => axes.get_ref().parts(&on.shape),
+                all => Err(format!(
+                    "surface_axes: the mesh file has {} parts, and meshes have no surface \
+                     coordinates to look up",
+                    all.len()
+                )),
             };
             let parts = parts.map_err(|e| {
                 source.error(Some(at), format!("{}: {e}", super::object_label(&name)))
@@ -767,7 +803,8 @@ impl<'a> Placer<'a> {
                     shape: p.shape,
                     surface: p.surface,
                     shadow_throwing: true,
-                    frame,
+                    frame: rest.frame,
+                    seen_by: rest.seen_by,
                 }));
         }
         self.repeat(source, placed, offsets, &name)
@@ -779,7 +816,7 @@ impl<'a> Placer<'a> {
         source: &Source,
         d: Spanned<DeviceSection>,
         parent: &Transform,
-        frame: ReferenceFrame,
+        inherited: Inherited,
         prefix: &str,
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
@@ -789,6 +826,7 @@ impl<'a> Placer<'a> {
             .name
             .take()
             .unwrap_or_else(|| format!("device {}", self.count));
+        let rest = inherited.within(d.frame, d.seen_by);
         let name = join(prefix, Some(&own_name));
         let span = d.span().unwrap_or(table.clone());
         let transform_span = d.transform.as_ref().map(Spanned::span);
@@ -828,7 +866,8 @@ impl<'a> Placer<'a> {
                     shape: p.shape,
                     surface: p.surface,
                     shadow_throwing: p.edge || d.shadow_throwing.unwrap_or(false),
-                    frame: FrameName::or(d.frame, frame),
+                    frame: rest.frame,
+                    seen_by: rest.seen_by,
                 },
             )?);
         }
