@@ -541,3 +541,135 @@ fn bad_complexes_and_tetrahedral_cloaks_are_refused_where_they_are_given() {
         assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
     }
 }
+
+/// Dr TIM's gCLA mapping goggles (`EditableFramedGCLAMappingGoggles`): each triangle of the base
+/// images the eye's image in the pyramid face above it back to the eye, so a ray from the eye
+/// through a triangle and then the face leaves on a line from the eye (seen from the eye, the
+/// goggles only move things across its view), to 10⁻⁹; for the default goggles and for ones
+/// turned, moved and with another compression.
+#[test]
+fn the_mapping_goggles_send_rays_from_the_eye_on_lines_from_the_eye() {
+    let mut rng = Rng(5);
+    for (keys, eye, base, right, up, half_side) in [
+        (
+            "",
+            DVec3::ZERO,
+            DVec3::new(0.0, 0.0, 5.0),
+            DVec3::X,
+            DVec3::Y,
+            0.5,
+        ),
+        (
+            "eye_position = [0.2, -0.1, 1], base_centre = [1, 0.5, 4], right = [1, 1, 0], \
+             up = [0, 0.2, 1], base_centre_to_apex_distance = 0.6, base_side_length = 1.4, \
+             view_compression_factor = 0.3",
+            DVec3::new(0.2, -0.1, 1.0),
+            DVec3::new(1.0, 0.5, 4.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.2, 1.0),
+            0.7,
+        ),
+    ] {
+        // The base's directions as Dr TIM makes them: up perpendicular to right.
+        let right = right.normalize();
+        let up = up.reject_from_normalized(right).normalize();
+        let lenses = if keys.is_empty() {
+            "type = \"framed-gcla-mapping-goggles\"".to_string()
+        } else {
+            format!("type = \"framed-gcla-mapping-goggles\", {keys}")
+        };
+        let mut rays = Vec::new();
+        for _ in 0..40 {
+            // Towards points of the base square (some through the open centre).
+            let (a, b) = (rng.range(-0.95, 0.95), rng.range(-0.95, 0.95));
+            let target = base + half_side * (a * right + b * up);
+            rays.push(target - eye);
+        }
+        let text = format!(
+            "studio = \"none\"\n[[device]]\nname = \"g\"\nshow_edges = false\nlenses = {{ {lenses} }}\n{}",
+            rays.iter().map(|&d| ray(eye, d)).collect::<String>()
+        );
+        let description = common::images::parse(&text);
+        let mut through_triangles = 0;
+        for t in trace(&text) {
+            let names: Vec<&str> = t
+                .points
+                .iter()
+                .filter_map(|p| p.object.map(|i| description.objects[i].name.as_str()))
+                .collect();
+            if names.len() == 2 && names[0].contains("triangle") && names[1].contains("face") {
+                through_triangles += 1;
+                let last = t.points.last().unwrap().position;
+                let off = line_distance(eye, last, t.direction);
+                assert!(off < 1e-9, "{keys}: {names:?} leave {off} off the eye");
+            }
+        }
+        assert!(through_triangles >= 10, "{keys}: {through_triangles} rays");
+    }
+}
+
+/// `EditableFramedGCLAMappingGoggles(parent, studio)`: eye (0, 0, 0), base centre (0, 0, 5),
+/// right (1, 0, 0), up (0, 1, 0), apex 1 beyond the base, side 1, compression 0.5; eight
+/// windows of gCLAs (Dr TIM's `toGCLAs()`: the best-case geometric transmission, throwing
+/// shadows), frames shown: 9 spheres and 16 cylinders of radius 0.01.
+#[test]
+fn mapping_goggles_named_by_their_type_alone_are_dr_tims() {
+    let d = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"g\"\nlenses = { type = \"framed-gcla-mapping-goggles\" }\n",
+    );
+    let windows: Vec<_> = d
+        .objects
+        .iter()
+        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+        .collect();
+    assert_eq!(windows.len(), 8);
+    for o in &windows {
+        let Surface::ConfocalLensletArrays(a) = &o.surface else {
+            unreachable!()
+        };
+        assert_eq!(
+            a.transmission,
+            timbre::surfaces::metatoys::Transmission::GeometricBest
+        );
+        assert!(o.shadow_throwing);
+    }
+    assert_eq!(d.objects.len(), 8 + 9 + 16);
+    let at = |name: &str| {
+        let o = d
+            .objects
+            .iter()
+            .find(|o| o.name == name)
+            .unwrap_or_else(|| panic!("no {name}"));
+        let (lo, hi) = o.shape.bounds().unwrap();
+        (lo + hi) / 2.0
+    };
+    assert!((at("g/apex of square pyramid") - DVec3::new(0.0, 0.0, 6.0)).length() < 1e-12);
+    assert!(
+        (at("g/inner corner of top distorted triangle") - DVec3::new(0.0, 0.25, 5.0)).length()
+            < 1e-12
+    );
+    assert!(
+        (at("g/top left corner of base of square pyramid") - DVec3::new(-0.5, 0.5, 5.0)).length()
+            < 1e-12
+    );
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, needles) in [
+        (
+            ", view_compression_factor = 0",
+            &["view_compression_factor", "above 0"][..],
+        ),
+        (", up = [2, 0, 0]", &["up must not be along right"][..]),
+        (
+            ", eye_position = [0, 0, 5]",
+            &["eye must not be at the base centre"][..],
+        ),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n\n[[device]]\nname = \"g\"\nlenses = {{ type = \"framed-gcla-mapping-goggles\"{keys} }}\n"
+        );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}

@@ -10,6 +10,7 @@ mod chen_belin_black_hole;
 mod clas;
 mod coordinate_system;
 mod four_pi_lens;
+mod framed_gcla_mapping_goggles;
 mod fresnel_lens;
 mod fresnel_lens_surface;
 mod homogeneous_planar_imaging_surface_simplicial_complex;
@@ -40,6 +41,7 @@ pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
 pub use four_pi_lens::{FourPiLens, FourPiLensKeys};
+pub use framed_gcla_mapping_goggles::{FramedGclaMappingGoggles, FramedGclaMappingGogglesKeys};
 pub use fresnel_lens::{FresnelLens, FresnelLensKeys};
 pub use fresnel_lens_surface::{FresnelLensSurface, FresnelLensSurfaceKeys, Sections};
 pub use homogeneous_planar_imaging_surface_simplicial_complex::{
@@ -130,6 +132,7 @@ kinds! {
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),
+        FramedGclaMappingGoggles(FramedGclaMappingGogglesKeys),
         PlatonicLens(PlatonicLensKeys),
         FourPiLens(FourPiLensKeys),
         FresnelLens(FresnelLensKeys),

@@ -76,6 +76,15 @@ impl HomogeneousPlanarImaging {
         })
     }
 
+    /// The image of `p`, the affine map that fixes the plane and takes the inside position to
+    /// the outside one (Dr TIM's `getImagePosition(p, OUTWARDS)`).
+    pub fn image(&self, p: DVec3) -> DVec3 {
+        let a_hat = self.a.normalize();
+        let distance = |x: DVec3| (x - self.point_on_plane).dot(a_hat);
+        p + distance(p) / distance(self.inside_position)
+            * (self.outside_position - self.inside_position)
+    }
+
     /// The surface placed by `t` (module notes): any invertible affine map.
     pub fn transformed(&self, t: &crate::geometry::Transform) -> HomogeneousPlanarImaging {
         HomogeneousPlanarImaging {
