@@ -1163,6 +1163,16 @@ async fn the_frame_slider_shows_the_movies_frames() {
     let expected = still(&[&format!("camera.position=[{x:?}, {y:?}, 0]")]);
     assert_eq!(third.differences(&expected), 0, "frame 3");
     assert!(written.differences(&expected) > 100, "the camera moved");
+    // As `timbre render --frame 3` does, a --set of the animated value is refused.
+    page.send(serde_json::json!({"type": "set", "set": ["camera.position=[1, 0, 0]"]}))
+        .await;
+    page.error("is animated by the scene's [animation], whose frame 3 is shown")
+        .await;
+    page.send(serde_json::json!({"type": "unset", "keys": []}))
+        .await;
+    assert_eq!(page.json("scene").await["animation"]["frame"], 3);
+    let third = page.converged(third.generation).await;
+    assert_eq!(third.differences(&expected), 0, "frame 3 again");
 
     page.send(serde_json::json!({"type": "frame", "frame": 9}))
         .await;

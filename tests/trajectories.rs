@@ -2157,6 +2157,33 @@ fn trajectories_meet_what_only_they_see_and_pass_what_only_the_camera_sees() {
     );
 }
 
+/// A group's `seen_by` is its members' (a device's every part's) unless a member gives its own;
+/// objects moving with the camera cannot be seen by trajectories only.
+#[test]
+fn seen_by_is_inherited_and_refused_where_no_ray_could_meet_the_object() {
+    let d = common::images::parse(
+        "studio = \"none\"\n[[group]]\nname = \"g\"\nseen_by = \"camera\"\n\
+         [[group.object]]\nname = \"a\"\nshape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n\
+         surface = { type = \"matt\", colour = [1, 0, 0] }\n\
+         [[group.object]]\nname = \"b\"\nseen_by = \"all\"\n\
+         shape = { type = \"sphere\", centre = [0, 0, 9], radius = 1 }\n\
+         surface = { type = \"matt\", colour = [1, 0, 0] }\n\
+         [[group.device]]\nname = \"star\"\nlenses = { type = \"lens-star\" }\n",
+    );
+    let seen = |name: &str| d.objects[index_of(&d, name)].seen_by;
+    assert_eq!(seen("g/a"), timbre::scene::SeenBy::Camera);
+    assert_eq!(seen("g/b"), timbre::scene::SeenBy::All);
+    assert_eq!(seen("g/star/lens 1"), timbre::scene::SeenBy::Camera);
+    let dir = tempfile::tempdir().unwrap();
+    let text = "studio = \"none\"\n\n[[object]]\nframe = \"camera\"\nseen_by = \"trajectories\"\n\
+                shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n\
+                surface = { type = \"matt\", colour = [1, 0, 0] }\n";
+    let path = write(dir.path(), "bad.toml", text);
+    let run = timbre(dir.path(), &["check", path_str(&path)]);
+    run.assert_bad_input(&["never met by the ray trajectories", "frame = \"camera\""]);
+    assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+}
+
 #[test]
 fn seen_by_takes_one_of_its_three_values() {
     let dir = tempfile::tempdir().unwrap();

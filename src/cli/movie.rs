@@ -60,21 +60,16 @@ fn frame_options(args: &mut RenderArgs) {
 
 /// Renders frames `first_frame` to `last_frame` of `animation`, then encodes them if asked.
 fn run_movie(args: RenderArgs, animation: &Animation, stopping: &Stopping) -> Result<(), Failure> {
-    // A --set of an animated value, or of a part of one or a table holding one, would be
-    // overwritten or would overwrite the track.
-    for track in &animation.tracks {
-        let animated: Vec<&str> = track.key().split('.').collect();
-        let clash = |o: &&Override| {
-            let n = o.key.len().min(animated.len());
-            o.key[..n].iter().zip(&animated[..n]).all(|(a, b)| a == b)
-        };
-        if let Some(o) = args.set.iter().find(clash) {
-            return Err(bad_input(format!(
-                "--set {o}: '{}' is animated by the scene's [animation] (change its keyframes, \
-                 or --set animation.track.N.keyframes)",
-                track.key()
-            )));
-        }
+    if let Some((o, track)) = args
+        .set
+        .iter()
+        .find_map(|o| animation.clash(o).map(|t| (o, t)))
+    {
+        return Err(bad_input(format!(
+            "--set {o}: '{}' is animated by the scene's [animation] (change its keyframes, \
+             or --set animation.track.N.keyframes)",
+            track.key()
+        )));
     }
     let pattern = FramePattern::new(&args.output)?;
     let video = args

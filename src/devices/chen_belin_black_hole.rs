@@ -32,8 +32,9 @@ pub enum SimulationType {
     SphericalShellsConstantN,
 }
 
-/// Most spherical layers (each is a sphere of the scene).
-const MAX_SPHERICAL_LAYERS: u32 = 100_000;
+/// Most spherical layers (each is a sphere of the scene, and nested spheres are all visited
+/// by a ray's hit test: a render's time grows as the square of their number).
+const MAX_SPHERICAL_LAYERS: u32 = 10_000;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChenBelinBlackHole {

@@ -58,6 +58,17 @@ pub struct Track {
 }
 
 impl Animation {
+    /// The track that a `--set` of `o` clashes with: one of an animated value, of a part of
+    /// one or of a table holding one, which the track would overwrite, or which would
+    /// overwrite the track.
+    pub fn clash(&self, o: &Override) -> Option<&Track> {
+        self.tracks.iter().find(|track| {
+            let animated: Vec<&str> = track.key.split('.').collect();
+            let n = o.key.len().min(animated.len());
+            o.key[..n].iter().zip(&animated[..n]).all(|(a, b)| a == b)
+        })
+    }
+
     /// The `--set` overrides that make frame `k` of the scene file.
     pub fn overrides(&self, k: u32) -> Vec<Override> {
         self.tracks

@@ -172,13 +172,13 @@ impl SceneDescription {
             .chain(seam)
             .chain(self.file_warnings.iter().cloned())
             .chain(self.trajectories_miss_camera_frame())
-            .chain(self.lenses_around(self.camera.position()).map(|name| {
+            .chain(self.lenses_around(self.camera.position(), SeenBy::Camera).map(|name| {
                 format!(
                     "camera: inside lens '{name}', whose surface rays from inside pass unchanged"
                 )
             }))
             .chain(self.trajectories.iter().flat_map(|t| {
-                self.lenses_around(t.start).map(|name| {
+                self.lenses_around(t.start, SeenBy::Trajectories).map(|name| {
                     format!(
                         "ray trajectory '{}': starts inside lens '{name}', whose surface rays from inside pass unchanged",
                         t.name
@@ -200,12 +200,16 @@ impl SceneDescription {
         })
     }
 
-    /// Names of the lenses (§3) whose sphere, or one of whose array copies, contains `point`.
-    fn lenses_around(&self, point: DVec3) -> impl Iterator<Item = &str> {
+    /// Names of the lenses (§3) that rays of `kind` meet whose sphere, or one of whose array
+    /// copies, contains `point`.
+    fn lenses_around(&self, point: DVec3, kind: SeenBy) -> impl Iterator<Item = &str> {
         self.objects.iter().enumerate().filter_map(move |(i, o)| {
             let (Surface::Lens(_), Shape::Sphere(s)) = (&o.surface, &o.shape) else {
                 return None;
             };
+            if !o.seen_by.meets(kind) {
+                return None;
+            }
             let offsets = self
                 .arrays
                 .iter()
@@ -259,7 +263,7 @@ impl Scene {
         let camera_frame = if description
             .objects
             .iter()
-            .any(|o| o.frame == ReferenceFrame::Camera)
+            .any(|o| o.frame == ReferenceFrame::Camera && o.seen_by.meets(SeenBy::Camera))
         {
             Some(world(ReferenceFrame::Camera)?)
         } else {

@@ -496,6 +496,13 @@ fn run(shared: Arc<Shared>, mut preview: Preview) {
                     if let Some(s) = preview.settings() {
                         let mut inputs = lock(&shared.inputs);
                         (inputs.exposure, inputs.transfer) = (s.exposure, s.png_transfer);
+                        // A frame of a movie the scene no longer has is not kept for a later
+                        // one, nor one past the end of a shorter movie.
+                        let frames = preview
+                            .description()
+                            .and_then(|d| d.animation.as_ref())
+                            .map(|a| a.frames);
+                        inputs.frame = inputs.frame.zip(frames).map(|(k, n)| k.min(n - 1));
                     }
                     let mut state = state(shared, &preview, &text, &overrides, generation);
                     let valid = |key: &str, x: f64, integer: bool| {

@@ -175,9 +175,25 @@ impl Preview {
             .map_err(|e| LoadError::of(e, &path))
         };
         let mut description = parse(overrides)?;
-        let at_frame = frame_overrides(self.frame, &description);
-        if !at_frame.is_empty() {
-            description = parse(&[overrides, &at_frame].concat())?;
+        if let (Some(k), Some(animation)) =
+            (shown(self.frame, &description), &description.animation)
+        {
+            // As `timbre render --frame K` does, a --set of an animated value is refused.
+            if let Some((o, track)) = overrides
+                .iter()
+                .find_map(|o| animation.clash(o).map(|t| (o, t)))
+            {
+                return Err(LoadError::plain(format!(
+                    "--set {o}: '{}' is animated by the scene's [animation], whose frame {k} is \
+                     shown (change its keyframes, or show the scene as written)",
+                    track.key()
+                )));
+            }
+            let at_frame = animation.overrides(k);
+            description = parse(&[overrides, &at_frame].concat()).map_err(|e| LoadError {
+                message: format!("frame {k} of the [animation]: {}", e.message),
+                ..e
+            })?;
         }
         let mut s = description.render.clone();
         let o = &self.options;

@@ -65,7 +65,7 @@ pub(super) struct ObjectSection {
     #[serde(default = "super::yes")]
     shadow_throwing: bool,
     frame: Option<FrameName>,
-    seen_by: Option<SeenBy>,
+    seen_by: Option<Spanned<SeenBy>>,
     shape: Spanned<ShapeKeys>,
     /// Omitted for a mesh file whose parts all have materials.
     surface: Option<Spanned<SurfaceKeys>>,
@@ -120,7 +120,7 @@ pub(super) struct DeviceSection {
     /// own default (Dr TIM's), [`LensDevice::shadow_throwing`].
     shadow_throwing: Option<bool>,
     frame: Option<FrameName>,
-    seen_by: Option<SeenBy>,
+    seen_by: Option<Spanned<SeenBy>>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     lenses: Option<Spanned<LensesKeys>>,
@@ -208,7 +208,7 @@ impl DeviceSection {
 pub(super) struct GroupSection {
     name: Option<String>,
     frame: Option<FrameName>,
-    seen_by: Option<SeenBy>,
+    seen_by: Option<Spanned<SeenBy>>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
     #[serde(default)]
@@ -227,7 +227,7 @@ pub(super) struct IncludeSection {
     file: Spanned<String>,
     name: Option<String>,
     frame: Option<FrameName>,
-    seen_by: Option<SeenBy>,
+    seen_by: Option<Spanned<SeenBy>>,
     transform: Option<Spanned<TransformKeys>>,
     array: Option<Spanned<ArraySection>>,
 }
@@ -265,10 +265,28 @@ impl Inherited {
         seen_by: SeenBy::All,
     };
 
-    fn within(self, frame: Option<FrameName>, seen_by: Option<SeenBy>) -> Inherited {
-        Inherited {
+    /// The entry's own, refused (at its `seen_by`, else at `at`) where no ray could meet its
+    /// objects: trajectories trace the scene frame only.
+    fn within(
+        self,
+        source: &Source,
+        frame: Option<FrameName>,
+        seen_by: &Option<Spanned<SeenBy>>,
+        at: Option<Range<usize>>,
+    ) -> Result<Inherited, SceneFileError> {
+        let own = Inherited {
             frame: FrameName::or(frame, self.frame),
-            seen_by: seen_by.unwrap_or(self.seen_by),
+            seen_by: seen_by.as_ref().map_or(self.seen_by, |s| *s.get_ref()),
+        };
+        match (own.frame, own.seen_by) {
+            (ReferenceFrame::Camera, SeenBy::Trajectories) => Err(source.error(
+                seen_by.as_ref().map(Spanned::span).or(at),
+                "objects moving with the camera (frame = \"camera\") are never met by the ray \
+                 trajectories, which trace the scene frame only, so seen_by = \"trajectories\" \
+                 would hide them from every ray"
+                    .into(),
+            )),
+            _ => Ok(own),
         }
     }
 }
@@ -513,7 +531,7 @@ impl<'a> Placer<'a> {
                 source,
                 members,
                 &own,
-                inherited.within(g.frame, g.seen_by),
+                inherited.within(source, g.frame, &g.seen_by, None)?,
                 &name,
             )?;
             placed.append(self.repeat(source, inner, offsets, &name)?);
@@ -564,7 +582,7 @@ impl<'a> Placer<'a> {
                 &included,
                 file.items(),
                 &own,
-                inherited.within(i.frame, i.seen_by),
+                inherited.within(source, i.frame, &i.seen_by, Some(span.clone()))?,
                 &name,
             )?;
             self.within = outer;
@@ -651,7 +669,7 @@ impl<'a> Placer<'a> {
     ) -> Result<Placed, SceneFileError> {
         self.count += 1;
         let own_name = o.name.unwrap_or_else(|| format!("object {}", self.count));
-        let rest = inherited.within(o.frame, o.seen_by);
+        let rest = inherited.within(source, o.frame, &o.seen_by, Some(o.shape.span()))?;
         let name = join(prefix, Some(&own_name));
         let transform_span = o.transform.as_ref().map(Spanned::span);
         let (own, offsets) = self.placement(source, o.transform, o.array, parent, &name)?;
@@ -826,7 +844,7 @@ impl<'a> Placer<'a> {
             .name
             .take()
             .unwrap_or_else(|| format!("device {}", self.count));
-        let rest = inherited.within(d.frame, d.seen_by);
+        let rest = inherited.within(source, d.frame, &d.seen_by, Some(table.clone()))?;
         let name = join(prefix, Some(&own_name));
         let span = d.span().unwrap_or(table.clone());
         let transform_span = d.transform.as_ref().map(Spanned::span);
