@@ -15,7 +15,6 @@ use serde::Deserialize;
 use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::keys::{Direction, Finite, Positive, Vector};
-use crate::math::Colour;
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
@@ -143,11 +142,7 @@ impl LensDevice for FramedGclaMappingGoggles {
 
     /// Dr TIM's frames: shown, radius 0.01, `SurfaceColour.GREY50_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: true,
-            radius: 0.01,
-            colour: Colour::splat(0.5),
-        }
+        EdgeDefaults::SHOWN_GREY
     }
 
     /// Dr TIM's `toGCLAs()` makes shadow-throwing gCLAs.

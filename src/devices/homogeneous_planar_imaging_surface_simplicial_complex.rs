@@ -17,11 +17,10 @@
 use glam::{DMat3, DVec3};
 use serde::Deserialize;
 
-use super::lens_simplicial_complex::{Complex, face_name};
+use super::lens_simplicial_complex::{Complex, STRUCTURE, face_name};
 use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::{Shape, TriangleMesh};
 use crate::keys::{Array, Coefficient, Positive, Vector, throughput};
-use crate::math::Colour;
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
@@ -167,11 +166,7 @@ impl LensDevice for HomogeneousPlanarImagingSurfaceSimplicialComplex {
 
     /// Dr TIM's physical-space structure: shown, radius 0.021, `SurfaceColour.BLUE_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: true,
-            radius: 0.021,
-            colour: Colour::new(0.0, 0.0, 1.0),
-        }
+        STRUCTURE
     }
 }
 

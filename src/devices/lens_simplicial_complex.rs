@@ -85,6 +85,14 @@ pub(super) const CLOAK_EDGES: [[usize; 2]; 14] = [
     [4, 5],
 ];
 
+/// Dr TIM's physical-space structure of its simplicial complexes: shown, radius 0.021,
+/// `SurfaceColour.BLUE_SHINY`.
+pub(super) const STRUCTURE: EdgeDefaults = EdgeDefaults {
+    shown: true,
+    radius: 0.021,
+    colour: Colour::new(0.0, 0.0, 1.0),
+};
+
 /// Most vertices and edges a complex may have (Dr TIM's have tens): finding its faces and
 /// cells takes time that grows faster than their numbers.
 const MAX_VERTICES: usize = 500;
@@ -132,11 +140,7 @@ impl LensDevice for LensSimplicialComplex {
 
     /// Dr TIM's physical-space structure: shown, radius 0.021, `SurfaceColour.BLUE_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: true,
-            radius: 0.021,
-            colour: Colour::new(0.0, 0.0, 1.0),
-        }
+        STRUCTURE
     }
 }
 

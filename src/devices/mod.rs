@@ -109,6 +109,14 @@ impl EdgeDefaults {
         colour: Colour::new(1.0, 0.0, 0.0),
     };
 
+    /// Shown, radius 0.01, `SurfaceColour.GREY50_SHINY` (Dr TIM's frames of its gCLA devices:
+    /// the shifty cloaks and the mapping goggles).
+    pub const SHOWN_GREY: EdgeDefaults = EdgeDefaults {
+        shown: true,
+        radius: 0.01,
+        colour: Colour::new(0.5, 0.5, 0.5),
+    };
+
     /// The shiny surface of the edges.
     pub fn surface(&self) -> Surface {
         Surface::Coloured(Coloured::shiny(self.colour))

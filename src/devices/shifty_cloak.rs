@@ -25,7 +25,6 @@ use serde::Deserialize;
 use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::keys::{Coefficient, Direction, Positive, Vector, throughput};
-use crate::math::Colour;
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
@@ -379,11 +378,7 @@ impl LensDevice for ShiftyCloak {
 
     /// Dr TIM's frames: shown, radius 0.01, `SurfaceColour.GREY50_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: true,
-            radius: 0.01,
-            colour: Colour::splat(0.5),
-        }
+        EdgeDefaults::SHOWN_GREY
     }
 }
 

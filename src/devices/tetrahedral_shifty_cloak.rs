@@ -18,7 +18,6 @@ use super::{
     EdgeDefaults, Edges, HomogeneousPlanarImagingSurfaceSimplicialComplex, LensDevice, Part,
 };
 use crate::keys::{Coefficient, Direction, Positive, Vector, throughput};
-use crate::math::Colour;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct TetrahedralShiftyCloak {
@@ -116,11 +115,7 @@ impl LensDevice for TetrahedralShiftyCloak {
 
     /// Dr TIM's frames: shown, radius 0.01, `SurfaceColour.GREY50_SHINY`.
     fn edge_defaults(&self) -> EdgeDefaults {
-        EdgeDefaults {
-            shown: true,
-            radius: 0.01,
-            colour: Colour::splat(0.5),
-        }
+        EdgeDefaults::SHOWN_GREY
     }
 }
 
