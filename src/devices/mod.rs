@@ -6,6 +6,7 @@
 //! has the same default here, so that a device named by its type alone is Dr TIM's default
 //! object.
 
+mod box_cloak;
 mod chen_belin_black_hole;
 mod clas;
 mod coordinate_system;
@@ -26,6 +27,7 @@ mod net_of_symmetric_4_simplex;
 mod ninky_nonk_silhouette;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
+mod polyhedral_shell;
 mod ray_rotation_sheet_star;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
@@ -37,6 +39,7 @@ mod tetrahedral_shifty_cloak;
 mod tim_head;
 mod triangular_thick_lens;
 
+pub use box_cloak::{BoxCloak, BoxCloakKeys};
 pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
@@ -137,6 +140,7 @@ kinds! {
         HomogeneousPlanarImagingSurfaceSimplicialComplex(HomogeneousPlanarImagingSurfaceSimplicialComplexKeys),
         IdealLensCloak(IdealLensCloakKeys),
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
+        BoxCloak(BoxCloakKeys),
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),

@@ -20,7 +20,7 @@
 //! N − S → (ρ + 1) n̂/(n̂·â), for the nodal direction n̂ along which rays pass undeviated. It
 //! does not depend on where the ray meets it.
 
-use glam::DVec3;
+use glam::{DMat4, DVec3, DVec4};
 use serde::Deserialize;
 
 use crate::geometry::{Interaction, Transform};
@@ -77,6 +77,85 @@ impl Glens {
             optical_axis: super::direction(t, self.optical_axis),
             focus,
             transmission_coefficient: self.transmission_coefficient,
+        })
+    }
+
+    /// The glens in the plane through `point` normal to `optical_axis` that images negative
+    /// space into positive space by the projective map `h` (homogeneous coordinates), which
+    /// must fix that plane point by point: a central collineation, whose centre is the nodal
+    /// point, f₋ the axial coordinate of the plane it sends to infinity and f₊ that of the
+    /// plane it brings from there (an affine `h` makes a homogeneous glens, the identity one of
+    /// ratio −1). Dr TIM's `GlensSurface.setParametersUsingTwoConjugatePairs` finds the same
+    /// glens from two of `h`'s conjugate pairs.
+    pub fn imaging(
+        point: DVec3,
+        optical_axis: DVec3,
+        h: DMat4,
+        transmission_coefficient: f64,
+    ) -> Result<Glens, String> {
+        let a = optical_axis.normalize();
+        let scale = h
+            .to_cols_array()
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(x.abs()));
+        let h = h * (1.0 / scale);
+        // h X = λ X on the plane.
+        let lambda = h.w_axis.w + h.row(3).truncate().dot(point);
+        let (u, v) = a.any_orthonormal_pair();
+        let fixed = [point, point + u, point + v].iter().all(|&x| {
+            let image = h * x.extend(1.0);
+            (image - lambda * x.extend(1.0)).length() <= 1e-9 * x.extend(1.0).length()
+        });
+        if lambda.abs() <= 1e-12 || !fixed {
+            return Err(format!(
+                "the imaging does not fix the glens's plane through {point} normal to {a}"
+            ));
+        }
+        // h − λ I = c wᵀ: its largest column is along the centre c.
+        let rest = h - DMat4::from_diagonal(DVec4::splat(lambda));
+        let centre = [rest.x_axis, rest.y_axis, rest.z_axis, rest.w_axis]
+            .into_iter()
+            .max_by(|p, q| p.length().total_cmp(&q.length()))
+            .expect("four columns");
+        let homogeneous = |nodal_direction: DVec3| -> Result<Focus, String> {
+            // Axial coordinates scale by k; the ratio f₋/f₊ is −1/k.
+            let image = h * (point + a).extend(1.0);
+            let k = (image.truncate() / image.w - point).dot(a);
+            if k.abs() <= 1e-12 || nodal_direction.dot(a).abs() <= 1e-12 {
+                return Err(format!(
+                    "the imaging at the glens's plane through {point} is singular or a shear"
+                ));
+            }
+            Ok(Focus::Homogeneous {
+                nodal_direction,
+                ratio: -1.0 / k,
+            })
+        };
+        let focus = if centre.length() <= 1e-12 {
+            homogeneous(a)?
+        } else if centre.w.abs() <= 1e-12 * centre.truncate().length() {
+            homogeneous(centre.truncate().normalize())?
+        } else {
+            let nodal = centre.truncate() / centre.w;
+            let infinity = h * a.extend(0.0);
+            let f_pos = (infinity.truncate() / infinity.w - point).dot(a);
+            let f_sum = (nodal - point).dot(a);
+            let f_neg = f_sum - f_pos;
+            if !(f_pos.is_finite() && f_pos != 0.0 && f_neg.is_finite() && f_neg != 0.0) {
+                return Err(format!(
+                    "the imaging at the glens's plane through {point} has a focal length of 0"
+                ));
+            }
+            Focus::Finite {
+                principal_point: nodal - f_sum * a,
+                focal_length_negative: f_neg,
+                focal_length_positive: f_pos,
+            }
+        };
+        Ok(Glens {
+            optical_axis: a,
+            focus,
+            transmission_coefficient,
         })
     }
 
@@ -220,6 +299,104 @@ mod tests {
             );
             assert!((g - l).length() < 1e-15, "{g} {l}");
         }
+    }
+}
+
+#[cfg(test)]
+mod imaging {
+    use super::*;
+
+    /// The homology with centre `c`, the plane through `p` normal to `n` as its axis, and
+    /// characteristic ratio μ: X ↦ X + (μ − 1) (w·X / w·C) C, with C = (c, 1) and w the plane.
+    fn homology(c: DVec3, p: DVec3, n: DVec3, mu: f64) -> DMat4 {
+        let big_c = c.extend(1.0);
+        let w = n.extend(-n.dot(p));
+        let outer = DMat4::from_cols(big_c * w.x, big_c * w.y, big_c * w.z, big_c * w.w);
+        DMat4::IDENTITY + outer * ((mu - 1.0) / w.dot(big_c))
+    }
+
+    /// Every ray from a point Q of negative space that crosses the glens leaves on the line
+    /// through S and h(Q), going on into positive space.
+    #[track_caller]
+    fn images(glens: &Glens, h: DMat4, p: DVec3, n: DVec3) {
+        let (u, v) = n.any_orthonormal_pair();
+        for (i, q) in [
+            p - 2.0 * n + 0.3 * u,
+            p - 0.5 * n - 0.7 * v + 0.2 * u,
+            p - 7.0 * n + 1.1 * v,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let image = h * q.extend(1.0);
+            for s in [p, p + 0.4 * u - 0.9 * v, p - 1.3 * u + 0.2 * v] {
+                let d = glens.direction((s - q).normalize(), s).normalize();
+                assert!(d.dot(n) > 0.0, "case {i}: {d} turns back");
+                // d ∥ image − s S (homogeneous: image.xyz − image.w s).
+                let to_image = image.truncate() - image.w * s;
+                let sine = d.cross(to_image.normalize()).length();
+                assert!(
+                    sine < 1e-12,
+                    "case {i}, S = {s}: {d} is not along {to_image}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_homology_about_the_plane_becomes_the_glens_of_its_centre() {
+        let (p, n) = (
+            DVec3::new(0.2, -0.1, 1.0),
+            DVec3::new(0.3, 0.4, 1.0).normalize(),
+        );
+        for (c, mu) in [
+            (DVec3::new(0.5, 0.3, -1.5), 6.0),
+            (DVec3::new(-0.4, 1.0, 3.0), -0.4),
+            // The centre in the plane: an ideal thin lens.
+            (p + DVec3::new(0.5, 0.0, -0.15), 1.0),
+        ] {
+            let h = if mu == 1.0 {
+                // An elation: X ↦ X + (w·X) C, C in the plane.
+                let big_c = c.extend(1.0);
+                let w = n.extend(-n.dot(p)) * 0.7;
+                DMat4::IDENTITY
+                    + DMat4::from_cols(big_c * w.x, big_c * w.y, big_c * w.z, big_c * w.w)
+            } else {
+                homology(c, p, n, mu)
+            };
+            let glens = Glens::imaging(p, n, h, 1.0).unwrap();
+            let nodal = glens.nodal_point().expect("finite");
+            assert!(
+                (nodal - c).length() < 1e-12,
+                "nodal point {nodal}, centre {c}"
+            );
+            images(&glens, h, p, n);
+        }
+    }
+
+    #[test]
+    fn an_affine_map_about_the_plane_becomes_a_homogeneous_glens() {
+        let (p, n) = (DVec3::new(0.0, 1.0, 2.0), DVec3::new(0.0, 0.6, 0.8));
+        // x ↦ x + (k − 1) (n·(x − p)) m / (n·m): axial coordinates scale by k along m.
+        let (m, k) = (DVec3::new(0.2, 0.5, 1.0), -2.5);
+        let shift = m * ((k - 1.0) / n.dot(m));
+        let linear =
+            glam::DMat3::IDENTITY + glam::DMat3::from_cols(shift * n.x, shift * n.y, shift * n.z);
+        let h = DMat4::from_mat3_translation(linear, p - linear * p);
+        let glens = Glens::imaging(p, n, h, 1.0).unwrap();
+        assert!(glens.nodal_point().is_none());
+        images(&glens, h, p, n);
+        let identity = Glens::imaging(p, n, DMat4::IDENTITY * 3.0, 1.0).unwrap();
+        let d = DVec3::new(0.1, 0.2, 0.9).normalize();
+        assert!((identity.direction(d, p).normalize() - d).length() < 1e-15);
+    }
+
+    #[test]
+    fn a_map_that_moves_the_plane_is_refused() {
+        let p = DVec3::new(0.0, 0.0, 1.0);
+        let shifted = DMat4::from_translation(DVec3::new(0.0, 0.0, 0.1));
+        let error = Glens::imaging(p, DVec3::Z, shifted, 1.0).unwrap_err();
+        assert!(error.contains("does not fix"), "{error}");
     }
 }
 

@@ -1,0 +1,312 @@
+//! Issue 41 item 2, Dr TIM's cubic box cloak (`EditableBoxCloak`, `CubicBoxCloakMaker`), a
+//! cube of glenses, checked against what the cloak must do, worked out from its parameters
+//! alone:
+//!
+//! * seen from outside, space outside the cloak is as it is: a ray that enters and leaves the
+//!   cloak goes on along the line it came on;
+//! * the inner cube of side p L, and everything in it, is seen as a cube of side e L about the
+//!   same centre c: a ray leaving a point P inside it leaves the cloak on a line through
+//!   c + (e/p)(P − c);
+//! * Dr TIM's defaults, part names and refusals, and its outer front glens, which images the
+//!   inner cube's corners onto their images (Dr TIM's conjugate pairs) by the glens equation.
+
+mod common;
+
+use glam::{DQuat, DVec3};
+use timbre::surfaces::{Focus, Surface};
+use timbre::trajectories::{self, End, Trajectory};
+
+use common::cli::{location, path_str, timbre, write};
+use common::rng::Rng;
+
+fn trace(text: &str) -> Vec<Trajectory> {
+    let description = common::images::parse(text);
+    trajectories::trace(common::rays::device(), &description).expect("trace")
+}
+
+/// Distance of `p` from the line through `a` along `d`.
+fn line_distance(p: DVec3, a: DVec3, d: DVec3) -> f64 {
+    (p - a).reject_from_normalized(d.normalize()).length()
+}
+
+fn random_unit(rng: &mut Rng) -> DVec3 {
+    DVec3::new(
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+        rng.range(-1.0, 1.0),
+    )
+    .normalize()
+}
+
+fn ray(start: DVec3, direction: DVec3) -> String {
+    format!(
+        "[[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\nmax_interactions = 1000\n",
+        start.x, start.y, start.z, direction.x, direction.y, direction.z
+    )
+}
+
+/// A cloak checked: its `lenses` keys, the device's transform (TOML, or empty) as a rotation,
+/// uniform scale and translation, and its centre, side length L, e and p in its own
+/// coordinates.
+struct Case {
+    keys: &'static str,
+    transform: &'static str,
+    rotation: DQuat,
+    scale: f64,
+    shift: DVec3,
+    centre: DVec3,
+    side: f64,
+    e: f64,
+    p: f64,
+}
+
+fn cases() -> Vec<Case> {
+    let plain = |keys, centre, side, e, p| Case {
+        keys,
+        transform: "",
+        rotation: DQuat::IDENTITY,
+        scale: 1.0,
+        shift: DVec3::ZERO,
+        centre,
+        side,
+        e,
+        p,
+    };
+    vec![
+        // Dr TIM's defaults, moved to the origin.
+        plain("centre = [0, 0, 0]", DVec3::ZERO, 2.0, 0.4, 0.8),
+        // Skew, the inner cube seen larger and flipped.
+        plain(
+            "centre = [0.2, -0.1, 0.3], front_direction = [1, 0, 1], right_direction = [0, 1, 0.2], \
+             top_direction = [-1, 0, 1], side_length = 1.5, inner_volume_size_factor_em = -0.7, \
+             inner_volume_size_factor_p = 0.5",
+            DVec3::new(0.2, -0.1, 0.3),
+            1.5,
+            -0.7,
+            0.5,
+        ),
+        // The inner cube seen larger than it is.
+        plain(
+            "centre = [0, 0, 0], inner_volume_size_factor_em = 0.9, inner_volume_size_factor_p = 0.3",
+            DVec3::ZERO,
+            2.0,
+            0.9,
+            0.3,
+        ),
+        // Rotated by 30° about (1, 1, 0), scaled by 1.5 and moved.
+        Case {
+            keys: "centre = [0, 0, 0]",
+            transform: "transform = { scale = 1.5, rotate = { axis = [1, 1, 0], angle_deg = 30 }, translate = [0.5, 0, -1] }\n",
+            rotation: DQuat::from_axis_angle(
+                DVec3::new(1.0, 1.0, 0.0).normalize(),
+                30f64.to_radians(),
+            ),
+            scale: 1.5,
+            shift: DVec3::new(0.5, 0.0, -1.0),
+            centre: DVec3::ZERO,
+            side: 2.0,
+            e: 0.4,
+            p: 0.8,
+        },
+    ]
+}
+
+impl Case {
+    fn scene(&self, rays: &str) -> String {
+        format!(
+            "studio = \"none\"\n[[device]]\nname = \"cloak\"\n{}lenses = {{ type = \"box-cloak\", {} }}\n{rays}",
+            self.transform, self.keys
+        )
+    }
+
+    fn place(&self, x: DVec3) -> DVec3 {
+        self.rotation * (self.scale * x) + self.shift
+    }
+}
+
+#[test]
+fn space_outside_the_box_cloak_is_seen_as_it_is() {
+    let mut rng = Rng(42);
+    for case in cases() {
+        let mut rays = Vec::new();
+        for _ in 0..40 {
+            let start = case.place(case.centre + 3.0 * case.side * random_unit(&mut rng));
+            let target = case.place(case.centre + 0.4 * case.side * random_unit(&mut rng));
+            rays.push((start, target - start));
+        }
+        let text = case.scene(&rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        let mut crossed = 0;
+        for (t, &(start, direction)) in trace(&text).iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.keys, t.points);
+            // Into the cloak, through at least one inner face and out.
+            if t.points.len() < 4 {
+                continue;
+            }
+            crossed += 1;
+            let last = t.points.last().unwrap().position;
+            assert!(
+                (t.direction - direction.normalize()).length() < 1e-9,
+                "{}: leaves along {}, came along {}",
+                case.keys,
+                t.direction,
+                direction.normalize()
+            );
+            let off = line_distance(last, start, direction);
+            assert!(off < 1e-9, "{}: {off} off its line", case.keys);
+        }
+        assert!(crossed >= 30, "{}: only {crossed} rays crossed", case.keys);
+    }
+}
+
+#[test]
+fn the_inner_cube_is_seen_scaled_by_e_over_p() {
+    let mut rng = Rng(8);
+    for case in cases() {
+        let mut rays = Vec::new();
+        for _ in 0..20 {
+            // Inside the inner cube: within a third of its half side of the centre.
+            let p = case.centre
+                + case.p * case.side / 6.0 * rng.range(0.0, 1.0) * random_unit(&mut rng);
+            rays.push((p, random_unit(&mut rng)));
+        }
+        let placed: Vec<_> = rays
+            .iter()
+            .map(|&(p, d)| (case.place(p), case.rotation * d))
+            .collect();
+        let text = case.scene(&placed.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        for (t, &(p, _)) in trace(&text).iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.keys, t.points);
+            let last = t.points.last().unwrap().position;
+            let image = case.place(case.centre + case.e / case.p * (p - case.centre));
+            let off = line_distance(image, last, t.direction);
+            assert!(
+                off < 1e-9,
+                "{}: the ray from {p} leaves {off} off {image}",
+                case.keys
+            );
+        }
+    }
+}
+
+/// `EditableBoxCloak(parent, studio)`: centre (0, 0, 10), front (0, 0, −1), right (1, 0, 0),
+/// top (0, 1, 0), side length 2, e = 0.4, p = 0.8, transmission coefficient 0.96, frames hidden,
+/// radius 0.01 × 2, `RED_SHINY`; 6 outer, 6 inner and 12 diagonal glenses, 16 vertices and
+/// 12 + 12 + 8 edges.
+#[test]
+fn a_box_cloak_named_by_its_type_alone_is_dr_tims_default_cloak() {
+    let d = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = { type = \"box-cloak\" }\n",
+    );
+    assert_eq!(d.objects.len(), 24, "frames hidden");
+    for o in &d.objects {
+        let Surface::Glens(g) = &o.surface else {
+            panic!("{} is no glens", o.name)
+        };
+        assert_eq!(g.transmission_coefficient, 0.96, "{}", o.name);
+        assert!(!o.shadow_throwing, "{}", o.name);
+    }
+    // Dr TIM's outer front glens, in the plane z = 9 with its axis along front = −z, images
+    // the inner cube's corner at z = 9.2 (axial coordinate a = −0.2) to the apparent one at
+    // z = 9.6 (a′ = −0.6) on the line through the centre: with N at a = −1 = f₋ + f₊, the
+    // glens equation f₊/a′ + f₋/a = 1 gives f₋ = 0.2, f₊ = −1.2.
+    let front = d
+        .objects
+        .iter()
+        .find(|o| o.name == "d/outer face in front direction")
+        .expect("outer front glens");
+    let Surface::Glens(g) = &front.surface else {
+        unreachable!()
+    };
+    assert!((g.optical_axis - DVec3::NEG_Z).length() < 1e-12);
+    let nodal = g.nodal_point().expect("finite");
+    assert!(
+        (nodal - DVec3::new(0.0, 0.0, 10.0)).length() < 1e-12,
+        "{nodal}"
+    );
+    let Focus::Finite {
+        focal_length_negative,
+        focal_length_positive,
+        ..
+    } = g.focus
+    else {
+        unreachable!()
+    };
+    assert!((focal_length_negative - 0.2).abs() < 1e-12);
+    assert!((focal_length_positive + 1.2).abs() < 1e-12);
+    let names: Vec<&str> = d.objects.iter().map(|o| o.name.as_str()).collect();
+    for name in [
+        "d/inner face in back direction",
+        "d/diagonal face between the top and front faces",
+    ] {
+        assert!(names.contains(&name), "{name} in {names:?}");
+    }
+
+    let framed = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nshow_edges = true\n\
+         lenses = { type = \"box-cloak\", side_length = 3 }\n",
+    );
+    assert_eq!(framed.objects.len(), 24 + 16 + 32);
+    let vertex = framed
+        .objects
+        .iter()
+        .find(|o| o.name == "d/outer vertex top right front")
+        .expect("outer vertex");
+    let (lo, hi) = vertex.shape.bounds().unwrap();
+    assert!(((lo + hi) / 2.0 - DVec3::new(1.5, 1.5, 8.5)).length() < 1e-12);
+    assert!(((hi - lo).x - 0.06).abs() < 1e-12, "radius 0.01 × 3");
+    let Surface::Coloured(c) = &vertex.surface else {
+        panic!("frames are coloured")
+    };
+    assert_eq!(c.diffuse, timbre::math::Colour::new(1.0, 0.0, 0.0));
+}
+
+#[test]
+fn bad_box_cloaks_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, needles) in [
+        (
+            "inner_volume_size_factor_p = 1",
+            &["inner_volume_size_factor_p = 1", "between 0 and 1"][..],
+        ),
+        (
+            "inner_volume_size_factor_p = -0.5",
+            &["inner_volume_size_factor_p", "between 0 and 1"][..],
+        ),
+        (
+            "inner_volume_size_factor_em = 1",
+            &["inner_volume_size_factor_em = 1", "outer cube's faces"][..],
+        ),
+        (
+            "inner_volume_size_factor_em = 0",
+            &["inner_volume_size_factor_em = 0", "point"][..],
+        ),
+        (
+            "right_direction = [0, 0, 2]",
+            &["right_direction must not be along front_direction"][..],
+        ),
+        (
+            "top_direction = [0, 0, 1]",
+            &["top_direction must not be perpendicular"][..],
+        ),
+        (
+            "cloak_type = \"octahedral\"",
+            &[
+                "cloak_type = \"octahedral\"",
+                "OctahedralBoxCloakMaker",
+                "not built yet",
+            ][..],
+        ),
+        ("cloak_type = \"round\"", &["round", "cubic"][..]),
+        ("side_length = 0", &["positive number"][..]),
+        ("inner_volume_size_factor_em = nan", &["finite number"][..]),
+        ("show_frames = true", &["show_frames"][..]),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ type = \"box-cloak\", {keys} }}\n"
+        );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
