@@ -932,6 +932,7 @@ fn every_example_scene_checks_and_renders() {
         "research/NetOfSymmetric4SimplexVisualiser.toml",
         "research/ShiftyGCLAsCubicCloakVisualiser.toml",
         "research/ShiftyGCLAsTetrahedralCloakVisualiser.toml",
+        "research/NonAffineCubicCloakImageMaker.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),
