@@ -20,7 +20,7 @@
 //! N − S → (ρ + 1) n̂/(n̂·â), for the nodal direction n̂ along which rays pass undeviated. It
 //! does not depend on where the ray meets it.
 
-use glam::{DMat4, DVec3, DVec4};
+use glam::{DMat3, DMat4, DVec3};
 use serde::Deserialize;
 
 use crate::geometry::{Interaction, Transform};
@@ -81,8 +81,8 @@ impl Glens {
     }
 
     /// The glens in the plane through `point` normal to `optical_axis` that images negative
-    /// space into positive space by the projective map `h` (homogeneous coordinates), which
-    /// must fix that plane point by point: a central collineation, whose centre is the nodal
+    /// space into positive space by the projective map `h` (homogeneous coordinates; `length`
+    /// its size, to which the checks are relative), which must fix that plane point by point: a central collineation, whose centre is the nodal
     /// point, f₋ the axial coordinate of the plane it sends to infinity and f₊ that of the
     /// plane it brings from there (an affine `h` makes a homogeneous glens, the identity one of
     /// ratio −1). Dr TIM's `GlensSurface.setParametersUsingTwoConjugatePairs` finds the same
@@ -91,37 +91,44 @@ impl Glens {
         point: DVec3,
         optical_axis: DVec3,
         h: DMat4,
+        length: f64,
         transmission_coefficient: f64,
     ) -> Result<Glens, String> {
         let a = optical_axis.normalize();
-        let scale = h
-            .to_cols_array()
-            .iter()
-            .fold(0.0_f64, |m, x| m.max(x.abs()));
-        let h = h * (1.0 / scale);
-        // h X = λ X on the plane.
-        let lambda = h.w_axis.w + h.row(3).truncate().dot(point);
+        // In coordinates y with x = point + length y, so that the tolerances below are
+        // relative to the imaging's own size and place, scaled so that h fixes the plane's
+        // points with λ = 1 (h X = λ X there).
+        let to = DMat4::from_translation(point) * DMat4::from_scale(DVec3::splat(length));
+        let h = to.inverse() * h * to;
+        let lambda = h.w_axis.w;
         let (u, v) = a.any_orthonormal_pair();
-        let fixed = [point, point + u, point + v].iter().all(|&x| {
-            let image = h * x.extend(1.0);
-            (image - lambda * x.extend(1.0)).length() <= 1e-9 * x.extend(1.0).length()
-        });
-        if lambda.abs() <= 1e-12 || !fixed {
+        let fixed = lambda.abs()
+            > 1e-12
+                * h.abs()
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0, |m: f64, x| m.max(*x))
+            && [DVec3::ZERO, u, v].iter().all(|&y| {
+                let image = h * y.extend(1.0) / lambda;
+                (image - y.extend(1.0)).length() <= 1e-9
+            });
+        if !fixed {
             return Err(format!(
                 "the imaging does not fix the glens's plane through {point} normal to {a}"
             ));
         }
-        // h − λ I = c wᵀ: its largest column is along the centre c.
-        let rest = h - DMat4::from_diagonal(DVec4::splat(lambda));
+        let h = h / lambda;
+        // h − I = c wᵀ: its largest column is along the centre c.
+        let rest = h - DMat4::IDENTITY;
         let centre = [rest.x_axis, rest.y_axis, rest.z_axis, rest.w_axis]
             .into_iter()
             .max_by(|p, q| p.length().total_cmp(&q.length()))
             .expect("four columns");
         let homogeneous = |nodal_direction: DVec3| -> Result<Focus, String> {
             // Axial coordinates scale by k; the ratio f₋/f₊ is −1/k.
-            let image = h * (point + a).extend(1.0);
-            let k = (image.truncate() / image.w - point).dot(a);
-            if k.abs() <= 1e-12 || nodal_direction.dot(a).abs() <= 1e-12 {
+            let image = h * a.extend(1.0);
+            let k = (image.truncate() / image.w).dot(a);
+            if !k.is_finite() || k.abs() <= 1e-12 || nodal_direction.dot(a).abs() <= 1e-12 {
                 return Err(format!(
                     "the imaging at the glens's plane through {point} is singular or a shear"
                 ));
@@ -138,8 +145,8 @@ impl Glens {
         } else {
             let nodal = centre.truncate() / centre.w;
             let infinity = h * a.extend(0.0);
-            let f_pos = (infinity.truncate() / infinity.w - point).dot(a);
-            let f_sum = (nodal - point).dot(a);
+            let f_pos = (infinity.truncate() / infinity.w).dot(a);
+            let f_sum = nodal.dot(a);
             let f_neg = f_sum - f_pos;
             if !(f_pos.is_finite() && f_pos != 0.0 && f_neg.is_finite() && f_neg != 0.0) {
                 return Err(format!(
@@ -147,9 +154,9 @@ impl Glens {
                 ));
             }
             Focus::Finite {
-                principal_point: nodal - f_sum * a,
-                focal_length_negative: f_neg,
-                focal_length_positive: f_pos,
+                principal_point: point + length * (nodal - f_sum * a),
+                focal_length_negative: length * f_neg,
+                focal_length_positive: length * f_pos,
             }
         };
         Ok(Glens {
@@ -157,6 +164,158 @@ impl Glens {
             focus,
             transmission_coefficient,
         })
+    }
+
+    /// The glens in the plane through `point` normal to `optical_axis` (pointing into positive
+    /// space) that images `q_neg` to `q_pos` and `r_neg` to `r_pos`, as Dr TIM's
+    /// `GlensSurface.setParametersUsingTwoConjugatePairs` finds it: where the lines Q₋Q₊ and
+    /// R₋R₊ are parallel, the homogeneous glens of the pair Q; otherwise the nodal point N is
+    /// where those lines meet, and the focal lengths follow from the pair Q by the glens
+    /// equation with f₋ + f₊ = (N − P)·â. Lines that do not meet are refused.
+    pub fn from_conjugate_pairs(
+        point: DVec3,
+        optical_axis: DVec3,
+        (q_neg, q_pos): (DVec3, DVec3),
+        (r_neg, r_pos): (DVec3, DVec3),
+        transmission_coefficient: f64,
+    ) -> Result<Glens, String> {
+        let a = optical_axis.normalize();
+        let (q, r) = ((q_pos - q_neg).normalize(), (r_pos - r_neg).normalize());
+        let scale = [q_neg, q_pos, r_neg, r_pos]
+            .iter()
+            .fold(0.0_f64, |m, x| m.max((*x - point).length()));
+        let (a_neg, a_pos) = ((q_neg - point).dot(a), (q_pos - point).dot(a));
+        let none =
+            || format!("no glens through {point} images {q_neg} to {q_pos} and {r_neg} to {r_pos}");
+        if !(q.is_finite() && r.is_finite()) {
+            return Err(none());
+        }
+        let focus = if q.cross(r).length_squared() < 1e-10 {
+            // Homogeneous: the lines through Q₊R₊ and Q₋R₋ must meet the plane together.
+            let meet = |p: DVec3, d: DVec3| point_on_plane(p, d, point, a);
+            let consistent = match (meet(q_pos, r_pos - q_pos), meet(q_neg, r_neg - q_neg)) {
+                (Some(on_pos), Some(on_neg)) => (on_pos - on_neg).length() <= 1e-9 * scale,
+                (None, None) => {
+                    (r_pos - q_pos)
+                        .normalize()
+                        .cross((r_neg - q_neg).normalize())
+                        .length()
+                        < 1e-9
+                }
+                _ => false,
+            };
+            if !consistent || a_neg == 0.0 || a_pos == 0.0 || a_neg == a_pos {
+                return Err(format!("{}: no homogeneous one", none()));
+            }
+            Focus::Homogeneous {
+                nodal_direction: q,
+                ratio: -a_neg / a_pos,
+            }
+        } else {
+            // The point nearest both lines, Σᵢ (I − vᵢvᵢᵀ) N = Σᵢ (I − vᵢvᵢᵀ) pᵢ.
+            let across = |v: DVec3| DMat3::IDENTITY - DMat3::from_cols(v * v.x, v * v.y, v * v.z);
+            let nodal = (across(q) + across(r)).inverse() * (across(q) * q_neg + across(r) * r_neg);
+            let miss = (nodal - q_neg)
+                .reject_from_normalized(q)
+                .length()
+                .max((nodal - r_neg).reject_from_normalized(r).length());
+            if miss > 1e-9 * scale {
+                return Err(format!(
+                    "no glens through {point} images {q_neg} to {q_pos} and {r_neg} to {r_pos}: \
+                     the lines through them miss each other by {miss}"
+                ));
+            }
+            let principal_point = nodal - (nodal - point).dot(a) * a;
+            let n = (nodal - principal_point).dot(a);
+            // The glens equation f₊/a₊ + f₋/a₋ = 1 with f₋ + f₊ = n, from the pair whose axial
+            // coordinates differ the more (Dr TIM's: the pair Q, which fails where both pairs lie
+            // in the nodal plane, through N parallel to the glens). There a point moves away
+            // from N by the factor μ = −f₋/f₊ (the limit of (a₊ − n)/(a₋ − n)).
+            let axial = |(x_neg, x_pos): (DVec3, DVec3)| {
+                (
+                    (x_neg - principal_point).dot(a),
+                    (x_pos - principal_point).dot(a),
+                )
+            };
+            let ((q_a_neg, q_a_pos), (r_a_neg, r_a_pos)) =
+                (axial((q_neg, q_pos)), axial((r_neg, r_pos)));
+            let (a_neg, a_pos) = if (r_a_pos - r_a_neg).abs() > (q_a_pos - q_a_neg).abs() {
+                (r_a_neg, r_a_pos)
+            } else {
+                (q_a_neg, q_a_pos)
+            };
+            let (focal_length_negative, focal_length_positive) = if (a_pos - a_neg).abs()
+                > 1e-9 * scale
+            {
+                (
+                    a_neg * (n - a_pos) / (a_neg - a_pos),
+                    a_pos * (n - a_neg) / (a_pos - a_neg),
+                )
+            } else {
+                let (x_neg, x_pos) = if (r_neg - nodal).length() > (q_neg - nodal).length() {
+                    (r_neg, r_pos)
+                } else {
+                    (q_neg, q_pos)
+                };
+                let off = x_neg - nodal;
+                let mu = (x_pos - nodal).dot(off) / off.length_squared();
+                let in_nodal_plane = (off.dot(a)).abs() <= 1e-9 * scale;
+                if !in_nodal_plane || off.length() <= 1e-9 * scale || (1.0 - mu).abs() <= 1e-12 {
+                    return Err(none());
+                }
+                (-mu * n / (1.0 - mu), n / (1.0 - mu))
+            };
+            if !(focal_length_negative.is_finite()
+                && focal_length_positive.is_finite()
+                && focal_length_negative != 0.0
+                && focal_length_positive != 0.0)
+            {
+                return Err(none());
+            }
+            Focus::Finite {
+                principal_point,
+                focal_length_negative,
+                focal_length_positive,
+            }
+        };
+        Ok(Glens {
+            optical_axis: a,
+            focus,
+            transmission_coefficient,
+        })
+    }
+
+    /// The image of `object` (in negative space if `into_positive`, else in positive space),
+    /// in the glens's plane through `point`: on the line through the object and N, its axial
+    /// coordinate a′ from a by f₊/a′ + f₋/a = 1 (Dr TIM's `getImagePosition`). `None` where it
+    /// is at infinity (the object in the focal plane).
+    pub fn image(&self, object: DVec3, point: DVec3, into_positive: bool) -> Option<DVec3> {
+        let a = (object - point).dot(self.optical_axis);
+        let image = match self.focus {
+            Focus::Finite {
+                focal_length_negative,
+                focal_length_positive,
+                ..
+            } => {
+                let f = if into_positive {
+                    focal_length_negative
+                } else {
+                    focal_length_positive
+                };
+                let nodal = self.nodal_point().expect("finite");
+                object + (object - nodal) * (a / (f - a))
+            }
+            Focus::Homogeneous {
+                nodal_direction,
+                ratio,
+            } => {
+                let f = if into_positive { ratio } else { 1.0 };
+                let nodal =
+                    (ratio + 1.0) / nodal_direction.dot(self.optical_axis) * nodal_direction;
+                object - nodal * (a / f)
+            }
+        };
+        image.is_finite().then_some(image)
     }
 
     /// N = P + (f₋ + f₊) â, for finite focal lengths.
@@ -208,6 +367,13 @@ impl Glens {
             self.transmission_coefficient,
         )
     }
+}
+
+/// Where the line through `p` along `d` meets the plane through `point` normal to `a`; `None`
+/// where it runs along the plane.
+fn point_on_plane(p: DVec3, d: DVec3, point: DVec3, a: DVec3) -> Option<DVec3> {
+    let along = d.dot(a);
+    (along.abs() > 1e-12 * d.length()).then(|| p + d * ((point - p).dot(a) / along))
 }
 
 /// `type = "glens"`: finite focal lengths with a principal point, or (homogeneous) a nodal
@@ -364,7 +530,7 @@ mod imaging {
             } else {
                 homology(c, p, n, mu)
             };
-            let glens = Glens::imaging(p, n, h, 1.0).unwrap();
+            let glens = Glens::imaging(p, n, h, 1.0, 1.0).unwrap();
             let nodal = glens.nodal_point().expect("finite");
             assert!(
                 (nodal - c).length() < 1e-12,
@@ -383,10 +549,10 @@ mod imaging {
         let linear =
             glam::DMat3::IDENTITY + glam::DMat3::from_cols(shift * n.x, shift * n.y, shift * n.z);
         let h = DMat4::from_mat3_translation(linear, p - linear * p);
-        let glens = Glens::imaging(p, n, h, 1.0).unwrap();
+        let glens = Glens::imaging(p, n, h, 1.0, 1.0).unwrap();
         assert!(glens.nodal_point().is_none());
         images(&glens, h, p, n);
-        let identity = Glens::imaging(p, n, DMat4::IDENTITY * 3.0, 1.0).unwrap();
+        let identity = Glens::imaging(p, n, DMat4::IDENTITY * 3.0, 1.0, 1.0).unwrap();
         let d = DVec3::new(0.1, 0.2, 0.9).normalize();
         assert!((identity.direction(d, p).normalize() - d).length() < 1e-15);
     }
@@ -395,8 +561,156 @@ mod imaging {
     fn a_map_that_moves_the_plane_is_refused() {
         let p = DVec3::new(0.0, 0.0, 1.0);
         let shifted = DMat4::from_translation(DVec3::new(0.0, 0.0, 0.1));
-        let error = Glens::imaging(p, DVec3::Z, shifted, 1.0).unwrap_err();
+        let error = Glens::imaging(p, DVec3::Z, shifted, 1.0, 1.0).unwrap_err();
         assert!(error.contains("does not fix"), "{error}");
+    }
+}
+
+#[cfg(test)]
+mod conjugate_pairs {
+    use super::*;
+
+    /// Where the light leaving `q` is seen after the glens: the meeting point of two rays from
+    /// q through the plane point `p` (the glens's plane), redirected by the glens's law.
+    fn seen(glens: &Glens, q: DVec3, p: DVec3) -> DVec3 {
+        let (u, v) = glens.optical_axis.any_orthonormal_pair();
+        let (s1, s2) = (p + 0.3 * u - 0.2 * v, p - 0.5 * u + 0.4 * v);
+        let (d1, d2) = (
+            glens.direction((s1 - q).normalize(), s1),
+            glens.direction((s2 - q).normalize(), s2),
+        );
+        // s1 + t d1 = s2 + t' d2, least squares.
+        let w = s2 - s1;
+        let (a, b, c) = (d1.dot(d1), d1.dot(d2), d2.dot(d2));
+        let (d, e) = (d1.dot(w), d2.dot(w));
+        let t = (d * c - b * e) / (a * c - b * b);
+        s1 + t * d1
+    }
+
+    #[test]
+    fn two_conjugate_pairs_give_back_the_glens_that_images_them() {
+        let a = DVec3::new(0.2, -0.3, 1.0).normalize();
+        let p = DVec3::new(0.1, 0.4, 2.0);
+        let (u, v) = a.any_orthonormal_pair();
+        for focus in [
+            Focus::Finite {
+                principal_point: p + 0.3 * u,
+                focal_length_negative: -0.7,
+                focal_length_positive: 1.9,
+            },
+            Focus::Homogeneous {
+                nodal_direction: (a + 0.4 * v).normalize(),
+                ratio: -2.5,
+            },
+        ] {
+            let glens = Glens {
+                optical_axis: a,
+                focus: focus.clone(),
+                transmission_coefficient: 0.9,
+            };
+            let (q, r) = (p - 3.0 * a + 0.2 * u, p - 1.5 * a - 0.6 * v);
+            let (q_image, r_image) = (seen(&glens, q, p), seen(&glens, r, p));
+            for (object, image) in [(q, q_image), (r, r_image)] {
+                let from = glens.image(object, p + u, true).expect("finite image");
+                assert!((from - image).length() < 1e-9, "{from} {image}");
+                let back = glens.image(image, p - v, false).expect("finite image");
+                assert!((back - object).length() < 1e-9, "{back} {object}");
+            }
+            let made =
+                Glens::from_conjugate_pairs(p + v, a, (q, q_image), (r, r_image), 0.9).unwrap();
+            match (made.focus, focus) {
+                (
+                    Focus::Finite {
+                        principal_point: p1,
+                        focal_length_negative: n1,
+                        focal_length_positive: f1,
+                    },
+                    Focus::Finite {
+                        principal_point: p2,
+                        focal_length_negative: n2,
+                        focal_length_positive: f2,
+                    },
+                ) => {
+                    assert!(
+                        (p1 - p2).length() < 1e-9
+                            && (n1 - n2).abs() < 1e-9
+                            && (f1 - f2).abs() < 1e-9
+                    );
+                }
+                (
+                    Focus::Homogeneous {
+                        nodal_direction: d1,
+                        ratio: r1,
+                    },
+                    Focus::Homogeneous {
+                        nodal_direction: d2,
+                        ratio: r2,
+                    },
+                ) => {
+                    assert!(d1.cross(d2).length() < 1e-9 && (r1 - r2).abs() < 1e-9);
+                }
+                (made, given) => panic!("{made:?} from {given:?}"),
+            }
+        }
+    }
+
+    /// Pairs in the plane through N parallel to the glens, where Dr TIM's formula divides 0 by
+    /// 0: a point there moves away from N by −f₋/f₊ (the glens equation's a′ − n over a − n as
+    /// a → n).
+    #[test]
+    fn pairs_in_the_nodal_plane_give_the_focal_lengths_by_their_scale() {
+        let (f_neg, f_pos) = (0.6, -1.4);
+        let glens = Glens {
+            optical_axis: DVec3::Z,
+            focus: Focus::Finite {
+                principal_point: DVec3::ZERO,
+                focal_length_negative: f_neg,
+                focal_length_positive: f_pos,
+            },
+            transmission_coefficient: 1.0,
+        };
+        let n = f_neg + f_pos;
+        let (q, r) = (DVec3::new(0.3, 0.1, n), DVec3::new(-0.2, 0.5, n));
+        let (q_image, r_image) = (seen(&glens, q, DVec3::ZERO), seen(&glens, r, DVec3::ZERO));
+        let made = Glens::from_conjugate_pairs(
+            DVec3::new(1.0, 2.0, 0.0),
+            DVec3::Z,
+            (q, q_image),
+            (r, r_image),
+            1.0,
+        )
+        .unwrap();
+        let Focus::Finite {
+            principal_point,
+            focal_length_negative,
+            focal_length_positive,
+        } = made.focus
+        else {
+            panic!("finite")
+        };
+        assert!(principal_point.length() < 1e-9, "{principal_point}");
+        assert!(
+            (focal_length_negative - f_neg).abs() < 1e-9,
+            "{focal_length_negative}"
+        );
+        assert!(
+            (focal_length_positive - f_pos).abs() < 1e-9,
+            "{focal_length_positive}"
+        );
+    }
+
+    #[test]
+    fn pairs_no_glens_images_are_refused() {
+        // Lines Q₋Q₊ and R₋R₊ that miss each other.
+        let error = Glens::from_conjugate_pairs(
+            DVec3::ZERO,
+            DVec3::Z,
+            (DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.1, 0.0, 1.0)),
+            (DVec3::new(1.0, 0.0, -1.0), DVec3::new(1.0, 0.3, 1.0)),
+            1.0,
+        )
+        .unwrap_err();
+        assert!(error.contains("miss each other"), "{error}");
     }
 }
 
