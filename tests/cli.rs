@@ -933,6 +933,7 @@ fn every_example_scene_checks_and_renders() {
         "research/ShiftyGCLAsCubicCloakVisualiser.toml",
         "research/ShiftyGCLAsTetrahedralCloakVisualiser.toml",
         "research/NonAffineCubicCloakImageMaker.toml",
+        "research/ExtendedRochesterCloakTrajectoryMovieMaker2.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),
