@@ -98,6 +98,24 @@ fn cases() -> Vec<Case> {
             0.9,
             0.3,
         ),
+        // The octahedral cloak (Dr TIM's OctahedralBoxCloakMaker): the inner octahedron of
+        // vertices p L/2 from the centre seen scaled by e/p; Dr TIM's defaults, and skew.
+        plain(
+            "cloak_type = \"octahedral\", centre = [0, 0, 0]",
+            DVec3::ZERO,
+            2.0,
+            0.4,
+            0.8,
+        ),
+        plain(
+            "cloak_type = \"octahedral\", centre = [0.1, 0, 0.2], front_direction = [1, 1, 0], \
+             right_direction = [0, 0, 1], top_direction = [1, -1, 0], side_length = 2.5, \
+             inner_volume_size_factor_em = 0.25, inner_volume_size_factor_p = 0.6",
+            DVec3::new(0.1, 0.0, 0.2),
+            2.5,
+            0.25,
+            0.6,
+        ),
         // Rotated by 30° about (1, 1, 0), scaled by 1.5 and moved.
         Case {
             keys: "centre = [0, 0, 0]",
@@ -163,13 +181,15 @@ fn space_outside_the_box_cloak_is_seen_as_it_is() {
     }
 }
 
+/// The inner cube (or octahedron) is seen scaled by e/p about the centre.
 #[test]
 fn the_inner_cube_is_seen_scaled_by_e_over_p() {
     let mut rng = Rng(8);
     for case in cases() {
         let mut rays = Vec::new();
         for _ in 0..20 {
-            // Inside the inner cube: within a third of its half side of the centre.
+            // Inside the inner cube: within a third of its half side of the centre (the
+            // octahedron's inscribed sphere, of radius p L/(2√3), holds these points too).
             let p = case.centre
                 + case.p * case.side / 6.0 * rng.range(0.0, 1.0) * random_unit(&mut rng);
             rays.push((p, random_unit(&mut rng)));
@@ -294,12 +314,20 @@ fn bad_box_cloaks_are_refused_where_they_are_given() {
             &["top_direction must not be perpendicular"][..],
         ),
         (
-            "cloak_type = \"octahedral\"",
+            "cloak_type = \"prismatic\"",
             &[
-                "cloak_type = \"octahedral\"",
-                "OctahedralBoxCloakMaker",
+                "cloak_type = \"prismatic\"",
+                "PrismaticBoxCloakMaker",
                 "not built yet",
             ][..],
+        ),
+        (
+            "cloak_type = \"octahedral\", inner_volume_size_factor_em = 2",
+            &["inner_volume_size_factor_em = 2", "flattens"][..],
+        ),
+        (
+            "side_length = 0.001",
+            &["side_length = 0.001 is too small", "from the origin"][..],
         ),
         ("cloak_type = \"round\"", &["round", "cubic"][..]),
         ("side_length = 0", &["positive number"][..]),
@@ -602,6 +630,14 @@ fn bad_rochester_cloaks_are_refused_where_they_are_given() {
             &["inner_volume_size_factor_p = 1.2", "between 0 and 1"][..],
         ),
         (
+            "type = \"rochester-cloak\", inner_volume_size_factor_em = -0.805",
+            &["-1.00625 is too close to -1"][..],
+        ),
+        (
+            "type = \"rochester-cloak\", inner_volume_size_factor_em = -900",
+            &["-1125 is below -1000"][..],
+        ),
+        (
             "type = \"rochester-cloak\", cloak_type = \"cubic\"",
             &["rochester-cloak has no cloak_type"][..],
         ),
@@ -612,5 +648,59 @@ fn bad_rochester_cloaks_are_refused_where_they_are_given() {
         let run = timbre(dir.path(), &["check", path_str(&path)]);
         run.assert_bad_input(needles);
         assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}
+
+/// Dr TIM's `OctahedralBoxCloakMaker` gives its gCLAs η from closed forms in e and p (its
+/// exterior faces η₁ = (p − 1)/(e − 1), interior pyramid faces η₂ = p (e − 1)(p − 2)/(e (p − 1)
+/// (e − 2)), star prongs η* = p (e − 2)(p − 3)/(e (p − 2)(e − 3)), octahedron faces
+/// η₀ = p (e − 3)/(e (p − 3))); timbre's region maps must give the same η, or 1/η where its
+/// arrays face the other way.
+#[test]
+fn the_octahedral_cloaks_gclas_have_dr_tims_etas() {
+    for (e, p) in [(0.4, 0.8), (-0.3, 0.6), (1.5, 0.3)] {
+        let d = common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = {{ type = \"box-cloak\", \
+             cloak_type = \"octahedral\", inner_volume_size_factor_em = {e}, \
+             inner_volume_size_factor_p = {p} }}\n"
+        ));
+        assert_eq!(d.objects.len(), 6 + 24 + 24 + 8, "frames hidden");
+        for (prefix, eta, count) in [
+            ("d/exterior face", (p - 1.0) / (e - 1.0), 6),
+            (
+                "d/interface between",
+                p * (e - 1.0) * (p - 2.0) / (e * (p - 1.0) * (e - 2.0)),
+                24,
+            ),
+            (
+                "d/star prong",
+                p * (e - 2.0) * (p - 3.0) / (e * (p - 2.0) * (e - 3.0)),
+                24,
+            ),
+            ("d/octahedron face", p * (e - 3.0) / (e * (p - 3.0)), 8),
+        ] {
+            let faces: Vec<_> = d
+                .objects
+                .iter()
+                .filter(|o| o.name.starts_with(prefix))
+                .collect();
+            assert_eq!(faces.len(), count, "{prefix}");
+            for o in faces {
+                let Surface::ConfocalLensletArrays(a) = &o.surface else {
+                    panic!("{} is no gCLAs", o.name)
+                };
+                assert_eq!(a.eta.x, a.eta.y, "{}", o.name);
+                let (x, want) = (a.eta.x, eta);
+                assert!(
+                    (x - want).abs() < 1e-9 * want.abs() || (x * want - 1.0).abs() < 1e-9,
+                    "e = {e}, p = {p}, {}: η = {x}, Dr TIM's {want}",
+                    o.name
+                );
+                assert_eq!(
+                    a.transmission,
+                    timbre::surfaces::metatoys::Transmission::Constant(0.96)
+                );
+            }
+        }
     }
 }

@@ -32,7 +32,6 @@ mod ray_rotation_sheet_star;
 mod refractive_lens_surfaces;
 mod refractive_lenslet_array;
 mod refractive_view_rotator;
-mod rochester_cloak;
 mod shifty_cloak;
 mod space_cancelling_wedge;
 mod star;
@@ -40,7 +39,10 @@ mod tetrahedral_shifty_cloak;
 mod tim_head;
 mod triangular_thick_lens;
 
-pub use box_cloak::{BoxCloak, BoxCloakKeys, BoxCloakParameters};
+pub use box_cloak::{
+    BoxCloak, BoxCloakKeys, BoxCloakParameters, OctahedralBoxCloak, RochesterCloak,
+    RochesterCloakKeys,
+};
 pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
 pub use coordinate_system::{CoordinateSystem, CoordinateSystemKeys};
@@ -66,7 +68,6 @@ pub use ray_rotation_sheet_star::{RayRotationSheetStar, RayRotationSheetStarKeys
 pub use refractive_lens_surfaces::{RefractiveLensSurfaces, RefractiveLensSurfacesKeys};
 pub use refractive_lenslet_array::{RefractiveLensletArray, RefractiveLensletArrayKeys};
 pub use refractive_view_rotator::{RefractiveViewRotator, RefractiveViewRotatorKeys};
-pub use rochester_cloak::{RochesterCloak, RochesterCloakKeys};
 pub use shifty_cloak::{CubicShiftyCloakKeys, ShiftyCloak, SimpleTetrahedralShiftyCloakKeys};
 pub use space_cancelling_wedge::{Gluing, SpaceCancellingWedge, SpaceCancellingWedgeKeys};
 pub use tetrahedral_shifty_cloak::{TetrahedralShiftyCloak, TetrahedralShiftyCloakKeys};

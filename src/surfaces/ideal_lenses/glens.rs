@@ -81,24 +81,23 @@ impl Glens {
     }
 
     /// The glens in the plane through `point` normal to `optical_axis` that images negative
-    /// space into positive space by the projective map `h` (homogeneous coordinates; `length`
-    /// its size, to which the checks are relative), which must fix that plane point by point: a central collineation, whose centre is the nodal
-    /// point, f₋ the axial coordinate of the plane it sends to infinity and f₊ that of the
-    /// plane it brings from there (an affine `h` makes a homogeneous glens, the identity one of
-    /// ratio −1). Dr TIM's `GlensSurface.setParametersUsingTwoConjugatePairs` finds the same
-    /// glens from two of `h`'s conjugate pairs.
+    /// space into positive space by the projective map `h` (homogeneous coordinates, lengths of
+    /// order 1: a device works it out in its own units), which must fix that plane point by
+    /// point: a central collineation, whose centre is the nodal point, f₋ the axial coordinate
+    /// of the plane it sends to infinity and f₊ that of the plane it brings from there (an
+    /// affine `h` makes a homogeneous glens, the identity one of ratio −1). Dr TIM's
+    /// `GlensSurface.setParametersUsingTwoConjugatePairs` finds the same glens from two of
+    /// `h`'s conjugate pairs.
     pub fn imaging(
         point: DVec3,
         optical_axis: DVec3,
         h: DMat4,
-        length: f64,
         transmission_coefficient: f64,
     ) -> Result<Glens, String> {
         let a = optical_axis.normalize();
-        // In coordinates y with x = point + length y, so that the tolerances below are
-        // relative to the imaging's own size and place, scaled so that h fixes the plane's
-        // points with λ = 1 (h X = λ X there).
-        let to = DMat4::from_translation(point) * DMat4::from_scale(DVec3::splat(length));
+        // In coordinates y = x − point, scaled so that h fixes the plane's points with λ = 1
+        // (h Y = λ Y there); the tolerances below take lengths of order 1.
+        let to = DMat4::from_translation(point);
         let h = to.inverse() * h * to;
         let lambda = h.w_axis.w;
         let (u, v) = a.any_orthonormal_pair();
@@ -154,9 +153,9 @@ impl Glens {
                 ));
             }
             Focus::Finite {
-                principal_point: point + length * (nodal - f_sum * a),
-                focal_length_negative: length * f_neg,
-                focal_length_positive: length * f_pos,
+                principal_point: point + nodal - f_sum * a,
+                focal_length_negative: f_neg,
+                focal_length_positive: f_pos,
             }
         };
         Ok(Glens {
@@ -227,44 +226,21 @@ impl Glens {
             }
             let principal_point = nodal - (nodal - point).dot(a) * a;
             let n = (nodal - principal_point).dot(a);
-            // The glens equation f₊/a₊ + f₋/a₋ = 1 with f₋ + f₊ = n, from the pair whose axial
-            // coordinates differ the more (Dr TIM's: the pair Q, which fails where both pairs lie
-            // in the nodal plane, through N parallel to the glens). There a point moves away
-            // from N by the factor μ = −f₋/f₊ (the limit of (a₊ − n)/(a₋ − n)).
-            let axial = |(x_neg, x_pos): (DVec3, DVec3)| {
-                (
-                    (x_neg - principal_point).dot(a),
-                    (x_pos - principal_point).dot(a),
-                )
-            };
-            let ((q_a_neg, q_a_pos), (r_a_neg, r_a_pos)) =
-                (axial((q_neg, q_pos)), axial((r_neg, r_pos)));
-            let (a_neg, a_pos) = if (r_a_pos - r_a_neg).abs() > (q_a_pos - q_a_neg).abs() {
-                (r_a_neg, r_a_pos)
+            // On the line through N, x₊ − N = k (x₋ − N), so with b₋ = a₋ − n the glens
+            // equation f₊/a₊ + f₋/a₋ = 1 and f₋ + f₊ = n give f₊ = a₊/(1 − k) = (n + k b₋)/(1 − k):
+            // Dr TIM's f₊ = a₊ (n − a₋)/(a₊ − a₋), but defined also where the pair lies in the
+            // plane through N parallel to the glens (a₊ = a₋ = n, where Dr TIM's divides 0 by 0).
+            // The pair further from N, Dr TIM's the pair Q.
+            let (x_neg, x_pos) = if (r_neg - nodal).length() > (q_neg - nodal).length() {
+                (r_neg, r_pos)
             } else {
-                (q_a_neg, q_a_pos)
+                (q_neg, q_pos)
             };
-            let (focal_length_negative, focal_length_positive) = if (a_pos - a_neg).abs()
-                > 1e-9 * scale
-            {
-                (
-                    a_neg * (n - a_pos) / (a_neg - a_pos),
-                    a_pos * (n - a_neg) / (a_pos - a_neg),
-                )
-            } else {
-                let (x_neg, x_pos) = if (r_neg - nodal).length() > (q_neg - nodal).length() {
-                    (r_neg, r_pos)
-                } else {
-                    (q_neg, q_pos)
-                };
-                let off = x_neg - nodal;
-                let mu = (x_pos - nodal).dot(off) / off.length_squared();
-                let in_nodal_plane = (off.dot(a)).abs() <= 1e-9 * scale;
-                if !in_nodal_plane || off.length() <= 1e-9 * scale || (1.0 - mu).abs() <= 1e-12 {
-                    return Err(none());
-                }
-                (-mu * n / (1.0 - mu), n / (1.0 - mu))
-            };
+            let off = x_neg - nodal;
+            let k = (x_pos - nodal).dot(off) / off.length_squared();
+            let b_neg = (x_neg - principal_point).dot(a) - n;
+            let focal_length_positive = (n + k * b_neg) / (1.0 - k);
+            let focal_length_negative = n - focal_length_positive;
             if !(focal_length_negative.is_finite()
                 && focal_length_positive.is_finite()
                 && focal_length_negative != 0.0
@@ -278,11 +254,19 @@ impl Glens {
                 focal_length_positive,
             }
         };
-        Ok(Glens {
+        let glens = Glens {
             optical_axis: a,
             focus,
             transmission_coefficient,
-        })
+        };
+        // Both pairs must be imaged (as Dr TIM checks).
+        for (x_neg, x_pos) in [(q_neg, q_pos), (r_neg, r_pos)] {
+            let image = glens.image(x_neg, point, true);
+            if image.is_none_or(|i| (i - x_pos).length() > 1e-9 * scale) {
+                return Err(format!("{}: the pairs do not fit one glens", none()));
+            }
+        }
+        Ok(glens)
     }
 
     /// The image of `object` (in negative space if `into_positive`, else in positive space),
@@ -530,7 +514,7 @@ mod imaging {
             } else {
                 homology(c, p, n, mu)
             };
-            let glens = Glens::imaging(p, n, h, 1.0, 1.0).unwrap();
+            let glens = Glens::imaging(p, n, h, 1.0).unwrap();
             let nodal = glens.nodal_point().expect("finite");
             assert!(
                 (nodal - c).length() < 1e-12,
@@ -549,10 +533,10 @@ mod imaging {
         let linear =
             glam::DMat3::IDENTITY + glam::DMat3::from_cols(shift * n.x, shift * n.y, shift * n.z);
         let h = DMat4::from_mat3_translation(linear, p - linear * p);
-        let glens = Glens::imaging(p, n, h, 1.0, 1.0).unwrap();
+        let glens = Glens::imaging(p, n, h, 1.0).unwrap();
         assert!(glens.nodal_point().is_none());
         images(&glens, h, p, n);
-        let identity = Glens::imaging(p, n, DMat4::IDENTITY * 3.0, 1.0, 1.0).unwrap();
+        let identity = Glens::imaging(p, n, DMat4::IDENTITY * 3.0, 1.0).unwrap();
         let d = DVec3::new(0.1, 0.2, 0.9).normalize();
         assert!((identity.direction(d, p).normalize() - d).length() < 1e-15);
     }
@@ -561,7 +545,7 @@ mod imaging {
     fn a_map_that_moves_the_plane_is_refused() {
         let p = DVec3::new(0.0, 0.0, 1.0);
         let shifted = DMat4::from_translation(DVec3::new(0.0, 0.0, 0.1));
-        let error = Glens::imaging(p, DVec3::Z, shifted, 1.0, 1.0).unwrap_err();
+        let error = Glens::imaging(p, DVec3::Z, shifted, 1.0).unwrap_err();
         assert!(error.contains("does not fix"), "{error}");
     }
 }
@@ -697,6 +681,21 @@ mod conjugate_pairs {
             (focal_length_positive - f_pos).abs() < 1e-9,
             "{focal_length_positive}"
         );
+    }
+
+    /// Lines Q₋Q₊ and R₋R₊ that meet at N = 0, but no glens about N images both pairs: the
+    /// glens that images R sends Q₋ to (−2, 0, 2).
+    #[test]
+    fn pairs_no_one_glens_images_are_refused() {
+        let error = Glens::from_conjugate_pairs(
+            DVec3::ZERO,
+            DVec3::Z,
+            (DVec3::new(1.0, 0.0, -1.0), DVec3::new(-1.0, 0.0, 1.0)),
+            (DVec3::new(0.0, 1.0, -1.0), DVec3::new(0.0, -2.0, 2.0)),
+            1.0,
+        )
+        .unwrap_err();
+        assert!(error.contains("do not fit one glens"), "{error}");
     }
 
     #[test]

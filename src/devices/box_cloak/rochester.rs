@@ -19,10 +19,9 @@
 //! coefficient of 0.5 (a left-over diagnostic switch; here the cloak's own).
 
 use glam::{DMat3, DVec3};
-use serde::Deserialize;
 
-use super::box_cloak::{BoxCloakKeys, BoxCloakParameters};
-use super::{EdgeDefaults, Edges, LensDevice, Part};
+use super::BoxCloakParameters;
+use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::Transform;
 use crate::surfaces::{Focus, Glens};
 
@@ -72,12 +71,29 @@ impl RochesterCloak {
         let m = e / p;
         // The inner lenses stand d = −L/(2M) from the centre: between it and the outer lenses
         // only where M < −1 (Dr TIM: "innerVolumeSizeFactorEM < -innerVolumeSizeFactorP").
-        if m >= -1.0 - 1e-9 {
+        if m >= -1.0 {
             return Err(format!(
                 "inner_volume_size_factor_em = {e} must be less than -inner_volume_size_factor_p \
                  = {}: the inner volume must be seen magnified and flipped, or the inner lenses \
                  would not lie between the centre and the outer lenses",
                 -p
+            ));
+        }
+        // Near M = −1 the outer lenses' focal length f₁ vanishes and the glenses' conjugate
+        // pairs crowd together: refused before they lose their accuracy (measured: at
+        // M = −1.01 and −1000 rays through the cloak stay on their lines to 1e-9).
+        if m > -1.01 {
+            return Err(format!(
+                "inner_volume_size_factor_em / inner_volume_size_factor_p = {m} is too close to \
+                 -1 (at least 0.01 below it): the outer lenses' focal length would vanish"
+            ));
+        }
+        // Beyond M = −1000 the inner lenses' focal length f₂ ≈ −L/(2M) is too short for the
+        // cloak to stay exact to 1e-9.
+        if m < -1000.0 {
+            return Err(format!(
+                "inner_volume_size_factor_em / inner_volume_size_factor_p = {m} is below -1000: \
+                 the inner lenses would be too close to the centre to trace exactly"
             ));
         }
         // In units of h = L/2.
@@ -455,27 +471,5 @@ impl LensDevice for RochesterCloak {
 
     fn edge_defaults(&self) -> EdgeDefaults {
         self.0.edge_defaults()
-    }
-}
-
-/// `lenses = { type = "rochester-cloak" }`: Dr TIM's `EditableRochesterCloak`, its defaults
-/// those of `EditableRochesterCloak(parent, studio)`, the box cloak's but for
-/// `inner_volume_size_factor_em` = −1.6.
-#[derive(Debug, Deserialize)]
-#[serde(transparent)]
-pub struct RochesterCloakKeys(BoxCloakKeys);
-
-impl RochesterCloakKeys {
-    pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
-        if self.0.has_cloak_type() {
-            return Err(
-                "a rochester-cloak has no cloak_type (it is Dr TIM's box cloak of \
-                        cloak_type = \"rochester\")"
-                    .into(),
-            );
-        }
-        let cloak = RochesterCloak(self.0.parameters(-1.6)?);
-        cloak.parts(None)?;
-        Ok(Box::new(cloak))
     }
 }
