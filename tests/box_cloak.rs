@@ -116,6 +116,21 @@ fn cases() -> Vec<Case> {
             0.25,
             0.6,
         ),
+        // The octahedral cloak rotated, scaled and moved.
+        Case {
+            keys: "cloak_type = \"octahedral\", centre = [0, 0, 0]",
+            transform: "transform = { scale = 0.7, rotate = { axis = [1, 0, 1], angle_deg = 40 }, translate = [0, 1, 0] }\n",
+            rotation: DQuat::from_axis_angle(
+                DVec3::new(1.0, 0.0, 1.0).normalize(),
+                40f64.to_radians(),
+            ),
+            scale: 0.7,
+            shift: DVec3::new(0.0, 1.0, 0.0),
+            centre: DVec3::ZERO,
+            side: 2.0,
+            e: 0.4,
+            p: 0.8,
+        },
         // Rotated by 30° about (1, 1, 0), scaled by 1.5 and moved.
         Case {
             keys: "centre = [0, 0, 0]",
@@ -291,11 +306,11 @@ fn bad_box_cloaks_are_refused_where_they_are_given() {
     for (keys, needles) in [
         (
             "inner_volume_size_factor_p = 1",
-            &["inner_volume_size_factor_p = 1", "between 0 and 1"][..],
+            &["inner_volume_size_factor_p = 1", "between 0.001 and 0.999"][..],
         ),
         (
             "inner_volume_size_factor_p = -0.5",
-            &["inner_volume_size_factor_p", "between 0 and 1"][..],
+            &["inner_volume_size_factor_p", "between 0.001 and 0.999"][..],
         ),
         (
             "inner_volume_size_factor_em = 1",
@@ -627,7 +642,10 @@ fn bad_rochester_cloaks_are_refused_where_they_are_given() {
         ),
         (
             "type = \"rochester-cloak\", inner_volume_size_factor_p = 1.2",
-            &["inner_volume_size_factor_p = 1.2", "between 0 and 1"][..],
+            &[
+                "inner_volume_size_factor_p = 1.2",
+                "between 0.001 and 0.999",
+            ][..],
         ),
         (
             "type = \"rochester-cloak\", inner_volume_size_factor_em = -0.805",

@@ -127,7 +127,10 @@ fn reference_crossings(s: &Solid, o: DVec3, d: DVec3, far: f64, step: f64) -> Ve
                 let m = 0.5 * (a + b);
                 if at(m) == in0 { a = m } else { b = m }
             }
-            out.push(0.5 * (a + b));
+            // The last step may end past `far`, where timbre's crossings are not asked for.
+            if 0.5 * (a + b) < far {
+                out.push(0.5 * (a + b));
+            }
         }
         (t0, in0) = (t1, in1);
     }

@@ -40,10 +40,10 @@ impl BoxCloak {
         let BoxCloak(b) = self;
         b.check_precision()?;
         let (e, p) = (b.inner_volume_size_factor_em, b.inner_volume_size_factor_p);
-        if e.abs() <= 1e-9 || (e - 1.0).abs() <= 1e-9 {
+        if e.abs() < 1e-4 || (e - 1.0).abs() < 1e-4 {
             return Err(format!(
-                "inner_volume_size_factor_em = {e} would show the inner cube as a point (0) or \
-                 in the outer cube's faces (1): choose another"
+                "inner_volume_size_factor_em = {e} is within 1e-4 of 0 or 1, which would show the \
+                 inner cube as a point (0) or in the outer cube's faces (1): choose another"
             ));
         }
         Ok(Shell::new(

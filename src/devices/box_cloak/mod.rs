@@ -39,14 +39,15 @@ pub struct BoxCloakParameters {
 }
 
 impl BoxCloakParameters {
-    /// Refuses a cloak whose faces cannot be traced accurately: p within 10⁻⁶ of 0 or 1, or a
+    /// Refuses a cloak whose faces cannot be traced accurately: p within 10⁻³ of 0 or 1, or a
     /// side length below 10⁻³ (1 + the centre's distance from the origin).
     pub(super) fn check_precision(&self) -> Result<(), String> {
         let p = self.inner_volume_size_factor_p;
-        if !(1e-6..=1.0 - 1e-6).contains(&p) {
+        if !(1e-3..=0.999).contains(&p) {
             return Err(format!(
-                "inner_volume_size_factor_p = {p} must lie between 0 and 1, at least 1e-6 from \
-                 either: the inner volume lies inside the outer one"
+                "inner_volume_size_factor_p = {p} must lie between 0.001 and 0.999: the inner \
+                 volume lies inside the outer one, and closer to either limit its faces would \
+                 lie too close together to trace"
             ));
         }
         // Rays leaving a surface pass what lies within 1e-9 (1 + |x|) of it.

@@ -14,11 +14,11 @@
 //! of constant transmission) that images the region behind it into the one in front: Dr TIM's
 //! exterior faces, "interior interfaces", "star prongs" and "innermost" octahedron faces.
 
-use glam::{DMat4, DVec3};
+use glam::{DMat3, DMat4, DVec3};
 
 use super::BoxCloakParameters;
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
-use crate::geometry::{ConvexPolygon, Shape};
+use crate::geometry::{ConvexPolygon, Shape, Transform};
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
@@ -94,6 +94,15 @@ impl OctahedralBoxCloak {
         ]
     }
 
+    /// The map from the cloak's own coordinates (its centre at the origin, its half side the
+    /// unit of length) into the scene's.
+    fn place(&self) -> Transform {
+        let b = &self.0;
+        Transform::from_matrix(DMat3::from_diagonal(DVec3::splat(0.5 * b.side_length)))
+            .expect("a positive side length")
+            .then(&Transform::translation(b.centre))
+    }
+
     /// The octahedron's vertex on the axis `n`, in physical (`e` false) or electromagnetic space.
     fn apex(&self, n: DVec3, em: bool) -> DVec3 {
         let b = &self.0;
@@ -102,12 +111,12 @@ impl OctahedralBoxCloak {
         } else {
             b.inner_volume_size_factor_p
         };
-        b.centre + 0.5 * b.side_length * size * n
+        size * n
     }
 
     /// The cube's corner in the directions of the axes `n`.
     fn corner(&self, n: &[DVec3]) -> DVec3 {
-        self.0.centre + 0.5 * self.0.side_length * n.iter().sum::<DVec3>()
+        n.iter().sum::<DVec3>()
     }
 
     /// The region fixing `fixed` cube corners (three of a face, or two or one) and moving the
@@ -153,14 +162,17 @@ impl OctahedralBoxCloak {
         } else {
             (r2, r1)
         };
-        let inside_position = vertices[0] - self.0.side_length * normal;
+        let inside_position = vertices[0] - normal;
         let image = front.seen.inverse() * behind.seen * inside_position.extend(1.0);
+        let place = self.place();
         let imaging = HomogeneousPlanarImaging {
             point_on_plane: vertices[0],
             a: normal,
             inside_position,
             outside_position: image.truncate() / image.w,
-        };
+        }
+        .transformed(&place);
+        let vertices = vertices.iter().map(|&v| place.point(v)).collect();
         let transmission = Transmission::Constant(self.0.interface_transmission_coefficient);
         let arrays = ConfocalLensletArrays::imaging(imaging, transmission)
             .map_err(|e| format!("{name}: {e}"))?;
@@ -194,14 +206,19 @@ impl LensDevice for OctahedralBoxCloak {
         let (e, p) = (b.inner_volume_size_factor_em, b.inner_volume_size_factor_p);
         let axes = self.axes();
         let inside = Region {
-            seen: DMat4::from_translation(b.centre)
-                * DMat4::from_scale(DVec3::splat(e / p))
-                * DMat4::from_translation(-b.centre),
-            inside: b.centre,
+            seen: DMat4::from_scale(DVec3::splat(e / p)),
+            inside: DVec3::ZERO,
         };
-        if e.abs() <= 1e-9 {
+        // e = 0 shows the octahedron as a point, e = 1 its apexes in the cube's faces, e = 2
+        // and 3 flatten the edges' and corners' tetrahedra; within 1e-4 of them the maps lose
+        // the cloak's accuracy.
+        if let Some(k) = [0.0, 1.0, 2.0, 3.0]
+            .into_iter()
+            .find(|k: &f64| (e - k).abs() < 1e-4)
+        {
             return Err(format!(
-                "inner_volume_size_factor_em = {e} would show the octahedron as a point"
+                "inner_volume_size_factor_em = {e} is within 1e-4 of {k}, which flattens the \
+                 octahedral cloak's regions (0, 1, 2 and 3 all do): choose another"
             ));
         }
         // Perpendicular pairs of axes: the cube's edges, each once.
@@ -226,7 +243,7 @@ impl LensDevice for OctahedralBoxCloak {
             let pyramid = self.region(&face[..3], &[n.v], &format!("{} pyramid", n.name))?;
             let outside = Region {
                 seen: DMat4::IDENTITY,
-                inside: b.centre + b.side_length * n.v,
+                inside: 2.0 * n.v,
             };
             parts.push(self.interface(
                 format!("exterior face {}", n.name),
@@ -302,9 +319,12 @@ impl OctahedralBoxCloak {
     /// their edges and from each cube corner to the octahedron's three vertices next to it.
     fn frames(&self, e: &Edges) -> Result<Vec<Part>, String> {
         let axes = self.axes();
+        let place = self.place();
+        let edge = |name: String, a: DVec3, b: DVec3| e.part(name, place.point(a), place.point(b));
+        let vertex = |name: String, at: DVec3| e.vertex(name, place.point(at));
         let mut parts = Vec::new();
         for a in &axes {
-            parts.push(e.vertex(
+            parts.push(vertex(
                 format!("octahedron vertex {}", a.name),
                 self.apex(a.v, false),
             )?);
@@ -315,7 +335,7 @@ impl OctahedralBoxCloak {
                 .skip(i + 1)
                 .filter(|bb| bb.v.dot(a.v).abs() < 0.5)
             {
-                parts.push(e.part(
+                parts.push(edge(
                     format!("octahedron edge {} {}", a.name, bb.name),
                     self.apex(a.v, false),
                     self.apex(bb.v, false),
@@ -327,9 +347,12 @@ impl OctahedralBoxCloak {
             let corner = |t: [Axis; 3]| self.corner(&t.map(|a| a.v));
             let label = |t: [Axis; 3]| format!("{} {} {}", t[2].name, t[1].name, t[0].name);
             let here = three(signs);
-            parts.push(e.vertex(format!("cube vertex {}", label(here)), corner(here))?);
+            parts.push(vertex(
+                format!("cube vertex {}", label(here)),
+                corner(here),
+            )?);
             for (k, a) in here.iter().enumerate() {
-                parts.push(e.part(
+                parts.push(edge(
                     format!(
                         "star edge from the {} corner to the {} vertex",
                         label(here),
@@ -341,7 +364,7 @@ impl OctahedralBoxCloak {
                 // Each cube edge once, from its end on the front, right or top side.
                 if (signs >> k) & 1 == 0 {
                     let there = three(signs | 1 << k);
-                    parts.push(e.part(
+                    parts.push(edge(
                         format!("cube edge {} to {}", label(here), label(there)),
                         corner(here),
                         corner(there),
