@@ -23,7 +23,7 @@ use super::BoxCloakParameters;
 use crate::devices::polyhedral_shell::{AxisNames, Interface, Polyhedron, Region, Shell};
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::Transform;
-use crate::surfaces::Glens;
+use crate::surfaces::{Glens, Surface};
 
 /// The cubic box cloak.
 #[derive(Debug, Clone, PartialEq)]
@@ -95,7 +95,7 @@ impl BoxCloak {
         )
         .and_then(|g| g.transformed(&placed))
         .map_err(|e| format!("{}: {e}", face.name))?;
-        b.face(face.name, face.vertices, glens)
+        b.face(face.name, face.vertices, Surface::Glens(glens))
     }
 }
 

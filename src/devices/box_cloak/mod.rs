@@ -15,7 +15,7 @@ use serde::Deserialize;
 use super::{EdgeDefaults, LensDevice, Part};
 use crate::geometry::{ConvexPolygon, Shape};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector, throughput};
-use crate::surfaces::{Glens, Surface, Transparent};
+use crate::surfaces::{Surface, Transparent};
 
 /// The parameters of Dr TIM's `EditableBoxCloak`, shared by its cloak types.
 #[derive(Debug, Clone, PartialEq)]
@@ -63,8 +63,13 @@ impl BoxCloakParameters {
         Ok(())
     }
 
-    /// A glens face of the cloak, or its placeholder.
-    pub fn face(&self, name: String, vertices: Vec<DVec3>, glens: Glens) -> Result<Part, String> {
+    /// A face of the cloak (a glens or gCLAs), or its placeholder.
+    pub fn face(
+        &self,
+        name: String,
+        vertices: Vec<DVec3>,
+        surface: Surface,
+    ) -> Result<Part, String> {
         Ok(Part {
             shape: Shape::ConvexPolygon(
                 ConvexPolygon::new(vertices).map_err(|e| format!("{name}: {e}"))?,
@@ -75,7 +80,7 @@ impl BoxCloakParameters {
                     transmission_coefficient: self.interface_transmission_coefficient,
                 })
             } else {
-                Surface::Glens(glens)
+                surface
             },
             edge: false,
         })

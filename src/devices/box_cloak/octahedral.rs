@@ -18,7 +18,7 @@ use glam::{DMat3, DMat4, DVec3};
 
 use super::BoxCloakParameters;
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
-use crate::geometry::{ConvexPolygon, Shape, Transform};
+use crate::geometry::Transform;
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
@@ -176,20 +176,8 @@ impl OctahedralBoxCloak {
         let transmission = Transmission::Constant(self.0.interface_transmission_coefficient);
         let arrays = ConfocalLensletArrays::imaging(imaging, transmission)
             .map_err(|e| format!("{name}: {e}"))?;
-        Ok(Part {
-            shape: Shape::ConvexPolygon(
-                ConvexPolygon::new(vertices).map_err(|e| format!("{name}: {e}"))?,
-            ),
-            name,
-            surface: if self.0.show_placeholder_surfaces {
-                Surface::Transparent(crate::surfaces::Transparent {
-                    transmission_coefficient: self.0.interface_transmission_coefficient,
-                })
-            } else {
-                Surface::ConfocalLensletArrays(arrays)
-            },
-            edge: false,
-        })
+        self.0
+            .face(name, vertices, Surface::ConfocalLensletArrays(arrays))
     }
 }
 

@@ -23,7 +23,7 @@ use glam::{DMat3, DVec3};
 use super::BoxCloakParameters;
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::Transform;
-use crate::surfaces::{Focus, Glens};
+use crate::surfaces::{Focus, Glens, Surface};
 
 /// One of the cloak's six directions, with Dr TIM's name for it.
 #[derive(Debug, Clone, Copy)]
@@ -129,7 +129,7 @@ impl Maker<'_> {
             .transformed(&self.place)
             .map_err(|e| format!("{name}: {e}"))?;
         let vertices = vertices.iter().map(|&v| self.place.point(v)).collect();
-        self.b.face(name, vertices, glens)
+        self.b.face(name, vertices, Surface::Glens(glens))
     }
 
     /// A frame's edge from `a` to `b`, placed in the scene.
