@@ -17,12 +17,11 @@
 //! ([`Glens::imaging`]) that images a point x behind it into V_front⁻¹(V_behind(x)) in front,
 //! the glens Dr TIM's conjugate pairs give it.
 
-use glam::{DMat3, DMat4, DVec3, DVec4};
+use glam::{DMat4, DVec3, DVec4};
 
 use super::BoxCloakParameters;
 use crate::devices::polyhedral_shell::{AxisNames, Interface, Polyhedron, Region, Shell};
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
-use crate::geometry::Transform;
 use crate::surfaces::{Glens, Surface};
 
 /// The cubic box cloak.
@@ -84,9 +83,7 @@ impl BoxCloak {
         let BoxCloak(b) = self;
         let h = 0.5 * b.side_length;
         let imaging = self.seen(shell, face.front).inverse() * self.seen(shell, face.behind);
-        let placed = Transform::from_matrix(DMat3::from_diagonal(DVec3::splat(h)))
-            .map_err(|e| e.to_string())?
-            .then(&Transform::translation(b.centre));
+        let placed = b.place();
         let glens = Glens::imaging(
             (face.vertices[0] - b.centre) / h,
             face.normal,

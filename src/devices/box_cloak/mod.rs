@@ -9,13 +9,35 @@ pub use cubic::BoxCloak;
 pub use octahedral::OctahedralBoxCloak;
 pub use rochester::RochesterCloak;
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 use serde::Deserialize;
 
 use super::{EdgeDefaults, LensDevice, Part};
-use crate::geometry::{ConvexPolygon, Shape};
+use crate::geometry::{ConvexPolygon, Shape, Transform};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector, throughput};
 use crate::surfaces::{Surface, Transparent};
+
+/// One of a box cloak's six directions, with Dr TIM's name for it.
+#[derive(Debug, Clone, Copy)]
+struct Axis {
+    name: &'static str,
+    v: DVec3,
+}
+
+impl std::ops::Neg for Axis {
+    type Output = Axis;
+    fn neg(self) -> Axis {
+        let name = match self.name {
+            "front" => "back",
+            "back" => "front",
+            "top" => "bottom",
+            "bottom" => "top",
+            "right" => "left",
+            _ => "right",
+        };
+        Axis { name, v: -self.v }
+    }
+}
 
 /// The parameters of Dr TIM's `EditableBoxCloak`, shared by its cloak types.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +61,32 @@ pub struct BoxCloakParameters {
 }
 
 impl BoxCloakParameters {
+    /// The front, right and top directions, named.
+    fn axes(&self) -> [Axis; 3] {
+        [
+            Axis {
+                name: "front",
+                v: self.front,
+            },
+            Axis {
+                name: "right",
+                v: self.right,
+            },
+            Axis {
+                name: "top",
+                v: self.top,
+            },
+        ]
+    }
+
+    /// The map from the cloak's own coordinates (its centre at the origin, half its side the
+    /// unit of length) into the scene's, in which the cloaks work out their faces.
+    fn place(&self) -> Transform {
+        Transform::from_matrix(DMat3::from_diagonal(DVec3::splat(0.5 * self.side_length)))
+            .expect("a positive side length")
+            .then(&Transform::translation(self.centre))
+    }
+
     /// Refuses a cloak whose faces cannot be traced accurately: p within 10⁻³ of 0 or 1, or a
     /// side length below 10⁻³ (1 + the centre's distance from the origin).
     pub(super) fn check_precision(&self) -> Result<(), String> {

@@ -14,24 +14,16 @@
 //! of constant transmission) that images the region behind it into the one in front: Dr TIM's
 //! exterior faces, "interior interfaces", "star prongs" and "innermost" octahedron faces.
 
-use glam::{DMat3, DMat4, DVec3};
+use glam::{DMat4, DVec3};
 
-use super::BoxCloakParameters;
+use super::{Axis, BoxCloakParameters};
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
-use crate::geometry::Transform;
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
 /// The octahedral box cloak.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OctahedralBoxCloak(pub BoxCloakParameters);
-
-/// One of the six axis directions, with Dr TIM's name.
-#[derive(Debug, Clone, Copy)]
-struct Axis {
-    name: &'static str,
-    v: DVec3,
-}
 
 /// A region: its map V (seen from outside) and a point inside it.
 struct Region {
@@ -65,42 +57,8 @@ fn affine(from: [DVec3; 4], to: [DVec3; 4]) -> Option<DMat4> {
 impl OctahedralBoxCloak {
     /// The six axis directions, front, back, right, left, top, bottom.
     fn axes(&self) -> [Axis; 6] {
-        let b = &self.0;
-        [
-            Axis {
-                name: "front",
-                v: b.front,
-            },
-            Axis {
-                name: "back",
-                v: -b.front,
-            },
-            Axis {
-                name: "right",
-                v: b.right,
-            },
-            Axis {
-                name: "left",
-                v: -b.right,
-            },
-            Axis {
-                name: "top",
-                v: b.top,
-            },
-            Axis {
-                name: "bottom",
-                v: -b.top,
-            },
-        ]
-    }
-
-    /// The map from the cloak's own coordinates (its centre at the origin, its half side the
-    /// unit of length) into the scene's.
-    fn place(&self) -> Transform {
-        let b = &self.0;
-        Transform::from_matrix(DMat3::from_diagonal(DVec3::splat(0.5 * b.side_length)))
-            .expect("a positive side length")
-            .then(&Transform::translation(b.centre))
+        let [front, right, top] = self.0.axes();
+        [front, -front, right, -right, top, -top]
     }
 
     /// The octahedron's vertex on the axis `n`, in physical (`e` false) or electromagnetic space.
@@ -164,7 +122,7 @@ impl OctahedralBoxCloak {
         };
         let inside_position = vertices[0] - normal;
         let image = front.seen.inverse() * behind.seen * inside_position.extend(1.0);
-        let place = self.place();
+        let place = self.0.place();
         let imaging = HomogeneousPlanarImaging {
             point_on_plane: vertices[0],
             a: normal,
@@ -307,7 +265,7 @@ impl OctahedralBoxCloak {
     /// their edges and from each cube corner to the octahedron's three vertices next to it.
     fn frames(&self, e: &Edges) -> Result<Vec<Part>, String> {
         let axes = self.axes();
-        let place = self.place();
+        let place = self.0.place();
         let edge = |name: String, a: DVec3, b: DVec3| e.part(name, place.point(a), place.point(b));
         let vertex = |name: String, at: DVec3| e.vertex(name, place.point(at));
         let mut parts = Vec::new();

@@ -18,34 +18,12 @@
 //! its focal lengths assume them), and it gives the centre diagonal glenses a transmission
 //! coefficient of 0.5 (a left-over diagnostic switch; here the cloak's own).
 
-use glam::{DMat3, DVec3};
+use glam::DVec3;
 
-use super::BoxCloakParameters;
+use super::{Axis, BoxCloakParameters};
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::Transform;
 use crate::surfaces::{Focus, Glens, Surface};
-
-/// One of the cloak's six directions, with Dr TIM's name for it.
-#[derive(Debug, Clone, Copy)]
-struct Named {
-    name: &'static str,
-    v: DVec3,
-}
-
-impl std::ops::Neg for Named {
-    type Output = Named;
-    fn neg(self) -> Named {
-        let name = match self.name {
-            "front" => "back",
-            "back" => "front",
-            "top" => "bottom",
-            "bottom" => "top",
-            "right" => "left",
-            _ => "right",
-        };
-        Named { name, v: -self.v }
-    }
-}
 
 /// The extended Rochester cloak.
 #[derive(Debug, Clone, PartialEq)]
@@ -98,9 +76,7 @@ impl RochesterCloak {
         }
         // In units of h = L/2.
         let (f1, f2) = ((m + 1.0) / (m - 1.0), -(m + 1.0) / (m * (m - 1.0)));
-        let place = Transform::from_matrix(DMat3::from_diagonal(DVec3::splat(0.5 * b.side_length)))
-            .map_err(|e| e.to_string())?
-            .then(&Transform::translation(b.centre));
+        let place = b.place();
         Ok(Maker {
             b,
             place,
@@ -113,16 +89,6 @@ impl RochesterCloak {
 }
 
 impl Maker<'_> {
-    fn dir(&self, name: &'static str) -> Named {
-        let b = self.b;
-        let v = match name {
-            "front" => b.front,
-            "right" => b.right,
-            _ => b.top,
-        };
-        Named { name, v }
-    }
-
     /// A glens face, placed in the scene.
     fn face(&self, name: String, vertices: Vec<DVec3>, glens: Glens) -> Result<Part, String> {
         let glens = glens
@@ -143,17 +109,17 @@ impl Maker<'_> {
     }
 
     /// The outer cube's corner in the directions l, t, o.
-    fn outer(&self, l: Named, t: Named, o: Named) -> DVec3 {
+    fn outer(&self, l: Axis, t: Axis, o: Axis) -> DVec3 {
         l.v + t.v + o.v
     }
 
     /// The belly's corner in the transverse directions t, o.
-    fn halfway(&self, t: Named, o: Named) -> DVec3 {
+    fn halfway(&self, t: Axis, o: Axis) -> DVec3 {
         1.5 * (t.v + o.v)
     }
 
     /// The inner cuboid's corner in the directions l, t, o.
-    fn inner(&self, l: Named, t: Named, o: Named) -> DVec3 {
+    fn inner(&self, l: Axis, t: Axis, o: Axis) -> DVec3 {
         self.d * l.v + self.across * (t.v + o.v)
     }
 
@@ -177,7 +143,7 @@ impl Maker<'_> {
         &self,
         name: &str,
         vertices: &[DVec3],
-        towards: Named,
+        towards: Axis,
         q: (DVec3, DVec3),
         r: (DVec3, DVec3),
     ) -> Result<Glens, String> {
@@ -211,11 +177,11 @@ impl Maker<'_> {
 
     /// The outer and inner lens on the axis `l` (Dr TIM's `addOnAxisLensesForAxialDirection`),
     /// with their parts.
-    fn lenses(&self, l: Named, parts: &mut Vec<Part>) -> Result<(Glens, Glens), String> {
-        let (t, o) = (self.dir("top"), self.dir("right"));
+    fn lenses(&self, l: Axis, parts: &mut Vec<Part>) -> Result<(Glens, Glens), String> {
+        let [_, o, t] = self.b.axes();
         let outer = self.lens(l.v, l.v, self.f1);
         let inner = self.lens(l.v, self.d * l.v, self.f2);
-        let square = |corner: &dyn Fn(Named, Named) -> DVec3| {
+        let square = |corner: &dyn Fn(Axis, Axis) -> DVec3| {
             vec![corner(t, o), corner(t, -o), corner(-t, -o), corner(-t, o)]
         };
         let outer_square = square(&|t, o| self.outer(l, t, o));
@@ -234,7 +200,7 @@ impl Maker<'_> {
     /// direction; with `middle` also those of the inner cuboid's side and the middle.
     fn surfaces(
         &self,
-        (l, t, o): (Named, Named, Named),
+        (l, t, o): (Axis, Axis, Axis),
         (outside_lens, inside_lens): (&Glens, &Glens),
         middle: bool,
         parts: &mut Vec<Part>,
@@ -359,11 +325,11 @@ impl Maker<'_> {
 
     /// Dr TIM's frames along the axis `l` (its `addFrameElementsForAxialDirection`), with the
     /// belly's and the outer and inner edges along the axis for the front.
-    fn frames(&self, l: Named, e: &Edges, parts: &mut Vec<Part>) -> Result<(), String> {
-        let (top, right) = (self.dir("top"), self.dir("right"));
+    fn frames(&self, l: Axis, e: &Edges, parts: &mut Vec<Part>) -> Result<(), String> {
+        let [_, right, top] = self.b.axes();
         let corners = [(top, right), (top, -right), (-top, -right), (-top, right)];
-        let label = |(t, o): (Named, Named)| format!("{} {}", t.name, o.name);
-        let ring = |corner: &dyn Fn((Named, Named)) -> DVec3,
+        let label = |(t, o): (Axis, Axis)| format!("{} {}", t.name, o.name);
+        let ring = |corner: &dyn Fn((Axis, Axis)) -> DVec3,
                     which: &str,
                     parts: &mut Vec<Part>|
          -> Result<(), String> {
@@ -443,7 +409,7 @@ impl LensDevice for RochesterCloak {
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
         let m = self.maker()?;
         let mut parts = Vec::new();
-        let (front, top, right) = (m.dir("front"), m.dir("top"), m.dir("right"));
+        let [front, right, top] = m.b.axes();
         let front_lenses = m.lenses(front, &mut parts)?;
         let back_lenses = m.lenses(-front, &mut parts)?;
         for (t, o) in [(top, right), (right, -top), (-top, -right), (-right, top)] {
