@@ -329,12 +329,8 @@ fn bad_box_cloaks_are_refused_where_they_are_given() {
             &["top_direction must not be perpendicular"][..],
         ),
         (
-            "cloak_type = \"prismatic\"",
-            &[
-                "cloak_type = \"prismatic\"",
-                "PrismaticBoxCloakMaker",
-                "not built yet",
-            ][..],
+            "cloak_type = \"prismatic\", inner_volume_size_factor_em = 2.00001",
+            &["inner_volume_size_factor_em = 2.00001", "within 1e-4 of 2"][..],
         ),
         (
             "cloak_type = \"octahedral\", inner_volume_size_factor_em = 2",
@@ -720,5 +716,268 @@ fn the_octahedral_cloaks_gclas_have_dr_tims_etas() {
                 );
             }
         }
+    }
+}
+
+/// A prismatic cloak checked (`box-cloak` of `cloak_type = "prismatic"`, or `gclas-cloak`):
+/// its `lenses` table and, in its own terms, centre, front and top directions, side length,
+/// and e and p (a and a′).
+struct Prismatic {
+    lenses: &'static str,
+    centre: DVec3,
+    front: DVec3,
+    top: DVec3,
+    side: f64,
+    e: f64,
+    p: f64,
+}
+
+fn prismatic_cases() -> Vec<Prismatic> {
+    vec![
+        // Dr TIM's box-cloak defaults, moved to the origin.
+        Prismatic {
+            lenses: "type = \"box-cloak\", cloak_type = \"prismatic\", centre = [0, 0, 0]",
+            centre: DVec3::ZERO,
+            front: DVec3::NEG_Z,
+            top: DVec3::Y,
+            side: 2.0,
+            e: 0.4,
+            p: 0.8,
+        },
+        // Skew, the central prism seen larger.
+        Prismatic {
+            lenses: "type = \"box-cloak\", cloak_type = \"prismatic\", centre = [0.3, 0, -0.2], \
+                     front_direction = [1, 0, 1], right_direction = [0, 1, 0], \
+                     top_direction = [-1, 0, 1], side_length = 1.5, \
+                     inner_volume_size_factor_em = 0.9, inner_volume_size_factor_p = 0.5",
+            centre: DVec3::new(0.3, 0.0, -0.2),
+            front: DVec3::new(1.0, 0.0, 1.0).normalize(),
+            top: DVec3::new(-1.0, 0.0, 1.0).normalize(),
+            side: 1.5,
+            e: 0.9,
+            p: 0.5,
+        },
+        // Dr TIM's gCLAs cloak, prismatic, moved to the origin: a = 0.07, a′ = 0.7, side 1.
+        Prismatic {
+            lenses: "type = \"gclas-cloak\", cloak_type = \"prismatic\", centre = [0, 0, 0]",
+            centre: DVec3::ZERO,
+            front: DVec3::NEG_Z,
+            top: DVec3::Y,
+            side: 1.0,
+            e: 0.07,
+            p: 0.7,
+        },
+    ]
+}
+
+impl Prismatic {
+    fn scene(&self, rays: &str) -> String {
+        format!(
+            "studio = \"none\"\n[[device]]\nname = \"cloak\"\nshow_edges = false\nlenses = {{ {} }}\n{rays}",
+            self.lenses
+        )
+    }
+
+    /// A random point at a height within ±`height` × the half side and a distance `r` × the
+    /// half side from the axis, and its height.
+    fn point(&self, rng: &mut Rng, r: f64, height: f64) -> DVec3 {
+        let h = self.side / 2.0;
+        let across = random_unit(rng).reject_from_normalized(self.top).normalize();
+        self.centre + r * h * across + rng.range(-height, height) * h * self.top
+    }
+}
+
+/// A prismatic cloak has no top or bottom faces (Dr TIM's neither): it is a slice of an
+/// infinitely long cloak, and shows space as it is to light that crosses only its sides.
+#[test]
+fn space_outside_the_prismatic_cloak_is_seen_as_it_is() {
+    let mut rng = Rng(5);
+    for case in prismatic_cases() {
+        let mut rays = Vec::new();
+        for _ in 0..40 {
+            // Straight lines that stay within 0.6 of the half side of the middle height
+            // while in the cloak.
+            let start = case.point(&mut rng, 6.0, 0.3);
+            let r = rng.range(0.0, 0.8);
+            let target = case.point(&mut rng, r, 0.3);
+            rays.push((start, target - start));
+        }
+        let text = case.scene(&rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        let mut crossed = 0;
+        for (t, &(start, direction)) in trace(&text).iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.lenses, t.points);
+            if t.points.len() < 4 {
+                continue;
+            }
+            crossed += 1;
+            let last = t.points.last().unwrap().position;
+            assert!(
+                (t.direction - direction.normalize()).length() < 1e-9,
+                "{}: leaves along {}, came along {}",
+                case.lenses,
+                t.direction,
+                direction.normalize()
+            );
+            let off = line_distance(last, start, direction);
+            assert!(off < 1e-9, "{}: {off} off its line", case.lenses);
+        }
+        assert!(crossed >= 30, "{}: only {crossed} rays crossed", case.lenses);
+    }
+}
+
+/// The central prism is seen scaled by e/p across the top direction, its height unchanged.
+#[test]
+fn the_central_prism_is_seen_scaled_by_e_over_p_across() {
+    let mut rng = Rng(13);
+    for case in prismatic_cases() {
+        let mut rays = Vec::new();
+        for _ in 0..20 {
+            // Within the central prism's inscribed cylinder, of radius p h/√2.
+            let r = rng.range(0.0, 0.7) * case.p;
+            let p = case.point(&mut rng, r, 0.3);
+            // Mostly across: within the cloak it climbs at most 0.3 of the half side.
+            let across = random_unit(&mut rng).reject_from_normalized(case.top);
+            let d = across.normalize() + rng.range(-0.1, 0.1) * case.top;
+            rays.push((p, d));
+        }
+        let text = case.scene(&rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>());
+        for (t, &(p, _)) in trace(&text).iter().zip(&rays) {
+            assert_eq!(t.end, End::Escaped, "{}: {:?}", case.lenses, t.points);
+            let last = t.points.last().unwrap().position;
+            let x = p - case.centre;
+            let along = x.dot(case.top) * case.top;
+            let image = case.centre + case.e / case.p * (x - along) + along;
+            let off = line_distance(image, last, t.direction);
+            assert!(
+                off < 1e-9,
+                "{}: the ray from {p} leaves {off} off {image}",
+                case.lenses
+            );
+        }
+        // The front exterior face is where Dr TIM puts it.
+        let d = common::images::parse(&case.scene(""));
+        let face = d
+            .objects
+            .iter()
+            .find(|o| o.name == "cloak/exterior face front")
+            .expect("front face");
+        let (lo, hi) = face.shape.bounds().unwrap();
+        let middle = (lo + hi) / 2.0;
+        assert!(
+            (middle - (case.centre + case.side / 2.0 * case.front)).length() < 1e-9,
+            "{}: {middle}",
+            case.lenses
+        );
+    }
+}
+
+/// `EditableGCLAsCloak(parent, studio)`: an octahedral cloak about (0, 0, 10), side 1,
+/// a = 0.07, a′ = 0.7, transmission 0.96, frames shown (radius 0.01 × the side,
+/// `GREY50_SHINY`); its prismatic type's gCLAs have the η of Dr TIM's formulas (from its
+/// Mathematica notebook: (a′ − 1)/(a − 1) outside, a′(a − 1)(a′ − 2)/(a(a′ − 1)(a − 2)) within,
+/// (a − 2) a′/(a (a′ − 2)) innermost; up to the sheet's orientation).
+#[test]
+fn a_gclas_cloak_named_by_its_type_alone_is_dr_tims_default_cloak() {
+    let d = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = { type = \"gclas-cloak\" }\n",
+    );
+    let faces: Vec<_> = d
+        .objects
+        .iter()
+        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+        .collect();
+    assert_eq!(faces.len(), 6 + 24 + 24 + 8, "the octahedral cloak's gCLAs");
+    // Frames: 8 + 6 vertices, 12 + 12 + 24 edges.
+    assert_eq!(d.objects.len(), faces.len() + 14 + 48);
+    let front = d
+        .objects
+        .iter()
+        .find(|o| o.name == "d/exterior face front")
+        .expect("front face");
+    let (lo, hi) = front.shape.bounds().unwrap();
+    assert!(((lo + hi) / 2.0 - DVec3::new(0.0, 0.0, 9.5)).length() < 1e-12);
+    assert!(((hi - lo).x - 1.0).abs() < 1e-12, "side 1");
+    let Surface::ConfocalLensletArrays(a) = &front.surface else {
+        unreachable!()
+    };
+    let want = (0.7 - 1.0) / (0.07 - 1.0);
+    assert!((a.eta.x - want).abs() < 1e-9 || (a.eta.x * want - 1.0).abs() < 1e-9);
+    let vertex = d
+        .objects
+        .iter()
+        .find(|o| o.name == "d/cube vertex top right front")
+        .expect("frames shown");
+    let (lo, hi) = vertex.shape.bounds().unwrap();
+    assert!(((lo + hi) / 2.0 - DVec3::new(0.5, 0.5, 9.5)).length() < 1e-12);
+    assert!(((hi - lo).x - 0.02).abs() < 1e-12, "radius 0.01 × 1");
+    let Surface::Coloured(c) = &vertex.surface else {
+        panic!("frames are coloured")
+    };
+    assert_eq!(c.diffuse, timbre::math::Colour::new(0.5, 0.5, 0.5));
+
+    for (e, p) in [(0.07, 0.7), (-0.3, 0.6), (1.5, 0.3)] {
+        let d = common::images::parse(&format!(
+            "studio = \"none\"\n[[device]]\nname = \"d\"\nshow_edges = true\nlenses = {{ type = \
+             \"gclas-cloak\", cloak_type = \"prismatic\", a = {e}, a_prime = {p}, \
+             gclas_transmission_coefficient = 0.9 }}\n"
+        ));
+        // 16 gCLAs; frames: 8 + 8 vertices, 12 + 12 + 16 edges.
+        assert_eq!(d.objects.len(), 16 + 16 + 40);
+        for (prefix, eta, count) in [
+            ("d/exterior face", (p - 1.0) / (e - 1.0), 4),
+            (
+                "d/interface between",
+                p * (e - 1.0) * (p - 2.0) / (e * (p - 1.0) * (e - 2.0)),
+                8,
+            ),
+            ("d/innermost interface", (e - 2.0) * p / (e * (p - 2.0)), 4),
+        ] {
+            let faces: Vec<_> = d
+                .objects
+                .iter()
+                .filter(|o| o.name.starts_with(prefix))
+                .collect();
+            assert_eq!(faces.len(), count, "{prefix}");
+            for o in faces {
+                let Surface::ConfocalLensletArrays(a) = &o.surface else {
+                    panic!("{} is no gCLAs", o.name)
+                };
+                assert_eq!(a.eta.x, a.eta.y, "{}", o.name);
+                let (x, want) = (a.eta.x, eta);
+                assert!(
+                    (x - want).abs() < 1e-9 * want.abs() || (x * want - 1.0).abs() < 1e-9,
+                    "a = {e}, a′ = {p}, {}: η = {x}, Dr TIM's {want}",
+                    o.name
+                );
+                assert_eq!(
+                    a.transmission,
+                    timbre::surfaces::metatoys::Transmission::Constant(0.9)
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_gclas_cloaks_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (keys, needles) in [
+        ("a_prime = 1", &["a_prime = 1", "between 0.001 and 0.999"][..]),
+        ("a = 3", &["a = 3", "flattens"][..]),
+        ("cloak_type = \"prismatic\", a = 2", &["a = 2", "flattens"][..]),
+        ("cloak_type = \"cubic\"", &["cubic", "octahedral", "prismatic"][..]),
+        (
+            "inner_volume_size_factor_em = 0.3",
+            &["inner_volume_size_factor_em"][..],
+        ),
+        ("gclas_transmission_coefficient = 2", &["between 0 and 1"][..]),
+    ] {
+        let text = format!(
+            "studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ type = \"gclas-cloak\", {keys} }}\n"
+        );
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
     }
 }

@@ -40,8 +40,8 @@ mod tim_head;
 mod triangular_thick_lens;
 
 pub use box_cloak::{
-    BoxCloak, BoxCloakKeys, BoxCloakParameters, OctahedralBoxCloak, RochesterCloak,
-    RochesterCloakKeys,
+    BoxCloak, BoxCloakKeys, BoxCloakParameters, GclasCloak, GclasCloakKeys, OctahedralBoxCloak,
+    PrismaticBoxCloak, RochesterCloak, RochesterCloakKeys,
 };
 pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
@@ -145,6 +145,7 @@ kinds! {
         PolygonalIdealLensCloak(PolygonalIdealLensCloakKeys),
         BoxCloak(BoxCloakKeys),
         RochesterCloak(RochesterCloakKeys),
+        GclasCloak(GclasCloakKeys),
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),

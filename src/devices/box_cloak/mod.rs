@@ -1,12 +1,17 @@
 //! Dr TIM's box cloaks (`EditableBoxCloak` and its `BoxCloakType`s, and
 //! `EditableRochesterCloak`): their shared parameters and keys, and one file for each type.
 
+mod affine;
 mod cubic;
+mod gclas_cloak;
 mod octahedral;
+mod prismatic;
 mod rochester;
 
 pub use cubic::BoxCloak;
+pub use gclas_cloak::{GclasCloak, GclasCloakKeys};
 pub use octahedral::OctahedralBoxCloak;
+pub use prismatic::PrismaticBoxCloak;
 pub use rochester::RochesterCloak;
 
 use glam::{DMat3, DVec3};
@@ -180,13 +185,7 @@ impl BoxCloakKeys {
             BoxCloakType::Cubic => Box::new(BoxCloak(parameters)),
             BoxCloakType::Rochester => Box::new(RochesterCloak(parameters)),
             BoxCloakType::Octahedral => Box::new(OctahedralBoxCloak(parameters)),
-            BoxCloakType::Prismatic => {
-                return Err(
-                    "cloak_type = \"prismatic\" (Dr TIM's PrismaticBoxCloakMaker) is not \
-                            built yet: \"cubic\", \"octahedral\" and \"rochester\" are"
-                        .into(),
-                );
-            }
+            BoxCloakType::Prismatic => Box::new(PrismaticBoxCloak(parameters)),
         };
         // Refuse bad parameters when the scene is read.
         cloak.parts(None)?;
@@ -202,28 +201,13 @@ impl BoxCloakKeys {
     /// `inner_volume_size_factor_em`, the one default in which its box and Rochester cloaks
     /// differ).
     pub(super) fn parameters(self, em: f64) -> Result<BoxCloakParameters, String> {
-        let front = self.front_direction.map_or(DVec3::NEG_Z, |d| d.0);
-        let right = self
-            .right_direction
-            .map_or(DVec3::X, |d| d.0)
-            .reject_from_normalized(front);
-        if right.length() <= 1e-12 {
-            return Err("right_direction must not be along front_direction".into());
-        }
-        let right = right.normalize();
-        let top = (self.top_direction.map_or(DVec3::Y, |d| d.0))
-            .project_onto_normalized(front.cross(right));
-        if top.length() <= 1e-12 {
-            return Err(
-                "top_direction must not be perpendicular to both front_direction and right_direction"
-                    .into(),
-            );
-        }
+        let [front, right, top] =
+            directions(self.front_direction, self.right_direction, self.top_direction)?;
         Ok(BoxCloakParameters {
-            centre: self.centre.map_or(DVec3::new(0.0, 0.0, 10.0), |c| c.0),
+            centre: self.centre.map_or(DEFAULT_CENTRE, |c| c.0),
             front,
             right,
-            top: top.normalize(),
+            top,
             side_length: self.side_length.map_or(2.0, |s| s.0),
             inner_volume_size_factor_em: self.inner_volume_size_factor_em.map_or(em, |e| e.0),
             inner_volume_size_factor_p: self.inner_volume_size_factor_p.map_or(0.8, |p| p.0),
@@ -231,6 +215,35 @@ impl BoxCloakKeys {
             show_placeholder_surfaces: self.show_placeholder_surfaces.unwrap_or(false),
         })
     }
+}
+
+/// Dr TIM's default centre of its box and gCLAs cloaks.
+const DEFAULT_CENTRE: DVec3 = DVec3::new(0.0, 0.0, 10.0);
+
+/// The unit front, right and top directions as Dr TIM's `setDirections` of its box and gCLAs
+/// cloaks makes them: right loses its part along front, top keeps only its part along front ×
+/// right. By default (0, 0, −1), (1, 0, 0) and (0, 1, 0).
+fn directions(
+    front: Option<Direction>,
+    right: Option<Direction>,
+    top: Option<Direction>,
+) -> Result<[DVec3; 3], String> {
+    let front = front.map_or(DVec3::NEG_Z, |d| d.0);
+    let right = right
+        .map_or(DVec3::X, |d| d.0)
+        .reject_from_normalized(front);
+    if right.length() <= 1e-12 {
+        return Err("right_direction must not be along front_direction".into());
+    }
+    let right = right.normalize();
+    let top = (top.map_or(DVec3::Y, |d| d.0)).project_onto_normalized(front.cross(right));
+    if top.length() <= 1e-12 {
+        return Err(
+            "top_direction must not be perpendicular to both front_direction and right_direction"
+                .into(),
+        );
+    }
+    Ok([front, right, top.normalize()])
 }
 
 /// `lenses = { type = "rochester-cloak" }`: Dr TIM's `EditableRochesterCloak`, its defaults

@@ -1,0 +1,230 @@
+//! What the affine box cloaks (the octahedral and the prismatic, Dr TIM's
+//! `OctahedralBoxCloakMaker` and `PrismaticBoxCloakMaker`, and its `EditableGCLAsCloak`) share:
+//! regions seen from outside through affine maps, the gCLA interfaces between them, and the
+//! cube's frames. All work in the cloak's own coordinates (centre at the origin, half the side
+//! the unit of length; see [`BoxCloakParameters::place`]).
+
+use glam::{DMat4, DVec3};
+
+use super::{Axis, BoxCloakParameters};
+use crate::devices::{Edges, Part};
+use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
+use crate::surfaces::{ConfocalLensletArrays, Surface};
+
+/// A region: its map V (seen from outside) and a point inside it.
+pub(super) struct Region {
+    pub seen: DMat4,
+    pub inside: DVec3,
+}
+
+impl Region {
+    /// Space round the cloak beyond the face of outward normal `n`, seen as it is.
+    pub fn outside(n: DVec3) -> Region {
+        Region {
+            seen: DMat4::IDENTITY,
+            inside: 2.0 * n,
+        }
+    }
+}
+
+/// The affine map (homogeneous coordinates) that sends the points `from` to `to`, if `from`
+/// spans space.
+pub(super) fn affine(from: [DVec3; 4], to: [DVec3; 4]) -> Option<DMat4> {
+    let columns = |p: [DVec3; 4]| {
+        DMat4::from_cols(
+            p[0].extend(1.0),
+            p[1].extend(1.0),
+            p[2].extend(1.0),
+            p[3].extend(1.0),
+        )
+    };
+    let from = columns(from);
+    let volume = from.determinant();
+    (volume.abs()
+        > 1e-12
+            * from
+                .abs()
+                .to_cols_array()
+                .iter()
+                .fold(0.0, |m: f64, x| m.max(*x))
+                .powi(3))
+    .then(|| columns(to) * from.inverse())
+}
+
+impl BoxCloakParameters {
+    /// The inner volume's vertex on the axis `n`, in physical (`em` false) or electromagnetic
+    /// space.
+    pub(super) fn apex(&self, n: DVec3, em: bool) -> DVec3 {
+        let size = if em {
+            self.inner_volume_size_factor_em
+        } else {
+            self.inner_volume_size_factor_p
+        };
+        size * n
+    }
+
+    /// The region whose map keeps the points `fixed` where they are and moves the inner
+    /// volume's vertices on the axes `apexes` from physical to electromagnetic space (four
+    /// points in all).
+    pub(super) fn region(
+        &self,
+        fixed: &[DVec3],
+        apexes: &[DVec3],
+        name: &str,
+    ) -> Result<Region, String> {
+        let mut from: Vec<DVec3> = fixed.to_vec();
+        let mut to = from.clone();
+        from.extend(apexes.iter().map(|&n| self.apex(n, false)));
+        to.extend(apexes.iter().map(|&n| self.apex(n, true)));
+        let seen = affine(
+            [from[0], from[1], from[2], from[3]],
+            [to[0], to[1], to[2], to[3]],
+        )
+        .filter(|m| m.determinant().abs() > 1e-12)
+        .ok_or_else(|| {
+            format!(
+                "inner_volume_size_factor_em = {} flattens the {name}: choose another",
+                self.inner_volume_size_factor_em
+            )
+        })?;
+        Ok(Region {
+            seen,
+            inside: from.iter().sum::<DVec3>() / from.len() as f64,
+        })
+    }
+
+    /// Refuses an electromagnetic-space size within 10⁻⁴ of one of `flat`, the values that
+    /// flatten a region of the cloak (its maps lose their accuracy near them).
+    pub(super) fn check_em(&self, flat: &[f64]) -> Result<(), String> {
+        let e = self.inner_volume_size_factor_em;
+        match flat.iter().find(|&&k| (e - k).abs() < 1e-4) {
+            Some(k) => Err(format!(
+                "inner_volume_size_factor_em = {e} is within 1e-4 of {k}, which flattens the \
+                 cloak's regions ({} all do): choose another",
+                flat.iter()
+                    .map(f64::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// The interface with these vertices (in order round it) between regions `r1` and `r2`,
+    /// as gCLAs imaging the one behind it into the one in front.
+    pub(super) fn gclas_interface(
+        &self,
+        name: String,
+        vertices: Vec<DVec3>,
+        r1: &Region,
+        r2: &Region,
+    ) -> Result<Part, String> {
+        let normal = (vertices[1] - vertices[0])
+            .cross(vertices[2] - vertices[0])
+            .normalize();
+        // The normal points to the region in front.
+        let (front, behind) = if normal.dot(r1.inside - vertices[0]) > 0.0 {
+            (r1, r2)
+        } else {
+            (r2, r1)
+        };
+        let inside_position = vertices[0] - normal;
+        let image = front.seen.inverse() * behind.seen * inside_position.extend(1.0);
+        let place = self.place();
+        let imaging = HomogeneousPlanarImaging {
+            point_on_plane: vertices[0],
+            a: normal,
+            inside_position,
+            outside_position: image.truncate() / image.w,
+        }
+        .transformed(&place);
+        let vertices = vertices.iter().map(|&v| place.point(v)).collect();
+        let transmission = Transmission::Constant(self.interface_transmission_coefficient);
+        let arrays = ConfocalLensletArrays::imaging(imaging, transmission)
+            .map_err(|e| format!("{name}: {e}"))?;
+        self.face(name, vertices, Surface::ConfocalLensletArrays(arrays))
+    }
+
+    /// The cube's eight corners, each as its three axes: front or back, right or left, top or
+    /// bottom.
+    pub(super) fn corners(&self) -> [[Axis; 3]; 8] {
+        let axes = self.axes();
+        std::array::from_fn(|signs| {
+            std::array::from_fn(|k| {
+                if (signs >> k) & 1 == 0 {
+                    axes[k]
+                } else {
+                    -axes[k]
+                }
+            })
+        })
+    }
+
+    /// The cube's frames: `cube vertex top right front`, ... and `cube edge top right front to
+    /// top right back`, ... (each edge from its end on the front, right or top side).
+    pub(super) fn cube_frames(&self, e: &Edges) -> Result<Vec<Part>, String> {
+        let place = self.place();
+        let mut parts = Vec::new();
+        for corner in self.corners() {
+            parts.push(e.vertex(
+                format!("cube vertex {}", corner_label(corner)),
+                place.point(corner_position(corner)),
+            )?);
+            for k in 0..3 {
+                if ["front", "right", "top"].contains(&corner[k].name) {
+                    let mut there = corner;
+                    there[k] = -corner[k];
+                    parts.push(e.part(
+                        format!(
+                            "cube edge {} to {}",
+                            corner_label(corner),
+                            corner_label(there)
+                        ),
+                        place.point(corner_position(corner)),
+                        place.point(corner_position(there)),
+                    )?);
+                }
+            }
+        }
+        Ok(parts)
+    }
+}
+
+/// A corner's position: the sum of its axes.
+pub(super) fn corner_position(corner: [Axis; 3]) -> DVec3 {
+    corner.iter().map(|a| a.v).sum()
+}
+
+/// A corner's name, `top right front`.
+pub(super) fn corner_label(corner: [Axis; 3]) -> String {
+    format!("{} {} {}", corner[2].name, corner[1].name, corner[0].name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec4;
+
+    #[test]
+    fn an_affine_map_from_four_pairs_sends_them() {
+        let from = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+        let to = [
+            DVec3::new(1.0, 2.0, 3.0),
+            DVec3::new(2.0, 2.0, 3.0),
+            DVec3::new(1.0, 4.0, 3.0),
+            DVec3::new(0.0, 0.0, 0.0),
+        ];
+        let m = affine(from, to).unwrap();
+        for (f, t) in from.iter().zip(&to) {
+            let image = m * f.extend(1.0);
+            assert!((image - DVec4::from((*t, 1.0))).length() < 1e-12);
+        }
+        assert!(
+            affine(
+                [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)],
+                to
+            )
+            .is_none()
+        );
+    }
+}
