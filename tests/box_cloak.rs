@@ -782,7 +782,9 @@ impl Prismatic {
     /// half side from the axis, and its height.
     fn point(&self, rng: &mut Rng, r: f64, height: f64) -> DVec3 {
         let h = self.side / 2.0;
-        let across = random_unit(rng).reject_from_normalized(self.top).normalize();
+        let across = random_unit(rng)
+            .reject_from_normalized(self.top)
+            .normalize();
         self.centre + r * h * across + rng.range(-height, height) * h * self.top
     }
 }
@@ -821,7 +823,11 @@ fn space_outside_the_prismatic_cloak_is_seen_as_it_is() {
             let off = line_distance(last, start, direction);
             assert!(off < 1e-9, "{}: {off} off its line", case.lenses);
         }
-        assert!(crossed >= 30, "{}: only {crossed} rays crossed", case.lenses);
+        assert!(
+            crossed >= 30,
+            "{}: only {crossed} rays crossed",
+            case.lenses
+        );
     }
 }
 
@@ -962,15 +968,27 @@ fn a_gclas_cloak_named_by_its_type_alone_is_dr_tims_default_cloak() {
 fn bad_gclas_cloaks_are_refused_where_they_are_given() {
     let dir = tempfile::tempdir().unwrap();
     for (keys, needles) in [
-        ("a_prime = 1", &["a_prime = 1", "between 0.001 and 0.999"][..]),
+        (
+            "a_prime = 1",
+            &["a_prime = 1", "between 0.001 and 0.999"][..],
+        ),
         ("a = 3", &["a = 3", "flattens"][..]),
-        ("cloak_type = \"prismatic\", a = 2", &["a = 2", "flattens"][..]),
-        ("cloak_type = \"cubic\"", &["cubic", "octahedral", "prismatic"][..]),
+        (
+            "cloak_type = \"prismatic\", a = 2",
+            &["a = 2", "flattens"][..],
+        ),
+        (
+            "cloak_type = \"cubic\"",
+            &["cubic", "octahedral", "prismatic"][..],
+        ),
         (
             "inner_volume_size_factor_em = 0.3",
             &["inner_volume_size_factor_em"][..],
         ),
-        ("gclas_transmission_coefficient = 2", &["between 0 and 1"][..]),
+        (
+            "gclas_transmission_coefficient = 2",
+            &["between 0 and 1"][..],
+        ),
     ] {
         let text = format!(
             "studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ type = \"gclas-cloak\", {keys} }}\n"

@@ -934,6 +934,8 @@ fn every_example_scene_checks_and_renders() {
         "research/ShiftyGCLAsTetrahedralCloakVisualiser.toml",
         "research/NonAffineCubicCloakImageMaker.toml",
         "research/ExtendedRochesterCloakTrajectoryMovieMaker2.toml",
+        "research/SphericalShiftyCloakVisualiser.toml",
+        "gclas-cloak.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

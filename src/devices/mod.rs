@@ -37,6 +37,7 @@ mod space_cancelling_wedge;
 mod star;
 mod tetrahedral_shifty_cloak;
 mod tim_head;
+mod to_shifter;
 mod triangular_thick_lens;
 
 pub use box_cloak::{
@@ -72,6 +73,7 @@ pub use shifty_cloak::{CubicShiftyCloakKeys, ShiftyCloak, SimpleTetrahedralShift
 pub use space_cancelling_wedge::{Gluing, SpaceCancellingWedge, SpaceCancellingWedgeKeys};
 pub use tetrahedral_shifty_cloak::{TetrahedralShiftyCloak, TetrahedralShiftyCloakKeys};
 pub use tim_head::{TimHead, TimHeadKeys};
+pub use to_shifter::{ToShifterDevice, ToShifterKeys};
 pub use triangular_thick_lens::{TriangularThickLens, TriangularThickLensKeys};
 
 use crate::geometry::{Cylinder, Shape, Sphere};
@@ -160,6 +162,7 @@ kinds! {
         RefractiveViewRotator(RefractiveViewRotatorKeys),
         Clas(ClasKeys),
         ChenBelinBlackHole(ChenBelinBlackHoleKeys),
+        ToShifter(ToShifterKeys),
     }
 }
 

@@ -17,6 +17,7 @@ mod picture;
 mod refractive;
 mod sky;
 mod text;
+mod to_shifter;
 mod transparent;
 
 pub use appearance::{
@@ -57,6 +58,7 @@ pub use picture::{Lighting, PictureKeys, PictureSurface};
 pub use refractive::{Refractive, RefractiveKeys, refract};
 pub use sky::{ImageSky, SkyKeys};
 pub use text::{Text, TextKeys};
+pub use to_shifter::{ShiftFunction, ToShifter};
 pub use transparent::{Transparent, TransparentKeys};
 
 use glam::DVec3;
@@ -239,6 +241,8 @@ pub enum Surface {
     Transparent(Transparent),
     /// §3's lenses; the surface of a sphere.
     Lens(Lens),
+    /// A transformation-optics shifter's shell; the surface of its two spheres (a device's).
+    ToShifter(ToShifter),
     /// §4: refraction between spaces with different optical metrics.
     MetricInterface(MetricInterface),
     /// §5: generalised confocal lenslet arrays.
@@ -313,6 +317,7 @@ impl Surface {
             Surface::Refractive(_) => "refractive",
             Surface::Transparent(_) => "transparent",
             Surface::Lens(_) => "lens",
+            Surface::ToShifter(_) => "to-shifter",
             Surface::MetricInterface(_) => "metric-interface",
             Surface::ConfocalLensletArrays(_) => "confocal-lenslet-arrays",
             Surface::RayRotating(_) => "ray-rotating",
@@ -416,6 +421,7 @@ impl Surface {
             Surface::Refractive(s) => s.redirect(at),
             Surface::Transparent(s) => s.redirect(at),
             Surface::Lens(s) => s.redirect(at, inside),
+            Surface::ToShifter(s) => s.redirect(at, inside),
             Surface::MetricInterface(s) => s.redirect(at),
             Surface::ConfocalLensletArrays(s) => s.redirect(at),
             Surface::RayRotating(s) => s.redirect(at),
@@ -539,6 +545,7 @@ impl Surface {
             }),
             Surface::Rainbow(r) => Surface::Rainbow(r.transformed(t)),
             Surface::Teleporting(s) => Surface::Teleporting(s.transformed(t)?),
+            Surface::ToShifter(s) => Surface::ToShifter(s.transformed(t)?),
             Surface::PositionDependentColour(c) => {
                 Surface::PositionDependentColour(c.transformed(t))
             }
@@ -617,6 +624,9 @@ impl Surface {
                 "a {} surface needs a sphere shape (its centre and radius)",
                 l.law.name()
             )),
+            Surface::ToShifter(_) if !matches!(shape, Shape::Sphere(_)) => {
+                Err("a to-shifter surface needs a sphere shape".to_string())
+            }
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
                 Err(
                     "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \

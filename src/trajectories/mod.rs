@@ -145,7 +145,8 @@ pub enum Arrival {
     /// Across a lens whose law maps entry to exit in closed form (§3): the straight chord
     /// stands for a path the law does not give.
     Chord,
-    /// Along the integrated curved path through a gradient-index lens.
+    /// Along the curved path through a gradient-index lens (integrated) or a
+    /// transformation-optics shifter (exact).
     Curved,
     /// Teleported: no path between.
     Teleported,

@@ -60,8 +60,11 @@ impl GclasCloakKeys {
     /// `EditableGCLAsCloak(parent, studio)`: an octahedral cloak of side 1 about (0, 0, 10),
     /// a = 0.07, a′ = 0.7, transmission 0.96.
     pub fn build(self) -> Result<Box<dyn LensDevice>, String> {
-        let [front, right, top] =
-            super::directions(self.front_direction, self.right_direction, self.top_direction)?;
+        let [front, right, top] = super::directions(
+            self.front_direction,
+            self.right_direction,
+            self.top_direction,
+        )?;
         let parameters = BoxCloakParameters {
             centre: self.centre.map_or(DEFAULT_CENTRE, |c| c.0),
             front,

@@ -201,8 +201,11 @@ impl BoxCloakKeys {
     /// `inner_volume_size_factor_em`, the one default in which its box and Rochester cloaks
     /// differ).
     pub(super) fn parameters(self, em: f64) -> Result<BoxCloakParameters, String> {
-        let [front, right, top] =
-            directions(self.front_direction, self.right_direction, self.top_direction)?;
+        let [front, right, top] = directions(
+            self.front_direction,
+            self.right_direction,
+            self.top_direction,
+        )?;
         Ok(BoxCloakParameters {
             centre: self.centre.map_or(DEFAULT_CENTRE, |c| c.0),
             front,

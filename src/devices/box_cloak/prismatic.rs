@@ -66,11 +66,7 @@ impl LensDevice for PrismaticBoxCloak {
         b.check_em(&[0.0, 1.0, 2.0])?;
         let (sides, top) = self.axes();
         let t = top.v;
-        let inside = b.region(
-            &[t],
-            &[sides[0].v, sides[1].v, sides[2].v],
-            "central prism",
-        )?;
+        let inside = b.region(&[t], &[sides[0].v, sides[1].v, sides[2].v], "central prism")?;
         let edge_prism = |n: Axis, m: Axis| {
             b.region(
                 &[n.v + m.v + t, n.v + m.v - t],

@@ -103,6 +103,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
     };
     match layer {
         Surface::Lens(_)
+        | Surface::ToShifter(_)
         | Surface::Teleporting(_)
         | Surface::IdealisedDovePrismArray(_)
         | Surface::IdealThinSpacePlate(_)
