@@ -935,6 +935,7 @@ fn every_example_scene_checks_and_renders() {
         "research/NonAffineCubicCloakImageMaker.toml",
         "research/ExtendedRochesterCloakTrajectoryMovieMaker2.toml",
         "research/SphericalShiftyCloakVisualiser.toml",
+        "research/IdealLensWormholeExplorer.toml",
         "gclas-cloak.toml",
     ] {
         assert!(
