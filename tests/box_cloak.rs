@@ -999,3 +999,135 @@ fn bad_gclas_cloaks_are_refused_where_they_are_given() {
         assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
     }
 }
+
+/// `EditableGCLAsTardisWindow(parent, studio)`: the octahedral gCLAs cloak's side behind its
+/// front face, Dr TIM's 17 windows (the exterior face, 4 pyramid interfaces, 8 star prongs, 4
+/// octahedron faces: those through the front vertex) and its frames on the front side (4 cube
+/// vertices and edges, 5 octahedron vertices, 8 octahedron edges, 12 star edges), each face the
+/// same as the cloak's; the minimum window's 4 faces.
+#[test]
+fn a_gclas_tardis_window_is_the_front_of_dr_tims_cloak() {
+    let cloak = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = { type = \"gclas-cloak\" }\n",
+    );
+    let window = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nlenses = { type = \"gclas-tardis-window\" }\n",
+    );
+    let faces: Vec<_> = window
+        .objects
+        .iter()
+        .filter(|o| matches!(o.surface, Surface::ConfocalLensletArrays(_)))
+        .collect();
+    assert_eq!(faces.len(), 17);
+    assert_eq!(window.objects.len(), 17 + 4 + 4 + 5 + 8 + 12);
+    for o in &window.objects {
+        let same = cloak
+            .objects
+            .iter()
+            .find(|c| c.name == o.name)
+            .unwrap_or_else(|| panic!("{} is no part of the cloak", o.name));
+        assert_eq!(same.surface, o.surface, "{}", o.name);
+        assert_eq!(same.shape.bounds(), o.shape.bounds(), "{}", o.name);
+        // Nothing behind the middle plane z = 10 (front is −z).
+        let (lo, _) = o.shape.bounds().unwrap();
+        assert!(lo.z < 10.0 + 1e-9, "{}", o.name);
+    }
+    for name in [
+        "d/exterior face front",
+        "d/interface between the front pyramid and the front left edge",
+        "d/star prong between the bottom left front corner and the front left edge",
+        "d/octahedron face bottom left front",
+        "d/star edge from the top right front corner to the right vertex",
+        "d/octahedron edge right top",
+    ] {
+        assert!(window.objects.iter().any(|o| o.name == name), "{name}");
+    }
+    let minimum = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nshow_edges = false\nlenses = { type = \
+         \"gclas-tardis-window\", tardis_window_type = \"cloak-side-minimum\" }\n",
+    );
+    let mut names: Vec<&str> = minimum.objects.iter().map(|o| o.name.as_str()).collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "d/exterior face front",
+            "d/interface between the front pyramid and the front top edge",
+            "d/octahedron face top right front",
+            "d/star prong between the top right front corner and the front top edge",
+        ]
+    );
+}
+
+/// Through the Tardis window the space behind it is seen scaled by a/a′ about the cloak's
+/// centre: light from in front that crosses the window into the central octahedron runs
+/// there along the line that, scaled by a/a′ about the centre, is the line it came on; beyond
+/// the window (which has no back) it goes on along that line.
+#[test]
+fn through_a_tardis_window_space_is_seen_scaled_by_a_over_a_prime() {
+    let (centre, side, a, a_prime) = (DVec3::new(0.0, 0.0, 8.0), 2.0, 0.3, 0.6);
+    let mut rng = Rng(17);
+    let mut rays = Vec::new();
+    for _ in 0..30 {
+        let start = DVec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), 0.0);
+        let target = centre + DVec3::new(rng.range(-0.1, 0.1), rng.range(-0.1, 0.1), 0.0);
+        rays.push((start, target - start));
+    }
+    let text = format!(
+        "studio = \"none\"\n[[device]]\nname = \"w\"\nshow_edges = false\nlenses = {{ type = \
+         \"gclas-tardis-window\", centre = [{}, {}, {}], side_length = {side}, a = {a}, \
+         a_prime = {a_prime} }}\n{}",
+        centre.x,
+        centre.y,
+        centre.z,
+        rays.iter().map(|&(s, d)| ray(s, d)).collect::<String>()
+    );
+    let on_octahedron =
+        |x: DVec3| ((x - centre).abs().element_sum() - a_prime * side / 2.0).abs() < 1e-9;
+    let mut checked = 0;
+    for (t, &(start, direction)) in trace(&text).iter().zip(&rays) {
+        assert_eq!(t.end, End::Escaped, "{:?}", t.points);
+        // From the last interface on: into the octahedron, and straight on out of it.
+        let p = t.points[t.points.len() - 2].position;
+        if !on_octahedron(p) {
+            continue;
+        }
+        checked += 1;
+        for x in [p, p + 0.01 * t.direction, p + 10.0 * t.direction] {
+            let seen = centre + a / a_prime * (x - centre);
+            let off = line_distance(seen, start, direction);
+            assert!(off < 1e-9, "{x} is seen at {seen}, {off} off the line");
+        }
+    }
+    assert!(checked >= 20, "only {checked} rays reached the octahedron");
+}
+
+#[test]
+fn bad_gclas_tardis_windows_are_refused_where_they_are_given() {
+    let dir = tempfile::tempdir().unwrap();
+    for (lenses, needles) in [
+        (
+            "type = \"gclas-tardis-window\", cloak_type = \"octahedral\"",
+            &["no cloak_type", "tardis_window_type"][..],
+        ),
+        (
+            "type = \"gclas-tardis-window\", tardis_window_type = \"door\"",
+            &["door", "cloak-side", "cloak-side-minimum"][..],
+        ),
+        (
+            "type = \"gclas-tardis-window\", a = 2",
+            &["a = 2", "flattens"][..],
+        ),
+        (
+            "type = \"gclas-cloak\", tardis_window_type = \"cloak-side\"",
+            &["tardis_window_type belongs to a gclas-tardis-window"][..],
+        ),
+    ] {
+        let text =
+            format!("studio = \"none\"\n\n[[device]]\nname = \"c\"\nlenses = {{ {lenses} }}\n");
+        let path = write(dir.path(), "bad.toml", text);
+        let run = timbre(dir.path(), &["check", path_str(&path)]);
+        run.assert_bad_input(needles);
+        assert_eq!(location(&run.stderr, &path).0, 5, "{}", run.stderr);
+    }
+}

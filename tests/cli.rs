@@ -937,6 +937,7 @@ fn every_example_scene_checks_and_renders() {
         "research/SphericalShiftyCloakVisualiser.toml",
         "research/IdealLensWormholeExplorer.toml",
         "gclas-cloak.toml",
+        "gclas-tardis-window.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

@@ -41,8 +41,9 @@ mod to_shifter;
 mod triangular_thick_lens;
 
 pub use box_cloak::{
-    BoxCloak, BoxCloakKeys, BoxCloakParameters, GclasCloak, GclasCloakKeys, OctahedralBoxCloak,
-    PrismaticBoxCloak, RochesterCloak, RochesterCloakKeys,
+    BoxCloak, BoxCloakKeys, BoxCloakParameters, GclasCloak, GclasCloakKeys, GclasTardisWindow,
+    GclasTardisWindowKeys, OctahedralBoxCloak, PrismaticBoxCloak, RochesterCloak,
+    RochesterCloakKeys,
 };
 pub use chen_belin_black_hole::{ChenBelinBlackHole, ChenBelinBlackHoleKeys};
 pub use clas::{Clas, ClasKeys};
@@ -148,6 +149,7 @@ kinds! {
         BoxCloak(BoxCloakKeys),
         RochesterCloak(RochesterCloakKeys),
         GclasCloak(GclasCloakKeys),
+        GclasTardisWindow(GclasTardisWindowKeys),
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),

@@ -11,6 +11,10 @@ use crate::devices::{Edges, Part};
 use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
+/// Which of a cloak's faces and frames (by name and their vertices in the cloak's own
+/// coordinates) a device keeps.
+pub(super) type Keep<'a> = &'a dyn Fn(&str, &[DVec3]) -> bool;
+
 /// A region: its map V (seen from outside) and a point inside it.
 pub(super) struct Region {
     pub seen: DMat4,
@@ -160,29 +164,33 @@ impl BoxCloakParameters {
         })
     }
 
-    /// The cube's frames: `cube vertex top right front`, ... and `cube edge top right front to
-    /// top right back`, ... (each edge from its end on the front, right or top side).
-    pub(super) fn cube_frames(&self, e: &Edges) -> Result<Vec<Part>, String> {
+    /// The cube's frames that `keep` keeps (by name and ends): `cube vertex top right front`,
+    /// ... and `cube edge top right front to top right back`, ... (each edge from its end on
+    /// the front, right or top side).
+    pub(super) fn cube_frames(&self, e: &Edges, keep: Keep) -> Result<Vec<Part>, String> {
         let place = self.place();
         let mut parts = Vec::new();
         for corner in self.corners() {
-            parts.push(e.vertex(
+            let (name, at) = (
                 format!("cube vertex {}", corner_label(corner)),
-                place.point(corner_position(corner)),
-            )?);
+                corner_position(corner),
+            );
+            if keep(&name, &[at]) {
+                parts.push(e.vertex(name, place.point(at))?);
+            }
             for k in 0..3 {
                 if ["front", "right", "top"].contains(&corner[k].name) {
                     let mut there = corner;
                     there[k] = -corner[k];
-                    parts.push(e.part(
-                        format!(
-                            "cube edge {} to {}",
-                            corner_label(corner),
-                            corner_label(there)
-                        ),
-                        place.point(corner_position(corner)),
-                        place.point(corner_position(there)),
-                    )?);
+                    let name = format!(
+                        "cube edge {} to {}",
+                        corner_label(corner),
+                        corner_label(there)
+                    );
+                    let ends = [at, corner_position(there)];
+                    if keep(&name, &ends) {
+                        parts.push(e.part(name, place.point(ends[0]), place.point(ends[1]))?);
+                    }
                 }
             }
         }

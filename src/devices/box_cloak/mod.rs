@@ -9,7 +9,7 @@ mod prismatic;
 mod rochester;
 
 pub use cubic::BoxCloak;
-pub use gclas_cloak::{GclasCloak, GclasCloakKeys};
+pub use gclas_cloak::{GclasCloak, GclasCloakKeys, GclasTardisWindow, GclasTardisWindowKeys};
 pub use octahedral::OctahedralBoxCloak;
 pub use prismatic::PrismaticBoxCloak;
 pub use rochester::RochesterCloak;

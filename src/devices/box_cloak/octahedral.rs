@@ -16,7 +16,7 @@
 
 use glam::{DMat4, DVec3};
 
-use super::affine::{Region, corner_label, corner_position};
+use super::affine::{Keep, Region, corner_label, corner_position};
 use super::{Axis, BoxCloakParameters};
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 
@@ -45,6 +45,21 @@ impl LensDevice for OctahedralBoxCloak {
     /// edge ...`, `octahedron edge ...` and `star edge from the top right front corner to the
     /// front vertex`, ...
     fn parts(&self, edges: Option<&Edges>) -> Result<Vec<Part>, String> {
+        self.parts_kept(edges, &|_, _| true)
+    }
+
+    fn edge_defaults(&self) -> EdgeDefaults {
+        self.0.edge_defaults()
+    }
+}
+
+impl OctahedralBoxCloak {
+    /// The parts [`LensDevice::parts`] lists that `keep` keeps.
+    pub(super) fn parts_kept(
+        &self,
+        edges: Option<&Edges>,
+        keep: Keep,
+    ) -> Result<Vec<Part>, String> {
         let b = &self.0;
         b.check_precision()?;
         let (e, p) = (b.inner_volume_size_factor_em, b.inner_volume_size_factor_p);
@@ -60,6 +75,12 @@ impl LensDevice for OctahedralBoxCloak {
         let perpendicular = |i: usize, j: usize| i / 2 != j / 2;
         let third = |i: usize, j: usize| (0..3).find(|&k| k != i / 2 && k != j / 2).unwrap();
         let mut parts = Vec::new();
+        let mut add = |name: String, vertices: Vec<DVec3>, r1: &Region, r2: &Region| {
+            if keep(&name, &vertices) {
+                parts.push(b.gclas_interface(name, vertices, r1, r2)?);
+            }
+            Ok::<(), String>(())
+        };
         for (i, n) in axes.iter().enumerate() {
             let others: Vec<&Axis> = axes
                 .iter()
@@ -77,18 +98,18 @@ impl LensDevice for OctahedralBoxCloak {
             ];
             let pyramid = b.region(&face[..3], &[n.v], &format!("{} pyramid", n.name))?;
             let outside = Region::outside(n.v);
-            parts.push(b.gclas_interface(
+            add(
                 format!("exterior face {}", n.name),
                 face.to_vec(),
                 &outside,
                 &pyramid,
-            )?);
+            )?;
             for m in &others {
                 let w = axes[2 * third(i, axes.iter().position(|a| a.name == m.name).unwrap())].v;
                 let (a, c) = (self.corner(&[n.v, m.v, w]), self.corner(&[n.v, m.v, -w]));
                 let edge =
                     b.region(&[a, c], &[n.v, m.v], &format!("{} {} edge", n.name, m.name))?;
-                parts.push(b.gclas_interface(
+                add(
                     format!(
                         "interface between the {} pyramid and the {} {} edge",
                         n.name, n.name, m.name
@@ -96,7 +117,7 @@ impl LensDevice for OctahedralBoxCloak {
                     vec![b.apex(n.v, false), a, c],
                     &pyramid,
                     &edge,
-                )?);
+                )?;
             }
         }
         // The corners: star prongs to the edges' tetrahedra, octahedron faces to the inside.
@@ -116,7 +137,7 @@ impl LensDevice for OctahedralBoxCloak {
                     &[nx.v, ny.v],
                     &format!("{} {} edge", nx.name, ny.name),
                 )?;
-                parts.push(b.gclas_interface(
+                add(
                     format!(
                         "star prong between the {label} corner and the {} {} edge",
                         nx.name, ny.name
@@ -124,54 +145,49 @@ impl LensDevice for OctahedralBoxCloak {
                     vec![corner, b.apex(nx.v, false), b.apex(ny.v, false)],
                     &region,
                     &edge,
-                )?);
+                )?;
             }
-            parts.push(b.gclas_interface(
+            add(
                 format!("octahedron face {label}"),
                 three.iter().map(|a| b.apex(a.v, false)).collect(),
                 &region,
                 &inside,
-            )?);
+            )?;
         }
         if let Some(e) = edges {
-            parts.extend(self.frames(e)?);
+            parts.extend(self.frames(e, keep)?);
         }
         Ok(parts)
-    }
-
-    fn edge_defaults(&self) -> EdgeDefaults {
-        self.0.edge_defaults()
     }
 }
 
 impl OctahedralBoxCloak {
-    /// Dr TIM's frames: spheres at the cube's and the octahedron's vertices, cylinders along
-    /// their edges and from each cube corner to the octahedron's three vertices next to it.
-    fn frames(&self, e: &Edges) -> Result<Vec<Part>, String> {
+    /// Dr TIM's frames that `keep` keeps: spheres at the cube's and the octahedron's vertices,
+    /// cylinders along their edges and from each cube corner to the octahedron's three vertices
+    /// next to it.
+    fn frames(&self, e: &Edges, keep: Keep) -> Result<Vec<Part>, String> {
         let b = &self.0;
         let axes = self.axes();
         let place = b.place();
-        let edge = |name: String, a: DVec3, c: DVec3| e.part(name, place.point(a), place.point(c));
         let mut parts = Vec::new();
-        for a in &axes {
-            parts.push(e.vertex(
-                format!("octahedron vertex {}", a.name),
-                place.point(b.apex(a.v, false)),
-            )?);
-        }
+        let mut edge = |name: String, a: DVec3, c: DVec3| {
+            if keep(&name, &[a, c]) {
+                parts.push(e.part(name, place.point(a), place.point(c))?);
+            }
+            Ok::<(), String>(())
+        };
         for (i, a) in axes.iter().enumerate() {
             for c in axes.iter().skip(i + 1).filter(|c| c.v.dot(a.v).abs() < 0.5) {
-                parts.push(edge(
+                edge(
                     format!("octahedron edge {} {}", a.name, c.name),
                     b.apex(a.v, false),
                     b.apex(c.v, false),
-                )?);
+                )?;
             }
         }
-        parts.extend(b.cube_frames(e)?);
         for corner in b.corners() {
             for a in corner {
-                parts.push(edge(
+                edge(
                     format!(
                         "star edge from the {} corner to the {} vertex",
                         corner_label(corner),
@@ -179,9 +195,16 @@ impl OctahedralBoxCloak {
                     ),
                     corner_position(corner),
                     b.apex(a.v, false),
-                )?);
+                )?;
             }
         }
+        for a in &axes {
+            let (name, at) = (format!("octahedron vertex {}", a.name), b.apex(a.v, false));
+            if keep(&name, &[at]) {
+                parts.push(e.vertex(name, place.point(at))?);
+            }
+        }
+        parts.extend(b.cube_frames(e, keep)?);
         Ok(parts)
     }
 }

@@ -132,7 +132,7 @@ impl PrismaticBoxCloak {
         let place = b.place();
         let edge = |name: String, a: DVec3, c: DVec3| e.part(name, place.point(a), place.point(c));
         let cuboid = |n: Axis, level: Axis| b.apex(n.v, false) + level.v;
-        let mut parts = b.cube_frames(e)?;
+        let mut parts = b.cube_frames(e, &|_, _| true)?;
         for (i, &n) in sides.iter().enumerate() {
             let next = sides[(i + 1) % 4];
             for level in [top, -top] {
