@@ -938,6 +938,7 @@ fn every_example_scene_checks_and_renders() {
         "research/IdealLensWormholeExplorer.toml",
         "gclas-cloak.toml",
         "gclas-tardis-window.toml",
+        "gclas-pinch-transformation-window.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

@@ -6,6 +6,7 @@
 //! has the same default here, so that a device named by its type alone is Dr TIM's default
 //! object.
 
+mod affine_regions;
 mod box_cloak;
 mod chen_belin_black_hole;
 mod clas;
@@ -25,6 +26,7 @@ mod net;
 mod net_of_hypercube;
 mod net_of_symmetric_4_simplex;
 mod ninky_nonk_silhouette;
+mod pinch_transformation_window;
 mod platonic_lens;
 mod polygonal_ideal_lens_cloak;
 mod polyhedral_shell;
@@ -64,6 +66,9 @@ pub use negative_space_wedge_star::{NegativeSpaceWedgeStar, NegativeSpaceWedgeSt
 pub use net_of_hypercube::{NetOfHypercube, NetOfHypercubeKeys};
 pub use net_of_symmetric_4_simplex::{NetOfSymmetric4Simplex, NetOfSymmetric4SimplexKeys};
 pub use ninky_nonk_silhouette::{NinkyNonkSilhouette, NinkyNonkSilhouetteKeys};
+pub use pinch_transformation_window::{
+    GclasPinchTransformationWindowKeys, PinchTransformationWindow, Wall,
+};
 pub use platonic_lens::{PlatonicLens, PlatonicLensKeys};
 pub use polygonal_ideal_lens_cloak::{PolygonalIdealLensCloak, PolygonalIdealLensCloakKeys};
 pub use ray_rotation_sheet_star::{RayRotationSheetStar, RayRotationSheetStarKeys};
@@ -150,6 +155,7 @@ kinds! {
         RochesterCloak(RochesterCloakKeys),
         GclasCloak(GclasCloakKeys),
         GclasTardisWindow(GclasTardisWindowKeys),
+        GclasPinchTransformationWindow(GclasPinchTransformationWindowKeys),
         CubicShiftyCloak(CubicShiftyCloakKeys),
         SimpleTetrahedralShiftyCloak(SimpleTetrahedralShiftyCloakKeys),
         TetrahedralShiftyCloak(TetrahedralShiftyCloakKeys),

@@ -4,56 +4,17 @@
 //! cube's frames. All work in the cloak's own coordinates (centre at the origin, half the side
 //! the unit of length; see [`BoxCloakParameters::place`]).
 
-use glam::{DMat4, DVec3};
+use glam::DVec3;
 
 use super::{Axis, BoxCloakParameters};
+use crate::devices::affine_regions::{Region, affine, imaging_between};
 use crate::devices::{Edges, Part};
-use crate::surfaces::metatoys::{HomogeneousPlanarImaging, Transmission};
+use crate::surfaces::metatoys::Transmission;
 use crate::surfaces::{ConfocalLensletArrays, Surface};
 
 /// Which of a cloak's faces and frames (by name and their vertices in the cloak's own
 /// coordinates) a device keeps.
 pub(super) type Keep<'a> = &'a dyn Fn(&str, &[DVec3]) -> bool;
-
-/// A region: its map V (seen from outside) and a point inside it.
-pub(super) struct Region {
-    pub seen: DMat4,
-    pub inside: DVec3,
-}
-
-impl Region {
-    /// Space round the cloak beyond the face of outward normal `n`, seen as it is.
-    pub fn outside(n: DVec3) -> Region {
-        Region {
-            seen: DMat4::IDENTITY,
-            inside: 2.0 * n,
-        }
-    }
-}
-
-/// The affine map (homogeneous coordinates) that sends the points `from` to `to`, if `from`
-/// spans space.
-pub(super) fn affine(from: [DVec3; 4], to: [DVec3; 4]) -> Option<DMat4> {
-    let columns = |p: [DVec3; 4]| {
-        DMat4::from_cols(
-            p[0].extend(1.0),
-            p[1].extend(1.0),
-            p[2].extend(1.0),
-            p[3].extend(1.0),
-        )
-    };
-    let from = columns(from);
-    let volume = from.determinant();
-    (volume.abs()
-        > 1e-12
-            * from
-                .abs()
-                .to_cols_array()
-                .iter()
-                .fold(0.0, |m: f64, x| m.max(*x))
-                .powi(3))
-    .then(|| columns(to) * from.inverse())
-}
 
 impl BoxCloakParameters {
     /// The inner volume's vertex on the axis `n`, in physical (`em` false) or electromagnetic
@@ -123,25 +84,8 @@ impl BoxCloakParameters {
         r1: &Region,
         r2: &Region,
     ) -> Result<Part, String> {
-        let normal = (vertices[1] - vertices[0])
-            .cross(vertices[2] - vertices[0])
-            .normalize();
-        // The normal points to the region in front.
-        let (front, behind) = if normal.dot(r1.inside - vertices[0]) > 0.0 {
-            (r1, r2)
-        } else {
-            (r2, r1)
-        };
-        let inside_position = vertices[0] - normal;
-        let image = front.seen.inverse() * behind.seen * inside_position.extend(1.0);
         let place = self.place();
-        let imaging = HomogeneousPlanarImaging {
-            point_on_plane: vertices[0],
-            a: normal,
-            inside_position,
-            outside_position: image.truncate() / image.w,
-        }
-        .transformed(&place);
+        let imaging = imaging_between(&vertices, r1, r2).transformed(&place);
         let vertices = vertices.iter().map(|&v| place.point(v)).collect();
         let transmission = Transmission::Constant(self.interface_transmission_coefficient);
         let arrays = ConfocalLensletArrays::imaging(imaging, transmission)
@@ -206,33 +150,4 @@ pub(super) fn corner_position(corner: [Axis; 3]) -> DVec3 {
 /// A corner's name, `top right front`.
 pub(super) fn corner_label(corner: [Axis; 3]) -> String {
     format!("{} {} {}", corner[2].name, corner[1].name, corner[0].name)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::DVec4;
-
-    #[test]
-    fn an_affine_map_from_four_pairs_sends_them() {
-        let from = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
-        let to = [
-            DVec3::new(1.0, 2.0, 3.0),
-            DVec3::new(2.0, 2.0, 3.0),
-            DVec3::new(1.0, 4.0, 3.0),
-            DVec3::new(0.0, 0.0, 0.0),
-        ];
-        let m = affine(from, to).unwrap();
-        for (f, t) in from.iter().zip(&to) {
-            let image = m * f.extend(1.0);
-            assert!((image - DVec4::from((*t, 1.0))).length() < 1e-12);
-        }
-        assert!(
-            affine(
-                [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(1.0, 1.0, 0.0)],
-                to
-            )
-            .is_none()
-        );
-    }
 }

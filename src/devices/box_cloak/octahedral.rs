@@ -16,8 +16,9 @@
 
 use glam::{DMat4, DVec3};
 
-use super::affine::{Keep, Region, corner_label, corner_position};
+use super::affine::{Keep, corner_label, corner_position};
 use super::{Axis, BoxCloakParameters};
+use crate::devices::affine_regions::Region;
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 
 /// The octahedral box cloak.

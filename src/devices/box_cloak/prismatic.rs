@@ -20,8 +20,8 @@
 
 use glam::DVec3;
 
-use super::affine::Region;
 use super::{Axis, BoxCloakParameters};
+use crate::devices::affine_regions::Region;
 use crate::devices::{EdgeDefaults, Edges, LensDevice, Part};
 
 /// The prismatic box cloak.
