@@ -334,6 +334,10 @@ fn bad_to_shifters_are_refused_where_they_are_given() {
             &["finite"][..],
         ),
         (
+            "lenses = { type = \"to-shifter\", delta = [0, 1e7, 0] }",
+            &["more than 1e6 times radius"][..],
+        ),
+        (
             "show_edges = true\nlenses = { type = \"to-shifter\" }",
             &["no edges"][..],
         ),
@@ -347,5 +351,47 @@ fn bad_to_shifters_are_refused_where_they_are_given() {
         let run = timbre(dir.path(), &["check", path_str(&path)]);
         run.assert_bad_input(needles);
         assert!(location(&run.stderr, &path).0 >= 3, "{}", run.stderr);
+    }
+}
+
+/// Light that grazes the core seen from outside (its line nearly tangent to the inner sphere's
+/// image), and light along δ through the centre (where the conic is a pair of lines), still
+/// goes on along its line, and its path has no undefined points.
+#[test]
+fn grazing_light_and_light_along_delta_go_on_along_their_lines() {
+    let mut rays = Vec::new();
+    // The core, of radius 0.5, is seen about (0, 0.3, 0): the line y = 0.8 touches it.
+    for h in [1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2] {
+        rays.push((
+            "delta = [0, 0.3, 0]",
+            DVec3::new(-5.0, 0.8 - h, 0.0),
+            DVec3::X,
+        ));
+    }
+    for keys in [
+        "shift_function_type = \"linear\", delta = [0, 0, 0.2]",
+        "shift_function_type = \"linear\", delta = [0, 0, 0]",
+        "delta = [0, 0, -0.2]",
+    ] {
+        rays.push((keys, DVec3::new(0.0, 0.0, -5.0), DVec3::Z));
+        rays.push((keys, DVec3::new(1e-9, 0.0, -5.0), DVec3::Z));
+    }
+    for (keys, start, direction) in rays {
+        let text = format!(
+            "studio = \"none\"\n[[device]]\nlenses = {{ type = \"to-shifter\", {keys} }}\n\
+             [[ray_trajectory]]\nstart = [{}, {}, {}]\ndirection = [{}, {}, {}]\n",
+            start.x, start.y, start.z, direction.x, direction.y, direction.z
+        );
+        let t = &trace(&text)[0];
+        let label = format!("{keys}, from {start}");
+        assert_eq!(t.end, End::Escaped, "{label}");
+        assert!(
+            t.points.iter().all(|p| p.position.is_finite()),
+            "{label}: {:?}",
+            t.points
+        );
+        let last = t.points.last().unwrap().position;
+        assert!((t.direction - direction).length() < 1e-9, "{label}");
+        assert!(line_distance(last, start, direction) < 1e-9, "{label}");
     }
 }

@@ -66,11 +66,19 @@ impl ToShifterKeys {
                  = {radius} (the shell between them must have a thickness and a core)"
             ));
         }
+        let delta = self.delta.map_or(DVec3::Y, |d| d.0);
+        // The shell's points are worked out from δ: beyond this their precision is lost.
+        if delta.length() > 1e6 * radius {
+            return Err(format!(
+                "delta = {delta} is more than 1e6 times radius = {radius}: the shell's points \
+                 would lose their precision"
+            ));
+        }
         Ok(Box::new(ToShifterDevice(ToShifter {
             centre: self.centre.map_or(DVec3::ZERO, |c| c.0),
             radius,
             inner_radius,
-            delta: self.delta.map_or(DVec3::Y, |d| d.0),
+            delta,
             shift_function: self.shift_function_type.unwrap_or(ShiftFunction::Quadratic),
             transmission_coefficient: throughput(self.transmission_coefficient),
         })))

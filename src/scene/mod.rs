@@ -201,11 +201,18 @@ impl SceneDescription {
     }
 
     /// Names of the lenses (§3) that rays of `kind` meet whose sphere, or one of whose array
-    /// copies, contains `point`.
+    /// copies, contains `point`, and of the transformation-optics shifters' outer spheres
+    /// whose shell does.
     fn lenses_around(&self, point: DVec3, kind: SeenBy) -> impl Iterator<Item = &str> {
         self.objects.iter().enumerate().filter_map(move |(i, o)| {
-            let (Surface::Lens(_), Shape::Sphere(s)) = (&o.surface, &o.shape) else {
+            let Shape::Sphere(s) = &o.shape else {
                 return None;
+            };
+            // The radius within which, and beyond which, `point` is inside.
+            let (radius, hollow) = match &o.surface {
+                Surface::Lens(_) => (s.radius(), 0.0),
+                Surface::ToShifter(t) if s.radius() == t.radius => (t.radius, t.inner_radius),
+                _ => return None,
             };
             if !o.seen_by.meets(kind) {
                 return None;
@@ -217,7 +224,10 @@ impl SceneDescription {
                 .map_or(&[DVec3::ZERO][..], |a| &a.offsets);
             offsets
                 .iter()
-                .any(|&offset| point.distance(s.centre() + offset) < s.radius())
+                .any(|&offset| {
+                    let r = point.distance(s.centre() + offset);
+                    hollow < r && r < radius
+                })
                 .then_some(o.name.as_str())
         })
     }

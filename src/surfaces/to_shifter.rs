@@ -48,6 +48,11 @@ pub struct ToShifter {
 /// Points drawn along a curved passage (for ray trajectories).
 const PATH_POINTS: usize = 64;
 
+/// The shortest chord of the inner sphere, in units of its radius, along which light enters
+/// the core (along shorter ones, so nearly tangent, the tracer finds the sphere's far side only
+/// to about 10⁻⁴ of its radius).
+const GRAZE: f64 = 1e-3;
+
 impl ToShifter {
     /// The shell of an object placed by `t` (a similarity map).
     pub fn transformed(&self, t: &Transform) -> Result<ToShifter, String> {
@@ -102,23 +107,26 @@ impl ToShifter {
 
         // The points where light leaves the strip 0 < u < 1 moving outwards: the far end of the
         // line's chord of the outer sphere (u = 0), the near end of its chord of the inner one
-        // (u = 1). Each solves v² + 2 v (b·d̂) + |b|² − ρ² = 0 for the line b + v d̂.
-        let chord = |b: DVec3, rho: f64, far: bool| {
+        // (u = 1), each a root of v² + 2 v (b·d̂) + |b|² − ρ² = 0 for the line b + v d̂. A
+        // chord of the inner sphere shorter than GRAZE r₁ is taken as a graze: the light goes
+        // on in the shell (along the same conic, as it would after crossing so short a chord),
+        // rather than into a core the tracer could not then leave accurately.
+        let chord = |b: DVec3, rho: f64, far: bool, shortest: f64| {
             let half = b.dot(d);
             let disc = half * half - (b.length_squared() - rho * rho);
-            (disc > 0.0).then(|| {
+            (disc > 0.25 * shortest * shortest).then(|| {
                 let root = disc.sqrt();
                 if far { -half + root } else { -half - root }
             })
         };
         let scale = big_r + delta.length();
         let candidates: Vec<DVec2> = [
-            chord(a, big_r, true).map(|v| DVec2::new(v, 0.0)),
-            chord(a - w, r1, false).map(|v| DVec2::new(v, 1.0)),
+            chord(a, big_r, true, 0.0).map(|v| DVec2::new(v, 0.0)),
+            chord(a - w, r1, false, GRAZE * r1).map(|v| DVec2::new(v, 1.0)),
         ]
         .into_iter()
         .flatten()
-        .filter(|c| (*c - start).length() > 1e-12 * scale)
+        .filter(|&c| physical(c).distance(p) > 1e-12 * (big_r + (p - centre).length()))
         .collect();
 
         // Along the conic from the start, the chord from the start turns steadily away from the
@@ -159,6 +167,11 @@ impl ToShifter {
                     at(angle)
                 },
             );
+            // (Where the conic is a pair of lines, δ along the light, some chords meet it
+            // nowhere else: those give no point.)
+            if !next.1.is_finite() {
+                continue;
+            }
             fill(&at, previous, next, spacing, 8, inside);
             if i < PATH_POINTS {
                 inside(next.1);
