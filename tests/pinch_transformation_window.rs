@@ -170,6 +170,16 @@ fn a_pinch_window_named_by_its_type_alone_is_dr_tims_default() {
         timbre::surfaces::metatoys::Transmission::GeometricBest
     );
 
+    // The wall always throws shadows (Dr TIM's shadowThrowing is the gCLAs'), the windows
+    // only if the window does.
+    let unshadowed = common::images::parse(
+        "studio = \"none\"\n[[device]]\nname = \"d\"\nshadow_throwing = false\n\
+         lenses = { type = \"gclas-pinch-transformation-window\" }\n",
+    );
+    for o in &unshadowed.objects {
+        assert_eq!(o.shadow_throwing, !o.name.contains("window"), "{}", o.name);
+    }
+
     let framed = common::images::parse(
         "studio = \"none\"\n[[device]]\nname = \"d\"\nshow_edges = true\n\
          lenses = { type = \"gclas-pinch-transformation-window\", show_wall = false }\n",
@@ -213,7 +223,7 @@ fn bad_pinch_windows_are_refused_where_they_are_given() {
             &["additional_wall", "show_wall = false"][..],
         ),
         (
-            "gclas_transmission_coefficient_method = \"geometric\"",
+            "gclas_transmission_coefficient_method = \"worst\"",
             &["geometric-best"][..],
         ),
         ("thickness = 0", &["positive number"][..]),

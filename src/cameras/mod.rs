@@ -12,9 +12,11 @@
 
 pub mod aperture_diffraction;
 pub mod doppler;
+mod lenticular_array;
 mod positive_space_only;
 mod shutter;
 
+pub use lenticular_array::{LenticularArray, LenticularArrayKeys};
 pub use positive_space_only::{PositiveSpaceOnly, PositiveSpaceOnlyKeys, Stretching};
 pub use shutter::{LensType, Shutter, ShutterGeometry};
 
@@ -49,9 +51,12 @@ pub enum Projection {
     /// camera position; `view_width` spans the centres of the outermost pixel columns. With
     /// `positive_space_only`, the points are those it maps each pixel's to, about the camera
     /// position, azimuth 0 along the camera's right ([`PositiveSpaceOnly`]).
+    /// With `lenticular_array`, each pixel column looks along its own tilt towards the right
+    /// ([`LenticularArray`]).
     Orthographic {
         view_width: f64,
         positive_space_only: Option<PositiveSpaceOnly>,
+        lenticular_array: Option<LenticularArray>,
     },
     /// The whole sphere of directions, 360° by 180°, in equal steps of longitude and latitude
     /// (an equirectangular panorama, Dr TIM's `SurroundAnaglyphCamera` with its
@@ -286,6 +291,7 @@ impl Camera {
             ),
             Projection::Orthographic {
                 positive_space_only,
+                lenticular_array,
                 ..
             } => {
                 let across = self.across(width, height, x, y);
@@ -296,7 +302,15 @@ impl Camera {
                         x * self.right + y * self.up
                     }
                 };
-                (self.position + across, self.view_direction)
+                let direction = match lenticular_array {
+                    None => self.view_direction,
+                    Some(l) => {
+                        let pitch = self.span / (width.max(2) - 1) as f64;
+                        let (cos, sin) = l.tilt((x + 0.5).floor() as i64, pitch);
+                        cos * self.view_direction + sin * self.right
+                    }
+                };
+                (self.position + across, direction)
             }
             Projection::Equirectangular => {
                 let phi = std::f64::consts::TAU * (x + 0.5) / width as f64;
@@ -544,10 +558,18 @@ impl fmt::Display for Description<'_> {
                 Projection::Orthographic {
                     view_width,
                     positive_space_only,
+                    lenticular_array,
                 },
                 _,
             ) => {
                 write!(f, "orthographic, {view_width} wide")?;
+                if let Some(l) = lenticular_array {
+                    write!(
+                        f,
+                        ", for a lenticular array ({} pixels per lenslet of focal length {})",
+                        l.pixels_per_cylindrical_lens, l.cylindrical_lenslet_focal_length
+                    )?;
+                }
                 if let Some(p) = positive_space_only {
                     write!(
                         f,

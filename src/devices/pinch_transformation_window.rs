@@ -23,14 +23,16 @@ use super::{EdgeDefaults, Edges, LensDevice, Part};
 use crate::geometry::{ConvexPolygon, Parallelepiped, Parallelogram, Shape};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector, throughput};
 use crate::math::Colour;
-use crate::surfaces::metatoys::Transmission;
+use crate::surfaces::metatoys::{Apertures, Transmission};
 use crate::surfaces::{Coloured, ConfocalLensletArrays, Surface};
 
-/// Dr TIM's `GCLAsTransmissionCoefficientCalculationMethodType`, as the window offers it.
+/// Dr TIM's `GCLAsTransmissionCoefficientCalculationMethodType`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 enum TransmissionMethod {
     Constant,
+    /// With Dr TIM's default apertures.
+    Geometric,
     GeometricBest,
 }
 
@@ -132,7 +134,8 @@ impl PinchTransformationWindow {
 
     /// Dr TIM's wall: a plate of thickness t + the additional thickness round the window's
     /// opening, the additional width to its left and right and height above and below, in
-    /// four sides, and the wedge's front and back.
+    /// four sides, and the wedge's front and back; opaque, they throw shadows whatever the
+    /// window's `shadow_throwing` (Dr TIM's goes to the gCLAs only).
     fn wall(&self, wall: &Wall, p: &[DVec3; 13]) -> Result<Vec<Part>, String> {
         let grey = Surface::Coloured(Coloured::matt(Colour::splat(WALL_GREY)));
         let (w, h) = (wall.additional_wall_width, wall.additional_wall_height);
@@ -144,7 +147,7 @@ impl PinchTransformationWindow {
                     shape: Shape::Parallelepiped(s),
                     name: name.into(),
                     surface: grey.clone(),
-                    edge: false,
+                    edge: true,
                 })
                 .map_err(|e| format!("{name}: {e}"))
         };
@@ -175,7 +178,7 @@ impl PinchTransformationWindow {
                     shape: Shape::Parallelogram(shape),
                     name: name.into(),
                     surface: grey.clone(),
-                    edge: false,
+                    edge: true,
                 });
             }
         }
@@ -336,14 +339,17 @@ impl GclasPinchTransformationWindowKeys {
             TransmissionMethod::Constant => {
                 Transmission::Constant(throughput(self.gclas_transmission_coefficient))
             }
-            TransmissionMethod::GeometricBest => {
+            TransmissionMethod::Geometric | TransmissionMethod::GeometricBest => {
                 if self.gclas_transmission_coefficient.is_some() {
                     return Err("gclas_transmission_coefficient is only used with \
-                         gclas_transmission_coefficient_method = \"constant\" (the default, \
-                         \"geometric-best\", computes it)"
+                         gclas_transmission_coefficient_method = \"constant\" (the others, \
+                         the default \"geometric-best\" and \"geometric\", compute it)"
                         .into());
                 }
-                Transmission::GeometricBest
+                match method {
+                    TransmissionMethod::Geometric => Transmission::Geometric(Apertures::default()),
+                    _ => Transmission::GeometricBest,
+                }
             }
         };
         let show_wall = self.show_wall.unwrap_or(true);

@@ -9,8 +9,8 @@ use serde::Deserialize;
 use super::parts::Spanned;
 use super::{SceneFileError, Source};
 use crate::cameras::{
-    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, PositiveSpaceOnlyKeys, Projection, Shutter,
-    Transformation,
+    Camera, DEFAULT_FOCUS_DISTANCE, Focus, LensType, LenticularArrayKeys, PositiveSpaceOnlyKeys,
+    Projection, Shutter, Transformation,
 };
 use crate::geometry::Shape;
 use crate::geometry::ShapeKeys;
@@ -49,6 +49,7 @@ pub(super) struct CameraSection {
     eye_separation: Option<Spanned<Vector>>,
     autostereogram: Option<Spanned<AutostereogramSection>>,
     positive_space_only: Option<Spanned<PositiveSpaceOnlyKeys>>,
+    lenticular_array: Option<Spanned<LenticularArrayKeys>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
@@ -268,6 +269,10 @@ impl CameraSection {
                     "positive_space_only",
                     self.positive_space_only.as_ref().map(Spanned::span),
                 ),
+                (
+                    "lenticular_array",
+                    self.lenticular_array.as_ref().map(Spanned::span),
+                ),
             ];
             if let Some((key, span)) = given.into_iter().find(|(_, s)| s.is_some()) {
                 return Err(at(
@@ -294,10 +299,27 @@ impl CameraSection {
                 Some(p) => Some(p.get_ref().build().map_err(|e| at(Some(p.span()), &e))?),
                 None => None,
             };
+            let lenticular_array = match &self.lenticular_array {
+                Some(l) if positive_space_only.is_some() => {
+                    return Err(at(
+                        Some(l.span()),
+                        "a camera has either lenticular_array or positive_space_only, not both",
+                    ));
+                }
+                Some(l) => Some(l.get_ref().build().map_err(|e| at(Some(l.span()), &e))?),
+                None => None,
+            };
             return Ok(Projection::Orthographic {
                 view_width: w.get_ref().0,
                 positive_space_only,
+                lenticular_array,
             });
+        }
+        if let Some(l) = &self.lenticular_array {
+            return Err(at(
+                Some(l.span()),
+                "lenticular_array is for orthographic cameras (type = \"orthographic\"), Dr TIM's LenticularArrayCamera",
+            ));
         }
         if let Some(p) = &self.positive_space_only {
             return Err(at(
