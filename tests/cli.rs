@@ -936,6 +936,7 @@ fn every_example_scene_checks_and_renders() {
         "research/ExtendedRochesterCloakTrajectoryMovieMaker2.toml",
         "research/SphericalShiftyCloakVisualiser.toml",
         "research/IdealLensWormholeExplorer.toml",
+        "research/PolyhedralShiftyCloakVisualiser.toml",
         "gclas-cloak.toml",
         "gclas-tardis-window.toml",
         "gclas-pinch-transformation-window.toml",
