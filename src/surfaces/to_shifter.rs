@@ -120,14 +120,13 @@ impl ToShifter {
             })
         };
         let scale = big_r + delta.length();
-        let candidates: Vec<DVec2> = [
+        let candidates = [
             chord(a, big_r, true, 0.0).map(|v| DVec2::new(v, 0.0)),
             chord(a - w, r1, false, GRAZE * r1).map(|v| DVec2::new(v, 1.0)),
         ]
         .into_iter()
         .flatten()
-        .filter(|&c| physical(c).distance(p) > 1e-12 * (big_r + (p - centre).length()))
-        .collect();
+        .filter(|&c| physical(c).distance(p) > 1e-12 * (big_r + (p - centre).length()));
 
         // Along the conic from the start, the chord from the start turns steadily away from the
         // tangent τ = (Q_u, −Q_v), towards ∇Q where τᵀMτ < 0; the first exit reached is the
@@ -144,9 +143,7 @@ impl ToShifter {
             (turn * tangent.perp_dot(chord).atan2(tangent.dot(chord)))
                 .rem_euclid(std::f64::consts::PI)
         };
-        let exit = candidates
-            .into_iter()
-            .min_by(|x, y| turned(*x).total_cmp(&turned(*y)))?;
+        let exit = candidates.min_by(|x, y| turned(*x).total_cmp(&turned(*y)))?;
 
         // The curved path: the conic's second point on chords turned from 0 to the exit's,
         // closer together where the curve runs fast.
