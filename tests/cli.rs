@@ -937,6 +937,7 @@ fn every_example_scene_checks_and_renders() {
         "research/SphericalShiftyCloakVisualiser.toml",
         "research/IdealLensWormholeExplorer.toml",
         "research/PolyhedralShiftyCloakVisualiser.toml",
+        "research/PixellationEffectsExplorer_1_0.toml",
         "gclas-cloak.toml",
         "gclas-tardis-window.toml",
         "gclas-pinch-transformation-window.toml",

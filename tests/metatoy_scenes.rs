@@ -419,6 +419,22 @@ fn bad_metatoy_surfaces_are_errors_at_their_line() {
             "a ideal-thin-space-plate surface cannot be a layer",
         ),
         (
+            r#"{ type = "space-shifting", image_space_offset = [0, 0] }"#,
+            "expected an array of 3 values",
+        ),
+        (
+            r#"{ type = "space-shifting", offset = [0, 0, 1] }"#,
+            "unknown field `offset`",
+        ),
+        (
+            r#"{ type = "space-shifting", transmission_coefficient = 1.5 }"#,
+            "expected a coefficient between 0 and 1, got 1.5",
+        ),
+        (
+            r#"{ type = "layer-stack", layers = [{ type = "space-shifting" }, { type = "matt", colour = [1, 1, 1] }] }"#,
+            "a space-shifting surface cannot be a layer",
+        ),
+        (
             r#"{ type = "collineation-surface", collineation = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 2, 0]] }"#,
             "must be a non-singular matrix",
         ),
@@ -1026,6 +1042,45 @@ fn a_space_plate_looks_like_the_space_it_adds() {
             differing(&with_plate, &farther)
         );
         assert!(differing(&with_plate, &nearer) > 1000);
+    }
+}
+
+/// A space-shifting plane (Dr TIM's `EditableSpaceShiftingPlane`) shows the space behind it
+/// shifted by its image-space offset O: through a sheet 2 in front of the camera, a
+/// self-luminous chequerboard 5 away looks exactly as the same chequerboard moved by O seen
+/// without the sheet. From the other side (crossing against the sheet's normal) light is
+/// shifted by −O, as reversibility demands: a sheet that moves the space behind it away from a
+/// camera on one side moves it away from a camera on the other side too.
+#[test]
+fn a_space_shifting_plane_shows_the_space_behind_it_shifted() {
+    let offset = DVec3::new(0.3, -0.2, 1.5);
+    let scene = |camera_z: f64, view: f64, pattern: DVec3, sheet: bool| {
+        let sheet = if sheet {
+            format!(
+                "[[object]]\nname = \"sheet\"\nshadow_throwing = false\nshape = {{ type = \"parallelogram\", corner = [-20, -20, {z}], span_u = [40, 0, 0], span_v = [0, 40, 0] }}\nsurface = {{ type = \"space-shifting\", image_space_offset = [{}, {}, {}] }}\n",
+                offset.x,
+                offset.y,
+                offset.z,
+                z = camera_z + 2.0 * view
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "studio = \"none\"\n[render]\nwidth = 96\nheight = 72\n[camera]\nposition = [0.3, 0.2, {camera_z}]\nview_direction = [0.1, 0.05, {view}]\nhorizontal_view_angle_deg = 60\n{sheet}[[object]]\nname = \"pattern\"\nshape = {{ type = \"plane\", point = [{}, {}, {}], normal = [0, 0, 1], u_direction = [1, 0, 0] }}\nsurface = {{ type = \"chequerboard\", tile_width = 0.4, surfaces = [{{ type = \"constant-colour\", colour = [1, 0.5, 0] }}, {{ type = \"constant-colour\", colour = [0, 0.2, 1] }}] }}\n",
+            pattern.x, pattern.y, pattern.z
+        )
+    };
+    // The sheet's normal is +z: the camera at z = 0 looks along it, the one at z = 10 against.
+    for (camera_z, view, seen_shift) in [(0.0, 1.0, offset), (10.0, -1.0, -offset)] {
+        let pattern = DVec3::new(0.0, 0.0, camera_z + 5.0 * view);
+        let through_sheet = render_text(&scene(camera_z, view, pattern, true));
+        let moved = render_text(&scene(camera_z, view, pattern + seen_shift, false));
+        let unmoved = render_text(&scene(camera_z, view, pattern, false));
+        // Rounding can flip a pixel centre lying on a tile edge.
+        let off = differing(&through_sheet, &moved);
+        assert!(off <= 3, "{off} pixels differ");
+        assert!(differing(&through_sheet, &unmoved) > 1000);
     }
 }
 

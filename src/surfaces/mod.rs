@@ -50,8 +50,8 @@ pub use metatoys::{
     PhaseConjugating, PhaseConjugatingKeys, PhaseHologram, PhaseHologramKeys, Pixellation,
     PixellationKeys, PointToPointImagingHologram, PointToPointImagingHologramKeys, RayFlipping,
     RayFlippingKeys, RayRotating, RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys,
-    RayRotatingKeys, RefractiveComplexKeys, Teleporting, TeleportingKeys,
-    VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
+    RayRotatingKeys, RefractiveComplexKeys, SpaceShifting, SpaceShiftingKeys, Teleporting,
+    TeleportingKeys, VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
 };
 pub use mirror::{Mirror, MirrorKeys, reflect};
 pub use picture::{Lighting, PictureKeys, PictureSurface};
@@ -103,6 +103,7 @@ kinds! {
         RayFlipping(RayFlippingKeys),
         IdealisedDovePrismArray(IdealisedDovePrismArrayKeys),
         IdealThinSpacePlate(IdealThinSpacePlateKeys),
+        SpaceShifting(SpaceShiftingKeys),
         CollineationSurface(CollineationSurfaceKeys),
         DerivativeControl(DerivativeControlKeys),
         VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArraysKeys),
@@ -252,6 +253,8 @@ pub enum Surface {
     Pixellation(Pixellation),
     IdealisedDovePrismArray(IdealisedDovePrismArray),
     IdealThinSpacePlate(IdealThinSpacePlate),
+    /// Dr TIM's space-shifting plane.
+    SpaceShifting(SpaceShifting),
     CollineationSurface(CollineationSurface),
     DerivativeControl(DerivativeControl),
     VariableEtaConfocalLensletArrays(VariableEtaConfocalLensletArrays),
@@ -325,6 +328,7 @@ impl Surface {
             Surface::Pixellation(_) => "pixellation",
             Surface::IdealisedDovePrismArray(_) => "idealised-dove-prism-array",
             Surface::IdealThinSpacePlate(_) => "ideal-thin-space-plate",
+            Surface::SpaceShifting(_) => "space-shifting",
             Surface::CollineationSurface(_) => "collineation-surface",
             Surface::DerivativeControl(_) => "derivative-control",
             Surface::VariableEtaConfocalLensletArrays(_) => "variable-eta-confocal-lenslet-arrays",
@@ -429,6 +433,7 @@ impl Surface {
             Surface::Pixellation(s) => s.redirect(at),
             Surface::IdealisedDovePrismArray(s) => s.redirect(at),
             Surface::IdealThinSpacePlate(s) => s.redirect(at),
+            Surface::SpaceShifting(s) => s.redirect(at),
             Surface::CollineationSurface(s) => s.redirect(at),
             Surface::DerivativeControl(s) => s.redirect(at),
             Surface::VariableEtaConfocalLensletArrays(s) => s.redirect(at),
@@ -494,6 +499,7 @@ impl Surface {
             Surface::LightRayField(f) => Surface::LightRayField(f.transformed(t)?),
             Surface::Pixellation(p) => Surface::Pixellation(p.transformed(t)?),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
+            Surface::SpaceShifting(s) => Surface::SpaceShifting(s.transformed(t)),
             Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
             Surface::DerivativeControl(d) => Surface::DerivativeControl(d.transformed(t)?),
             Surface::VariableEtaConfocalLensletArrays(a) => {

@@ -107,6 +107,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
         | Surface::Teleporting(_)
         | Surface::IdealisedDovePrismArray(_)
         | Surface::IdealThinSpacePlate(_)
+        | Surface::SpaceShifting(_)
         | Surface::CollineationSurface(_)
         | Surface::TintedSolid(_)
         | Surface::GlowingCloud(_)

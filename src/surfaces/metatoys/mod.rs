@@ -37,6 +37,7 @@ mod point_to_point_imaging_hologram;
 mod ray_flipping;
 mod ray_rotating;
 mod ray_rotating_in_plane_of_incidence;
+mod space_shifting;
 mod teleporting;
 mod variable_eta_confocal_lenslet_arrays;
 
@@ -77,6 +78,7 @@ pub use ray_rotating::{RayRotating, RayRotatingKeys, RotationAxis, rotated};
 pub use ray_rotating_in_plane_of_incidence::{
     RayRotatingInPlaneOfIncidence, RayRotatingInPlaneOfIncidenceKeys, rotated_in_plane_of_incidence,
 };
+pub use space_shifting::{SpaceShifting, SpaceShiftingKeys};
 pub use teleporting::{Teleportation, Teleporting, TeleportingKeys};
 pub use variable_eta_confocal_lenslet_arrays::{
     VariableEtaConfocalLensletArrays, VariableEtaConfocalLensletArraysKeys,
