@@ -6,9 +6,10 @@
 //! outward normal n (d·n > 0), goes on along the line P + t d − O: where it meets the sheet's
 //! plane, at P′ = P + (O·n / d·n) d − O (Dr TIM's point where the line meets the plane shifted
 //! by O, less O). The camera sees a point Y behind the sheet at Y + O. Light is reversible, so a
-//! ray crossing against n (d·n < 0) is shifted by −O: from that side the space behind is seen
-//! moved by −O. **Dr TIM** shifts rays by +O whichever way they cross, which is not reversible
-//! (a sheet that shows one side moved by O must show the other moved back); the two agree for
+//! ray crossing against n (d·n < 0) goes on along its line moved by +O: from that side the
+//! space behind is seen moved by −O. **Dr TIM** moves every ray's line by −O whichever way it
+//! crosses, which is not reversible (a sheet that shows one side moved by O must show the other
+//! moved back); the two agree for
 //! a camera on the side n points away from, as in Dr TIM's default (normal (0, 0, 1), camera
 //! looking along +z). P′ is found on the shape along its normal, as the ideal thin space plate's
 //! return is; where the shifted line leaves the shape's edge (past a finite sheet), no light
