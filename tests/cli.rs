@@ -941,6 +941,7 @@ fn every_example_scene_checks_and_renders() {
         "gclas-cloak.toml",
         "gclas-tardis-window.toml",
         "gclas-pinch-transformation-window.toml",
+        "gradient-index-volume.toml",
     ] {
         assert!(
             files.iter().any(|f| f.ends_with(name)),

@@ -7,6 +7,7 @@ pub mod appearance;
 mod chequerboard;
 mod coloured;
 mod constant_colour;
+mod gradient_index_volume;
 pub mod ideal_lenses;
 pub mod lenses;
 mod light_ray_field;
@@ -31,6 +32,7 @@ pub use appearance::{
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
 pub use constant_colour::ConstantColourKeys;
+pub use gradient_index_volume::{GradientIndexVolume, GradientIndexVolumeKeys, IndexDistribution};
 pub use ideal_lenses::{
     Focus, Glens, GlensKeys, IdealThinCylindricalLensKeys, IdealThinCylindricalMirrorKeys,
     IdealThinLensKeys, IdealThinLensletArrayKeys, IdealThinMirrorKeys, LensletArray, ThinLens,
@@ -91,6 +93,7 @@ kinds! {
         GgrinLens(GgrinLensKeys),
         #[serde(alias = "gradient_index_lens")]
         GradientIndexLens(GradientIndexLensKeys),
+        GradientIndexVolume(GradientIndexVolumeKeys),
         #[serde(alias = "metric_interface")]
         MetricInterface(MetricInterfaceKeys),
         #[serde(alias = "confocal_lenslet_arrays", alias = "gcla")]
@@ -242,6 +245,8 @@ pub enum Surface {
     Transparent(Transparent),
     /// §3's lenses; the surface of a sphere.
     Lens(Lens),
+    /// A convex solid filled with a gradient-index medium.
+    GradientIndexVolume(GradientIndexVolume),
     /// A transformation-optics shifter's shell; the surface of its two spheres (a device's).
     ToShifter(ToShifter),
     /// §4: refraction between spaces with different optical metrics.
@@ -321,6 +326,7 @@ impl Surface {
             Surface::Transparent(_) => "transparent",
             Surface::Lens(_) => "lens",
             Surface::ToShifter(_) => "to-shifter",
+            Surface::GradientIndexVolume(_) => "gradient-index-volume",
             Surface::MetricInterface(_) => "metric-interface",
             Surface::ConfocalLensletArrays(_) => "confocal-lenslet-arrays",
             Surface::RayRotating(_) => "ray-rotating",
@@ -426,6 +432,7 @@ impl Surface {
             Surface::Transparent(s) => s.redirect(at),
             Surface::Lens(s) => s.redirect(at, inside),
             Surface::ToShifter(s) => s.redirect(at, inside),
+            Surface::GradientIndexVolume(s) => s.redirect(at, inside),
             Surface::MetricInterface(s) => s.redirect(at),
             Surface::ConfocalLensletArrays(s) => s.redirect(at),
             Surface::RayRotating(s) => s.redirect(at),
@@ -500,6 +507,7 @@ impl Surface {
             Surface::Pixellation(p) => Surface::Pixellation(p.transformed(t)?),
             Surface::IdealThinSpacePlate(p) => Surface::IdealThinSpacePlate(p.transformed(t)?),
             Surface::SpaceShifting(s) => Surface::SpaceShifting(s.transformed(t)),
+            Surface::GradientIndexVolume(v) => Surface::GradientIndexVolume(v.transformed(t)?),
             Surface::CollineationSurface(c) => Surface::CollineationSurface(c.transformed(t)),
             Surface::DerivativeControl(d) => Surface::DerivativeControl(d.transformed(t)?),
             Surface::VariableEtaConfocalLensletArrays(a) => {
@@ -633,6 +641,12 @@ impl Surface {
             Surface::ToShifter(_) if !matches!(shape, Shape::Sphere(_)) => {
                 Err("a to-shifter surface needs a sphere shape".to_string())
             }
+            Surface::GradientIndexVolume(_) if shape.analytic_solid().is_none() => Err(
+                "a gradient-index-volume surface needs a convex solid shape (a sphere, cuboid, \
+                 parallelepiped, prism, Platonic solid, ellipsoid, closed cylinder or cone, \
+                 paraboloid or half-space plane, or one of them transformed)"
+                    .to_string(),
+            ),
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {
                 Err(
                     "a textured material (MTL map_Kd) needs texture coordinates (OBJ vt) on \

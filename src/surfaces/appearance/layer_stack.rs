@@ -104,6 +104,7 @@ fn check_layer(layer: &Surface) -> Result<(), String> {
     match layer {
         Surface::Lens(_)
         | Surface::ToShifter(_)
+        | Surface::GradientIndexVolume(_)
         | Surface::Teleporting(_)
         | Surface::IdealisedDovePrismArray(_)
         | Surface::IdealThinSpacePlate(_)

@@ -63,6 +63,18 @@ const TABLE_SOLVER: Dop853 = Dop853 {
 /// Away from this, the exit error grows as the entry nears grazing, as about 1e-12 R / cos θ.
 const GRAZING: f64 = 1e-7;
 
+impl IndexProfile {
+    /// The integrator for the profile: [`SOLVER`] for the smooth formulas, [`TABLE_SOLVER`]
+    /// for a table.
+    pub fn solver(&self) -> Dop853 {
+        if self.is_smooth() {
+            SOLVER
+        } else {
+            TABLE_SOLVER
+        }
+    }
+}
+
 /// A lens whose rays follow the ray equation through `profile`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GradientIndex {
@@ -125,11 +137,7 @@ impl GradientIndex {
         // at the surface), so the ray is well inside before the event is looked for; a quarter
         // is mostly rejected at these tolerances, and the controller grows steps sixfold.
         let h0 = -0.125 * p0.x / p0.length_squared();
-        let solver = if self.profile.is_smooth() {
-            SOLVER
-        } else {
-            TABLE_SOLVER
-        };
+        let solver = self.profile.solver();
         match self.profile.absorbing_radius() {
             Some(absorbing) => self.towards_horizon(&solver, p0, h0, absorbing, show),
             None if self.profile.rho_n_squared(0.0).0 > 0.0 => {
