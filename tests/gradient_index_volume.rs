@@ -5,6 +5,7 @@
 //!   (Eqs 5–6), placed by a transform and in an array;
 //! * a constant index renders as a `refractive` block of the same index (Snell's law at each
 //!   face, total internal reflection inside), a rotated cuboid;
+//! * a profile in layers renders as nested `refractive` spheres;
 //! * a trajectory through a gradient-index rod draws its curved path, on the sinusoid the
 //!   closed form gives;
 //! * refusals, located at their line.
@@ -69,6 +70,41 @@ fn a_constant_index_renders_as_a_refractive_block() {
         differing(&glass, &volume)
     );
     assert!(differing(&glass, &air) > 1000);
+}
+
+/// Layers (Dr TIM's voxellated refractor on concentric spheres, as its layered Luneburg
+/// lens): a Luneburg profile in four spherical layers of separation 0.25 renders as four
+/// nested `refractive` spheres whose index ratios are those of the layers' middles,
+/// n_k = √(2 − ((k + ½)/4)²), across each sphere.
+#[test]
+fn a_profile_in_layers_renders_as_nested_refractive_spheres() {
+    let n = |k: f64| (2.0 - ((k + 0.5) * 0.25f64).powi(2)).sqrt();
+    // The outermost sphere is the scene's own object, the three inside it follow.
+    let mut spheres = format!(
+        "shape = {{ type = \"sphere\", centre = [0, 0, 5], radius = 1 }}\nsurface = {{ type = \"refractive\", index_ratio = {:?}, transmission_coefficient = 1 }}\n",
+        n(3.0)
+    );
+    for (k, radius) in [(2.0, 0.75), (1.0, 0.5), (0.0, 0.25)] {
+        let outside = n(k + 1.0);
+        spheres += &format!(
+            "[[object]]\nname = \"sphere {k}\"\nshadow_throwing = false\nshape = {{ type = \"sphere\", centre = [0, 0, 5], radius = {radius} }}\nsurface = {{ type = \"refractive\", index_ratio = {:?}, transmission_coefficient = 1 }}\n",
+            n(k) / outside
+        );
+    }
+    let object = "shape = { type = \"sphere\", centre = [0, 0, 5], radius = 1 }\n";
+    let layers = render_text(&scene(&format!(
+        "{object}surface = {{ type = \"gradient-index-volume\", transmission_coefficient = 1, index = {{ type = \"radial\", centre = [0, 0, 5], profile = \"luneburg\", layer_separation = 0.25 }} }}\n"
+    )));
+    let smooth = render_text(&scene(&format!(
+        "{object}surface = {{ type = \"gradient-index-volume\", transmission_coefficient = 1, index = {{ type = \"radial\", centre = [0, 0, 5], profile = \"luneburg\" }} }}\n"
+    )));
+    let nested = render_text(&scene(&spheres));
+    assert!(
+        differing(&layers, &nested) <= 3,
+        "{}",
+        differing(&layers, &nested)
+    );
+    assert!(differing(&layers, &smooth) > 500);
 }
 
 /// A trajectory along a gradient-index rod (n² = 2 − ρ²/R², ρ from the axis y) draws its

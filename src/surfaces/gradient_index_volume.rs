@@ -3,17 +3,22 @@
 //! d/ds (n dr/ds) = ∇n (Dr TIM's `SurfaceOfMetricSpace` with an isotropic index, as its
 //! `SurfaceOfRadiallySymmetricRefractiveIndexDistribution` and `SurfaceOfLissajousLens` are;
 //! its Hamiltonian H = k·n·k − det n (Schurig, Pendry & Smith, Opt. Express 14, 9794 (2006),
-//! Eq. 40) for n = n 𝟙 gives the same rays).
+//! Eq. 40) for n = n 𝟙 gives the same rays), or through layers of constant index (Dr TIM's
+//! `SurfaceOfVoxellatedRefractor` on its concentric spheres, coaxial cylinders or parallel
+//! planes).
 //!
 //! The distributions are a constant n, or a profile n(ρ) of the distance ρ (in units of
 //! `radius`) from a point (radial), a line (cylindrical: a gradient-index rod) or a plane
 //! (planar: a layered medium, a mirage). As for the gradient-index lenses, with dτ = ds/n
 //! and p = n dr/ds the ray equation is r″ = ∇(n²)/2 (′ = d/dτ), |p| = n, and the optical path
 //! ∫n ds = ∫n² dτ; it is integrated in 3D by adaptive DOP853 steps (the lenses' tolerances)
-//! until the ray reaches the solid's surface, located to rounding. Light is refracted by
-//! Snell's law into n at the entry point and out of n at the exit (the index is relative to
-//! the surrounding medium); beyond the critical angle it is reflected inside and traced on.
-//! A constant index is traced along straight chords, exactly.
+//! until the ray reaches the solid's surface, located to rounding. With a layer separation
+//! the profile is instead constant in each layer between the spheres, cylinders or planes at
+//! ρ = k × separation, at its value in the layer's middle (Dr TIM's voxel index + ½), and light
+//! goes straight in a layer and is refracted by Snell's law between layers, exactly. Light is
+//! refracted by Snell's law into the index at the entry point and out of the index at the exit
+//! (the index is relative to the surrounding medium); beyond the critical angle it is
+//! reflected inside and traced on. A constant index is traced along straight chords, exactly.
 //!
 //! A ray that meets the surface from inside having started inside (a camera or trajectory
 //! start within the volume) is integrated from its start, as Dr TIM does. Objects inside the
@@ -32,138 +37,183 @@ use crate::math::{Colour, Phase};
 /// trapped, and no light comes back along it.
 const MAX_REFLECTIONS: usize = 100;
 
+/// Layer boundaries a ray may cross (or be reflected at) in one passage before it counts as
+/// trapped.
+const MAX_LAYER_CROSSINGS: usize = 1_000_000;
+
 /// Straight chord, in units of the integration's length scale, below which a ray entering the
 /// volume is passed straight across it: it grazes the surface, and its exit cannot be told
-/// from its entry.
+/// from its entry. Layer boundaries closer than this (in units of the profile's radius) ahead
+/// of a ray on one are the one it is on.
 const GRAZING: f64 = 1e-7;
+
+/// What a profile's ρ is the distance from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Symmetry {
+    /// A point (radial).
+    Point(DVec3),
+    /// The line through `point` along the unit `axis` (cylindrical).
+    Line { point: DVec3, axis: DVec3 },
+    /// The plane through `point` with unit `normal` (planar).
+    Plane { point: DVec3, normal: DVec3 },
+}
+
+impl Symmetry {
+    /// The displacement of `x` from the point, line or plane, whose length is the distance.
+    fn displacement(&self, x: DVec3) -> DVec3 {
+        match *self {
+            Symmetry::Point(c) => x - c,
+            Symmetry::Line { point, axis } => (x - point).reject_from_normalized(axis),
+            Symmetry::Plane { point, normal } => (x - point).project_onto_normalized(normal),
+        }
+    }
+
+    /// The coordinate whose level sets are the layer boundaries: the distance, or for a plane
+    /// the signed distance along its normal.
+    fn level(&self, x: DVec3) -> f64 {
+        match *self {
+            Symmetry::Plane { point, normal } => (x - point).dot(normal),
+            _ => self.displacement(x).length(),
+        }
+    }
+
+    /// The smallest t > `after` at which `x + t d` (d unit) has [`Self::level`] `level`.
+    fn reaches(&self, x: DVec3, d: DVec3, level: f64, after: f64) -> Option<f64> {
+        if let Symmetry::Plane { normal, .. } = *self {
+            let t = (level - self.level(x)) / d.dot(normal);
+            return (t > after && t.is_finite()).then_some(t);
+        }
+        // |v + t w|² = level², v and w the parts of x and d across the line (all of them
+        // about a point).
+        let (v, w) = (
+            self.displacement(x),
+            self.displacement(x + d) - self.displacement(x),
+        );
+        let (a, half_b, c) = (
+            w.length_squared(),
+            v.dot(w),
+            v.length_squared() - level * level,
+        );
+        let discriminant = half_b * half_b - a * c;
+        if a == 0.0 || discriminant < 0.0 {
+            return None;
+        }
+        // The roots without cancellation: q = −(b/2 + sign(b/2) √Δ), t = q/a and c/q.
+        let q = -(half_b + discriminant.sqrt().copysign(half_b));
+        let (t1, t2) = (q / a, c / q);
+        [t1.min(t2), t1.max(t2)]
+            .into_iter()
+            .find(|&t| t > after && t.is_finite())
+    }
+
+    /// The unit normal at `x` of the level set through it, towards higher levels.
+    fn gradient(&self, x: DVec3) -> DVec3 {
+        match *self {
+            Symmetry::Plane { normal, .. } => normal,
+            _ => self.displacement(x).normalize(),
+        }
+    }
+
+    fn transformed(&self, t: &Transform) -> Symmetry {
+        let unit = |v: DVec3| t.vector(v).normalize();
+        match *self {
+            Symmetry::Point(c) => Symmetry::Point(t.point(c)),
+            Symmetry::Line { point, axis } => Symmetry::Line {
+                point: t.point(point),
+                axis: unit(axis),
+            },
+            Symmetry::Plane { point, normal } => Symmetry::Plane {
+                point: t.point(point),
+                normal: unit(normal),
+            },
+        }
+    }
+}
+
+/// A profile n(ρ) of the distance from a point, line or plane, smooth or in layers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Profiled {
+    pub about: Symmetry,
+    /// R, the distance at which ρ = 1.
+    pub radius: f64,
+    pub profile: IndexProfile,
+    /// The layers' thickness in ρ (Dr TIM's voxellation's separation over R), if in layers.
+    pub layer_separation: Option<f64>,
+}
+
+impl Profiled {
+    /// n² and the force n∇n = ∇(n²)/2 of the smooth profile at `x`: the profile's φ v/R in
+    /// units of R (see [`IndexProfile::n_squared_and_force`]) is φ v/R² in the scene's.
+    fn n_squared_and_force(&self, x: DVec3) -> (f64, DVec3) {
+        let v = self.about.displacement(x);
+        let r2 = self.radius * self.radius;
+        let rho2 = v.length_squared() / r2;
+        if let IndexProfile::Table(_) = self.profile
+            && rho2 > 1.0
+        {
+            // Beyond its last entry a table's index stays at its value there.
+            return (self.profile.n(1.0).powi(2), DVec3::ZERO);
+        }
+        let (n2, force) = self.profile.n_squared_and_force(rho2);
+        (n2, force / r2 * v)
+    }
+
+    /// The layer a ray at `x` going in direction `d` (unit) is in, or enters if `x` lies on
+    /// a boundary, and its index; `None` for the index where the profile has none (n² ≤ 0).
+    fn layer(&self, x: DVec3, d: DVec3, separation: f64) -> (i64, Option<f64>) {
+        let ahead = x + GRAZING * self.radius * d;
+        let k = (self.about.level(ahead) / (self.radius * separation)).floor() as i64;
+        (k, self.layer_index(k, separation))
+    }
+
+    /// The index of layer k: the profile's in its middle.
+    fn layer_index(&self, k: i64, separation: f64) -> Option<f64> {
+        let rho = ((k as f64 + 0.5) * separation).abs();
+        let rho = match self.profile {
+            IndexProfile::Table(_) => rho.min(1.0),
+            _ => rho,
+        };
+        let n = self.profile.n(rho);
+        (n > 0.0).then_some(n)
+    }
+}
 
 /// The refractive index inside the volume, relative to the surrounding medium.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IndexDistribution {
     Constant(f64),
-    /// n(|x − centre| / radius).
-    Radial {
-        centre: DVec3,
-        radius: f64,
-        profile: IndexProfile,
-    },
-    /// n(distance from the line through `point` along the unit `axis` / radius).
-    Cylindrical {
-        point: DVec3,
-        axis: DVec3,
-        radius: f64,
-        profile: IndexProfile,
-    },
-    /// n(distance from the plane through `point` with unit `normal` / radius).
-    Planar {
-        point: DVec3,
-        normal: DVec3,
-        radius: f64,
-        profile: IndexProfile,
-    },
+    Profiled(Profiled),
 }
 
 impl IndexDistribution {
-    /// The profile, its radius and the displacement v of `x` from the point, line or plane
-    /// whose length the profile reads; `None` for a constant index.
-    fn displacement(&self, x: DVec3) -> Option<(&IndexProfile, f64, DVec3)> {
+    /// n² where a ray going in direction `d` (unit) starts or enters at `x` (the layer's, in
+    /// layers).
+    fn n_squared(&self, x: DVec3, d: DVec3) -> f64 {
         match self {
-            IndexDistribution::Constant(_) => None,
-            IndexDistribution::Radial {
-                centre,
-                radius,
-                profile,
-            } => Some((profile, *radius, x - *centre)),
-            IndexDistribution::Cylindrical {
-                point,
-                axis,
-                radius,
-                profile,
-            } => Some((profile, *radius, (x - *point).reject_from_normalized(*axis))),
-            IndexDistribution::Planar {
-                point,
-                normal,
-                radius,
-                profile,
-            } => Some((
-                profile,
-                *radius,
-                (x - *point).project_onto_normalized(*normal),
-            )),
-        }
-    }
-
-    /// n² and the force ∇(n²)/2 at `x`: the profile's n∇n = φ v/R in units of R (see
-    /// [`IndexProfile::n_squared_and_force`]) is φ v/R² in the scene's.
-    pub fn n_squared_and_force(&self, x: DVec3) -> (f64, DVec3) {
-        match self.displacement(x) {
-            None => {
-                let IndexDistribution::Constant(n) = self else {
-                    unreachable!("only a constant index has no displacement")
-                };
-                (n * n, DVec3::ZERO)
-            }
-            Some((profile, radius, v)) => {
-                let r2 = radius * radius;
-                let rho2 = v.length_squared() / r2;
-                if let IndexProfile::Table(_) = profile
-                    && rho2 > 1.0
-                {
-                    // Beyond its last entry a table's index stays at its value there.
-                    return (profile.n(1.0).powi(2), DVec3::ZERO);
-                }
-                let (n2, force) = profile.n_squared_and_force(rho2);
-                (n2, force / r2 * v)
-            }
+            IndexDistribution::Constant(n) => n * n,
+            IndexDistribution::Profiled(p) => match p.layer_separation {
+                Some(separation) => p.layer(x, d, separation).1.map_or(-1.0, |n| n * n),
+                None => p.n_squared_and_force(x).0,
+            },
         }
     }
 
     /// The distribution of an object placed by `t`, which must keep angles (a rotation,
-    /// uniform scaling and translation) for the profile to keep its symmetry.
+    /// uniform scaling and translation) for a profile to keep its symmetry.
     fn transformed(&self, t: &Transform) -> Result<IndexDistribution, String> {
-        if let IndexDistribution::Constant(_) = self {
+        let IndexDistribution::Profiled(p) = self else {
             return Ok(self.clone());
-        }
+        };
         let scale = t.uniform_scale().ok_or(
             "a gradient-index volume's index is symmetric about a point, line or plane, which \
              only rotations, uniform scaling and translations keep, so it cannot be scaled \
              non-uniformly",
         )?;
-        let unit = |v: DVec3| t.vector(v).normalize();
-        Ok(match self {
-            IndexDistribution::Constant(_) => unreachable!("returned above"),
-            IndexDistribution::Radial {
-                centre,
-                radius,
-                profile,
-            } => IndexDistribution::Radial {
-                centre: t.point(*centre),
-                radius: radius * scale,
-                profile: profile.clone(),
-            },
-            IndexDistribution::Cylindrical {
-                point,
-                axis,
-                radius,
-                profile,
-            } => IndexDistribution::Cylindrical {
-                point: t.point(*point),
-                axis: unit(*axis),
-                radius: radius * scale,
-                profile: profile.clone(),
-            },
-            IndexDistribution::Planar {
-                point,
-                normal,
-                radius,
-                profile,
-            } => IndexDistribution::Planar {
-                point: t.point(*point),
-                normal: unit(*normal),
-                radius: radius * scale,
-                profile: profile.clone(),
-            },
-        })
+        Ok(IndexDistribution::Profiled(Profiled {
+            about: p.about.transformed(t),
+            radius: p.radius * scale,
+            ..p.clone()
+        }))
     }
 }
 
@@ -181,6 +231,10 @@ struct Inside {
     p: DVec3,
 }
 
+/// Where a passage reaches the surface: the ray there, the part of the surface, and the
+/// optical path.
+type Reached = (Inside, u32, f64);
+
 impl GradientIndexVolume {
     pub fn redirect(
         &self,
@@ -194,7 +248,8 @@ impl GradientIndexVolume {
         let (p, d, normal) = (at.local_point(), at.ray.direction, at.normal());
         let show = &mut |x: DVec3| inside(x + at.offset);
         let (start, before) = if d.dot(normal) < 0.0 {
-            let (n2, _) = self.index.n_squared_and_force(p);
+            // The layer inwards from the surface: along the inward normal.
+            let n2 = self.index.n_squared(p, -normal);
             let refracted = (n2 > 0.0).then(|| refract(d, normal, n2.sqrt())).flatten();
             let Some(refracted) = refracted else {
                 // Reflected off the surface (a lower index inside, or n² ≤ 0 there).
@@ -211,7 +266,7 @@ impl GradientIndexVolume {
         } else {
             // From inside: integrated from where the ray started, if that is inside.
             let origin = at.ray.origin - at.offset;
-            let (n2, _) = self.index.n_squared_and_force(origin);
+            let n2 = self.index.n_squared(origin, d);
             if !solid.contains(origin) || n2 <= 0.0 {
                 return Redirection::Leaves {
                     direction: d,
@@ -240,7 +295,7 @@ impl GradientIndexVolume {
     /// The ray from `start` inside the volume to where it leaves, refracted out, with the
     /// optical path from `start`; reflected inside beyond the critical angle. `None` for a
     /// trapped ray (more than [`MAX_REFLECTIONS`] reflections, or no exit within the
-    /// integrator's step limit).
+    /// integrator's step limit or [`MAX_LAYER_CROSSINGS`]).
     fn traverse(
         &self,
         shape: &Shape,
@@ -250,7 +305,13 @@ impl GradientIndexVolume {
     ) -> Option<Exit> {
         let mut path = 0.0;
         for _ in 0..=MAX_REFLECTIONS {
-            let (leaving, part, optical) = self.passage(shape, solid, ray, show)?;
+            let (leaving, part, optical) = match &self.index {
+                IndexDistribution::Constant(_) => straight(solid, ray)?,
+                IndexDistribution::Profiled(p) => match p.layer_separation {
+                    Some(separation) => layered(p, separation, solid, ray, show)?,
+                    None => integrated(p, shape, solid, ray, show)?,
+                },
+            };
             path += optical;
             let normal = shape.normal(leaving.x, part);
             let n = leaving.p.length();
@@ -271,76 +332,6 @@ impl GradientIndexVolume {
         None
     }
 
-    /// One passage from `ray` to the surface: the ray where it reaches the surface, the part
-    /// of the surface there, and the optical path.
-    fn passage(
-        &self,
-        shape: &Shape,
-        solid: &dyn ConvexSolid,
-        ray: Inside,
-        show: &mut dyn FnMut(DVec3),
-    ) -> Option<(Inside, u32, f64)> {
-        let d = ray.p.normalize();
-        let span = solid.chord(ray.x, d)?;
-        let (t, part) = span.exit;
-        let straight = |t: f64, part: u32| {
-            let x = ray.x + t.max(0.0) * d;
-            Some((Inside { x, ..ray }, part, ray.p.length() * t.max(0.0)))
-        };
-        let Some((profile, radius, _)) = self.index.displacement(ray.x) else {
-            return straight(t, part);
-        };
-        // Lengths in units of L, the solid's half-diagonal (or the profile's radius where the
-        // solid is unbounded), from its centre (or the start): τ scales with them, p stays
-        // as it is and the force is L times its own.
-        let (origin, length) = match shape.bounds() {
-            Some((lo, hi)) => (0.5 * (lo + hi), 0.5 * lo.distance(hi)),
-            None => (ray.x, radius),
-        };
-        if t < GRAZING * length {
-            return straight(t, part);
-        }
-        let world = |x: &[f64; 3]| origin + length * DVec3::from_array(*x);
-        let field = |x: &[f64; 3]| {
-            let (n2, force) = self.index.n_squared_and_force(world(x));
-            ((length * force).to_array(), n2)
-        };
-        // g: minus the distance (in units of L) along the ray's direction to where its line
-        // leaves the solid, crossing zero upwards where the ray leaves; dg/dτ ≈ |p|. A line
-        // that misses the solid is outside it.
-        let event = |y: &Phase<3>| {
-            let v = DVec3::from_array(y.v);
-            let speed = v.length();
-            let g = solid
-                .chord(world(&y.x), v / speed)
-                .map_or(1.0, |s| -s.exit.0 / length);
-            (g, speed)
-        };
-        let start = Phase {
-            x: ((ray.x - origin) / length).to_array(),
-            v: ray.p.to_array(),
-            q: 0.0,
-        };
-        // The first step covers an eighth of the straight chord (|dr/dτ| = n).
-        let h0 = 0.125 * t / length / ray.p.length_squared();
-        let step = |y: &Phase<3>| show(world(&y.x));
-        let y = profile
-            .solver()
-            .integrate_until(field, start, h0, event, step)?;
-        // Onto the surface, along the ray's direction, where its line leaves the solid.
-        let (x, p) = (world(&y.x), DVec3::from_array(y.v));
-        let span = solid.chord(x, p.normalize())?;
-        let (t, part) = span.exit;
-        Some((
-            Inside {
-                x: x + t * p.normalize(),
-                p,
-            },
-            part,
-            length * y.q,
-        ))
-    }
-
     /// The volume of an object placed by `t`.
     pub fn transformed(&self, t: &Transform) -> Result<GradientIndexVolume, String> {
         Ok(GradientIndexVolume {
@@ -348,6 +339,164 @@ impl GradientIndexVolume {
             ..*self
         })
     }
+}
+
+/// The straight passage from `ray` to the surface.
+fn straight(solid: &dyn ConvexSolid, ray: Inside) -> Option<Reached> {
+    let d = ray.p.normalize();
+    let (t, part) = solid.chord(ray.x, d)?.exit;
+    let t = t.max(0.0);
+    Some((
+        Inside {
+            x: ray.x + t * d,
+            ..ray
+        },
+        part,
+        ray.p.length() * t,
+    ))
+}
+
+/// The passage from `ray` to the surface through the smooth profile, integrated.
+fn integrated(
+    profile: &Profiled,
+    shape: &Shape,
+    solid: &dyn ConvexSolid,
+    ray: Inside,
+    show: &mut dyn FnMut(DVec3),
+) -> Option<Reached> {
+    let d = ray.p.normalize();
+    let (t, _) = solid.chord(ray.x, d)?.exit;
+    // Lengths in units of L, the solid's half-diagonal (or the profile's radius where the
+    // solid is unbounded), from its centre (or the start): τ scales with them, p stays as it
+    // is and the force is L times its own.
+    let (origin, length) = match shape.bounds() {
+        Some((lo, hi)) => (0.5 * (lo + hi), 0.5 * lo.distance(hi)),
+        None => (ray.x, profile.radius),
+    };
+    if t < GRAZING * length {
+        return straight(solid, ray);
+    }
+    // A point well inside, from which the surface is seen in every direction: the solid's
+    // centre, or else the middle of the ray's straight chord (at most L in).
+    let inner = if solid.contains(origin) && shape.bounds().is_some() {
+        origin
+    } else {
+        ray.x + 0.5 * t.min(length) * d
+    };
+    // Where the line from `inner` through x leaves the solid: the point, and the surface's
+    // normal there.
+    let surface_towards = |x: DVec3| {
+        let u = (x - inner).try_normalize().unwrap_or(d);
+        let (s, part) = solid.chord(inner, u)?.exit;
+        let at = inner + s * u;
+        Some((at, part, shape.normal(at, part), u))
+    };
+    let world = |x: &[f64; 3]| origin + length * DVec3::from_array(*x);
+    let field = |x: &[f64; 3]| {
+        let (n2, force) = profile.n_squared_and_force(world(x));
+        ((length * force).to_array(), n2)
+    };
+    // g: how far beyond the surface x lies along the line from `inner` (in units of L), which
+    // crosses zero upwards where the ray leaves, smoothly also where it leaves at a graze;
+    // dg/dτ = (m·p)/(m·u) there, m the surface's normal and u the line's direction.
+    let event = |y: &Phase<3>| {
+        let (x, v) = (world(&y.x), DVec3::from_array(y.v));
+        match surface_towards(x) {
+            Some((at, _, m, u)) => {
+                let beyond = (x - inner).length() - (at - inner).length();
+                (beyond / length, m.dot(v) / m.dot(u))
+            }
+            None => (1.0, v.length()),
+        }
+    };
+    let start = Phase {
+        x: ((ray.x - origin) / length).to_array(),
+        v: ray.p.to_array(),
+        q: 0.0,
+    };
+    // The first step covers an eighth of the straight chord, or of L (|dr/dτ| = n).
+    let h0 = 0.125 * (t / length).min(1.0) / ray.p.length_squared();
+    let step = |y: &Phase<3>| show(world(&y.x));
+    let y = profile
+        .profile
+        .solver()
+        .integrate_until(field, start, h0, event, step)?;
+    // Onto the surface along the line from `inner`.
+    let (at, part, _, _) = surface_towards(world(&y.x))?;
+    let p = DVec3::from_array(y.v);
+    Some((Inside { x: at, p }, part, length * y.q))
+}
+
+/// The passage from `ray` to the surface through the profile's layers: straight within a
+/// layer, refracted by Snell's law (or reflected) at each boundary between layers.
+fn layered(
+    profile: &Profiled,
+    separation: f64,
+    solid: &dyn ConvexSolid,
+    mut ray: Inside,
+    show: &mut dyn FnMut(DVec3),
+) -> Option<Reached> {
+    let about = profile.about;
+    let width = profile.radius * separation;
+    let (mut k, _) = profile.layer(ray.x, ray.p.normalize(), separation);
+    let mut path = 0.0;
+    for _ in 0..MAX_LAYER_CROSSINGS {
+        let d = ray.p.normalize();
+        let n = ray.p.length();
+        let (to_surface, part) = solid.chord(ray.x, d)?.exit;
+        // The layer's boundaries ahead (the one the ray is on, if any, only beyond a graze).
+        let after = GRAZING * profile.radius;
+        let boundary = [(k, k - 1), (k + 1, k + 1)]
+            .into_iter()
+            .filter(|&(level, _)| level > 0 || matches!(about, Symmetry::Plane { .. }))
+            .filter_map(|(level, next)| {
+                Some((about.reaches(ray.x, d, level as f64 * width, after)?, next))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        // A boundary at the surface (within a graze) is the surface.
+        let Some((t, next)) = boundary.filter(|&(t, _)| t < to_surface - after) else {
+            let t = to_surface.max(0.0);
+            return Some((
+                Inside {
+                    x: ray.x + t * d,
+                    ..ray
+                },
+                part,
+                path + n * t,
+            ));
+        };
+        let x = ray.x + t * d;
+        path += n * t;
+        show(x);
+        // Across into layer `next`, by Snell's law between the lower and the upper layer
+        // about the boundary's normal towards the upper one; a layer without an index (n² ≤ 0)
+        // reflects.
+        let gradient = about.gradient(x);
+        let (lower, upper) = (k.min(next), k.max(next));
+        let indices = (
+            profile.layer_index(lower, separation),
+            profile.layer_index(upper, separation),
+        );
+        let crossed = match indices {
+            (Some(low), Some(high)) => refract(d, gradient, low / high),
+            _ => None,
+        };
+        ray = match crossed {
+            Some(direction) => {
+                k = next;
+                let n = profile.layer_index(next, separation)?;
+                Inside {
+                    x,
+                    p: n * direction,
+                }
+            }
+            None => Inside {
+                x,
+                p: reflect(ray.p, gradient),
+            },
+        };
+    }
+    None
 }
 
 /// A profile by name: `"luneburg"`, n = √(2 − ρ²) (Dr TIM's `SurfaceOfLissajousLens` with
@@ -372,6 +521,7 @@ enum IndexKeys {
         profile: Option<ProfileName>,
         rho: Option<Vec<Finite>>,
         n: Option<Vec<Finite>>,
+        layer_separation: Option<Positive>,
     },
     Cylindrical {
         point: Vector,
@@ -380,6 +530,7 @@ enum IndexKeys {
         profile: Option<ProfileName>,
         rho: Option<Vec<Finite>>,
         n: Option<Vec<Finite>>,
+        layer_separation: Option<Positive>,
     },
     Planar {
         point: Vector,
@@ -388,29 +539,40 @@ enum IndexKeys {
         profile: Option<ProfileName>,
         rho: Option<Vec<Finite>>,
         n: Option<Vec<Finite>>,
+        layer_separation: Option<Positive>,
     },
 }
 
-/// The profile a distribution's keys give: by name, or a table of n at the distances `rho`
-/// (in units of the radius, from 0 to 1).
-fn profile(
+/// A profiled distribution from its keys: the profile by name, or a table of n at the
+/// distances `rho` (in units of the radius, from 0 to 1).
+fn profiled(
+    about: Symmetry,
+    radius: Option<Positive>,
     name: Option<ProfileName>,
-    rho: Option<Vec<Finite>>,
-    n: Option<Vec<Finite>>,
-) -> Result<IndexProfile, String> {
+    table: (Option<Vec<Finite>>, Option<Vec<Finite>>),
+    layer_separation: Option<Positive>,
+) -> Result<IndexDistribution, String> {
     let values = |v: Vec<Finite>| v.into_iter().map(|x| x.0).collect();
-    match (name, rho, n) {
-        (Some(ProfileName::Luneburg), None, None) => Ok(IndexProfile::Luneburg),
-        (Some(ProfileName::MaxwellFisheye), None, None) => Ok(IndexProfile::MaxwellFisheye),
-        (None, Some(rho), Some(n)) => TableProfile::new(values(rho), values(n))
+    let profile = match (name, table) {
+        (Some(ProfileName::Luneburg), (None, None)) => IndexProfile::Luneburg,
+        (Some(ProfileName::MaxwellFisheye), (None, None)) => IndexProfile::MaxwellFisheye,
+        (None, (Some(rho), Some(n))) => TableProfile::new(values(rho), values(n))
             .map(IndexProfile::Table)
-            .map_err(|e| format!("gradient-index-volume profile: {e}")),
-        _ => Err(
-            "gradient-index-volume: give the index's `profile` (\"luneburg\" or \
-                  \"maxwell-fisheye\") or a table of `rho` and `n`, not both"
-                .into(),
-        ),
-    }
+            .map_err(|e| format!("gradient-index-volume profile: {e}"))?,
+        _ => {
+            return Err(
+                "gradient-index-volume: give the index's `profile` (\"luneburg\" or \
+                        \"maxwell-fisheye\") or a table of `rho` and `n`, not both"
+                    .into(),
+            );
+        }
+    };
+    Ok(IndexDistribution::Profiled(Profiled {
+        about,
+        radius: radius.map_or(1.0, |r| r.0),
+        profile,
+        layer_separation: layer_separation.map(|s| s.0),
+    }))
 }
 
 /// `type = "gradient-index-volume"`: `index` (required: Dr TIM has no editable object for it)
@@ -425,46 +587,58 @@ pub struct GradientIndexVolumeKeys {
 
 impl GradientIndexVolumeKeys {
     pub fn build(self) -> Result<Surface, String> {
-        let radius = |r: Option<Positive>| r.map_or(1.0, |r| r.0);
         let index = match self.index {
             IndexKeys::Constant { n } => IndexDistribution::Constant(n.0),
             IndexKeys::Radial {
                 centre,
-                radius: r,
-                profile: name,
+                radius,
+                profile,
                 rho,
                 n,
-            } => IndexDistribution::Radial {
-                centre: centre.0,
-                radius: radius(r),
-                profile: profile(name, rho, n)?,
-            },
+                layer_separation,
+            } => profiled(
+                Symmetry::Point(centre.0),
+                radius,
+                profile,
+                (rho, n),
+                layer_separation,
+            )?,
             IndexKeys::Cylindrical {
                 point,
                 axis,
-                radius: r,
-                profile: name,
+                radius,
+                profile,
                 rho,
                 n,
-            } => IndexDistribution::Cylindrical {
-                point: point.0,
-                axis: axis.0,
-                radius: radius(r),
-                profile: profile(name, rho, n)?,
-            },
+                layer_separation,
+            } => profiled(
+                Symmetry::Line {
+                    point: point.0,
+                    axis: axis.0,
+                },
+                radius,
+                profile,
+                (rho, n),
+                layer_separation,
+            )?,
             IndexKeys::Planar {
                 point,
                 normal,
-                radius: r,
-                profile: name,
+                radius,
+                profile,
                 rho,
                 n,
-            } => IndexDistribution::Planar {
-                point: point.0,
-                normal: normal.0,
-                radius: radius(r),
-                profile: profile(name, rho, n)?,
-            },
+                layer_separation,
+            } => profiled(
+                Symmetry::Plane {
+                    point: point.0,
+                    normal: normal.0,
+                },
+                radius,
+                profile,
+                (rho, n),
+                layer_separation,
+            )?,
         };
         Ok(Surface::GradientIndexVolume(GradientIndexVolume {
             index,
@@ -515,11 +689,12 @@ mod tests {
         let shape = Shape::Cuboid(Cuboid::new(box_centre, 2.0 * half).unwrap());
         let (c, r) = (DVec3::new(0.3, 0.1, 3.1), 1.3);
         let law = GradientIndexVolume {
-            index: IndexDistribution::Radial {
-                centre: c,
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Point(c),
                 radius: r,
                 profile: IndexProfile::Luneburg,
-            },
+                layer_separation: None,
+            }),
             transmission_coefficient: 0.9,
         };
         let n = |x: DVec3| (2.0 - (x - c).length_squared() / (r * r)).sqrt();
@@ -590,12 +765,15 @@ mod tests {
         let shape = Shape::Cylinder(Cylinder::new(start, end, rod).unwrap());
         let r = 0.6;
         let law = GradientIndexVolume {
-            index: IndexDistribution::Cylindrical {
-                point: DVec3::new(0.05, 0.0, 0.0),
-                axis: DVec3::Z,
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Line {
+                    point: DVec3::new(0.05, 0.0, 0.0),
+                    axis: DVec3::Z,
+                },
                 radius: r,
                 profile: IndexProfile::Luneburg,
-            },
+                layer_separation: None,
+            }),
             transmission_coefficient: 1.0,
         };
         let axis_point = DVec3::new(0.05, 0.0, 0.0);
@@ -629,17 +807,78 @@ mod tests {
         }
     }
 
+    /// A mirage: the half-space z > 5 with the planar Luneburg profile n² = 2 − s² about its
+    /// surface (s = z − 5). In τ the height oscillates, s = p_s sin τ, so a ray entering at
+    /// s = 0 comes back out at τ = π, having gone π p_x along x, where p_x = sin θᵢ (Snell:
+    /// n sin θ is the tangential part of p); it leaves mirrored.
+    #[test]
+    fn a_planar_profile_in_a_half_space_turns_rays_back_as_a_mirage() {
+        let shape = Shape::Plane(
+            crate::geometry::Plane::new(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z, DVec3::X).unwrap(),
+        );
+        let law = GradientIndexVolume {
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Plane {
+                    point: DVec3::new(0.0, 0.0, 5.0),
+                    normal: DVec3::Z,
+                },
+                radius: 1.0,
+                profile: IndexProfile::Luneburg,
+                layer_separation: None,
+            }),
+            transmission_coefficient: 1.0,
+        };
+        let d = DVec3::new(0.5, 0.0, 1.0).normalize();
+        let at = meet(&shape, DVec3::ZERO, d);
+        let (exit, _) = crosses(law.redirect(&at, &mut |_| {}));
+        let x = 2.5 + std::f64::consts::PI * d.x;
+        assert!(
+            exit.point.distance(DVec3::new(x, 0.0, 5.0)) < 1e-10,
+            "{}",
+            exit.point
+        );
+        assert!(exit.direction.distance(DVec3::new(d.x, 0.0, -d.z)) < 1e-10);
+    }
+
+    /// Grazing entries: a Luneburg profile filling its sphere focuses a parallel beam on the
+    /// far pole (Eqs 5–6), also for rays entering within 10⁻⁸ to 10⁻¹³ of the rim, whose exit
+    /// the event must find where the path leaves the surface at a graze.
+    #[test]
+    fn grazing_rays_through_a_luneburg_sphere_reach_its_pole() {
+        let shape =
+            Shape::Sphere(crate::geometry::Sphere::new(DVec3::new(0.0, 0.0, 5.0), 1.0).unwrap());
+        let law = GradientIndexVolume {
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Point(DVec3::new(0.0, 0.0, 5.0)),
+                radius: 1.0,
+                profile: IndexProfile::Luneburg,
+                layer_separation: None,
+            }),
+            transmission_coefficient: 1.0,
+        };
+        for epsilon in [1e-2, 1e-8, 1e-10, 1e-12, 1e-13] {
+            let at = meet(&shape, DVec3::new(1.0 - epsilon, 0.0, 0.0), DVec3::Z);
+            let (exit, _) = crosses(law.redirect(&at, &mut |_| {}));
+            assert!(
+                exit.point.distance(DVec3::new(0.0, 0.0, 6.0)) < 1e-7,
+                "{epsilon}: {}",
+                exit.point
+            );
+        }
+    }
+
     /// A ray starting inside (a camera in the volume) is integrated from its start: along the
     /// ellipse from there, to where it leaves.
     #[test]
     fn rays_starting_inside_are_integrated_from_their_start() {
         let shape = Shape::Cuboid(Cuboid::new(DVec3::ZERO, DVec3::splat(2.0)).unwrap());
         let law = GradientIndexVolume {
-            index: IndexDistribution::Radial {
-                centre: DVec3::ZERO,
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Point(DVec3::ZERO),
                 radius: 1.0,
                 profile: IndexProfile::Luneburg,
-            },
+                layer_separation: None,
+            }),
             transmission_coefficient: 1.0,
         };
         let origin = DVec3::new(0.2, -0.1, 0.3);

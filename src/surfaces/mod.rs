@@ -32,7 +32,9 @@ pub use appearance::{
 pub use chequerboard::{Chequerboard, ChequerboardKeys};
 pub use coloured::{Coloured, ColouredKeys, MattKeys, ShinyKeys};
 pub use constant_colour::ConstantColourKeys;
-pub use gradient_index_volume::{GradientIndexVolume, GradientIndexVolumeKeys, IndexDistribution};
+pub use gradient_index_volume::{
+    GradientIndexVolume, GradientIndexVolumeKeys, IndexDistribution, Profiled, Symmetry,
+};
 pub use ideal_lenses::{
     Focus, Glens, GlensKeys, IdealThinCylindricalLensKeys, IdealThinCylindricalMirrorKeys,
     IdealThinLensKeys, IdealThinLensletArrayKeys, IdealThinMirrorKeys, LensletArray, ThinLens,
