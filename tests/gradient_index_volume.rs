@@ -191,6 +191,11 @@ fn bad_gradient_index_volumes_are_refused() {
             "",
             "missing field `index`",
         ),
+        (
+            r#"{ type = "gradient-index-volume", index = { type = "radial", centre = [0, 0, 5], profile = "luneburg", layer_separation = 1e-9 } }"#,
+            "",
+            "is below 1e-4",
+        ),
     ] {
         // The transform, where given, is at line 5; else the surface is.
         assert_refused_at_line(dir.path(), &object(surface, extra), &[needle], 5);

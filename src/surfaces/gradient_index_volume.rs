@@ -41,6 +41,10 @@ const MAX_REFLECTIONS: usize = 100;
 /// trapped.
 const MAX_LAYER_CROSSINGS: usize = 1_000_000;
 
+/// The thinnest layers, in units of the profile's radius: far thicker than the graze within
+/// which a boundary counts as the surface, and few enough for a ray to cross quickly.
+const MIN_LAYER_SEPARATION: f64 = 1e-4;
+
 /// Straight chord, in units of the integration's length scale, below which a ray entering the
 /// volume is passed straight across it: it grazes the surface, and its exit cannot be told
 /// from its entry. Layer boundaries closer than this (in units of the profile's radius) ahead
@@ -77,11 +81,13 @@ impl Symmetry {
         }
     }
 
-    /// The smallest t > `after` at which `x + t d` (d unit) has [`Self::level`] `level`.
-    fn reaches(&self, x: DVec3, d: DVec3, level: f64, after: f64) -> Option<f64> {
+    /// The smallest t > 0 at which `x + t d` (d unit) has [`Self::level`] `level`; if `x` is
+    /// on that level set (`on`), where the line meets it again (for a sphere or cylinder the
+    /// other root, however near; a plane it never meets again).
+    fn reaches(&self, x: DVec3, d: DVec3, level: f64, on: bool) -> Option<f64> {
         if let Symmetry::Plane { normal, .. } = *self {
             let t = (level - self.level(x)) / d.dot(normal);
-            return (t > after && t.is_finite()).then_some(t);
+            return (!on && t > 0.0 && t.is_finite()).then_some(t);
         }
         // |v + t w|² = level², v and w the parts of x and d across the line (all of them
         // about a point).
@@ -98,12 +104,17 @@ impl Symmetry {
         if a == 0.0 || discriminant < 0.0 {
             return None;
         }
+        if on {
+            // The roots sum to −b/a, and one of them is 0.
+            let t = -2.0 * half_b / a;
+            return (t > 0.0).then_some(t);
+        }
         // The roots without cancellation: q = −(b/2 + sign(b/2) √Δ), t = q/a and c/q.
         let q = -(half_b + discriminant.sqrt().copysign(half_b));
         let (t1, t2) = (q / a, c / q);
         [t1.min(t2), t1.max(t2)]
             .into_iter()
-            .find(|&t| t > after && t.is_finite())
+            .find(|&t| t > 0.0 && t.is_finite())
     }
 
     /// The unit normal at `x` of the level set through it, towards higher levels.
@@ -159,11 +170,10 @@ impl Profiled {
     }
 
     /// The layer a ray at `x` going in direction `d` (unit) is in, or enters if `x` lies on
-    /// a boundary, and its index; `None` for the index where the profile has none (n² ≤ 0).
-    fn layer(&self, x: DVec3, d: DVec3, separation: f64) -> (i64, Option<f64>) {
+    /// a boundary (or within a graze of one).
+    fn layer(&self, x: DVec3, d: DVec3, separation: f64) -> i64 {
         let ahead = x + GRAZING * self.radius * d;
-        let k = (self.about.level(ahead) / (self.radius * separation)).floor() as i64;
-        (k, self.layer_index(k, separation))
+        (self.about.level(ahead) / (self.radius * separation)).floor() as i64
     }
 
     /// The index of layer k: the profile's in its middle.
@@ -186,14 +196,18 @@ pub enum IndexDistribution {
 }
 
 impl IndexDistribution {
-    /// n² where a ray going in direction `d` (unit) starts or enters at `x` (the layer's, in
-    /// layers).
-    fn n_squared(&self, x: DVec3, d: DVec3) -> f64 {
+    /// Where a ray going in direction `d` (unit) starts or enters at `x`: n² there (the
+    /// layer's, in layers, −1 for a layer without an index), and its layer (0 but in layers).
+    fn start(&self, x: DVec3, d: DVec3) -> (f64, i64) {
         match self {
-            IndexDistribution::Constant(n) => n * n,
+            IndexDistribution::Constant(n) => (n * n, 0),
             IndexDistribution::Profiled(p) => match p.layer_separation {
-                Some(separation) => p.layer(x, d, separation).1.map_or(-1.0, |n| n * n),
-                None => p.n_squared_and_force(x).0,
+                Some(separation) => {
+                    let k = p.layer(x, d, separation);
+                    let n = p.layer_index(k, separation);
+                    (n.map_or(-1.0, |n| n * n), k)
+                }
+                None => (p.n_squared_and_force(x).0, 0),
             },
         }
     }
@@ -224,11 +238,13 @@ pub struct GradientIndexVolume {
     pub transmission_coefficient: f64,
 }
 
-/// A ray inside the volume: position and optical direction vector p (|p| = n).
+/// A ray inside the volume: position, optical direction vector p (|p| = n), and, in layers,
+/// its layer.
 #[derive(Debug, Clone, Copy)]
 struct Inside {
     x: DVec3,
     p: DVec3,
+    layer: i64,
 }
 
 /// Where a passage reaches the surface: the ray there, the part of the surface, and the
@@ -249,7 +265,7 @@ impl GradientIndexVolume {
         let show = &mut |x: DVec3| inside(x + at.offset);
         let (start, before) = if d.dot(normal) < 0.0 {
             // The layer inwards from the surface: along the inward normal.
-            let n2 = self.index.n_squared(p, -normal);
+            let (n2, layer) = self.index.start(p, -normal);
             let refracted = (n2 > 0.0).then(|| refract(d, normal, n2.sqrt())).flatten();
             let Some(refracted) = refracted else {
                 // Reflected off the surface (a lower index inside, or n² ≤ 0 there).
@@ -261,12 +277,13 @@ impl GradientIndexVolume {
             let start = Inside {
                 x: p,
                 p: n2.sqrt() * refracted,
+                layer,
             };
             (start, 0.0)
         } else {
             // From inside: integrated from where the ray started, if that is inside.
             let origin = at.ray.origin - at.offset;
-            let n2 = self.index.n_squared(origin, d);
+            let (n2, layer) = self.index.start(origin, d);
             if !solid.contains(origin) || n2 <= 0.0 {
                 return Redirection::Leaves {
                     direction: d,
@@ -276,6 +293,7 @@ impl GradientIndexVolume {
             let start = Inside {
                 x: origin,
                 p: n2.sqrt() * d,
+                layer,
             };
             (start, at.hit.t)
         };
@@ -325,8 +343,8 @@ impl GradientIndexVolume {
             }
             show(leaving.x);
             ray = Inside {
-                x: leaving.x,
                 p: reflect(leaving.p, normal),
+                ..leaving
             };
         }
         None
@@ -424,7 +442,7 @@ fn integrated(
     // Onto the surface along the line from `inner`.
     let (at, part, _, _) = surface_towards(world(&y.x))?;
     let p = DVec3::from_array(y.v);
-    Some((Inside { x: at, p }, part, length * y.q))
+    Some((Inside { x: at, p, ..ray }, part, length * y.q))
 }
 
 /// The passage from `ray` to the surface through the profile's layers: straight within a
@@ -438,36 +456,33 @@ fn layered(
 ) -> Option<Reached> {
     let about = profile.about;
     let width = profile.radius * separation;
-    let (mut k, _) = profile.layer(ray.x, ray.p.normalize(), separation);
+    let graze = GRAZING * profile.radius;
+    // The boundary the ray is on (within a graze), by its level k, at k × width.
+    let nearest = (about.level(ray.x) / width).round();
+    let mut on = ((about.level(ray.x) - nearest * width).abs() <= graze).then_some(nearest as i64);
     let mut path = 0.0;
     for _ in 0..MAX_LAYER_CROSSINGS {
-        let d = ray.p.normalize();
-        let n = ray.p.length();
+        let (d, n, k) = (ray.p.normalize(), ray.p.length(), ray.layer);
         let (to_surface, part) = solid.chord(ray.x, d)?.exit;
-        // The layer's boundaries ahead (the one the ray is on, if any, only beyond a graze).
-        let after = GRAZING * profile.radius;
+        // The layer's boundaries ahead: its inner one (none at the centre or axis) and outer.
         let boundary = [(k, k - 1), (k + 1, k + 1)]
             .into_iter()
             .filter(|&(level, _)| level > 0 || matches!(about, Symmetry::Plane { .. }))
             .filter_map(|(level, next)| {
-                Some((about.reaches(ray.x, d, level as f64 * width, after)?, next))
+                let t = about.reaches(ray.x, d, level as f64 * width, on == Some(level))?;
+                Some((t, level, next))
             })
             .min_by(|a, b| a.0.total_cmp(&b.0));
         // A boundary at the surface (within a graze) is the surface.
-        let Some((t, next)) = boundary.filter(|&(t, _)| t < to_surface - after) else {
+        let Some((t, level, next)) = boundary.filter(|&(t, _, _)| t < to_surface - graze) else {
             let t = to_surface.max(0.0);
-            return Some((
-                Inside {
-                    x: ray.x + t * d,
-                    ..ray
-                },
-                part,
-                path + n * t,
-            ));
+            let x = ray.x + t * d;
+            return Some((Inside { x, ..ray }, part, path + n * t));
         };
         let x = ray.x + t * d;
         path += n * t;
         show(x);
+        on = Some(level);
         // Across into layer `next`, by Snell's law between the lower and the upper layer
         // about the boundary's normal towards the upper one; a layer without an index (n² ≤ 0)
         // reflects.
@@ -482,17 +497,15 @@ fn layered(
             _ => None,
         };
         ray = match crossed {
-            Some(direction) => {
-                k = next;
-                let n = profile.layer_index(next, separation)?;
-                Inside {
-                    x,
-                    p: n * direction,
-                }
-            }
+            Some(direction) => Inside {
+                x,
+                p: profile.layer_index(next, separation)? * direction,
+                layer: next,
+            },
             None => Inside {
                 x,
                 p: reflect(ray.p, gradient),
+                layer: k,
             },
         };
     }
@@ -567,6 +580,16 @@ fn profiled(
             );
         }
     };
+    if let Some(s) = layer_separation
+        && s.0 < MIN_LAYER_SEPARATION
+    {
+        return Err(format!(
+            "gradient-index-volume: layer_separation = {} is below {MIN_LAYER_SEPARATION:e} \
+             (at most 10 000 layers per radius, as Dr TIM's Chen-Belin shells): thinner layers \
+             approach the smooth profile, which leaving layer_separation out traces exactly",
+            s.0
+        ));
+    }
     Ok(IndexDistribution::Profiled(Profiled {
         about,
         radius: radius.map_or(1.0, |r| r.0),
@@ -864,6 +887,45 @@ mod tests {
                 "{epsilon}: {}",
                 exit.point
             );
+        }
+    }
+
+    /// Parallel layers keep a ray's tangential optical momentum n sin θ (Snell's law at each
+    /// plane), so a ray through a slab of planar layers, in and out through faces parallel to
+    /// them, leaves along the direction it came in: also where a face lies within a graze
+    /// (5 × 10⁻⁸) outside a boundary, which counts as the face, and with reflections between
+    /// layers on the way.
+    #[test]
+    fn parallel_layers_pass_rays_on_parallel() {
+        let law = GradientIndexVolume {
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Plane {
+                    point: DVec3::new(0.0, 0.0, 5.0),
+                    normal: DVec3::Z,
+                },
+                radius: 1.0,
+                profile: IndexProfile::Luneburg,
+                layer_separation: Some(0.1),
+            }),
+            transmission_coefficient: 1.0,
+        };
+        for top in [6.0, 6.0 + 5e-8, 5.95] {
+            let (bottom, size) = (5.05, DVec3::new(10.0, 10.0, top - 5.05));
+            let centre = DVec3::new(0.0, 0.0, 0.5 * (top + bottom));
+            let shape = Shape::Cuboid(Cuboid::new(centre, size).unwrap());
+            for d in [
+                DVec3::new(0.95, 0.0, -0.3122498999),
+                DVec3::new(0.3, 0.2, -1.0),
+                DVec3::new(0.6, 0.5, -0.4),
+            ] {
+                let at = meet(&shape, DVec3::new(-3.0, 0.0, 8.0), d);
+                let (exit, _) = crosses(law.redirect(&at, &mut |_| {}));
+                assert!(
+                    exit.direction.distance(at.ray.direction) < 1e-12,
+                    "top {top}, {d}: {}",
+                    exit.direction
+                );
+            }
         }
     }
 
