@@ -3,7 +3,8 @@
 //! d/ds (n dr/ds) = ∇n (Dr TIM's `SurfaceOfMetricSpace` with an isotropic index, as its
 //! `SurfaceOfRadiallySymmetricRefractiveIndexDistribution` and `SurfaceOfLissajousLens` are;
 //! its Hamiltonian H = k·n·k − det n (Schurig, Pendry & Smith, Opt. Express 14, 9794 (2006),
-//! Eq. 40) for n = n 𝟙 gives the same rays), or through layers of constant index (Dr TIM's
+//! Eq. 40) for n = n 𝟙 gives the same rays, though Dr TIM's two measure the force from the
+//! origin and the Lissajous lens's dn/dr is √2 times its index's), or through layers of constant index (Dr TIM's
 //! `SurfaceOfVoxellatedRefractor` on its concentric spheres, coaxial cylinders or parallel
 //! planes).
 //!
@@ -29,7 +30,7 @@ use serde::Deserialize;
 
 use super::lenses::{IndexProfile, TableProfile};
 use super::{Redirection, Surface, reflect, refract};
-use crate::geometry::{ConvexSolid, Exit, Interaction, Shape, Transform};
+use crate::geometry::{ConvexSolid, Exit, Interaction, Shape, Span, Transform};
 use crate::keys::{Coefficient, Direction, Finite, Positive, Vector, throughput};
 use crate::math::{Colour, Phase};
 
@@ -45,10 +46,11 @@ const MAX_LAYER_CROSSINGS: usize = 1_000_000;
 /// which a boundary counts as the surface, and few enough for a ray to cross quickly.
 const MIN_LAYER_SEPARATION: f64 = 1e-4;
 
-/// Straight chord, in units of the integration's length scale, below which a ray entering the
-/// volume is passed straight across it: it grazes the surface, and its exit cannot be told
-/// from its entry. Layer boundaries closer than this (in units of the profile's radius) ahead
-/// of a ray on one are the one it is on.
+/// A graze, in units of the integration's length scale or of the profile's radius: a ray
+/// entering with a straight chord shorter than this passes straight across (its exit cannot be
+/// told from its entry); in layers, a ray this near a boundary is on it (and meets it again only
+/// at its other crossing), its layer is the one this far ahead, and a boundary this near the
+/// solid's surface is the surface.
 const GRAZING: f64 = 1e-7;
 
 /// What a profile's ρ is the distance from.
@@ -297,6 +299,13 @@ impl GradientIndexVolume {
             };
             (start, at.hit.t)
         };
+        if solid.chord(start.x, start.p.normalize()).is_none() {
+            // A graze that rounding puts outside the solid passes on, as the lenses' do.
+            return Redirection::Leaves {
+                direction: d,
+                factor,
+            };
+        }
         match self.traverse(at.shape, solid, start, show) {
             Some(exit) => Redirection::Crosses {
                 exit: Exit {
@@ -313,7 +322,8 @@ impl GradientIndexVolume {
     /// The ray from `start` inside the volume to where it leaves, refracted out, with the
     /// optical path from `start`; reflected inside beyond the critical angle. `None` for a
     /// trapped ray (more than [`MAX_REFLECTIONS`] reflections, or no exit within the
-    /// integrator's step limit or [`MAX_LAYER_CROSSINGS`]).
+    /// integrator's step limit or [`MAX_LAYER_CROSSINGS`]), one that goes on for ever in an
+    /// unbounded solid, or one whose line rounding puts outside the solid.
     fn traverse(
         &self,
         shape: &Shape,
@@ -363,6 +373,10 @@ impl GradientIndexVolume {
 fn straight(solid: &dyn ConvexSolid, ray: Inside) -> Option<Reached> {
     let d = ray.p.normalize();
     let (t, part) = solid.chord(ray.x, d)?.exit;
+    if part == Span::NO_PART {
+        // Never leaves an unbounded solid.
+        return None;
+    }
     let t = t.max(0.0);
     Some((
         Inside {
@@ -432,8 +446,9 @@ fn integrated(
         v: ray.p.to_array(),
         q: 0.0,
     };
-    // The first step covers an eighth of the straight chord, or of L (|dr/dτ| = n).
-    let h0 = 0.125 * (t / length).min(1.0) / ray.p.length_squared();
+    // The first step covers an eighth of the straight chord, or of L (|dx/dτ| = |p| = n in
+    // units of L), so that it ends before the ray can leave.
+    let h0 = 0.125 * (t / length).min(1.0) / ray.p.length();
     let step = |y: &Phase<3>| show(world(&y.x));
     let y = profile
         .profile
@@ -475,6 +490,9 @@ fn layered(
             .min_by(|a, b| a.0.total_cmp(&b.0));
         // A boundary at the surface (within a graze) is the surface.
         let Some((t, level, next)) = boundary.filter(|&(t, _, _)| t < to_surface - graze) else {
+            if part == Span::NO_PART {
+                return None;
+            }
             let t = to_surface.max(0.0);
             let x = ray.x + t * d;
             return Some((Inside { x, ..ray }, part, path + n * t));
@@ -493,13 +511,14 @@ fn layered(
             profile.layer_index(upper, separation),
         );
         let crossed = match indices {
-            (Some(low), Some(high)) => refract(d, gradient, low / high),
+            (Some(low), Some(high)) => refract(d, gradient, low / high)
+                .map(|direction| (direction, if next == upper { high } else { low })),
             _ => None,
         };
         ray = match crossed {
-            Some(direction) => Inside {
+            Some((direction, n)) => Inside {
                 x,
-                p: profile.layer_index(next, separation)? * direction,
+                p: n * direction,
                 layer: next,
             },
             None => Inside {
@@ -512,8 +531,8 @@ fn layered(
     None
 }
 
-/// A profile by name: `"luneburg"`, n = √(2 − ρ²) (Dr TIM's `SurfaceOfLissajousLens` with
-/// β = radius), or `"maxwell-fisheye"`, n = 2/(1 + ρ²).
+/// A profile by name: `"luneburg"`, n = √(2 − ρ²) (the index of Dr TIM's
+/// `SurfaceOfLissajousLens` with β = radius), or `"maxwell-fisheye"`, n = 2/(1 + ρ²).
 #[derive(Debug, Clone, Copy, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 enum ProfileName {
@@ -585,8 +604,8 @@ fn profiled(
     {
         return Err(format!(
             "gradient-index-volume: layer_separation = {} is below {MIN_LAYER_SEPARATION:e} \
-             (at most 10 000 layers per radius, as Dr TIM's Chen-Belin shells): thinner layers \
-             approach the smooth profile, which leaving layer_separation out traces exactly",
+             (at most 10 000 layers per radius): thinner layers approach the smooth profile, \
+             which leaving layer_separation out traces exactly",
             s.0
         ));
     }
@@ -893,8 +912,8 @@ mod tests {
     /// Parallel layers keep a ray's tangential optical momentum n sin θ (Snell's law at each
     /// plane), so a ray through a slab of planar layers, in and out through faces parallel to
     /// them, leaves along the direction it came in: also where a face lies within a graze
-    /// (5 × 10⁻⁸) outside a boundary, which counts as the face, and with reflections between
-    /// layers on the way.
+    /// (5 × 10⁻⁸) outside a boundary, which counts as the face (this checks that the layer
+    /// a ray enters is the one its index was taken from).
     #[test]
     fn parallel_layers_pass_rays_on_parallel() {
         let law = GradientIndexVolume {
@@ -927,6 +946,55 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Reflection between layers: in a slab z ∈ [5.05, 6.55] of planar Luneburg layers
+    /// (separation 0.1 about z = 5), the layer above z = 6.4 has no real index (its middle
+    /// lies beyond ρ = √2). A ray entering the bottom climbs through layers 0 to 13 keeping its
+    /// tangential optical momentum p_t = sin θᵢ, is reflected there and comes down the same
+    /// way: it leaves the bottom mirrored, 2 Σ h_k p_t/√(n_k² − p_t²) further along, with
+    /// optical path 2 Σ h_k n_k²/√(n_k² − p_t²) (h_k the height crossed in layer k).
+    #[test]
+    fn a_layer_without_an_index_reflects() {
+        let shape = Shape::Cuboid(
+            Cuboid::new(DVec3::new(0.0, 0.0, 5.8), DVec3::new(20.0, 20.0, 1.5)).unwrap(),
+        );
+        let law = GradientIndexVolume {
+            index: IndexDistribution::Profiled(Profiled {
+                about: Symmetry::Plane {
+                    point: DVec3::new(0.0, 0.0, 5.0),
+                    normal: DVec3::Z,
+                },
+                radius: 1.0,
+                profile: IndexProfile::Luneburg,
+                layer_separation: Some(0.1),
+            }),
+            transmission_coefficient: 1.0,
+        };
+        let d = DVec3::new(0.2, 0.1, 1.0).normalize();
+        let at = meet(&shape, DVec3::new(0.0, 0.0, 4.0), d);
+        let mut reflections = Vec::new();
+        let (exit, _) = crosses(law.redirect(&at, &mut |x| reflections.push(x)));
+        let p_t = d.truncate().length();
+        let (mut along, mut path) = (0.0, 0.0);
+        for k in 0..14 {
+            let h = if k == 0 { 0.05 } else { 0.1 };
+            let n2 = 2.0 - ((k as f64 + 0.5) * 0.1).powi(2);
+            let root = (n2 - p_t * p_t).sqrt();
+            along += 2.0 * h * p_t / root;
+            path += 2.0 * h * n2 / root;
+        }
+        let leaving = at.point() + along * d.truncate().normalize().extend(0.0);
+        assert!(
+            exit.point.distance(leaving) < 1e-12,
+            "{} vs {leaving}",
+            exit.point
+        );
+        assert!(exit.direction.distance(DVec3::new(d.x, d.y, -d.z)) < 1e-12);
+        assert!((exit.path - path).abs() < 1e-12, "{} vs {path}", exit.path);
+        // Every boundary twice, and the reflection at z = 6.4 once.
+        assert_eq!(reflections.len(), 27);
+        assert!(reflections.iter().any(|x| (x.z - 6.4).abs() < 1e-12));
     }
 
     /// A ray starting inside (a camera in the volume) is integrated from its start: along the

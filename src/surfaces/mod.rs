@@ -485,7 +485,8 @@ impl Surface {
 
     /// The surface of an object placed by `t`: the positions and directions of the laws that
     /// have them move with the shape (ideal lenses, point-to-point holograms, light-ray fields,
-    /// Dove-prism arrays, space plates, variable-η CLAs, collineations, gCLAs made as a device's
+    /// Dove-prism arrays, space plates, space-shifting planes' offsets, gradient-index volumes'
+    /// centres, axes and normals, variable-η CLAs, collineations, gCLAs made as a device's
     /// imaging surfaces, and a pixellation's sides where they are given in the scene), and
     /// their lengths scale with it where that needs a
     /// similarity map. The other laws have no positions; the vectors and tensors of a law in
@@ -645,8 +646,9 @@ impl Surface {
             }
             Surface::GradientIndexVolume(_) if shape.analytic_solid().is_none() => Err(
                 "a gradient-index-volume surface needs a convex solid shape (a sphere, cuboid, \
-                 parallelepiped, prism, Platonic solid, ellipsoid, closed cylinder or cone, \
-                 paraboloid or half-space plane, or one of them transformed)"
+                 parallelepiped, prism, Platonic solid, ellipsoid, closed cylinder, elliptic \
+                 cylinder or cone, closed paraboloid, convex lens surface or half-space plane, \
+                 or one of them transformed)"
                     .to_string(),
             ),
             Surface::Textured(_) if !matches!(shape, Shape::TriangleMesh(m) if m.uvs().is_some()) => {

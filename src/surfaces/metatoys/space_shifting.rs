@@ -9,9 +9,8 @@
 //! ray crossing against n (d·n < 0) goes on along its line moved by +O: from that side the
 //! space behind is seen moved by −O. **Dr TIM** moves every ray's line by −O whichever way it
 //! crosses, which is not reversible (a sheet that shows one side moved by O must show the other
-//! moved back); the two agree for
-//! a camera on the side n points away from, as in Dr TIM's default (normal (0, 0, 1), camera
-//! looking along +z). P′ is found on the shape along its normal, as the ideal thin space plate's
+//! moved back); the two agree for a camera on the side n points away from, as in Dr TIM's
+//! default (normal (0, 0, 1), camera looking along +z). P′ is found on the shape along its normal, as the ideal thin space plate's
 //! return is; where the shifted line leaves the shape's edge (past a finite sheet), no light
 //! passes. On a curved shape each point acts as its tangent plane.
 
@@ -36,7 +35,7 @@ impl SpaceShifting {
     /// P′, where a ray meeting the sheet at `p` in direction `d` (sheet normal `n`) leaves it:
     /// on the tangent plane at `p`, on the ray's line shifted by ±O. `None` for a ray along the
     /// sheet.
-    pub fn shifted_point(&self, p: DVec3, d: DVec3, n: DVec3) -> Option<DVec3> {
+    fn shifted_point(&self, p: DVec3, d: DVec3, n: DVec3) -> Option<DVec3> {
         let across = d.dot(n);
         if across == 0.0 {
             return None;
@@ -58,7 +57,9 @@ impl SpaceShifting {
             return Redirection::Lost;
         };
         // Onto the shape along its normal, from a point a jump's length off the sheet.
-        let lift = shifted.distance(p) + self.image_space_offset.length();
+        // (At least a billionth of the point's distance from the origin, which rounding keeps.)
+        let lift =
+            (shifted.distance(p) + self.image_space_offset.length()).max(1e-9 * (1.0 + p.length()));
         let on_shape = [n, -n].into_iter().find_map(|m| {
             let from = shifted + lift * m;
             let (t, _) = at.shape.intersect(from, -m, 0.0, 2.0 * lift)?;
